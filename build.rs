@@ -1,0 +1,177 @@
+//! Build script: Rust bindings of `cuda/sph_params.h` (bindgen) and PTX of every `cuda/*.cu`
+//! (nvcc). It never probes a GPU.
+//!
+//! * Bindings: generated with bindgen where libclang loads; elsewhere the committed copy
+//!   `src/params/bindings.rs` is used (a test checks that the two agree where libclang exists).
+//! * PTX: nvcc is looked up in `NVCC`, `CUDA_HOME`/`CUDA_PATH` (`bin/nvcc`), then `PATH`.
+//!   Without nvcc the crate builds the CPU backend only and says so once;
+//!   `MESHFREE_REQUIRE_NVCC=1` turns that into an error (CI sets it).
+//!   `MESHFREE_CUDA_ARCH` overrides the virtual architecture (default `compute_75`, Turing:
+//!   the driver JIT-compiles it for any newer GPU).
+
+use std::env;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const HEADER: &str = "cuda/sph_params.h";
+const COMMITTED_BINDINGS: &str = "src/params/bindings.rs";
+
+fn main() {
+    let out = PathBuf::from(env::var("OUT_DIR").expect("OUT_DIR"));
+    println!("cargo:rerun-if-changed={HEADER}");
+    println!("cargo:rerun-if-changed={COMMITTED_BINDINGS}");
+    println!("cargo:rerun-if-changed=cuda");
+    for var in [
+        "NVCC",
+        "CUDA_HOME",
+        "CUDA_PATH",
+        "PATH",
+        "MESHFREE_REQUIRE_NVCC",
+        "MESHFREE_CUDA_ARCH",
+    ] {
+        println!("cargo:rerun-if-env-changed={var}");
+    }
+    println!("cargo::rustc-check-cfg=cfg(meshfree_ptx)");
+    bindings(&out);
+    ptx(&out);
+}
+
+/// bindgen's output for the header, or `None` where libclang cannot be loaded.
+fn generate_bindings() -> Option<String> {
+    let generate = || {
+        bindgen::Builder::default()
+            .header(HEADER)
+            .allowlist_type("SphParams")
+            .allowlist_var("MF_.*")
+            .derive_default(true)
+            .derive_debug(true)
+            .derive_copy(true)
+            .derive_partialeq(true)
+            .layout_tests(false)
+            .generate_comments(true)
+            .clang_arg("-fparse-all-comments")
+            .generate()
+    };
+    // bindgen panics where libclang cannot be loaded: that is the "no libclang" answer.
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(generate)) {
+        Ok(Ok(b)) => Some(b.to_string()),
+        _ => None,
+    }
+}
+
+fn bindings(out: &Path) {
+    let committed = fs::read_to_string(COMMITTED_BINDINGS).unwrap_or_default();
+    let (text, source) = match generate_bindings() {
+        Some(fresh) => (fresh, "bindgen"),
+        None => (committed.clone(), "committed"),
+    };
+    if source == "bindgen" && text != committed {
+        println!(
+            "cargo:warning=the committed {COMMITTED_BINDINGS} differs from bindgen's output for \
+             {HEADER}: copy $OUT_DIR/sph_params.rs over it (the test `bindings_match_header` fails \
+             until then)"
+        );
+    }
+    fs::write(out.join("sph_params.rs"), text).expect("write bindings");
+    println!("cargo:rustc-env=MESHFREE_BINDINGS_SOURCE={source}");
+}
+
+fn find_nvcc() -> Option<PathBuf> {
+    if let Ok(p) = env::var("NVCC") {
+        return Some(PathBuf::from(p));
+    }
+    for var in ["CUDA_HOME", "CUDA_PATH"] {
+        if let Ok(root) = env::var(var) {
+            let p = Path::new(&root).join("bin").join("nvcc");
+            if p.exists() {
+                return Some(p);
+            }
+        }
+    }
+    env::var_os("PATH").and_then(|paths| {
+        env::split_paths(&paths)
+            .map(|d| d.join("nvcc"))
+            .find(|p| p.is_file())
+    })
+}
+
+fn ptx(out: &Path) {
+    let require = env::var("MESHFREE_REQUIRE_NVCC").is_ok_and(|v| v == "1");
+    let mut sources: Vec<PathBuf> = fs::read_dir("cuda")
+        .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_default();
+    sources.retain(|p| p.extension().is_some_and(|e| e == "cu"));
+    sources.sort();
+
+    let registry = out.join("ptx.rs");
+    let Some(nvcc) = find_nvcc() else {
+        if require {
+            panic!(
+                "MESHFREE_REQUIRE_NVCC=1 but no nvcc was found (looked in NVCC, CUDA_HOME/bin, \
+                 CUDA_PATH/bin and PATH)"
+            );
+        }
+        println!(
+            "cargo:warning=nvcc not found (NVCC, CUDA_HOME, CUDA_PATH, PATH): building the CPU \
+             backend only"
+        );
+        fs::write(&registry, "pub const MODULES: &[(&str, &str)] = &[];\n").unwrap();
+        println!("cargo:rustc-env=MESHFREE_NVCC_VERSION=none (no nvcc at build time)");
+        return;
+    };
+    // The nvcc release, for the error a PTX load failure reports.
+    let version = Command::new(&nvcc)
+        .arg("--version")
+        .output()
+        .ok()
+        .and_then(|o| {
+            String::from_utf8_lossy(&o.stdout)
+                .lines()
+                .find(|l| l.contains("release"))
+                .map(|l| l.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown".into());
+    println!(
+        "cargo:rustc-env=MESHFREE_NVCC_VERSION={} ({})",
+        version,
+        nvcc.display()
+    );
+    let arch = env::var("MESHFREE_CUDA_ARCH").unwrap_or_else(|_| "compute_75".into());
+    let mut entries = String::from("pub const MODULES: &[(&str, &str)] = &[\n");
+    for src in &sources {
+        let stem = src.file_stem().unwrap().to_string_lossy().into_owned();
+        let dst = out.join(format!("{stem}.ptx"));
+        let mut cmd = Command::new(&nvcc);
+        cmd.args(["--ptx", "-std=c++17", "-O3", "-lineinfo", "-Icuda"])
+            .arg(format!("-arch={arch}"))
+            .arg(src)
+            .arg("-o")
+            .arg(&dst);
+        let shown = format!("{cmd:?}");
+        let result = cmd
+            .output()
+            .unwrap_or_else(|e| panic!("could not start nvcc: {shown}: {e}"));
+        if !result.status.success() {
+            panic!(
+                "nvcc failed on {}:\n  command: {shown}\n  stderr:\n{}",
+                src.display(),
+                String::from_utf8_lossy(&result.stderr)
+            );
+        }
+        entries += &format!(
+            "    ({stem:?}, include_str!({:?})),\n",
+            dst.display().to_string()
+        );
+    }
+    entries += "];\n";
+    fs::write(&registry, entries).unwrap();
+    if !sources.is_empty() {
+        println!("cargo:rustc-cfg=meshfree_ptx");
+    }
+    println!(
+        "cargo:warning=nvcc {} compiled {} CUDA modules for {arch}",
+        nvcc.display(),
+        sources.len()
+    );
+}

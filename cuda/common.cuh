@@ -1,0 +1,329 @@
+// Shared device code: kernels W and F (twin of src/kernel.rs), vectors and tensors for
+// DIM = 2/3, the neighbour loop (twin of src/backend/cpu/grid.rs), min-image separation.
+// Parity test: tests/cuda_parity.rs.
+#pragma once
+#include "sph_params.h"
+
+#define MF_BLOCK 256
+
+// Positions, velocities, accelerations: float2 in 2D, float4 (w unused) in 3D, so one
+// aligned load per particle; the layout is glam's Vec2 / Vec3A.
+template <int DIM> struct VS { static constexpr int S = DIM == 2 ? 2 : 4; };
+
+template <int DIM> struct Vec { float c[DIM]; };
+
+template <int DIM> __device__ __forceinline__ Vec<DIM> vload(const float* a, unsigned i) {
+    Vec<DIM> v;
+    if constexpr (DIM == 2) {
+        float2 t = reinterpret_cast<const float2*>(a)[i];
+        v.c[0] = t.x; v.c[1] = t.y;
+    } else {
+        float4 t = reinterpret_cast<const float4*>(a)[i];
+        v.c[0] = t.x; v.c[1] = t.y; v.c[2] = t.z;
+    }
+    return v;
+}
+template <int DIM> __device__ __forceinline__ void vstore(float* a, unsigned i, Vec<DIM> v) {
+    if constexpr (DIM == 2) {
+        reinterpret_cast<float2*>(a)[i] = make_float2(v.c[0], v.c[1]);
+    } else {
+        reinterpret_cast<float4*>(a)[i] = make_float4(v.c[0], v.c[1], v.c[2], 0.0f);
+    }
+}
+template <int DIM> __device__ __forceinline__ Vec<DIM> vzero() {
+    Vec<DIM> v;
+#pragma unroll
+    for (int a = 0; a < DIM; ++a) v.c[a] = 0.0f;
+    return v;
+}
+template <int DIM> __device__ __forceinline__ Vec<DIM> operator+(Vec<DIM> x, Vec<DIM> y) {
+#pragma unroll
+    for (int a = 0; a < DIM; ++a) x.c[a] += y.c[a];
+    return x;
+}
+template <int DIM> __device__ __forceinline__ Vec<DIM> operator-(Vec<DIM> x, Vec<DIM> y) {
+#pragma unroll
+    for (int a = 0; a < DIM; ++a) x.c[a] -= y.c[a];
+    return x;
+}
+template <int DIM> __device__ __forceinline__ Vec<DIM> operator*(Vec<DIM> x, float s) {
+#pragma unroll
+    for (int a = 0; a < DIM; ++a) x.c[a] *= s;
+    return x;
+}
+template <int DIM> __device__ __forceinline__ float dot(Vec<DIM> x, Vec<DIM> y) {
+    float s = x.c[0] * y.c[0];
+#pragma unroll
+    for (int a = 1; a < DIM; ++a) s += x.c[a] * y.c[a];
+    return s;
+}
+
+// A DIM x DIM tensor, m[row][col] (glam's entry(row, col)).
+template <int DIM> struct Mat { float m[DIM][DIM]; };
+template <int DIM> __device__ __forceinline__ Mat<DIM> mzero() {
+    Mat<DIM> r;
+#pragma unroll
+    for (int a = 0; a < DIM; ++a)
+#pragma unroll
+        for (int b = 0; b < DIM; ++b) r.m[a][b] = 0.0f;
+    return r;
+}
+// Symmetric storage: 2D (xx, yy, xy); 3D (xx, yy, zz, xy, xz, yz); component k of slot i
+// at a[k * n + i].
+template <int DIM> struct Sym { static constexpr int N = DIM == 2 ? 3 : 6; };
+template <int DIM> __device__ __forceinline__ Mat<DIM> sload(const float* a, unsigned i, unsigned n) {
+    Mat<DIM> r;
+    if constexpr (DIM == 2) {
+        r.m[0][0] = a[i]; r.m[1][1] = a[n + i];
+        r.m[0][1] = r.m[1][0] = a[2 * n + i];
+    } else {
+        r.m[0][0] = a[i]; r.m[1][1] = a[n + i]; r.m[2][2] = a[2 * n + i];
+        r.m[0][1] = r.m[1][0] = a[3 * n + i];
+        r.m[0][2] = r.m[2][0] = a[4 * n + i];
+        r.m[1][2] = r.m[2][1] = a[5 * n + i];
+    }
+    return r;
+}
+template <int DIM> __device__ __forceinline__ void sstore(float* a, unsigned i, unsigned n, const Mat<DIM>& r) {
+    if constexpr (DIM == 2) {
+        a[i] = r.m[0][0]; a[n + i] = r.m[1][1];
+        a[2 * n + i] = 0.5f * (r.m[0][1] + r.m[1][0]);
+    } else {
+        a[i] = r.m[0][0]; a[n + i] = r.m[1][1]; a[2 * n + i] = r.m[2][2];
+        a[3 * n + i] = 0.5f * (r.m[0][1] + r.m[1][0]);
+        a[4 * n + i] = 0.5f * (r.m[0][2] + r.m[2][0]);
+        a[5 * n + i] = 0.5f * (r.m[1][2] + r.m[2][1]);
+    }
+}
+template <int DIM> __device__ __forceinline__ Vec<DIM> mat_vec(const Mat<DIM>& m, Vec<DIM> v) {
+    Vec<DIM> r;
+#pragma unroll
+    for (int a = 0; a < DIM; ++a) {
+        float s = m.m[a][0] * v.c[0];
+#pragma unroll
+        for (int b = 1; b < DIM; ++b) s += m.m[a][b] * v.c[b];
+        r.c[a] = s;
+    }
+    return r;
+}
+
+// ---- kernels: twin of src/kernel.rs ----
+__device__ __forceinline__ float shape_w(int kernel, float q) {
+    if (kernel == MF_KERNEL_WENDLAND_C2) {
+        if (q < 2.0f) {
+            float t = 1.0f - 0.5f * q;
+            return t * t * t * t * (2.0f * q + 1.0f);
+        }
+        return 0.0f;
+    }
+    if (q < 1.0f) return 1.0f - 1.5f * q * q + 0.75f * q * q * q;
+    if (q < 2.0f) {
+        float t = 2.0f - q;
+        return 0.25f * t * t * t;
+    }
+    return 0.0f;
+}
+__device__ __forceinline__ float shape_f(int kernel, float q) {
+    if (kernel == MF_KERNEL_WENDLAND_C2) {
+        if (q < 2.0f) {
+            float t = 1.0f - 0.5f * q;
+            return -5.0f * t * t * t;
+        }
+        return 0.0f;
+    }
+    if (q < 1.0f) return -3.0f + 2.25f * q;
+    if (q < 2.0f) {
+        float t = 2.0f - q;
+        return -0.75f * t * t / q;
+    }
+    return 0.0f;
+}
+// W(r, h) [L^-d], eqs. (1)-(4).
+__device__ __forceinline__ float kernel_w(const SphParams& p, float r) {
+    return p.kernel_norm * shape_w(p.kernel, r / p.h);
+}
+// (dW/dr) / r [L^-(d+2)]: grad_i W_ij = kernel_f(r) r_ij.
+__device__ __forceinline__ float kernel_f(const SphParams& p, float r) {
+    return p.kernel_norm / (p.h * p.h) * shape_f(p.kernel, r / p.h);
+}
+
+__device__ __forceinline__ float sound_speed(const SphParams& p, unsigned char kind) {
+    if (kind == MF_KIND_SOLID)
+        return sqrtf(p.solid_c0 * p.solid_c0 +
+                     4.0f / 3.0f * p.shear_modulus / fmaxf(p.solid_rho0, 1.17549435e-38f));
+    return p.c0;
+}
+__device__ __forceinline__ float rest_density(const SphParams& p, unsigned char kind) {
+    return kind == MF_KIND_SOLID ? p.solid_rho0 : p.rho0;
+}
+
+// Whether particle j of kind kj enters the sums of a non-boundary particle.
+__device__ __forceinline__ bool couples(const SphParams& p, unsigned char kj) {
+    return kj != MF_KIND_BOUNDARY || p.wall_pressure != 0;
+}
+
+// ---- grid: twin of src/backend/cpu/grid.rs ----
+template <int DIM> __device__ __forceinline__ void cell_coords(const SphParams& p, Vec<DIM> x, int c[3]) {
+    c[0] = c[1] = c[2] = 0;
+#pragma unroll
+    for (int a = 0; a < DIM; ++a) {
+        int v = (int)floorf((x.c[a] - p.domain_min[a]) / p.cell_size[a]);
+        c[a] = min(max(v, 0), p.grid_dims[a] - 1);
+    }
+}
+__device__ __forceinline__ unsigned cell_index(const SphParams& p, const int c[3]) {
+    return (unsigned)(c[0] + p.grid_dims[0] * (c[1] + p.grid_dims[1] * c[2]));
+}
+// Minimum-image r_i - r_j on periodic axes.
+template <int DIM> __device__ __forceinline__ Vec<DIM> separation(const SphParams& p, Vec<DIM> xi, Vec<DIM> xj) {
+    Vec<DIM> r = xi - xj;
+#pragma unroll
+    for (int a = 0; a < DIM; ++a) {
+        if (p.periodic[a]) {
+            float len = p.domain_max[a] - p.domain_min[a];
+            float d = r.c[a];
+            if (d > 0.5f * len) r.c[a] = d - len;
+            else if (d < -0.5f * len) r.c[a] = d + len;
+        }
+    }
+    return r;
+}
+
+// Calls f(j, r_ij, r_ij^2) for every j (i included) within the support of xi, in the CPU's
+// order: cell offsets z, then y, then x from -1 to 1; within a cell in storage order.
+// The three x cells of a row are contiguous in storage (cells are x-fastest and the storage
+// is sorted by cell), so a row without wrap-around is one range: same order, fewer loads.
+template <int DIM, class F>
+__device__ __forceinline__ void for_each_neighbor(const SphParams& p, const unsigned* __restrict__ cell_start,
+                                                  const float* __restrict__ pos, Vec<DIM> xi, F&& f) {
+    int ci[3];
+    cell_coords<DIM>(p, xi, ci);
+    const int rz = DIM == 3 ? 1 : 0;
+    const int nx = p.grid_dims[0];
+    for (int dz = -rz; dz <= rz; ++dz) {
+        int cz = ci[2] + dz;
+        if (cz < 0 || cz >= p.grid_dims[2]) {
+            if (!p.periodic[2]) continue;
+            cz = (cz + p.grid_dims[2]) % p.grid_dims[2];
+        }
+        for (int dy = -1; dy <= 1; ++dy) {
+            int cy = ci[1] + dy;
+            if (cy < 0 || cy >= p.grid_dims[1]) {
+                if (!p.periodic[1]) continue;
+                cy = (cy + p.grid_dims[1]) % p.grid_dims[1];
+            }
+            const unsigned row = (unsigned)(p.grid_dims[0] * (cy + p.grid_dims[1] * cz));
+            int x0 = ci[0] - 1, x1 = ci[0] + 1;
+            if (!p.periodic[0] || (x0 >= 0 && x1 < nx)) {
+                x0 = max(x0, 0);
+                x1 = min(x1, nx - 1);
+                const unsigned e = cell_start[row + x1 + 1];
+                for (unsigned j = cell_start[row + x0]; j < e; ++j) {
+                    Vec<DIM> r = separation<DIM>(p, xi, vload<DIM>(pos, j));
+                    float r2 = dot(r, r);
+                    if (r2 < p.support2) f(j, r, r2);
+                }
+            } else {
+                for (int dx = -1; dx <= 1; ++dx) {
+                    int cx = (ci[0] + dx + nx) % nx;
+                    const unsigned e = cell_start[row + cx + 1];
+                    for (unsigned j = cell_start[row + cx]; j < e; ++j) {
+                        Vec<DIM> r = separation<DIM>(p, xi, vload<DIM>(pos, j));
+                        float r2 = dot(r, r);
+                        if (r2 < p.support2) f(j, r, r2);
+                    }
+                }
+            }
+        }
+    }
+}
+
+// Lanes per particle in the density and forces kernels: each particle's candidate ranges
+// are split over LANES consecutive threads (lane l takes every LANES-th candidate, so a
+// warp's loads are contiguous), then the partial sums are combined by shuffles in a fixed
+// order. Deterministic; the summation order differs from the CPU's only in this split.
+template <int DIM> struct Lanes { static constexpr int L = DIM == 3 ? 8 : 4; };
+
+template <int DIM, int L, class F>
+__device__ __forceinline__ void for_each_neighbor_split(const SphParams& p, const unsigned* __restrict__ cell_start,
+                                                        const float* __restrict__ pos, Vec<DIM> xi, int lane,
+                                                        F&& f) {
+    int ci[3];
+    cell_coords<DIM>(p, xi, ci);
+    const int rz = DIM == 3 ? 1 : 0;
+    const int nx = p.grid_dims[0];
+    for (int dz = -rz; dz <= rz; ++dz) {
+        int cz = ci[2] + dz;
+        if (cz < 0 || cz >= p.grid_dims[2]) {
+            if (!p.periodic[2]) continue;
+            cz = (cz + p.grid_dims[2]) % p.grid_dims[2];
+        }
+        for (int dy = -1; dy <= 1; ++dy) {
+            int cy = ci[1] + dy;
+            if (cy < 0 || cy >= p.grid_dims[1]) {
+                if (!p.periodic[1]) continue;
+                cy = (cy + p.grid_dims[1]) % p.grid_dims[1];
+            }
+            const unsigned row = (unsigned)(p.grid_dims[0] * (cy + p.grid_dims[1] * cz));
+            int x0 = ci[0] - 1, x1 = ci[0] + 1;
+            const bool contiguous = !p.periodic[0] || (x0 >= 0 && x1 < nx);
+            const int ncell = contiguous ? 1 : 3;
+            if (contiguous) {
+                x0 = max(x0, 0);
+                x1 = min(x1, nx - 1);
+            }
+            for (int t = 0; t < ncell; ++t) {
+                unsigned s, e;
+                if (contiguous) {
+                    s = cell_start[row + x0];
+                    e = cell_start[row + x1 + 1];
+                } else {
+                    const int cx = (ci[0] + t - 1 + nx) % nx;
+                    s = cell_start[row + cx];
+                    e = cell_start[row + cx + 1];
+                }
+                for (unsigned j = s + lane; j < e; j += L) {
+                    Vec<DIM> r = separation<DIM>(p, xi, vload<DIM>(pos, j));
+                    float r2 = dot(r, r);
+                    if (r2 < p.support2) f(j, r, r2);
+                }
+            }
+        }
+    }
+}
+// Sum over the L lanes of a particle (all 32 lanes of the warp must call).
+template <int L> __device__ __forceinline__ float lane_sum(float v) {
+#pragma unroll
+    for (int o = L / 2; o > 0; o >>= 1) v += __shfl_xor_sync(0xffffffffu, v, o);
+    return v;
+}
+
+// Block-wide reductions for blockDim.x == MF_BLOCK (every thread must call).
+__device__ __forceinline__ float block_max(float v, float* sh) {
+    for (int o = 16; o > 0; o >>= 1) v = fmaxf(v, __shfl_xor_sync(0xffffffffu, v, o));
+    const int w = threadIdx.x >> 5, l = threadIdx.x & 31;
+    __syncthreads();
+    if (l == 0) sh[w] = v;
+    __syncthreads();
+    if (w == 0) {
+        v = l < (int)(blockDim.x >> 5) ? sh[l] : 0.0f;
+        for (int o = 16; o > 0; o >>= 1) v = fmaxf(v, __shfl_xor_sync(0xffffffffu, v, o));
+    }
+    return v;  // valid in thread 0
+}
+__device__ __forceinline__ double block_sum(double v, double* sh) {
+    for (int o = 16; o > 0; o >>= 1) v += __shfl_xor_sync(0xffffffffu, v, o);
+    const int w = threadIdx.x >> 5, l = threadIdx.x & 31;
+    __syncthreads();
+    if (l == 0) sh[w] = v;
+    __syncthreads();
+    if (w == 0) {
+        v = l < (int)(blockDim.x >> 5) ? sh[l] : 0.0;
+        for (int o = 16; o > 0; o >>= 1) v += __shfl_xor_sync(0xffffffffu, v, o);
+    }
+    return v;  // valid in thread 0
+}
+
+#define MF_ENTRY2(name, params, args) \
+    extern "C" __global__ void __launch_bounds__(MF_BLOCK) name##_2d params { name##_body<2> args; } \
+    extern "C" __global__ void __launch_bounds__(MF_BLOCK) name##_3d params { name##_body<3> args; }

@@ -1,0 +1,177 @@
+// Accelerations eqs. (7), (10), (16), (17), laminar viscosity, gravity; d rho/dt; the XSPH
+// sum of eq. (18); fused: the block maxima of |v|, |a| and c for the step size.
+// Twin: src/backend/cpu/forces.rs (+ extremes in reduce.rs); parity test: tests/cuda_parity.rs.
+#include "common.cuh"
+
+// Lennard-Jones boundary force per unit mass, eq. (17).
+template <int DIM> __device__ __forceinline__ Vec<DIM> lennard_jones(const SphParams& p, Vec<DIM> r, float rr) {
+    if (rr <= 0.0f || rr >= (p.lj_attractive ? p.support : p.lj_r0)) return vzero<DIM>();
+    float q = p.lj_r0 / rr;
+    float mag = p.lj_c0 * (powf(q, (float)p.lj_p1) - powf(q, (float)p.lj_p2));
+    return r * (mag / rr);
+}
+// Artificial viscosity Pi_ij, eq. (10).
+__device__ __forceinline__ float artificial_viscosity(const SphParams& p, float vr, float r2, float c_bar,
+                                                      float rho_bar) {
+    if (vr >= 0.0f) return 0.0f;
+    float mu = p.h * vr / (r2 + p.av_eta2);
+    return (-p.alpha * c_bar * mu + p.beta * mu * mu) / rho_bar;
+}
+// Laminar viscosity factor (Morris, Fox & Zhu 1997).
+__device__ __forceinline__ float laminar(const SphParams& p, float r2, float f, float rho_i, float rho_j) {
+    return p.nu * (rho_i + rho_j) / (rho_i * rho_j) * (r2 * f) / (r2 + p.visc_eta2);
+}
+
+template <int DIM, bool SOLIDS, int L>
+__device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
+                            const float* __restrict__ pos, const float* __restrict__ vel,
+                            const float* __restrict__ rho, const float* __restrict__ pr,
+                            const float* __restrict__ mass, const unsigned char* __restrict__ kind,
+                            const unsigned* __restrict__ group, const float* __restrict__ stress,
+                            const float* __restrict__ art, float* __restrict__ acc_out, float* __restrict__ xsph_out,
+                            float* __restrict__ drho_out, unsigned* __restrict__ red) {
+    __shared__ float sh[MF_BLOCK / 32];
+    const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
+    const unsigned i = t / L;
+    const int lane = (int)(t % L);
+    float vmax = 0.0f, amax = 0.0f, cmax = 0.0f;
+    const unsigned char ki = i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY;
+    Vec<DIM> acc = vzero<DIM>(), xs = vzero<DIM>();
+    float drho = 0.0f;
+    if (i < n && ki == MF_KIND_BOUNDARY) {
+        if (lane == 0) {
+            vstore<DIM>(acc_out, i, vzero<DIM>());
+            vstore<DIM>(xsph_out, i, vzero<DIM>());
+            if (drho_out) drho_out[i] = 0.0f;
+        }
+    }
+    if (i < n && ki != MF_KIND_BOUNDARY) {
+        const Vec<DIM> xi = vload<DIM>(pos, i), vi = vload<DIM>(vel, i);
+        const float rhoi = rho[i], pi = pr[i];
+        const float ci = sound_speed(p, ki);
+        const unsigned gi = group[i];
+        const float inv_r2i = 1.0f / (rhoi * rhoi);
+        // sigma_i / rho_i^2 with sigma = -P I + S, eq. (11); S = 0 for fluid.
+        Mat<DIM> sig_i;
+        float psi = 0.0f;  // fluid-only scenes: P_i / rho_i^2
+        if constexpr (SOLIDS) {
+            sig_i = sload<DIM>(stress, i, n);
+#pragma unroll
+            for (int a = 0; a < DIM; ++a) {
+#pragma unroll
+                for (int b = 0; b < DIM; ++b) sig_i.m[a][b] = (sig_i.m[a][b] - (a == b ? pi : 0.0f)) * inv_r2i;
+            }
+        } else {
+            psi = -pi * inv_r2i;
+        }
+        if (lane == 0) {
+#pragma unroll
+            for (int a = 0; a < DIM; ++a) acc.c[a] = p.gravity[a];
+        }
+        for_each_neighbor_split<DIM, L>(p, cell_start, pos, xi, lane, [&](unsigned j, Vec<DIM> r, float r2) {
+            if (j == i) return;
+            const unsigned char kj = kind[j];
+            const float rr = sqrtf(r2);
+            const float fw = kernel_f(p, rr);
+            const Vec<DIM> gw = r * fw;  // grad_i W_ij
+            const float mj = mass[j];
+            if (kj == MF_KIND_BOUNDARY) {
+                acc = acc + lennard_jones<DIM>(p, r, rr);  // eq. (17)
+                if (!couples(p, kj)) return;
+                // Pressure mirror: the wall particle carries P_i, rho_i and v = 0.
+                float vr = dot(vi, r);
+                float pij = artificial_viscosity(p, vr, r2, ci, rhoi);
+                acc = acc - gw * (mj * (2.0f * pi / (rhoi * rhoi) + pij));
+                if (p.nu > 0.0f) acc = acc + vi * (mj * laminar(p, r2, fw, rhoi, rhoi));
+                drho += rhoi * mj / rho[j] * dot(vi, gw);
+                return;
+            }
+            const Vec<DIM> vj = vload<DIM>(vel, j);
+            const float rhoj = rho[j];
+            const Vec<DIM> vij = vi - vj;
+            const float vr = dot(vij, r);
+            const float inv_r2j = 1.0f / (rhoj * rhoj);
+            // Stress term, eq. (16); eq. (7) when both are fluid (sigma = -P I).
+            if constexpr (SOLIDS) {
+                Mat<DIM> sj = sload<DIM>(stress, j, n);
+                const float pj = pr[j];
+#pragma unroll
+                for (int a = 0; a < DIM; ++a)
+#pragma unroll
+                    for (int b = 0; b < DIM; ++b)
+                        sj.m[a][b] = sig_i.m[a][b] + (sj.m[a][b] - (a == b ? pj : 0.0f)) * inv_r2j;
+                acc = acc + mat_vec<DIM>(sj, gw) * mj;
+            } else {
+                acc = acc + (gw * (psi + -pr[j] * inv_r2j)) * mj;
+            }
+            // Artificial viscosity, eq. (10).
+            const float c_bar = 0.5f * (ci + sound_speed(p, kj));
+            const float rho_bar = 0.5f * (rhoi + rhoj);
+            const float pij = artificial_viscosity(p, vr, r2, c_bar, rho_bar);
+            acc = acc - gw * (mj * pij);
+            bool same_body = kj == ki && (ki == MF_KIND_FLUID || group[j] == gi);
+            if (p.nu > 0.0f && (ki == MF_KIND_FLUID || kj == MF_KIND_FLUID))
+                acc = acc + vij * (mj * laminar(p, r2, fw, rhoi, rhoj));
+            if constexpr (SOLIDS) {
+                if (art && same_body && ki == MF_KIND_SOLID) {
+                    // Gray, Monaghan & Swift 2001: f_ij^n (R_i + R_j) . grad W.
+                    float fij = powf(kernel_w(p, rr) * p.inv_w_dx, p.art_stress_n);
+                    Mat<DIM> ra = sload<DIM>(art, i, n), rb = sload<DIM>(art, j, n);
+#pragma unroll
+                    for (int a = 0; a < DIM; ++a)
+#pragma unroll
+                        for (int b = 0; b < DIM; ++b) ra.m[a][b] += rb.m[a][b];
+                    acc = acc + mat_vec<DIM>(ra, gw) * (mj * fij);
+                }
+            }
+            // Continuity: d rho_i/dt = rho_i sum_j m_j / rho_j v_ij . grad W.
+            drho += rhoi * mj / rhoj * dot(vij, gw);
+            // XSPH, eq. (18), within one material (one body for solids).
+            if (same_body) xs = xs + (vj - vi) * (p.xsph_eps * mj / rho_bar * kernel_w(p, rr));
+        });
+    }
+    // Combine the lanes of each particle (every lane of the warp takes part).
+#pragma unroll
+    for (int a = 0; a < DIM; ++a) {
+        acc.c[a] = lane_sum<L>(acc.c[a]);
+        xs.c[a] = lane_sum<L>(xs.c[a]);
+    }
+    drho = lane_sum<L>(drho);
+    if (i < n && ki != MF_KIND_BOUNDARY && lane == 0) {
+        vstore<DIM>(acc_out, i, acc);
+        vstore<DIM>(xsph_out, i, xs);
+        if (drho_out) drho_out[i] = drho;
+        const Vec<DIM> vi = vload<DIM>(vel, i);
+        vmax = sqrtf(dot(vi, vi));
+        amax = sqrtf(dot(acc, acc));
+        cmax = sound_speed(p, ki);
+    }
+    // Extremes over fluid and solid particles (twin: reduce.rs `extremes`); non-negative
+    // floats order like their bit patterns, so atomicMax on the bits is a float max.
+    vmax = block_max(vmax, sh);
+    if (threadIdx.x == 0) atomicMax(&red[0], __float_as_uint(vmax));
+    amax = block_max(amax, sh);
+    if (threadIdx.x == 0) atomicMax(&red[1], __float_as_uint(amax));
+    cmax = block_max(cmax, sh);
+    if (threadIdx.x == 0) atomicMax(&red[2], __float_as_uint(cmax));
+}
+
+// Two entry points per dimension: with solids (stress, artificial stress) and fluid only
+// (no tensor registers), picked by the launcher.
+#define MF_FORCES_ENTRY(name, DIM, SOLIDS, L)                                                                        \
+    extern "C" __global__ void __launch_bounds__(MF_BLOCK, 3)                                                      \
+        name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel,      \
+             const float* rho, const float* pr, const float* mass, const unsigned char* kind,                    \
+             const unsigned* group, const float* stress, const float* art, float* acc, float* xsph, float* drho, \
+             unsigned* red) {                                                                                     \
+        forces_impl<DIM, SOLIDS, L>(p, n, cell_start, pos, vel, rho, pr, mass, kind, group, stress, art, acc, xsph, \
+                                 drho, red);                                                                      \
+    }
+MF_FORCES_ENTRY(sph_forces_2d, 2, true, Lanes<2>::L)
+MF_FORCES_ENTRY(sph_forces_3d, 3, true, Lanes<3>::L)
+MF_FORCES_ENTRY(sph_forces_fluid_2d, 2, false, Lanes<2>::L)
+MF_FORCES_ENTRY(sph_forces_fluid_3d, 3, false, Lanes<3>::L)
+MF_FORCES_ENTRY(sph_forces_1_2d, 2, true, 1)
+MF_FORCES_ENTRY(sph_forces_1_3d, 3, true, 1)
+MF_FORCES_ENTRY(sph_forces_fluid_1_2d, 2, false, 1)
+MF_FORCES_ENTRY(sph_forces_fluid_1_3d, 3, false, 1)

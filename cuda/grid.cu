@@ -1,0 +1,166 @@
+// Neighbour grid: cell index, deterministic counting sort by (cell, id), reorder.
+// Twin: src/backend/cpu/grid.rs; parity test: tests/cuda_parity.rs.
+#include "common.cuh"
+
+#define MF_SCAN_BLOCK 1024
+
+// 1. Cell of every particle and its arrival rank in that cell (any order: fixed in 4.).
+template <int DIM>
+__device__ void sph_grid_hist_body(const SphParams p, unsigned n, const float* __restrict__ pos,
+                                   unsigned* __restrict__ cell, unsigned* __restrict__ rank,
+                                   unsigned* __restrict__ count) {
+    unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    int c[3];
+    cell_coords<DIM>(p, vload<DIM>(pos, i), c);
+    unsigned k = cell_index(p, c);
+    cell[i] = k;
+    rank[i] = atomicAdd(&count[k], 1u);
+}
+MF_ENTRY2(sph_grid_hist,
+          (const SphParams p, unsigned n, const float* pos, unsigned* cell, unsigned* rank, unsigned* count),
+          (p, n, pos, cell, rank, count))
+
+// 2. Exclusive scan of the counts within blocks of MF_SCAN_BLOCK cells; block totals to bsum.
+extern "C" __global__ void __launch_bounds__(MF_SCAN_BLOCK)
+sph_scan_local(unsigned n_cells, const unsigned* __restrict__ count, unsigned* __restrict__ local,
+               unsigned* __restrict__ bsum) {
+    __shared__ unsigned sh[MF_SCAN_BLOCK / 32];
+    unsigned c = blockIdx.x * MF_SCAN_BLOCK + threadIdx.x;
+    unsigned v = c < n_cells ? count[c] : 0u;
+    const int w = threadIdx.x >> 5, l = threadIdx.x & 31;
+    unsigned x = v;  // inclusive warp scan
+    for (int o = 1; o < 32; o <<= 1) {
+        unsigned y = __shfl_up_sync(0xffffffffu, x, o);
+        if (l >= o) x += y;
+    }
+    if (l == 31) sh[w] = x;
+    __syncthreads();
+    if (w == 0) {
+        unsigned s = sh[l];
+        for (int o = 1; o < 32; o <<= 1) {
+            unsigned y = __shfl_up_sync(0xffffffffu, s, o);
+            if (l >= o) s += y;
+        }
+        sh[l] = s;  // inclusive over warps
+    }
+    __syncthreads();
+    unsigned incl = x + (w > 0 ? sh[w - 1] : 0u);
+    if (c < n_cells) local[c] = incl - v;
+    if (threadIdx.x == MF_SCAN_BLOCK - 1) bsum[blockIdx.x] = incl;
+}
+
+// 3. Exclusive scan of the block totals, in place (one block, chunk by chunk).
+extern "C" __global__ void __launch_bounds__(MF_SCAN_BLOCK)
+sph_scan_top(unsigned n_blocks, unsigned* __restrict__ bsum) {
+    __shared__ unsigned sh[MF_SCAN_BLOCK / 32];
+    __shared__ unsigned carry;
+    if (threadIdx.x == 0) carry = 0;
+    __syncthreads();
+    const int w = threadIdx.x >> 5, l = threadIdx.x & 31;
+    for (unsigned base = 0; base < n_blocks; base += MF_SCAN_BLOCK) {
+        unsigned b = base + threadIdx.x;
+        unsigned v = b < n_blocks ? bsum[b] : 0u;
+        unsigned x = v;
+        for (int o = 1; o < 32; o <<= 1) {
+            unsigned y = __shfl_up_sync(0xffffffffu, x, o);
+            if (l >= o) x += y;
+        }
+        if (l == 31) sh[w] = x;
+        __syncthreads();
+        if (w == 0) {
+            unsigned s = sh[l];
+            for (int o = 1; o < 32; o <<= 1) {
+                unsigned y = __shfl_up_sync(0xffffffffu, s, o);
+                if (l >= o) s += y;
+            }
+            sh[l] = s;
+        }
+        __syncthreads();
+        unsigned incl = x + (w > 0 ? sh[w - 1] : 0u);
+        unsigned c0 = carry;
+        if (b < n_blocks) bsum[b] = c0 + incl - v;
+        __syncthreads();
+        if (threadIdx.x == MF_SCAN_BLOCK - 1) carry = c0 + incl;
+        __syncthreads();
+    }
+}
+
+// 4. Scatter: slot = cell start + arrival rank (order inside a cell still arbitrary).
+extern "C" __global__ void __launch_bounds__(MF_BLOCK)
+sph_grid_scatter(unsigned n, const unsigned* __restrict__ cell, const unsigned* __restrict__ rank,
+                 const unsigned* __restrict__ local, const unsigned* __restrict__ bsum,
+                 unsigned* __restrict__ order) {
+    unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    unsigned k = cell[i];
+    order[local[k] + bsum[k / MF_SCAN_BLOCK] + rank[i]] = i;
+}
+
+// 5. One thread per cell: sort its segment by id (insertion sort: cells hold a few dozen
+// particles at most), making the order (cell, id) as on the CPU; final cell ranges; clear
+// the counts for the next step.
+extern "C" __global__ void __launch_bounds__(MF_BLOCK)
+sph_grid_segsort(unsigned n_cells, const unsigned* __restrict__ id, unsigned* __restrict__ count,
+                 const unsigned* __restrict__ local, const unsigned* __restrict__ bsum,
+                 unsigned* __restrict__ order, unsigned* __restrict__ cell_start) {
+    unsigned c = blockIdx.x * blockDim.x + threadIdx.x;
+    if (c >= n_cells) return;
+    unsigned s = local[c] + bsum[c / MF_SCAN_BLOCK];
+    unsigned e = s + count[c];
+    count[c] = 0;
+    cell_start[c] = s;
+    if (c == n_cells - 1) cell_start[n_cells] = e;
+    for (unsigned a = s + 1; a < e; ++a) {
+        unsigned o = order[a];
+        unsigned key = id[o];
+        unsigned b = a;
+        while (b > s) {
+            unsigned q = order[b - 1];
+            if (id[q] <= key) break;
+            order[b] = q;
+            --b;
+        }
+        order[b] = o;
+    }
+}
+
+// 6. Reorder every persistent array: new slot k takes old slot order[k].
+template <int DIM>
+__device__ void sph_grid_gather_body(unsigned n, const unsigned* __restrict__ order,
+                                     const unsigned* __restrict__ id, const unsigned char* __restrict__ kind,
+                                     const unsigned* __restrict__ group, const float* __restrict__ mass,
+                                     const float* __restrict__ pos, const float* __restrict__ vel,
+                                     const float* __restrict__ rho, const float* __restrict__ pr,
+                                     const float* __restrict__ stress, unsigned* __restrict__ id2,
+                                     unsigned char* __restrict__ kind2, unsigned* __restrict__ group2,
+                                     float* __restrict__ mass2, float* __restrict__ pos2, float* __restrict__ vel2,
+                                     float* __restrict__ rho2, float* __restrict__ pr2, float* __restrict__ stress2) {
+    unsigned k = blockIdx.x * blockDim.x + threadIdx.x;
+    if (k >= n) return;
+    unsigned o = order[k];
+    id2[k] = id[o];
+    kind2[k] = kind[o];
+    group2[k] = group[o];
+    mass2[k] = mass[o];
+    if constexpr (DIM == 2) {
+        reinterpret_cast<float2*>(pos2)[k] = reinterpret_cast<const float2*>(pos)[o];
+        reinterpret_cast<float2*>(vel2)[k] = reinterpret_cast<const float2*>(vel)[o];
+    } else {
+        reinterpret_cast<float4*>(pos2)[k] = reinterpret_cast<const float4*>(pos)[o];
+        reinterpret_cast<float4*>(vel2)[k] = reinterpret_cast<const float4*>(vel)[o];
+    }
+    rho2[k] = rho[o];
+    pr2[k] = pr[o];
+    if (stress) {
+#pragma unroll
+        for (int c = 0; c < Sym<DIM>::N; ++c) stress2[c * n + k] = stress[c * n + o];
+    }
+}
+MF_ENTRY2(sph_grid_gather,
+          (unsigned n, const unsigned* order, const unsigned* id, const unsigned char* kind, const unsigned* group,
+           const float* mass, const float* pos, const float* vel, const float* rho, const float* pr,
+           const float* stress, unsigned* id2, unsigned char* kind2, unsigned* group2, float* mass2, float* pos2,
+           float* vel2, float* rho2, float* pr2, float* stress2),
+          (n, order, id, kind, group, mass, pos, vel, rho, pr, stress, id2, kind2, group2, mass2, pos2, vel2,
+           rho2, pr2, stress2))

@@ -1,0 +1,109 @@
+// Reductions: the step size on the device (eq. (19) with force and viscous limits),
+// diagnostics, the health check, and the SphParams layout probe.
+// Twin: src/backend/cpu/reduce.rs; parity test: tests/cuda_parity.rs.
+#include "common.cuh"
+#include <stddef.h>
+
+// red = (max |v|, max |a|, max c) as float bits, filled by sph_forces_*. Writes dt, clears red.
+extern "C" __global__ void sph_step_size(const SphParams p, unsigned* __restrict__ red, float* __restrict__ dt_out) {
+    if (threadIdx.x != 0 || blockIdx.x != 0) return;
+    const float v_max = __uint_as_float(red[0]), a_max = __uint_as_float(red[1]), c_max = __uint_as_float(red[2]);
+    red[0] = red[1] = red[2] = 0u;
+    if (p.dt_fixed > 0.0f) {
+        *dt_out = p.dt_fixed;
+        return;
+    }
+    float dt = p.h / (c_max + v_max);  // eq. (19)
+    if (a_max > 0.0f) dt = fminf(dt, sqrtf(p.h / a_max));
+    dt *= p.courant;
+    if (p.nu > 0.0f) dt = fminf(dt, 0.125f * p.h * p.h / p.nu);
+    *dt_out = dt;
+}
+
+// sums = (kinetic energy, momentum x, y, z); maxes = (max speed, density error) as float
+// bits; counts = (fluid, solid, boundary). The caller zeroes them.
+template <int DIM>
+__device__ void sph_diagnostics_body(const SphParams p, unsigned n, const unsigned char* __restrict__ kind,
+                                     const float* __restrict__ mass, const float* __restrict__ vel,
+                                     const float* __restrict__ rho, double* __restrict__ sums,
+                                     unsigned* __restrict__ maxes, unsigned* __restrict__ counts) {
+    __shared__ double shd[MF_BLOCK / 32];
+    __shared__ float shf[MF_BLOCK / 32];
+    const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
+    double ke = 0.0, mom[3] = {0.0, 0.0, 0.0};
+    float vmax = 0.0f, derr = 0.0f;
+    unsigned char k = i < n ? kind[i] : (unsigned char)255;
+    if (i < n && k != MF_KIND_BOUNDARY) {
+        Vec<DIM> v = vload<DIM>(vel, i);
+        double m = (double)mass[i], v2 = 0.0;
+        for (int a = 0; a < DIM; ++a) {
+            v2 += (double)v.c[a] * (double)v.c[a];
+            mom[a] = m * (double)v.c[a];
+        }
+        ke = 0.5 * m * v2;
+        vmax = (float)sqrt(v2);
+        if (k == MF_KIND_FLUID) derr = fabsf(rho[i] / p.rho0 - 1.0f);
+    }
+    // counts: warp ballots
+    const unsigned bf = __ballot_sync(0xffffffffu, k == MF_KIND_FLUID);
+    const unsigned bs = __ballot_sync(0xffffffffu, k == MF_KIND_SOLID);
+    const unsigned bb = __ballot_sync(0xffffffffu, k == MF_KIND_BOUNDARY);
+    if ((threadIdx.x & 31) == 0) {
+        if (bf) atomicAdd(&counts[0], (unsigned)__popc(bf));
+        if (bs) atomicAdd(&counts[1], (unsigned)__popc(bs));
+        if (bb) atomicAdd(&counts[2], (unsigned)__popc(bb));
+    }
+    ke = block_sum(ke, shd);
+    if (threadIdx.x == 0) atomicAdd(&sums[0], ke);
+    for (int a = 0; a < 3; ++a) {
+        double s = block_sum(mom[a], shd);
+        if (threadIdx.x == 0) atomicAdd(&sums[1 + a], s);
+    }
+    vmax = block_max(vmax, shf);
+    if (threadIdx.x == 0) atomicMax(&maxes[0], __float_as_uint(vmax));
+    derr = block_max(derr, shf);
+    if (threadIdx.x == 0) atomicMax(&maxes[1], __float_as_uint(derr));
+}
+MF_ENTRY2(sph_diagnostics,
+          (const SphParams p, unsigned n, const unsigned char* kind, const float* mass, const float* vel,
+           const float* rho, double* sums, unsigned* maxes, unsigned* counts),
+          (p, n, kind, mass, vel, rho, sums, maxes, counts))
+
+// Health check: the first unhealthy slot, as atomicMin of (slot << 8 | fault code)
+// (solver::fault_codes) into *first (the caller sets it to ~0).
+template <int DIM>
+__device__ void sph_check_body(const SphParams p, unsigned n, const unsigned char* __restrict__ kind,
+                               const float* __restrict__ pos, const float* __restrict__ vel,
+                               const float* __restrict__ rho, unsigned long long* __restrict__ first) {
+    const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    const unsigned char k = kind[i];
+    if (k == MF_KIND_BOUNDARY) return;
+    const Vec<DIM> x = vload<DIM>(pos, i), v = vload<DIM>(vel, i);
+    unsigned code = 0;
+    for (int a = 0; a < DIM && !code; ++a)
+        if (!isfinite(x.c[a])) code = 1;  // NON_FINITE_POSITION
+    for (int a = 0; a < DIM && !code; ++a)
+        if (!isfinite(v.c[a])) code = 2;  // NON_FINITE_VELOCITY
+    const float r = rho[i];
+    if (!code && !isfinite(r)) code = 3;  // NON_FINITE_DENSITY
+    const float r0 = rest_density(p, k);
+    if (!code && (r < 0.1f * r0 || r > 2.0f * r0)) code = 4;  // DENSITY_RANGE (solver.rs bounds)
+    for (int a = 0; a < DIM && !code; ++a)
+        if (!p.periodic[a] && (x.c[a] < p.domain_min[a] || x.c[a] > p.domain_max[a])) code = 5;  // ESCAPED
+    if (code) atomicMin(first, ((unsigned long long)i << 8) | code);
+}
+MF_ENTRY2(sph_check,
+          (const SphParams p, unsigned n, const unsigned char* kind, const float* pos, const float* vel,
+           const float* rho, unsigned long long* first),
+          (p, n, kind, pos, vel, rho, first))
+
+// Layout probe: out = (sizeof(SphParams), offsetof dt_fixed, offsetof gravity, p.dim).
+extern "C" __global__ void sph_params_layout(const SphParams p, unsigned* out) {
+    if (threadIdx.x == 0 && blockIdx.x == 0) {
+        out[0] = (unsigned)sizeof(SphParams);
+        out[1] = (unsigned)offsetof(SphParams, dt_fixed);
+        out[2] = (unsigned)offsetof(SphParams, gravity);
+        out[3] = (unsigned)p.dim;
+    }
+}

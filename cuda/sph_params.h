@@ -1,0 +1,87 @@
+/*
+ * meshfree: the one parameter struct, shared by every CUDA kernel (passed by value) and the
+ * Rust side (bindgen turns it into `crate::params::SphParams`; the CPU backend reads it too).
+ *
+ * C99, fixed-width scalars and fixed arrays only: no pointers, no float3, no bool.
+ * Units: the scenes are dimensionless like the paper's; [L] length, [T] time, [M] mass,
+ * d = `dim`. Derived fields (marked "derived") are filled by `params::derive` on the host,
+ * never by hand.
+ */
+#ifndef MESHFREE_SPH_PARAMS_H
+#define MESHFREE_SPH_PARAMS_H
+
+#include <stdint.h>
+
+/* Smoothing kernels (`kernel`). Both have support radius 2h. */
+#define MF_KERNEL_CUBIC_SPLINE 0 /* Monaghan 1992 cubic B-spline */
+#define MF_KERNEL_WENDLAND_C2 1  /* Wendland 1995 C2 */
+
+/* Density forms (`density_mode`). */
+#define MF_DENSITY_SUMMATION 0  /* eq. (8), as the paper */
+#define MF_DENSITY_CONTINUITY 1 /* d rho/dt = sum_j m_j v_ij . grad_i W_ij */
+
+/* Time integrators (`integrator`). */
+#define MF_INTEGRATOR_EULER 0            /* eq. (19) forward Euler: x += dt (v^n + xsph) */
+#define MF_INTEGRATOR_SYMPLECTIC_EULER 1 /* semi-implicit: x += dt (v^{n+1} + xsph) */
+
+/* Particle kinds (the `kind` array). */
+#define MF_KIND_FLUID 0
+#define MF_KIND_SOLID 1
+#define MF_KIND_BOUNDARY 2
+
+typedef struct SphParams {
+    /* ---- geometry and neighbour grid ---- */
+    int32_t dim;           /* 2 or 3 */
+    int32_t periodic[3];   /* 1 where the axis wraps around the domain, else 0 */
+    int32_t grid_dims[3];  /* derived: cells per axis (1 on axes beyond dim) */
+    int32_t n_cells;       /* derived: product of grid_dims */
+    float domain_min[3];   /* [L] lower corner of the domain */
+    float domain_max[3];   /* [L] upper corner of the domain */
+    float cell_size[3];    /* derived: [L] cell edge per axis, >= support */
+
+    /* ---- kernel, eqs. (1)-(4) ---- */
+    int32_t kernel;        /* MF_KERNEL_* */
+    float dx;              /* [L] initial particle spacing */
+    float h;               /* [L] smoothing length */
+    float support;         /* derived: [L] support radius, 2h */
+    float support2;        /* derived: [L^2] support^2 */
+    float kernel_norm;     /* derived: [L^-d] sigma_d / h^d */
+
+    /* ---- fluid: eqs. (7)-(10) ---- */
+    int32_t density_mode;  /* MF_DENSITY_* */
+    float rho0;            /* [M L^-d] fluid reference density */
+    float c0;              /* [L/T] fluid speed of sound */
+    float tait_gamma;      /* [-] Tait exponent, 7, eq. (9) */
+    float tait_b;          /* derived: [M L^-d L^2/T^2] rho0 c0^2 / gamma, eq. (9) */
+    float alpha;           /* [-] artificial viscosity, linear term, eq. (10) */
+    float beta;            /* [-] artificial viscosity, quadratic term, eq. (10) */
+    float av_eta2;         /* derived: [L^2] 0.001 h^2, singularity guard in mu_ij, eq. (10) */
+    float nu;              /* [L^2/T] laminar kinematic viscosity (Morris 1997); 0 = off */
+    float visc_eta2;       /* derived: [L^2] 0.01 h^2, singularity guard of the laminar term */
+    float xsph_eps;        /* [-] XSPH factor epsilon, eq. (18) */
+
+    /* ---- elastic solid: eqs. (11)-(16) ---- */
+    float solid_rho0;      /* [M L^-d] solid reference density */
+    float solid_c0;        /* [L/T] solid sound speed: P = c^2 (rho - rho0) */
+    float shear_modulus;   /* [M L^-d L^2/T^2] mu_s in eq. (12) */
+    float art_stress_eps;  /* [-] Gray-Monaghan-Swift 2001 artificial stress factor; 0 = off */
+    float art_stress_n;    /* [-] exponent n of f_ij^n, usually 4 */
+    float inv_w_dx;        /* derived: [L^d] 1 / W(dx), normalises f_ij = W_ij / W(dx) */
+
+    /* ---- boundary particles: eq. (17) ---- */
+    float lj_c0;           /* [L/T^2] C0, strength of the Lennard-Jones force */
+    float lj_r0;           /* [L] r0, the initial particle spacing */
+    int32_t lj_p1;         /* 12 */
+    int32_t lj_p2;         /* 6 */
+    int32_t lj_attractive; /* 1: the force acts for r < support (cohesive beyond r0); 0: r < r0 */
+    int32_t wall_pressure; /* 1: boundary neighbours mirror the fluid's pressure and take part
+                              in viscosity (no-slip); 0: the paper's form, Lennard-Jones only */
+
+    /* ---- body force and time step ---- */
+    float gravity[3];      /* [L/T^2] */
+    int32_t integrator;    /* MF_INTEGRATOR_* */
+    float courant;         /* [-] Courant number for dt, eq. (19) */
+    float dt_fixed;        /* [T] fixed time step; 0 = adaptive (CFL, force, viscous limits) */
+} SphParams;
+
+#endif /* MESHFREE_SPH_PARAMS_H */

@@ -1,0 +1,62 @@
+//! Density and pressure. Twin: `cuda/density.cu`; parity test `tests/cuda_parity.rs`.
+
+use rayon::prelude::*;
+
+use super::grid::Grid;
+use crate::dim::Dim;
+use crate::kernel;
+use crate::params::{
+    SphParams, MF_DENSITY_SUMMATION, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID,
+};
+use crate::state::State;
+
+/// Whether particle j of kind `kj` enters the SPH sums of another particle: boundary
+/// particles only with dynamic walls (`wall_pressure`, Crespo et al. 2007: wall particles
+/// carry density and pressure like fluid but do not move); with the paper's walls they act
+/// through the Lennard-Jones force alone.
+#[inline]
+pub fn couples(p: &SphParams, kj: u8) -> bool {
+    kj as u32 != MF_KIND_BOUNDARY || p.wall_pressure != 0
+}
+
+/// Pressure from density: Tait eq. (9) for fluid and dynamic wall particles,
+/// P = c_s^2 (rho - rho0_s) for solids (Gray & Monaghan 2001). [M L^-d L^2 T^-2]
+#[inline]
+pub fn pressure(p: &SphParams, kind: u8, rho: f32) -> f32 {
+    match kind as u32 {
+        MF_KIND_FLUID => p.tait_b * ((rho / p.rho0).powf(p.tait_gamma) - 1.0),
+        MF_KIND_SOLID => p.solid_c0 * p.solid_c0 * (rho - p.solid_rho0),
+        _ if p.wall_pressure != 0 => p.tait_b * ((rho / p.rho0).powf(p.tait_gamma) - 1.0),
+        _ => 0.0,
+    }
+}
+
+/// Summation density eq. (8) where the scene uses it, then the equation of state, then the
+/// artificial stress of solids where it is on.
+/// With unequal masses (solids of density 0.6 in fluid of 1.0) the sum is taken in the
+/// number-density form rho_i = m_i sum_j W_ij (Hu & Adams 2006), which is eq. (8) exactly
+/// when the masses are equal, and does not smear density across a material interface.
+pub fn density<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
+    let summation = p.density_mode as u32 == MF_DENSITY_SUMMATION;
+    let (pos, kind, mass) = (&s.pos, &s.kind, &s.mass);
+    s.rho
+        .par_iter_mut()
+        .zip(s.p.par_iter_mut())
+        .enumerate()
+        .for_each(|(i, (rho, pr))| {
+            if kind[i] as u32 == MF_KIND_BOUNDARY && p.wall_pressure == 0 {
+                return;
+            }
+            if summation {
+                let mut sum_w = 0.0f32;
+                grid.for_each_neighbor::<D>(p, pos, pos[i], |j, _r, r2| {
+                    if couples(p, kind[j]) {
+                        sum_w += kernel::w(p, r2.sqrt());
+                    }
+                });
+                *rho = mass[i] * sum_w; // eq. (8)
+            }
+            *pr = pressure(p, kind[i], *rho); // eq. (9)
+        });
+    super::stress::update_artificial_stress(p, s);
+}

@@ -1,0 +1,113 @@
+//! Accelerations: eqs. (7), (10), (16), (17), laminar viscosity, artificial stress,
+//! gravity. Twin: `cuda/forces.cu`; parity test `tests/cuda_parity.rs`.
+
+use rayon::prelude::*;
+
+use super::density::couples;
+use super::grid::Grid;
+use crate::dim::Dim;
+use crate::kernel;
+use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID};
+use crate::state::State;
+
+/// Lennard-Jones boundary force per unit mass, eq. (17): C0 [(r0/r)^p1 - (r0/r)^p2] r_ij/r,
+/// acting for r < r0 (repulsive), or within the support where the scene asks for the
+/// attractive branch. [L/T^2]
+#[inline]
+pub fn lennard_jones<D: Dim>(p: &SphParams, r: D::V, rr: f32) -> D::V {
+    if rr <= 0.0
+        || rr
+            >= if p.lj_attractive != 0 {
+                p.support
+            } else {
+                p.lj_r0
+            }
+    {
+        return D::V::default();
+    }
+    let q = p.lj_r0 / rr;
+    let mag = p.lj_c0 * (q.powi(p.lj_p1) - q.powi(p.lj_p2));
+    r * (mag / rr)
+}
+
+/// Monaghan artificial viscosity Pi_ij, eq. (10), for approaching pairs (v_ij . r_ij < 0),
+/// with c the mean sound speed and rho_bar the mean density. [L^2 T^-2 / (M L^-d)]
+#[inline]
+pub fn artificial_viscosity(p: &SphParams, vr: f32, r2: f32, c_bar: f32, rho_bar: f32) -> f32 {
+    if vr >= 0.0 {
+        return 0.0;
+    }
+    let mu = p.h * vr / (r2 + p.av_eta2);
+    (-p.alpha * c_bar * mu + p.beta * mu * mu) / rho_bar
+}
+
+/// Laminar viscosity factor of Morris, Fox & Zhu (1997): the pair term is
+/// m_j (mu_i + mu_j) / (rho_i rho_j) (r_ij . grad W) / (r^2 + 0.01 h^2) v_ij with mu = rho nu.
+#[inline]
+pub fn laminar(p: &SphParams, r2: f32, f: f32, rho_i: f32, rho_j: f32) -> f32 {
+    p.nu * (rho_i + rho_j) / (rho_i * rho_j) * (r2 * f) / (r2 + p.visc_eta2)
+}
+
+pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
+    let g = D::from3(p.gravity);
+    let (pos, vel, rho, pr, mass, kind, group) =
+        (&s.pos, &s.vel, &s.rho, &s.p, &s.mass, &s.kind, &s.group);
+    let stress = s.solid.as_ref().map(|so| &so.stress);
+    let art = s.solid.as_ref().and_then(|so| so.art_stress.as_ref());
+    let acc: Vec<D::V> = (0..s.len())
+        .into_par_iter()
+        .map(|i| {
+            let ki = kind[i];
+            if ki as u32 == MF_KIND_BOUNDARY {
+                return D::V::default();
+            }
+            let (xi, vi, rhoi, pi) = (pos[i], vel[i], rho[i], pr[i]);
+            let ci = p.sound_speed(ki);
+            // sigma_i / rho_i^2 with sigma = -P I + S, eq. (11); S = 0 for fluid.
+            let si = stress.map_or(D::zero(), |st| st[i]);
+            let sig_i = (si - D::identity() * pi) * (1.0 / (rhoi * rhoi));
+            let mut acc = g;
+            grid.for_each_neighbor::<D>(p, pos, xi, |j, r, r2| {
+                if j == i {
+                    return;
+                }
+                let kj = kind[j];
+                let rr = r2.sqrt();
+                let fw = kernel::f(p, rr);
+                let grad_w = r * fw; // grad_i W_ij
+                if kj as u32 == MF_KIND_BOUNDARY {
+                    acc += lennard_jones::<D>(p, r, rr); // eq. (17)
+                    if !couples(p, kj) {
+                        return;
+                    }
+                }
+                let (vj, rhoj, kj32) = (vel[j], rho[j], kj as u32);
+                let vij = vi - vj;
+                let vr = D::dot(vij, r);
+                // Stress term, eq. (16) (eq. (7) when both are fluid: sigma = -P I).
+                let sj = stress.map_or(D::zero(), |st| st[j]);
+                let sig_j = (sj - D::identity() * pr[j]) * (1.0 / (rhoj * rhoj));
+                acc += D::mat_vec(sig_i + sig_j, grad_w) * mass[j];
+                // Artificial viscosity, eq. (10).
+                let c_bar = 0.5 * (ci + p.sound_speed(kj));
+                let rho_bar = 0.5 * (rhoi + rhoj);
+                let pi_ij = artificial_viscosity(p, vr, r2, c_bar, rho_bar);
+                acc -= grad_w * (mass[j] * pi_ij);
+                let same_body = kj == ki && (ki as u32 == MF_KIND_FLUID || group[j] == group[i]);
+                // Laminar viscosity wherever fluid meets fluid, a solid or a wall (no-slip).
+                if p.nu > 0.0 && (ki as u32 == MF_KIND_FLUID || kj32 == MF_KIND_FLUID) {
+                    acc += vij * (mass[j] * laminar(p, r2, fw, rhoi, rhoj));
+                }
+                if let Some(r_art) = art {
+                    if same_body && ki as u32 == MF_KIND_SOLID {
+                        // Gray, Monaghan & Swift 2001: f_ij^n (R_i + R_j) . grad W.
+                        let fij = (kernel::w(p, rr) * p.inv_w_dx).powf(p.art_stress_n);
+                        acc += D::mat_vec(r_art[i] + r_art[j], grad_w) * (mass[j] * fij);
+                    }
+                }
+            });
+            acc
+        })
+        .collect();
+    s.acc = acc;
+}

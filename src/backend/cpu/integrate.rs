@@ -1,0 +1,60 @@
+//! Time integration: kick and drift, eqs. (18)-(19). Twin: `cuda/integrate.cu`; parity test
+//! `tests/cuda_parity.rs`.
+
+use rayon::prelude::*;
+
+use crate::dim::Dim;
+use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_SOLID};
+use crate::state::State;
+
+/// Wrap a position into the domain on periodic axes.
+#[inline]
+pub fn wrap<D: Dim>(p: &SphParams, x: &mut D::V) {
+    for a in 0..D::D {
+        if p.periodic[a] != 0 {
+            let (lo, hi) = (p.domain_min[a], p.domain_max[a]);
+            let v = D::comp(*x, a);
+            if v < lo {
+                D::set_comp(x, a, v + (hi - lo));
+            } else if v >= hi {
+                D::set_comp(x, a, v - (hi - lo));
+            }
+        }
+    }
+}
+
+/// The kick: v += dt a for fluid and solid particles. [L/T]
+pub fn kick<D: Dim>(dt: f32, s: &mut State<D>) {
+    let (kind, acc) = (&s.kind, &s.acc);
+    s.vel.par_iter_mut().enumerate().for_each(|(i, v)| {
+        if kind[i] as u32 != MF_KIND_BOUNDARY {
+            *v += acc[i] * dt;
+        }
+    });
+}
+
+/// The drift: x += dt (v + xsph), eq. (18); rho += dt d rho/dt; S += dt dS/dt. With the
+/// paper's forward Euler, eq. (19), it runs before the kick (x^{n+1} takes v^n); with the
+/// symplectic Euler after it (x^{n+1} takes v^{n+1}). Boundary particles stay put (their
+/// density changes with dynamic walls).
+pub fn drift<D: Dim>(p: &SphParams, dt: f32, s: &mut State<D>) {
+    let (kind, vel, xsph) = (&s.kind, &s.vel, &s.xsph);
+    s.pos.par_iter_mut().enumerate().for_each(|(i, x)| {
+        if kind[i] as u32 != MF_KIND_BOUNDARY {
+            *x += (vel[i] + xsph[i]) * dt;
+            wrap::<D>(p, x);
+        }
+    });
+    if let Some(drho) = &s.drho {
+        // Dynamic wall particles (`wall_pressure`) take part; their d rho/dt is zero otherwise.
+        s.rho.par_iter_mut().zip(drho.par_iter()).for_each(|(r, d)| *r += dt * d);
+    }
+    if let Some(solid) = s.solid.as_mut() {
+        let rate = &solid.stress_rate;
+        solid.stress.par_iter_mut().enumerate().for_each(|(i, st)| {
+            if kind[i] as u32 == MF_KIND_SOLID {
+                *st += rate[i] * dt;
+            }
+        });
+    }
+}

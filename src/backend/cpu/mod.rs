@@ -1,0 +1,171 @@
+//! The CPU backend: the stages of `Solver` on rayon, in 2D and 3D from one source.
+//! Twin of `src/backend/cuda/`; each stage module names its CUDA file.
+
+mod density;
+mod forces;
+mod grid;
+mod integrate;
+mod rates;
+mod reduce;
+mod stress;
+
+pub use density::pressure;
+pub use forces::{artificial_viscosity, laminar, lennard_jones};
+pub use grid::{cell_coords, cell_index, separation, Grid};
+pub use reduce::step_size;
+pub use stress::{artificial_stress, jacobi_eigen};
+
+use crate::dim::Dim;
+use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
+use crate::particle::Particle;
+use crate::solver::{fault_codes as fc, BackendInfo, Diagnostics, Fault, Setup, Solver};
+use crate::state::State;
+
+/// The whole state in host memory, worked on by rayon.
+pub struct CpuSolver<D: Dim> {
+    params: SphParams,
+    state: State<D>,
+    grid: Grid,
+    time: f64,
+    steps: u64,
+    dt: f32,
+}
+
+impl<D: Dim> CpuSolver<D> {
+    pub fn new(setup: Setup) -> Self {
+        let p = setup.params;
+        let state = State::from_particles(
+            &setup.particles,
+            p.density_mode as u32 == MF_DENSITY_CONTINUITY,
+            p.art_stress_eps > 0.0,
+        );
+        CpuSolver {
+            params: p,
+            state,
+            grid: Grid::default(),
+            time: 0.0,
+            steps: 0,
+            dt: 0.0,
+        }
+    }
+
+    /// The raw arrays, in storage (sorted) order: for tests and parity checks.
+    pub fn state(&self) -> &State<D> {
+        &self.state
+    }
+
+    /// The grid of the last `build_grid`.
+    pub fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
+    /// The step size of the last `time_step` [T].
+    pub fn dt(&self) -> f32 {
+        self.dt
+    }
+}
+
+impl<D: Dim> Solver for CpuSolver<D> {
+    fn info(&self) -> BackendInfo {
+        BackendInfo {
+            backend: "cpu".into(),
+            device: format!("rayon, {} threads", rayon::current_num_threads()),
+        }
+    }
+    fn params(&self) -> &SphParams {
+        &self.params
+    }
+    fn len(&self) -> usize {
+        self.state.len()
+    }
+    fn has_solids(&self) -> bool {
+        self.state.solid.is_some()
+    }
+    fn build_grid(&mut self) {
+        self.grid.build(&self.params, &mut self.state);
+    }
+    fn density(&mut self) {
+        density::density(&self.params, &self.grid, &mut self.state);
+    }
+    fn rates(&mut self) {
+        rates::rates(&self.params, &self.grid, &mut self.state);
+    }
+    fn forces(&mut self) {
+        forces::forces(&self.params, &self.grid, &mut self.state);
+    }
+    fn time_step(&mut self) {
+        let (v, a, c) = reduce::extremes(&self.params, &self.state);
+        self.dt = step_size(&self.params, c, v, a);
+    }
+    fn kick(&mut self) {
+        integrate::kick(self.dt, &mut self.state);
+    }
+    fn drift(&mut self) {
+        integrate::drift(&self.params, self.dt, &mut self.state);
+        self.time += self.dt as f64;
+        self.steps += 1;
+    }
+    fn time(&mut self) -> f64 {
+        self.time
+    }
+    fn steps(&self) -> u64 {
+        self.steps
+    }
+    fn check(&mut self) -> Result<(), Fault> {
+        let Some((i, code, value)) = reduce::first_fault(&self.params, &self.state) else {
+            return Ok(());
+        };
+        Err(fault(
+            self.steps,
+            self.time,
+            self.state.particle(i),
+            code,
+            value,
+        ))
+    }
+    fn diagnostics(&mut self) -> Diagnostics {
+        let mut d = reduce::diagnostics(&self.params, &self.state);
+        d.step = self.steps;
+        d.time = self.time;
+        d.dt = self.dt;
+        d
+    }
+    fn particles(&mut self) -> Vec<Particle> {
+        self.state.to_particles()
+    }
+    fn remove_group(&mut self, group: u32) -> usize {
+        let before = self.state.len();
+        let g = self.state.group.clone();
+        self.state.retain(|i| g[i] != group);
+        before - self.state.len()
+    }
+}
+
+/// The `Fault` for particle `p` with fault `code` (`solver::fault_codes`); shared by both
+/// backends so that they report blow-ups alike.
+pub fn fault(step: u64, time: f64, p: Particle, code: u32, value: f32) -> Fault {
+    let (quantity, reason) = match code {
+        fc::NON_FINITE_POSITION => ("position", "not finite".to_string()),
+        fc::NON_FINITE_VELOCITY => ("velocity", "not finite".to_string()),
+        fc::NON_FINITE_DENSITY => ("density", "not finite".to_string()),
+        fc::DENSITY_RANGE => (
+            "density",
+            format!(
+                "outside [{}, {}] x the reference density",
+                crate::solver::DENSITY_SANE_LOW,
+                crate::solver::DENSITY_SANE_HIGH
+            ),
+        ),
+        fc::ESCAPED => ("position", "outside the domain".to_string()),
+        _ => ("unknown", format!("fault code {code}")),
+    };
+    Fault {
+        step,
+        time,
+        particle: p.id,
+        kind: p.kind.name().into(),
+        quantity: quantity.into(),
+        value: value as f64,
+        reason,
+    }
+}

@@ -1,0 +1,92 @@
+//! Rates from the current velocities: d rho/dt (continuity form), the XSPH velocity of
+//! eq. (18), and the Jaumann stress rate of solids, eqs. (12)-(15). Taken after the kick
+//! in the symplectic integrator, so that density and stress see the new velocity (without
+//! that, the elastic and acoustic modes grow like forward Euler on an oscillator).
+//! Twin: `cuda/rates.cu`; parity test `tests/cuda_parity.rs`.
+
+use rayon::prelude::*;
+
+use super::density::couples;
+use super::grid::Grid;
+use crate::dim::Dim;
+use crate::kernel;
+use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID};
+use crate::state::State;
+
+#[derive(Clone, Copy)]
+struct Rates<V, M> {
+    drho: f32,
+    xsph: V,
+    stress_rate: M,
+}
+
+pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
+    let (pos, vel, rho, mass, kind, group) = (&s.pos, &s.vel, &s.rho, &s.mass, &s.kind, &s.group);
+    let stress = s.solid.as_ref().map(|so| &so.stress);
+    let out: Vec<Rates<D::V, D::M>> = (0..s.len())
+        .into_par_iter()
+        .map(|i| {
+            let mut o = Rates { drho: 0.0, xsph: D::V::default(), stress_rate: D::zero() };
+            let ki = kind[i];
+            if ki as u32 == MF_KIND_BOUNDARY && p.wall_pressure == 0 {
+                return o;
+            }
+            let (vi, rhoi) = (vel[i], rho[i]);
+            let solid_i = ki as u32 == MF_KIND_SOLID;
+            let mut grad_v = D::zero();
+            let mut moment = D::zero();
+            grid.for_each_neighbor::<D>(p, pos, pos[i], |j, r, r2| {
+                let kj = kind[j];
+                if j == i || !couples(p, kj) {
+                    return;
+                }
+                let rr = r2.sqrt();
+                let grad_w = r * kernel::f(p, rr); // grad_i W_ij
+                let vij = vi - vel[j]; // v = 0 on boundary particles
+                // Continuity: d rho_i/dt = sum_j m_j v_ij . grad W (Monaghan 1992), the
+                // form that pairs with eq. (7) to conserve energy.
+                o.drho += mass[j] * D::dot(vij, grad_w);
+                let same_body = kj == ki && (ki as u32 == MF_KIND_FLUID || group[j] == group[i]);
+                if !same_body || ki as u32 == MF_KIND_BOUNDARY {
+                    return;
+                }
+                let rho_bar = 0.5 * (rhoi + rho[j]);
+                // XSPH, eq. (18), within one material (one body for solids).
+                o.xsph -= vij * (p.xsph_eps * mass[j] / rho_bar * kernel::w(p, rr));
+                if solid_i {
+                    // Velocity gradient, eq. (15):
+                    // dv^a/dx^b = sum_j m_j / rho_bar_ij (v_j - v_i)^a dW_ij/dx_i^b
+                    grad_v += D::outer(-vij, grad_w) * (mass[j] / rho_bar);
+                    moment += D::outer(-r, grad_w) * (mass[j] / rho_bar);
+                }
+            });
+            if solid_i {
+                // Kernel-gradient correction (Randles & Libersky 1996; Bonet & Lok 1999):
+                // for v = G x the sum above gives G A with A = sum_j V_j (x_j - x_i) (x)
+                // grad W, which is I inside a body but not at its surface, where rigid
+                // rotation would otherwise read as strain. Skipped where A is singular.
+                if D::determinant(moment).abs() > 1e-3 {
+                    grad_v = grad_v * D::inverse(moment);
+                }
+                let gt = D::transpose(grad_v);
+                let eps_dot = (grad_v + gt) * 0.5; // eq. (13)
+                let omega = (grad_v - gt) * 0.5; // eq. (14)
+                let si = stress.map_or(D::zero(), |st| st[i]);
+                // Jaumann rate, eq. (12): 2 mu (eps_dot^ab - delta^ab eps_dot^cc / 3)
+                //   + S^ac Omega^bc + Omega^ac S^cb   (trace term as corrected in the notes)
+                let dev = eps_dot - D::identity() * (D::trace(eps_dot) / 3.0);
+                o.stress_rate = dev * (2.0 * p.shear_modulus) + si * D::transpose(omega) + omega * si;
+            }
+            o
+        })
+        .collect();
+    for (i, o) in out.into_iter().enumerate() {
+        s.xsph[i] = o.xsph;
+        if let Some(d) = s.drho.as_mut() {
+            d[i] = o.drho;
+        }
+        if let Some(so) = s.solid.as_mut() {
+            so.stress_rate[i] = o.stress_rate;
+        }
+    }
+}

@@ -1,0 +1,102 @@
+//! Reductions: the step size (eq. (19) with the force and viscous limits), diagnostics and
+//! the health check. Twin: `cuda/reduce.cu`; parity test `tests/cuda_parity.rs`.
+
+use rayon::prelude::*;
+
+use crate::dim::Dim;
+use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID};
+use crate::particle::Kind;
+use crate::solver::{fault_codes as fc, Diagnostics, DENSITY_SANE_HIGH, DENSITY_SANE_LOW};
+use crate::state::State;
+
+/// The step size [T] from the largest speed [L/T], acceleration [L/T^2] and sound speed:
+/// courant * min(h / (c + |v|max), sqrt(h / |a|max)), and 0.125 h^2 / nu with laminar
+/// viscosity; eq. (19) is the first bound. A fixed dt overrides all.
+pub fn step_size(p: &SphParams, c_max: f32, v_max: f32, a_max: f32) -> f32 {
+    if p.dt_fixed > 0.0 {
+        return p.dt_fixed;
+    }
+    let mut dt = p.h / (c_max + v_max); // eq. (19)
+    if a_max > 0.0 {
+        dt = dt.min((p.h / a_max).sqrt());
+    }
+    dt *= p.courant;
+    if p.nu > 0.0 {
+        dt = dt.min(0.125 * p.h * p.h / p.nu);
+    }
+    dt
+}
+
+/// Largest speed, acceleration and sound speed over fluid and solid particles.
+pub fn extremes<D: Dim>(p: &SphParams, s: &State<D>) -> (f32, f32, f32) {
+    (0..s.len())
+        .into_par_iter()
+        .filter(|&i| s.kind[i] as u32 != MF_KIND_BOUNDARY)
+        .map(|i| {
+            (
+                D::length2(s.vel[i]).sqrt(),
+                D::length2(s.acc[i]).sqrt(),
+                p.sound_speed(s.kind[i]),
+            )
+        })
+        .reduce(
+            || (0.0, 0.0, 0.0),
+            |a, b| (a.0.max(b.0), a.1.max(b.1), a.2.max(b.2)),
+        )
+}
+
+pub fn diagnostics<D: Dim>(p: &SphParams, s: &State<D>) -> Diagnostics {
+    let mut d = Diagnostics::default();
+    for i in 0..s.len() {
+        match Kind::from_code(s.kind[i]) {
+            Some(Kind::Fluid) => d.fluid += 1,
+            Some(Kind::Solid) => d.solid += 1,
+            _ => {
+                d.boundary += 1;
+                continue;
+            }
+        }
+        let v = D::to3(s.vel[i]);
+        let m = s.mass[i] as f64;
+        let v2 = v.iter().map(|c| (*c as f64).powi(2)).sum::<f64>();
+        d.kinetic_energy += 0.5 * m * v2;
+        d.max_speed = d.max_speed.max(v2.sqrt() as f32);
+        for a in 0..3 {
+            d.momentum[a] += m * v[a] as f64;
+        }
+        if s.kind[i] as u32 == MF_KIND_FLUID {
+            d.density_error = d.density_error.max((s.rho[i] / p.rho0 - 1.0).abs());
+        }
+    }
+    d
+}
+
+/// The first slot (in storage order) that is not healthy, with its fault code and value.
+pub fn first_fault<D: Dim>(p: &SphParams, s: &State<D>) -> Option<(usize, u32, f32)> {
+    (0..s.len()).into_par_iter().find_map_first(|i| {
+        if s.kind[i] as u32 == MF_KIND_BOUNDARY {
+            return None;
+        }
+        let x = D::to3(s.pos[i]);
+        let v = D::to3(s.vel[i]);
+        if let Some(c) = x.iter().find(|c| !c.is_finite()) {
+            return Some((i, fc::NON_FINITE_POSITION, *c));
+        }
+        if let Some(c) = v.iter().find(|c| !c.is_finite()) {
+            return Some((i, fc::NON_FINITE_VELOCITY, *c));
+        }
+        if !s.rho[i].is_finite() {
+            return Some((i, fc::NON_FINITE_DENSITY, s.rho[i]));
+        }
+        let rho0 = p.rest_density(s.kind[i]);
+        if s.rho[i] < DENSITY_SANE_LOW * rho0 || s.rho[i] > DENSITY_SANE_HIGH * rho0 {
+            return Some((i, fc::DENSITY_RANGE, s.rho[i]));
+        }
+        for a in 0..D::D {
+            if p.periodic[a] == 0 && (x[a] < p.domain_min[a] || x[a] > p.domain_max[a]) {
+                return Some((i, fc::ESCAPED, x[a]));
+            }
+        }
+        None
+    })
+}

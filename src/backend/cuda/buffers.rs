@@ -1,0 +1,302 @@
+//! Device arrays and the conversion between `State<D>` (host, glam vectors, full tensors)
+
+//! and the kernels' layout: vectors as float2 (2D) / float4 (3D, w unused; glam's `Vec3A`),
+//! symmetric tensors as 3 (2D: xx, yy, xy) or 6 (3D: xx, yy, zz, xy, xz, yz) planes.
+
+use std::sync::Arc;
+
+use cudarc::driver::{CudaSlice, CudaStream, DeviceRepr, DriverError, ValidAsZeroBits};
+
+use crate::dim::Dim;
+use crate::state::{SolidState, State};
+
+/// Floats per stored vector.
+pub fn vstride<D: Dim>() -> usize {
+    if D::D == 2 {
+        2
+    } else {
+        4
+    }
+}
+/// Stored components of a symmetric tensor.
+pub fn nsym<D: Dim>() -> usize {
+    if D::D == 2 {
+        3
+    } else {
+        6
+    }
+}
+/// Which of the six (xx, yy, zz, xy, xz, yz) components are stored, in order.
+fn sym_slots<D: Dim>() -> &'static [usize] {
+    if D::D == 2 {
+        &[0, 1, 3]
+    } else {
+        &[0, 1, 2, 3, 4, 5]
+    }
+}
+
+/// The per-particle arrays that the grid reorders (two sets, swapped every sort).
+pub struct Persistent {
+    pub id: CudaSlice<u32>,
+    pub kind: CudaSlice<u8>,
+    pub group: CudaSlice<u32>,
+    pub mass: CudaSlice<f32>,
+    pub pos: CudaSlice<f32>,
+    pub vel: CudaSlice<f32>,
+    pub rho: CudaSlice<f32>,
+    pub p: CudaSlice<f32>,
+    pub stress: Option<CudaSlice<f32>>,
+}
+
+/// Every device array of one solver.
+pub struct Buffers {
+    pub n: usize,
+    pub n_cells: usize,
+    pub cur: Persistent,
+    pub alt: Persistent,
+    pub acc: CudaSlice<f32>,
+    pub xsph: CudaSlice<f32>,
+    pub drho: Option<CudaSlice<f32>>,
+    pub stress_rate: Option<CudaSlice<f32>>,
+    pub art: Option<CudaSlice<f32>>,
+    // grid
+    pub cell: CudaSlice<u32>,
+    pub rank: CudaSlice<u32>,
+    pub order: CudaSlice<u32>,
+    pub count: CudaSlice<u32>,
+    pub local: CudaSlice<u32>,
+    pub bsum: CudaSlice<u32>,
+    pub cell_start: CudaSlice<u32>,
+    // scalars
+    pub red: CudaSlice<u32>,
+    pub dt: CudaSlice<f32>,
+    pub time: CudaSlice<f64>,
+    pub diag_sums: CudaSlice<f64>,
+    pub diag_max: CudaSlice<u32>,
+    pub diag_counts: CudaSlice<u32>,
+    pub first: CudaSlice<u64>,
+    pub layout: CudaSlice<u32>,
+    /// Bytes allocated on the device for all of the above.
+    pub bytes: usize,
+}
+
+struct Alloc<'a> {
+    s: &'a Arc<CudaStream>,
+    bytes: usize,
+}
+impl Alloc<'_> {
+    fn z<T: DeviceRepr + ValidAsZeroBits>(
+        &mut self,
+        n: usize,
+    ) -> Result<CudaSlice<T>, DriverError> {
+        self.bytes += n.max(1) * std::mem::size_of::<T>();
+        self.s.alloc_zeros::<T>(n.max(1))
+    }
+}
+
+/// The scan's block width (MF_SCAN_BLOCK in `cuda/grid.cu`).
+pub const SCAN_BLOCK: usize = 1024;
+
+impl Buffers {
+    /// Allocate for `state` and a grid of `n_cells`, then upload `state`.
+    pub fn new<D: Dim>(
+        s: &Arc<CudaStream>,
+        state: &State<D>,
+        n_cells: usize,
+    ) -> Result<Buffers, DriverError> {
+        let n = state.len();
+        let vs = vstride::<D>();
+        let ns = nsym::<D>();
+        let solids = state.solid.is_some();
+        let mut a = Alloc { s, bytes: 0 };
+        let persistent = |a: &mut Alloc| -> Result<Persistent, DriverError> {
+            Ok(Persistent {
+                id: a.z(n)?,
+                kind: a.z(n)?,
+                group: a.z(n)?,
+                mass: a.z(n)?,
+                pos: a.z(n * vs)?,
+                vel: a.z(n * vs)?,
+                rho: a.z(n)?,
+                p: a.z(n)?,
+                stress: if solids { Some(a.z(n * ns)?) } else { None },
+            })
+        };
+        let cur = persistent(&mut a)?;
+        let alt = persistent(&mut a)?;
+        let n_blocks = n_cells.div_ceil(SCAN_BLOCK);
+        let mut b = Buffers {
+            n,
+            n_cells,
+            cur,
+            alt,
+            acc: a.z(n * vs)?,
+            xsph: a.z(n * vs)?,
+            drho: if state.drho.is_some() {
+                Some(a.z(n)?)
+            } else {
+                None
+            },
+            stress_rate: if solids { Some(a.z(n * ns)?) } else { None },
+            art: if state
+                .solid
+                .as_ref()
+                .is_some_and(|so| so.art_stress.is_some())
+            {
+                Some(a.z(n * ns)?)
+            } else {
+                None
+            },
+            cell: a.z(n)?,
+            rank: a.z(n)?,
+            order: a.z(n)?,
+            count: a.z(n_cells)?,
+            local: a.z(n_cells)?,
+            bsum: a.z(n_blocks)?,
+            cell_start: a.z(n_cells + 1)?,
+            red: a.z(3)?,
+            dt: a.z(1)?,
+            time: a.z(1)?,
+            diag_sums: a.z(4)?,
+            diag_max: a.z(2)?,
+            diag_counts: a.z(3)?,
+            first: a.z(1)?,
+            layout: a.z(4)?,
+            bytes: 0,
+        };
+        b.bytes = a.bytes;
+        b.write_state(s, state)?;
+        Ok(b)
+    }
+
+    /// Copy `state` (same length) into the current arrays; the grid is left as it is.
+    pub fn write_state<D: Dim>(
+        &mut self,
+        s: &Arc<CudaStream>,
+        st: &State<D>,
+    ) -> Result<(), DriverError> {
+        assert_eq!(
+            st.len(),
+            self.n,
+            "write_state: length differs from the allocation"
+        );
+        let c = &mut self.cur;
+        s.memcpy_htod(&st.id, &mut c.id)?;
+        s.memcpy_htod(&st.kind, &mut c.kind)?;
+        s.memcpy_htod(&st.group, &mut c.group)?;
+        s.memcpy_htod(&st.mass, &mut c.mass)?;
+        s.memcpy_htod(&flat_v::<D>(&st.pos), &mut c.pos)?;
+        s.memcpy_htod(&flat_v::<D>(&st.vel), &mut c.vel)?;
+        s.memcpy_htod(&st.rho, &mut c.rho)?;
+        s.memcpy_htod(&st.p, &mut c.p)?;
+        s.memcpy_htod(&flat_v::<D>(&st.acc), &mut self.acc)?;
+        s.memcpy_htod(&flat_v::<D>(&st.xsph), &mut self.xsph)?;
+        if let (Some(h), Some(d)) = (&st.drho, &mut self.drho) {
+            s.memcpy_htod(h, d)?;
+        }
+        if let Some(so) = &st.solid {
+            if let Some(d) = &mut c.stress {
+                s.memcpy_htod(&flat_s::<D>(&so.stress), d)?;
+            }
+            if let Some(d) = &mut self.stress_rate {
+                s.memcpy_htod(&flat_s::<D>(&so.stress_rate), d)?;
+            }
+            if let (Some(h), Some(d)) = (&so.art_stress, &mut self.art) {
+                s.memcpy_htod(&flat_s::<D>(h), d)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The whole state, in storage order.
+    pub fn read_state<D: Dim>(&self, s: &Arc<CudaStream>) -> Result<State<D>, DriverError> {
+        let c = &self.cur;
+        let n = self.n;
+        let solid = match &c.stress {
+            Some(st) => Some(SolidState {
+                stress: unflat_s::<D>(&s.clone_dtoh(st)?, n),
+                stress_rate: match &self.stress_rate {
+                    Some(r) => unflat_s::<D>(&s.clone_dtoh(r)?, n),
+                    None => vec![D::zero(); n],
+                },
+                art_stress: match &self.art {
+                    Some(r) => Some(unflat_s::<D>(&s.clone_dtoh(r)?, n)),
+                    None => None,
+                },
+            }),
+            None => None,
+        };
+        let trim = |mut v: Vec<u32>| {
+            v.truncate(n);
+            v
+        };
+        let trimf = |mut v: Vec<f32>| {
+            v.truncate(n);
+            v
+        };
+        let mut kind = s.clone_dtoh(&c.kind)?;
+        kind.truncate(n);
+        Ok(State {
+            id: trim(s.clone_dtoh(&c.id)?),
+            kind,
+            group: trim(s.clone_dtoh(&c.group)?),
+            mass: trimf(s.clone_dtoh(&c.mass)?),
+            pos: unflat_v::<D>(&s.clone_dtoh(&c.pos)?, n),
+            vel: unflat_v::<D>(&s.clone_dtoh(&c.vel)?, n),
+            rho: trimf(s.clone_dtoh(&c.rho)?),
+            p: trimf(s.clone_dtoh(&c.p)?),
+            acc: unflat_v::<D>(&s.clone_dtoh(&self.acc)?, n),
+            xsph: unflat_v::<D>(&s.clone_dtoh(&self.xsph)?, n),
+            drho: match &self.drho {
+                Some(d) => Some(trimf(s.clone_dtoh(d)?)),
+                None => None,
+            },
+            solid,
+        })
+    }
+}
+
+fn flat_v<D: Dim>(v: &[D::V]) -> Vec<f32> {
+    let vs = vstride::<D>();
+    let mut out = vec![0.0f32; v.len() * vs];
+    for (i, x) in v.iter().enumerate() {
+        let a = D::to3(*x);
+        out[i * vs..i * vs + D::D].copy_from_slice(&a[..D::D]);
+    }
+    out
+}
+fn unflat_v<D: Dim>(f: &[f32], n: usize) -> Vec<D::V> {
+    let vs = vstride::<D>();
+    (0..n)
+        .map(|i| {
+            let mut a = [0.0f32; 3];
+            a[..D::D].copy_from_slice(&f[i * vs..i * vs + D::D]);
+            D::from3(a)
+        })
+        .collect()
+}
+/// Full tensors -> planes of symmetric components.
+fn flat_s<D: Dim>(m: &[D::M]) -> Vec<f32> {
+    let n = m.len();
+    let slots = sym_slots::<D>();
+    let mut out = vec![0.0f32; n * slots.len()];
+    for (i, x) in m.iter().enumerate() {
+        let s6 = D::sym_to6(*x);
+        for (k, &c) in slots.iter().enumerate() {
+            out[k * n + i] = s6[c];
+        }
+    }
+    out
+}
+fn unflat_s<D: Dim>(f: &[f32], n: usize) -> Vec<D::M> {
+    let slots = sym_slots::<D>();
+    (0..n)
+        .map(|i| {
+            let mut s6 = [0.0f32; 6];
+            for (k, &c) in slots.iter().enumerate() {
+                s6[c] = f[k * n + i];
+            }
+            D::sym_from6(s6)
+        })
+        .collect()
+}

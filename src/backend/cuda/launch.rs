@@ -1,0 +1,433 @@
+//! Every kernel launch of the CUDA backend. Each `unsafe` block names the kernel signature
+//! (in `cuda/*.cu`) whose argument list it matches, argument for argument.
+
+use std::sync::Arc;
+
+use cudarc::driver::{
+    CudaFunction, CudaSlice, CudaStream, DeviceRepr, DriverError, LaunchConfig, PushKernelArg,
+};
+
+use super::buffers::{Buffers, SCAN_BLOCK};
+use super::device::Device;
+use crate::backend::BackendError;
+use crate::params::SphParams;
+
+// SAFETY: SphParams is the bindgen image of the C struct in `cuda/sph_params.h` (repr(C),
+// plain integers and floats, no pointers); kernels take it by value. `tests/cuda_parity.rs`
+// checks that nvcc's sizeof and offsets equal Rust's.
+unsafe impl DeviceRepr for SphParams {}
+
+/// Null for optional array arguments (the kernels test the pointer).
+static NULL: u64 = 0;
+
+/// MF_BLOCK in `cuda/common.cuh`.
+const BLOCK: u32 = 256;
+
+fn cfg(n: usize) -> LaunchConfig {
+    LaunchConfig {
+        grid_dim: ((n as u32).div_ceil(BLOCK).max(1), 1, 1),
+        block_dim: (BLOCK, 1, 1),
+        shared_mem_bytes: 0,
+    }
+}
+
+/// One loaded kernel and where it came from (for error messages).
+pub struct Kernel {
+    f: CudaFunction,
+    module: &'static str,
+    name: String,
+}
+
+impl Kernel {
+    fn load(dev: &Device, module: &'static str, name: String) -> Result<Kernel, BackendError> {
+        Ok(Kernel {
+            f: dev.function(module, &name)?,
+            module,
+            name,
+        })
+    }
+    fn check(&self, r: Result<(), DriverError>) {
+        if let Err(e) = r {
+            panic!(
+                "CUDA launch of kernel `{}` (module `{}`) failed: {e:?}",
+                self.name, self.module
+            );
+        }
+    }
+}
+
+/// All kernels of one dimension.
+pub struct Kernels {
+    hist: Kernel,
+    scan_local: Kernel,
+    scan_top: Kernel,
+    scatter: Kernel,
+    segsort: Kernel,
+    gather: Kernel,
+    density: Kernel,
+    density_1: Kernel,
+    stress: Kernel,
+    forces: Kernel,
+    forces_fluid: Kernel,
+    forces_1: Kernel,
+    forces_fluid_1: Kernel,
+    /// Split each particle's neighbour loop over `lanes` threads (set by the solver: on
+    /// for small systems, where serial loop latency dominates).
+    pub split: bool,
+    /// Threads per particle in density and forces (`Lanes<DIM>::L` in `cuda/common.cuh`).
+    lanes: usize,
+    step_size: Kernel,
+    integrate: Kernel,
+    diagnostics: Kernel,
+    check: Kernel,
+    layout: Kernel,
+}
+
+impl Kernels {
+    pub fn load(dev: &Device, dim: usize) -> Result<Kernels, BackendError> {
+        let d = |s: &str| format!("{s}_{dim}d");
+        let plain = |s: &str| s.to_string();
+        Ok(Kernels {
+            hist: Kernel::load(dev, "grid", d("sph_grid_hist"))?,
+            scan_local: Kernel::load(dev, "grid", plain("sph_scan_local"))?,
+            scan_top: Kernel::load(dev, "grid", plain("sph_scan_top"))?,
+            scatter: Kernel::load(dev, "grid", plain("sph_grid_scatter"))?,
+            segsort: Kernel::load(dev, "grid", plain("sph_grid_segsort"))?,
+            gather: Kernel::load(dev, "grid", d("sph_grid_gather"))?,
+            density: Kernel::load(dev, "density", d("sph_density"))?,
+            density_1: Kernel::load(dev, "density", d("sph_density_1"))?,
+            stress: Kernel::load(dev, "stress", d("sph_stress_rate"))?,
+            forces: Kernel::load(dev, "forces", d("sph_forces"))?,
+            forces_fluid: Kernel::load(dev, "forces", d("sph_forces_fluid"))?,
+            forces_1: Kernel::load(dev, "forces", d("sph_forces_1"))?,
+            forces_fluid_1: Kernel::load(dev, "forces", d("sph_forces_fluid_1"))?,
+            split: true,
+            lanes: if dim == 3 { 8 } else { 4 },
+            step_size: Kernel::load(dev, "reduce", plain("sph_step_size"))?,
+            integrate: Kernel::load(dev, "integrate", d("sph_integrate"))?,
+            diagnostics: Kernel::load(dev, "reduce", d("sph_diagnostics"))?,
+            check: Kernel::load(dev, "reduce", d("sph_check"))?,
+            layout: Kernel::load(dev, "reduce", plain("sph_params_layout"))?,
+        })
+    }
+}
+
+macro_rules! opt {
+    ($b:expr, $o:expr) => {
+        match $o {
+            Some(s) => $b.arg(s),
+            None => $b.arg(&NULL),
+        }
+    };
+}
+
+/// Neighbour grid: hist, scan (3 kernels), scatter, per-cell sort by id, gather; then the
+/// two persistent buffer sets are swapped.
+pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    let n = b.n as u32;
+    let nc = b.n_cells as u32;
+    let nb = b.n_cells.div_ceil(SCAN_BLOCK) as u32;
+    if n == 0 {
+        return;
+    }
+    // SAFETY: sph_grid_hist_{2,3}d(const SphParams p, unsigned n, const float* pos,
+    // unsigned* cell, unsigned* rank, unsigned* count); pos holds n vectors, cell/rank n,
+    // count n_cells (zero: cleared by segsort or at allocation).
+    k.hist.check(unsafe {
+        s.launch_builder(&k.hist.f)
+            .arg(p)
+            .arg(&n)
+            .arg(&b.cur.pos)
+            .arg(&mut b.cell)
+            .arg(&mut b.rank)
+            .arg(&mut b.count)
+            .launch(cfg(b.n))
+            .map(|_| ())
+    });
+    // SAFETY: sph_scan_local(unsigned n_cells, const unsigned* count, unsigned* local,
+    // unsigned* bsum); grid of ceil(n_cells/1024) blocks of 1024, bsum has that many.
+    k.scan_local.check(unsafe {
+        s.launch_builder(&k.scan_local.f)
+            .arg(&nc)
+            .arg(&b.count)
+            .arg(&mut b.local)
+            .arg(&mut b.bsum)
+            .launch(LaunchConfig {
+                grid_dim: (nb, 1, 1),
+                block_dim: (SCAN_BLOCK as u32, 1, 1),
+                shared_mem_bytes: 0,
+            })
+            .map(|_| ())
+    });
+    // SAFETY: sph_scan_top(unsigned n_blocks, unsigned* bsum); one block of 1024.
+    k.scan_top.check(unsafe {
+        s.launch_builder(&k.scan_top.f)
+            .arg(&nb)
+            .arg(&mut b.bsum)
+            .launch(LaunchConfig {
+                grid_dim: (1, 1, 1),
+                block_dim: (SCAN_BLOCK as u32, 1, 1),
+                shared_mem_bytes: 0,
+            })
+            .map(|_| ())
+    });
+    // SAFETY: sph_grid_scatter(unsigned n, const unsigned* cell, const unsigned* rank,
+    // const unsigned* local, const unsigned* bsum, unsigned* order).
+    k.scatter.check(unsafe {
+        s.launch_builder(&k.scatter.f)
+            .arg(&n)
+            .arg(&b.cell)
+            .arg(&b.rank)
+            .arg(&b.local)
+            .arg(&b.bsum)
+            .arg(&mut b.order)
+            .launch(cfg(b.n))
+            .map(|_| ())
+    });
+    // SAFETY: sph_grid_segsort(unsigned n_cells, const unsigned* id, unsigned* count,
+    // const unsigned* local, const unsigned* bsum, unsigned* order, unsigned* cell_start);
+    // cell_start has n_cells + 1 entries.
+    k.segsort.check(unsafe {
+        s.launch_builder(&k.segsort.f)
+            .arg(&nc)
+            .arg(&b.cur.id)
+            .arg(&mut b.count)
+            .arg(&b.local)
+            .arg(&b.bsum)
+            .arg(&mut b.order)
+            .arg(&mut b.cell_start)
+            .launch(cfg(b.n_cells))
+            .map(|_| ())
+    });
+    {
+        let (c, a) = (&b.cur, &mut b.alt);
+        // SAFETY: sph_grid_gather_{2,3}d(unsigned n, const unsigned* order, const unsigned* id,
+        // const unsigned char* kind, const unsigned* group, const float* mass, const float* pos,
+        // const float* vel, const float* rho, const float* pr, const float* stress, then the
+        // same ten outputs); stress null in both sets or in neither.
+        let mut l = s.launch_builder(&k.gather.f);
+        l.arg(&n)
+            .arg(&b.order)
+            .arg(&c.id)
+            .arg(&c.kind)
+            .arg(&c.group)
+            .arg(&c.mass)
+            .arg(&c.pos)
+            .arg(&c.vel);
+        l.arg(&c.rho).arg(&c.p);
+        opt!(l, &c.stress);
+        l.arg(&mut a.id)
+            .arg(&mut a.kind)
+            .arg(&mut a.group)
+            .arg(&mut a.mass)
+            .arg(&mut a.pos)
+            .arg(&mut a.vel);
+        l.arg(&mut a.rho).arg(&mut a.p);
+        opt!(l, &mut a.stress);
+        k.gather.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
+    }
+    std::mem::swap(&mut b.cur, &mut b.alt);
+}
+
+pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    if b.n == 0 {
+        return;
+    }
+    let n = b.n as u32;
+    let c = &mut b.cur;
+    let (kd, lanes) = if k.split {
+        (&k.density, k.lanes)
+    } else {
+        (&k.density_1, 1)
+    };
+    // SAFETY: sph_density_{2,3}d and sph_density_1_{2,3}d(const SphParams p, unsigned n, const unsigned* cell_start,
+    // const float* pos, const unsigned char* kind, const float* mass, float* rho, float* pr).
+    kd.check(unsafe {
+        s.launch_builder(&kd.f)
+            .arg(p)
+            .arg(&n)
+            .arg(&b.cell_start)
+            .arg(&c.pos)
+            .arg(&c.kind)
+            .arg(&c.mass)
+            .arg(&mut c.rho)
+            .arg(&mut c.p)
+            .launch(cfg(b.n * lanes))
+            .map(|_| ())
+    });
+}
+
+pub fn stress_rate(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    let (Some(stress), Some(rate)) = (&b.cur.stress, &mut b.stress_rate) else {
+        return;
+    };
+    if b.n == 0 {
+        return;
+    }
+    let n = b.n as u32;
+    let c = &b.cur;
+    // SAFETY: sph_stress_rate_{2,3}d(const SphParams p, unsigned n, const unsigned* cell_start,
+    // const float* pos, const float* vel, const float* rho, const float* pr, const float* mass,
+    // const unsigned char* kind, const unsigned* group, const float* stress, float* rate,
+    // float* art); art may be null.
+    let mut l = s.launch_builder(&k.stress.f);
+    l.arg(p)
+        .arg(&n)
+        .arg(&b.cell_start)
+        .arg(&c.pos)
+        .arg(&c.vel)
+        .arg(&c.rho)
+        .arg(&c.p)
+        .arg(&c.mass);
+    l.arg(&c.kind).arg(&c.group).arg(stress).arg(rate);
+    opt!(l, &mut b.art);
+    k.stress.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
+}
+
+pub fn forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    if b.n == 0 {
+        return;
+    }
+    let n = b.n as u32;
+    let c = &b.cur;
+    // Fluid-only scenes take the variant without tensor terms (same signature).
+    let (kf, lanes) = match (c.stress.is_some(), k.split) {
+        (true, true) => (&k.forces, k.lanes),
+        (false, true) => (&k.forces_fluid, k.lanes),
+        (true, false) => (&k.forces_1, 1),
+        (false, false) => (&k.forces_fluid_1, 1),
+    };
+    // SAFETY: sph_forces[_fluid][_1]_{2,3}d(const SphParams p, unsigned n, const unsigned* cell_start,
+    // const float* pos, const float* vel, const float* rho, const float* pr, const float* mass,
+    // const unsigned char* kind, const unsigned* group, const float* stress, const float* art,
+    // float* acc, float* xsph, float* drho, unsigned* red); stress, art, drho may be null;
+    // red holds 3 words.
+    let mut l = s.launch_builder(&kf.f);
+    l.arg(p)
+        .arg(&n)
+        .arg(&b.cell_start)
+        .arg(&c.pos)
+        .arg(&c.vel)
+        .arg(&c.rho)
+        .arg(&c.p)
+        .arg(&c.mass);
+    l.arg(&c.kind).arg(&c.group);
+    opt!(l, &c.stress);
+    opt!(l, &b.art);
+    l.arg(&mut b.acc).arg(&mut b.xsph);
+    opt!(l, &mut b.drho);
+    l.arg(&mut b.red);
+    kf.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
+}
+
+pub fn step_size(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    // SAFETY: sph_step_size(const SphParams p, unsigned* red, float* dt_out); red 3 words.
+    k.step_size.check(unsafe {
+        s.launch_builder(&k.step_size.f)
+            .arg(p)
+            .arg(&mut b.red)
+            .arg(&mut b.dt)
+            .launch(cfg(1))
+            .map(|_| ())
+    });
+}
+
+pub fn integrate(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    let n = b.n as u32;
+    let c = &mut b.cur;
+    // SAFETY: sph_integrate_{2,3}d(const SphParams p, unsigned n, const float* dt_dev,
+    // double* time, const unsigned char* kind, float* pos, float* vel, const float* acc,
+    // const float* xsph, float* rho, const float* drho, float* stress, const float* rate);
+    // drho, stress and rate may be null. Launched even for n = 0: it advances the clock.
+    let mut l = s.launch_builder(&k.integrate.f);
+    l.arg(p)
+        .arg(&n)
+        .arg(&b.dt)
+        .arg(&mut b.time)
+        .arg(&c.kind)
+        .arg(&mut c.pos)
+        .arg(&mut c.vel);
+    l.arg(&b.acc).arg(&b.xsph).arg(&mut c.rho);
+    opt!(l, &b.drho);
+    opt!(l, &mut c.stress);
+    opt!(l, &b.stress_rate);
+    k.integrate.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
+}
+
+pub fn diagnostics(
+    k: &Kernels,
+    s: &Arc<CudaStream>,
+    p: &SphParams,
+    b: &mut Buffers,
+) -> Result<(), DriverError> {
+    s.memset_zeros(&mut b.diag_sums)?;
+    s.memset_zeros(&mut b.diag_max)?;
+    s.memset_zeros(&mut b.diag_counts)?;
+    if b.n == 0 {
+        return Ok(());
+    }
+    let n = b.n as u32;
+    let c = &b.cur;
+    // SAFETY: sph_diagnostics_{2,3}d(const SphParams p, unsigned n, const unsigned char* kind,
+    // const float* mass, const float* vel, const float* rho, double* sums (4),
+    // unsigned* maxes (2), unsigned* counts (3)).
+    unsafe {
+        s.launch_builder(&k.diagnostics.f)
+            .arg(p)
+            .arg(&n)
+            .arg(&c.kind)
+            .arg(&c.mass)
+            .arg(&c.vel)
+            .arg(&c.rho)
+            .arg(&mut b.diag_sums)
+            .arg(&mut b.diag_max)
+            .arg(&mut b.diag_counts)
+            .launch(cfg(b.n))?;
+    }
+    Ok(())
+}
+
+pub fn check(
+    k: &Kernels,
+    s: &Arc<CudaStream>,
+    p: &SphParams,
+    b: &mut Buffers,
+) -> Result<u64, DriverError> {
+    s.memcpy_htod(&[u64::MAX][..], &mut b.first)?;
+    if b.n > 0 {
+        let n = b.n as u32;
+        let c = &b.cur;
+        // SAFETY: sph_check_{2,3}d(const SphParams p, unsigned n, const unsigned char* kind,
+        // const float* pos, const float* vel, const float* rho, unsigned long long* first).
+        unsafe {
+            s.launch_builder(&k.check.f)
+                .arg(p)
+                .arg(&n)
+                .arg(&c.kind)
+                .arg(&c.pos)
+                .arg(&c.vel)
+                .arg(&c.rho)
+                .arg(&mut b.first)
+                .launch(cfg(b.n))?;
+        }
+    }
+    Ok(s.clone_dtoh(&b.first)?[0])
+}
+
+/// nvcc's (sizeof(SphParams), offsetof dt_fixed, offsetof gravity, p.dim as received).
+pub fn params_layout(
+    k: &Kernels,
+    s: &Arc<CudaStream>,
+    p: &SphParams,
+    out: &mut CudaSlice<u32>,
+) -> Result<[u32; 4], DriverError> {
+    // SAFETY: sph_params_layout(const SphParams p, unsigned* out); out holds 4 words.
+    unsafe {
+        s.launch_builder(&k.layout.f)
+            .arg(p)
+            .arg(&mut *out)
+            .launch(cfg(1))?;
+    }
+    let v = s.clone_dtoh(&*out)?;
+    Ok([v[0], v[1], v[2], v[3]])
+}

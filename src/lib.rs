@@ -1,0 +1,14 @@
+//! meshfree: weakly compressible SPH with elastic solids (Liu, Wang, Ma & Zhang), on the
+//! CPU (rayon) and on NVIDIA GPUs (CUDA through cudarc). See `ARCHITECTURE.md`.
+pub mod backend;
+pub mod bench;
+pub mod cli;
+pub mod dim;
+pub mod kernel;
+pub mod output;
+pub mod params;
+pub mod particle;
+pub mod run;
+pub mod scene;
+pub mod solver;
+pub mod state;

@@ -1,0 +1,19 @@
+//! Run output: VTK particle files with a `.pvd` series for ParaView (`vtk`), the
+//! diagnostics CSV (`diagnostics`) and the JSON run summary (`summary`).
+pub mod diagnostics;
+pub mod summary;
+pub mod vtk;
+
+pub use diagnostics::DiagnosticsCsv;
+pub use summary::{RunStatus, RunSummary};
+pub use vtk::{write_vtu, PvdSeries};
+
+/// Write `bytes` to `path` through a temporary file and a rename, so a reader never sees
+/// half a file.
+pub(crate) fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    let tmp = std::path::PathBuf::from(tmp);
+    std::fs::write(&tmp, bytes)?;
+    std::fs::rename(&tmp, path)
+}

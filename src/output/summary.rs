@@ -1,0 +1,48 @@
+//! `summary.json`: what ran, on what, how fast, and how it ended.
+
+use serde::{Deserialize, Serialize};
+
+use crate::scene::Counts;
+use crate::solver::{Diagnostics, Fault};
+
+/// How the run ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RunStatus {
+    Completed,
+    Failed,
+}
+
+/// The JSON summary of a run (also what `run::run` returns).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunSummary {
+    pub scene: String,
+    /// The scene file path, or `builtin:<name>`.
+    pub scene_source: String,
+    pub dimension: u32,
+    pub backend: String,
+    pub device: String,
+    /// Initial particle numbers by kind.
+    pub particles: Counts,
+    pub steps: u64,
+    /// [T]
+    pub simulated_time: f64,
+    pub wall_seconds: f64,
+    /// Particles x steps / wall seconds (particles counted at the start).
+    pub particle_steps_per_second: f64,
+    /// Number of VTK files written.
+    pub outputs: usize,
+    pub output_dir: String,
+    pub final_diagnostics: Option<Diagnostics>,
+    pub status: RunStatus,
+    /// The blow-up that stopped a failed run.
+    pub fault: Option<Fault>,
+}
+
+impl RunSummary {
+    pub fn write(&self, path: &std::path::Path) -> std::io::Result<()> {
+        let mut text = serde_json::to_string_pretty(self).map_err(std::io::Error::other)?;
+        text.push('\n');
+        super::write_atomic(path, text.as_bytes())
+    }
+}

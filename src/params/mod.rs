@@ -1,0 +1,67 @@
+//! The one parameter struct, `cuda/sph_params.h`, as Rust (bindgen, see `build.rs`), and
+//! `derive`, the one function that fills its derived fields.
+#[allow(
+    non_upper_case_globals,
+    non_camel_case_types,
+    non_snake_case,
+    dead_code,
+    clippy::all
+)]
+mod bindings {
+    include!(concat!(env!("OUT_DIR"), "/sph_params.rs"));
+}
+pub use bindings::*;
+
+use crate::kernel;
+
+/// Where the Rust bindings came from in this build: "bindgen" or "committed".
+pub const BINDINGS_SOURCE: &str = env!("MESHFREE_BINDINGS_SOURCE");
+
+/// Fill the derived fields (marked "derived" in the header) from the primary ones.
+/// Needs `dim`, `kernel`, `h`, `dx`, `rho0`, `c0`, `tait_gamma`, the domain and `periodic`.
+pub fn derive(p: &mut SphParams) {
+    let d = p.dim as usize;
+    p.support = 2.0 * p.h;
+    p.support2 = p.support * p.support;
+    p.kernel_norm = kernel::sigma(p.kernel, p.dim) / p.h.powi(p.dim);
+    p.tait_b = p.rho0 * p.c0 * p.c0 / p.tait_gamma; // eq. (9)
+    p.av_eta2 = 0.001 * p.h * p.h; // eq. (10)
+    p.visc_eta2 = 0.01 * p.h * p.h; // Morris, Fox & Zhu 1997
+    p.inv_w_dx = 1.0 / kernel::w(p, p.dx);
+    p.n_cells = 1;
+    for a in 0..3 {
+        if a < d {
+            let len = p.domain_max[a] - p.domain_min[a];
+            let n = ((len / p.support).floor() as i32).max(1);
+            p.grid_dims[a] = n;
+            p.cell_size[a] = len / n as f32;
+        } else {
+            p.grid_dims[a] = 1;
+            p.cell_size[a] = 1.0;
+            p.periodic[a] = 0;
+        }
+        p.n_cells *= p.grid_dims[a];
+    }
+}
+
+impl SphParams {
+    /// The speed of sound of particles of `kind` (fluid c0; solid: bulk plus shear waves).
+    pub fn sound_speed(&self, kind: u8) -> f32 {
+        if kind as u32 == MF_KIND_SOLID {
+            (self.solid_c0 * self.solid_c0
+                + 4.0 / 3.0 * self.shear_modulus / self.solid_rho0.max(f32::MIN_POSITIVE))
+            .sqrt()
+        } else {
+            self.c0
+        }
+    }
+
+    /// Reference density of particles of `kind`.
+    pub fn rest_density(&self, kind: u8) -> f32 {
+        if kind as u32 == MF_KIND_SOLID {
+            self.solid_rho0
+        } else {
+            self.rho0
+        }
+    }
+}

@@ -1,0 +1,372 @@
+//! The run driver: scene -> solver -> output directory. Used by the CLI, the tests and
+//! the viewer.
+//!
+//! Order of work: apply overrides and validate, generate particles, build the solver, and
+//! only then create the output directory (a scene that fails validation writes nothing).
+//! Then: output at t = 0; loop { open gates whose time came; step; health check every
+//! `CHECK_EVERY` steps and at each output; output at each output time }; a last output at
+//! the end. Each output writes `particles_NNNNN.vtu`, rewrites `particles.pvd`, appends a
+//! row to `diagnostics.csv`. `summary.json` is written at the end, also after a blow-up.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use crate::backend::{self, BackendChoice, BackendError};
+use crate::output::{self, DiagnosticsCsv, PvdSeries, RunStatus, RunSummary};
+use crate::particle::Particle;
+use crate::scene::{Counts, Overrides, Scene, SceneError};
+use crate::solver::{Diagnostics, Fault, Solver};
+
+/// Health checks (`Solver::check`) run every this many steps, and at every output.
+pub const CHECK_EVERY: u64 = 10;
+
+/// How to report progress on stderr.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Progress {
+    /// A progress bar when stderr is a terminal, else plain lines.
+    #[default]
+    Auto,
+    /// Plain lines: the start, each tenth of the run, the end.
+    Lines,
+    /// Nothing.
+    Quiet,
+}
+
+/// Options of one run. `Default` runs on `auto` into `out/<scene name>`.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    pub backend: BackendChoice,
+    /// Default `out/<scene name>`.
+    pub out_dir: Option<PathBuf>,
+    /// Replaces the scene's `time.end`.
+    pub t_end: Option<f64>,
+    /// Stop after this many steps (also before `t_end`).
+    pub max_steps: Option<u64>,
+    /// Replaces the scene's `time.output_interval`.
+    pub output_interval: Option<f64>,
+    pub progress: Progress,
+}
+
+/// Why a run did not complete.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error(transparent)]
+    Backend(#[from] BackendError),
+    #[error("{}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// A blow-up: output written so far is kept, `summary.json` holds the fault.
+    #[error("{fault} (output so far in {})", out_dir.display())]
+    BlowUp {
+        fault: Box<Fault>,
+        out_dir: PathBuf,
+        summary: Box<RunSummary>,
+    },
+}
+
+/// What an observer sees at each output.
+pub struct Frame<'a> {
+    pub index: usize,
+    pub diagnostics: &'a Diagnostics,
+    /// Ordered by id.
+    pub particles: &'a [Particle],
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
+    move |source| RunError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// Run `scene` to its end time (or `max_steps`), writing output. See the module docs.
+pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunError> {
+    run_observed(scene, options, &mut |_| {})
+}
+
+/// `run`, calling `observer` at each output with the particles just written.
+pub fn run_observed(
+    scene: &Scene,
+    options: &RunOptions,
+    observer: &mut dyn FnMut(&Frame),
+) -> Result<RunSummary, RunError> {
+    let started = Instant::now();
+    let scene = scene.with_overrides(&Overrides {
+        t_end: options.t_end,
+        output_interval: options.output_interval,
+    })?;
+    let setup = scene.setup()?;
+    let counts = Counts::of(&setup.particles);
+    let with_stress = setup.has_solids();
+    let out_dir = options
+        .out_dir
+        .clone()
+        .unwrap_or_else(|| Path::new("out").join(scene.name()));
+    let mut solver = backend::create(options.backend, setup)?;
+    let info = solver.info();
+
+    std::fs::create_dir_all(&out_dir).map_err(io_err(&out_dir))?;
+    let scene_copy = out_dir.join("scene.toml");
+    std::fs::write(&scene_copy, &scene.text).map_err(io_err(&scene_copy))?;
+    let csv_path = out_dir.join("diagnostics.csv");
+    let mut out = Writer {
+        dir: out_dir.clone(),
+        pvd: PvdSeries::new(out_dir.join("particles.pvd")),
+        csv: DiagnosticsCsv::create(&csv_path).map_err(io_err(&csv_path))?,
+        frames: 0,
+        with_stress,
+    };
+
+    let t_end = scene.file.time.end;
+    let interval = scene.file.time.output_interval;
+    let mut report = Reporter::new(options.progress, t_end, options.max_steps);
+    report.line(&format!(
+        "meshfree: {} ({}) on {} ({}): {} particles ({} fluid, {} solid, {} boundary) -> {}",
+        scene.name(),
+        scene.origin(),
+        info.backend,
+        info.device,
+        counts.total,
+        counts.fluid,
+        counts.solid,
+        counts.boundary,
+        out_dir.display()
+    ));
+
+    let mut summary = RunSummary {
+        scene: scene.name().to_string(),
+        scene_source: scene.origin(),
+        dimension: scene.file.dimension,
+        backend: info.backend.clone(),
+        device: info.device.clone(),
+        particles: counts,
+        steps: 0,
+        simulated_time: 0.0,
+        wall_seconds: 0.0,
+        particle_steps_per_second: 0.0,
+        outputs: 0,
+        output_dir: out_dir.display().to_string(),
+        final_diagnostics: None,
+        status: RunStatus::Completed,
+        fault: None,
+    };
+
+    let gates = scene.gates();
+    let mut next_gate = 0;
+    let first_step = solver.steps();
+    let mut step_seconds = 0.0;
+    let eps = 1e-9 * interval.min(t_end);
+
+    let result = (|| -> Result<(), RunFailure> {
+        solver.check().map_err(RunFailure::Fault)?;
+        let mut last = out.output(&mut *solver, observer)?;
+        let mut next_output = interval;
+        loop {
+            let t = solver.time();
+            let taken = solver.steps() - first_step;
+            if t >= t_end - eps || options.max_steps.is_some_and(|n| taken >= n) {
+                break;
+            }
+            while next_gate < gates.len() && gates[next_gate].1 <= t + eps {
+                let (group, _) = gates[next_gate];
+                let n = solver.remove_group(group);
+                report.line(&format!(
+                    "t = {t:.4}: gate (group {group}) removed, {n} particles"
+                ));
+                next_gate += 1;
+            }
+            let s0 = Instant::now();
+            solver.step();
+            step_seconds += s0.elapsed().as_secs_f64();
+            let steps = solver.steps();
+            let t = solver.time();
+            let due = t >= next_output - eps;
+            if due || steps % CHECK_EVERY == 0 {
+                solver.check().map_err(RunFailure::Fault)?;
+            }
+            if due {
+                last = out.output(&mut *solver, observer)?;
+                next_output = ((t / interval + 1e-9).floor() + 1.0) * interval;
+            }
+            report.progress(t, steps - first_step, &last);
+        }
+        if last.step != solver.steps() {
+            solver.check().map_err(RunFailure::Fault)?;
+            out.output(&mut *solver, observer)?;
+        }
+        Ok(())
+    })();
+
+    let steps = solver.steps() - first_step;
+    summary.steps = steps;
+    summary.simulated_time = solver.time();
+    summary.outputs = out.frames;
+    summary.wall_seconds = started.elapsed().as_secs_f64();
+    summary.particle_steps_per_second = if step_seconds > 0.0 {
+        counts.total as f64 * steps as f64 / step_seconds
+    } else {
+        0.0
+    };
+    summary.final_diagnostics = Some(solver.diagnostics());
+    let failure = match result {
+        Ok(()) => None,
+        Err(RunFailure::Fault(f)) => {
+            summary.status = RunStatus::Failed;
+            summary.fault = Some(f.clone());
+            Some(f)
+        }
+        Err(RunFailure::Io(e)) => return Err(e),
+    };
+    let summary_path = out_dir.join("summary.json");
+    summary
+        .write(&summary_path)
+        .map_err(io_err(&summary_path))?;
+    report.finish(&summary);
+    match failure {
+        None => Ok(summary),
+        Some(fault) => Err(RunError::BlowUp {
+            fault: Box::new(fault),
+            out_dir,
+            summary: Box::new(summary),
+        }),
+    }
+}
+
+enum RunFailure {
+    Fault(Fault),
+    Io(RunError),
+}
+
+impl From<RunError> for RunFailure {
+    fn from(e: RunError) -> Self {
+        RunFailure::Io(e)
+    }
+}
+
+struct Writer {
+    dir: PathBuf,
+    pvd: PvdSeries,
+    csv: DiagnosticsCsv,
+    frames: usize,
+    with_stress: bool,
+}
+
+impl Writer {
+    /// One output: VTK file, pvd, CSV row. Returns the diagnostics written.
+    fn output(
+        &mut self,
+        solver: &mut dyn Solver,
+        observer: &mut dyn FnMut(&Frame),
+    ) -> Result<Diagnostics, RunError> {
+        let d = solver.diagnostics();
+        let particles = solver.particles();
+        let name = format!("particles_{:05}.vtu", self.frames);
+        let path = self.dir.join(&name);
+        output::write_vtu(&path, &particles, self.with_stress).map_err(io_err(&path))?;
+        self.pvd
+            .add(d.time, &name)
+            .map_err(io_err(self.pvd.path()))?;
+        self.csv
+            .write(&d)
+            .map_err(io_err(&self.dir.join("diagnostics.csv")))?;
+        observer(&Frame {
+            index: self.frames,
+            diagnostics: &d,
+            particles: &particles,
+        });
+        self.frames += 1;
+        Ok(d)
+    }
+}
+
+/// Progress on stderr: an indicatif bar on a terminal, else a line per tenth of the run.
+struct Reporter {
+    bar: Option<indicatif::ProgressBar>,
+    lines: bool,
+    t_end: f64,
+    max_steps: Option<u64>,
+    next_tenth: u32,
+}
+
+impl Reporter {
+    fn new(mode: Progress, t_end: f64, max_steps: Option<u64>) -> Reporter {
+        let terminal = std::io::stderr().is_terminal();
+        let (bar, lines) = match mode {
+            Progress::Quiet => (None, false),
+            Progress::Lines => (None, true),
+            Progress::Auto if terminal => {
+                let bar = indicatif::ProgressBar::new(1000);
+                bar.set_style(
+                    indicatif::ProgressStyle::with_template(
+                        "{elapsed_precise} [{bar:40}] {percent:>3}% eta {eta} {msg}",
+                    )
+                    .expect("progress template")
+                    .progress_chars("=> "),
+                );
+                (Some(bar), false)
+            }
+            Progress::Auto => (None, true),
+        };
+        Reporter {
+            bar,
+            lines,
+            t_end,
+            max_steps,
+            next_tenth: 1,
+        }
+    }
+
+    fn line(&self, text: &str) {
+        if let Some(bar) = &self.bar {
+            bar.println(text);
+        } else if self.lines {
+            eprintln!("{text}");
+        }
+    }
+
+    fn progress(&mut self, t: f64, steps: u64, d: &Diagnostics) {
+        let mut frac = t / self.t_end;
+        if let Some(n) = self.max_steps {
+            frac = frac.max(steps as f64 / n.max(1) as f64);
+        }
+        let frac = frac.clamp(0.0, 1.0);
+        if let Some(bar) = &self.bar {
+            bar.set_position((frac * 1000.0) as u64);
+            if steps % 10 == 0 {
+                bar.set_message(format!(
+                    "t = {t:.4} step {steps} max|v| = {:.3}",
+                    d.max_speed
+                ));
+            }
+        } else if self.lines && frac * 10.0 >= self.next_tenth as f64 {
+            while frac * 10.0 >= self.next_tenth as f64 {
+                self.next_tenth += 1;
+            }
+            eprintln!(
+                "  {:>3.0}%  t = {t:.4}  step {steps}  (at last output: max|v| = {:.4}, density error = {:.4})",
+                frac * 100.0,
+                d.max_speed,
+                d.density_error
+            );
+        }
+    }
+
+    fn finish(&self, s: &RunSummary) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+        let status = match s.status {
+            RunStatus::Completed => "completed".to_string(),
+            RunStatus::Failed => "FAILED".to_string(),
+        };
+        self.line(&format!(
+            "{status}: {} steps to t = {:.4} in {:.2} s ({:.3e} particle-steps/s), {} outputs in {}",
+            s.steps, s.simulated_time, s.wall_seconds, s.particle_steps_per_second, s.outputs, s.output_dir
+        ));
+    }
+}

@@ -1,0 +1,317 @@
+//! The scene file format: serde structs for TOML (`#[serde(deny_unknown_fields)]` on every
+//! table, string-tagged enums in kebab-case). Defaults are documented on each field and in
+//! `scenes/README` of the crate docs (`crate::scene`).
+//!
+//! Arrays of coordinates hold exactly `dimension` numbers; the checks are in `validate.rs`.
+
+use serde::{Deserialize, Serialize};
+
+/// A whole scene file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// 2 or 3.
+    pub dimension: u32,
+    /// Short name, used for the default output directory `out/<name>`.
+    pub name: String,
+    /// One or two sentences. Default "".
+    #[serde(default)]
+    pub description: String,
+    /// [L/T^2] body force per unit mass, `dimension` numbers. Default zero.
+    #[serde(default)]
+    pub gravity: Option<Vec<f64>>,
+    pub domain: Domain,
+    pub discretisation: Discretisation,
+    pub time: Time,
+    pub fluid: FluidMaterial,
+    /// Needed only when the scene has solid objects.
+    #[serde(default)]
+    pub solid: Option<SolidMaterial>,
+    /// Lennard-Jones wall force, eq. (17). Needed only when the scene has walls.
+    #[serde(default)]
+    pub boundary: Option<BoundaryMaterial>,
+    #[serde(default)]
+    pub fluid_blocks: Vec<FluidBlock>,
+    #[serde(default)]
+    pub solids: Vec<SolidObject>,
+    #[serde(default)]
+    pub walls: Vec<Wall>,
+}
+
+/// The simulation box. Particles leaving it on a non-periodic axis stop the run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Domain {
+    /// [L] lower corner.
+    pub min: Vec<f64>,
+    /// [L] upper corner.
+    pub max: Vec<f64>,
+    /// Per axis: wrap around. Default all false.
+    #[serde(default)]
+    pub periodic: Option<Vec<bool>>,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum KernelChoice {
+    /// Monaghan 1992 cubic B-spline, support 2h.
+    #[default]
+    CubicSpline,
+    /// Wendland C2, support 2h.
+    WendlandC2,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Discretisation {
+    /// [L] initial particle spacing dx (also the default Lennard-Jones r0).
+    pub spacing: f64,
+    /// [-] h = h_factor * dx. Default 1.3.
+    #[serde(default = "default_h_factor")]
+    pub h_factor: f64,
+    /// Default "cubic-spline".
+    #[serde(default)]
+    pub kernel: KernelChoice,
+}
+
+fn default_h_factor() -> f64 {
+    1.3
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum IntegratorChoice {
+    /// Semi-implicit Euler: v first, then x with the new v. The default.
+    #[default]
+    SymplecticEuler,
+    /// The paper's forward Euler, eq. (19).
+    Euler,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Time {
+    /// [T] end time.
+    pub end: f64,
+    /// [T] time between outputs (VTK file, CSV row).
+    pub output_interval: f64,
+    /// [-] Courant number of the CFL limit, eq. (19). Default 0.2.
+    #[serde(default = "default_courant")]
+    pub courant: f64,
+    /// [T] fixed step; absent = adaptive.
+    #[serde(default)]
+    pub dt: Option<f64>,
+    /// Default "symplectic-euler".
+    #[serde(default)]
+    pub integrator: IntegratorChoice,
+}
+
+fn default_courant() -> f64 {
+    0.2
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DensityForm {
+    /// d rho / dt = sum_j m_j v_ij . grad_i W_ij. The default.
+    #[default]
+    Continuity,
+    /// rho_i = sum_j m_j W_ij, eq. (8), as the paper.
+    Summation,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FluidMaterial {
+    /// [M L^-d] reference density rho0.
+    pub density: f64,
+    /// [L/T] speed of sound c0.
+    pub sound_speed: f64,
+    /// [-] Tait exponent, eq. (9). Default 7.
+    #[serde(default = "default_gamma")]
+    pub gamma: f64,
+    /// Default "continuity".
+    #[serde(default)]
+    pub density_form: DensityForm,
+    /// [-] artificial viscosity, linear term, eq. (10). Default 0.
+    #[serde(default)]
+    pub alpha: f64,
+    /// [-] artificial viscosity, quadratic term, eq. (10). Default 0.
+    #[serde(default)]
+    pub beta: f64,
+    /// [L^2/T] laminar kinematic viscosity nu (Morris 1997). Default 0 = off (the paper).
+    #[serde(default)]
+    pub viscosity: f64,
+    /// [-] XSPH epsilon, eq. (18). Default 0.
+    #[serde(default)]
+    pub xsph: f64,
+}
+
+fn default_gamma() -> f64 {
+    7.0
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolidMaterial {
+    /// [M L^-d] reference density.
+    pub density: f64,
+    /// [L/T] bulk sound speed: P = c^2 (rho - rho0).
+    pub sound_speed: f64,
+    /// [M L^-d L^2/T^2] shear modulus mu_s, eq. (12).
+    pub shear_modulus: f64,
+    /// [-] Gray-Monaghan-Swift artificial stress epsilon. Default 0 = off (the paper).
+    #[serde(default)]
+    pub artificial_stress: f64,
+    /// [-] exponent n of the artificial stress. Default 4.
+    #[serde(default = "default_art_n")]
+    pub artificial_stress_exponent: f64,
+}
+
+fn default_art_n() -> f64 {
+    4.0
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum WallCoupling {
+    /// Boundary neighbours also mirror the fluid's pressure and take part in viscosity.
+    #[default]
+    PressureMirror,
+    /// The paper's form: the Lennard-Jones force of eq. (17) only.
+    LennardJonesOnly,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundaryMaterial {
+    /// [L/T^2] C0 of eq. (17).
+    pub strength: f64,
+    /// [L] r0 of eq. (17). Default: the spacing.
+    #[serde(default)]
+    pub r0: Option<f64>,
+    /// Default 12.
+    #[serde(default = "default_p1")]
+    pub p1: i32,
+    /// Default 6.
+    #[serde(default = "default_p2")]
+    pub p2: i32,
+    /// true: the force also attracts beyond r0 (up to the support). Default false.
+    #[serde(default)]
+    pub attractive: bool,
+    /// Default "pressure-mirror".
+    #[serde(default)]
+    pub wall_coupling: WallCoupling,
+}
+
+fn default_p1() -> i32 {
+    12
+}
+fn default_p2() -> i32 {
+    6
+}
+
+/// A block of fluid particles on the lattice min + (i + 0.5) dx.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FluidBlock {
+    pub min: Vec<f64>,
+    pub max: Vec<f64>,
+    /// [L/T] initial velocity. Default zero.
+    #[serde(default)]
+    pub velocity: Option<Vec<f64>>,
+    /// Initial pressure and density from the Tait EOS with a hydrostatic column measured
+    /// from the block's top (along -gravity), eq. (9). Default false.
+    #[serde(default)]
+    pub hydrostatic: bool,
+}
+
+/// An elastic body. `shape` picks the variant; the other keys belong to that shape.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum SolidObject {
+    Box {
+        min: Vec<f64>,
+        max: Vec<f64>,
+        #[serde(default)]
+        velocity: Option<Vec<f64>>,
+    },
+    /// 2D only.
+    Disc {
+        center: Vec<f64>,
+        radius: f64,
+        #[serde(default)]
+        velocity: Option<Vec<f64>>,
+    },
+    /// 3D only.
+    Sphere {
+        center: Vec<f64>,
+        radius: f64,
+        #[serde(default)]
+        velocity: Option<Vec<f64>>,
+    },
+}
+
+impl SolidObject {
+    pub fn velocity(&self) -> Option<&Vec<f64>> {
+        match self {
+            SolidObject::Box { velocity, .. }
+            | SolidObject::Disc { velocity, .. }
+            | SolidObject::Sphere { velocity, .. } => velocity.as_ref(),
+        }
+    }
+}
+
+/// Fixed boundary particles. Any wall may be a gate, removed at `remove_at`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Wall {
+    /// `layers` rows of boundary particles just outside the box [min, max], at
+    /// min - (k + 0.5) dx and max + (k + 0.5) dx; no rows above max[1] when `open_top`.
+    BoxContainer {
+        min: Vec<f64>,
+        max: Vec<f64>,
+        /// Default 3.
+        #[serde(default = "default_layers")]
+        layers: u32,
+        /// Default true.
+        #[serde(default = "default_true")]
+        open_top: bool,
+        #[serde(default)]
+        remove_at: Option<f64>,
+    },
+    /// A filled box of boundary particles (obstacle or gate).
+    Box {
+        min: Vec<f64>,
+        max: Vec<f64>,
+        #[serde(default)]
+        remove_at: Option<f64>,
+    },
+    /// Rings of boundary particles inward from `radius` (a cylinder along z in 3D).
+    Cylinder {
+        center: Vec<f64>,
+        radius: f64,
+        /// Default 3.
+        #[serde(default = "default_layers")]
+        layers: u32,
+        #[serde(default)]
+        remove_at: Option<f64>,
+    },
+}
+
+impl Wall {
+    pub fn remove_at(&self) -> Option<f64> {
+        match self {
+            Wall::BoxContainer { remove_at, .. }
+            | Wall::Box { remove_at, .. }
+            | Wall::Cylinder { remove_at, .. } => *remove_at,
+        }
+    }
+}
+
+fn default_layers() -> u32 {
+    3
+}
+fn default_true() -> bool {
+    true
+}

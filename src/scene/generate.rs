@@ -1,0 +1,394 @@
+//! Particles from a validated scene.
+//!
+//! * Every shape is filled on the lattice `min + (i + 0.5) dx` (a box holds
+//!   `floor(len / dx)` particles per axis); discs and spheres take the lattice points
+//!   `center + (i + 0.5) dx` strictly inside the radius.
+//! * `box-container` walls: `layers` rows just outside the box, at `min - (k + 0.5) dx` and
+//!   `max + (k + 0.5) dx`, none above `max[1]` when `open_top` (y is up). Fluid at spacing dx
+//!   inside the box then sits dx from the first row.
+//! * `cylinder` walls: rings at radius `r - (k + 0.5) dx`, about dx apart along the ring;
+//!   in 3D repeated along z on the domain's lattice.
+//! * Overlaps: walls take precedence over solids, solids over fluid; within a kind an
+//!   earlier object over a later one. A particle is dropped when it lies within 0.5 dx of
+//!   a particle kept from a preceding object, or (fluid, solid) inside the region of a
+//!   wall or (fluid) of a solid.
+//! * `group` = the object's index in the sequence fluid_blocks, solids, walls; the final
+//!   list is ordered by group, then generation order; `id` = index in that list.
+//! * Mass = reference density * dx^dim (boundary particles take the fluid's rho0).
+
+use std::collections::HashMap;
+
+use super::format::*;
+use crate::particle::{Kind, Particle};
+
+type P3 = [f64; 3];
+
+/// One object's candidate particles and region test.
+struct Object<'a> {
+    group: u32,
+    kind: Kind,
+    points: Vec<P3>,
+    region: Region<'a>,
+}
+
+enum Region<'a> {
+    Box(&'a [f64], &'a [f64]),
+    /// Extended box minus the interior box.
+    Band {
+        lo: Vec<f64>,
+        hi: Vec<f64>,
+        min: &'a [f64],
+        max: &'a [f64],
+    },
+    Ball {
+        center: &'a [f64],
+        radius: f64,
+    },
+    /// In-plane (x, y) disc: a cylinder along z.
+    Column {
+        center: &'a [f64],
+        radius: f64,
+    },
+}
+
+impl Region<'_> {
+    fn contains(&self, p: &P3, dim: usize) -> bool {
+        let in_box = |lo: &[f64], hi: &[f64]| (0..dim).all(|a| p[a] > lo[a] && p[a] < hi[a]);
+        match self {
+            Region::Box(lo, hi) => in_box(lo, hi),
+            Region::Band { lo, hi, min, max } => in_box(lo, hi) && !in_box(min, max),
+            Region::Ball { center, radius } => {
+                (0..dim).map(|a| (p[a] - center[a]).powi(2)).sum::<f64>() < radius * radius
+            }
+            Region::Column { center, radius } => {
+                (0..2).map(|a| (p[a] - center[a]).powi(2)).sum::<f64>() < radius * radius
+            }
+        }
+    }
+}
+
+/// Lattice coordinates min + (i + 0.5) dx, i in 0..floor(len / dx).
+fn axis(min: f64, max: f64, dx: f64) -> Vec<f64> {
+    let n = ((max - min) / dx + 1e-6).floor().max(0.0) as usize;
+    (0..n).map(|i| min + (i as f64 + 0.5) * dx).collect()
+}
+
+/// Every point of the tensor product of per-axis coordinate lists (x fastest).
+fn product(axes: &[Vec<f64>], dim: usize, mut keep: impl FnMut(&P3) -> bool) -> Vec<P3> {
+    let mut out = Vec::new();
+    let zs: Vec<f64> = if dim == 3 { axes[2].clone() } else { vec![0.0] };
+    for &z in &zs {
+        for &y in &axes[1] {
+            for &x in &axes[0] {
+                let p = [x, y, z];
+                if keep(&p) {
+                    out.push(p);
+                }
+            }
+        }
+    }
+    out
+}
+
+fn box_points(min: &[f64], max: &[f64], dx: f64, dim: usize) -> Vec<P3> {
+    let axes: Vec<Vec<f64>> = (0..dim).map(|a| axis(min[a], max[a], dx)).collect();
+    product(&axes, dim, |_| true)
+}
+
+fn ball_points(center: &[f64], radius: f64, dx: f64, dim: usize) -> Vec<P3> {
+    let n = (radius / dx).ceil() as i64 + 1;
+    let axes: Vec<Vec<f64>> = (0..dim)
+        .map(|a| (-n..n).map(|i| center[a] + (i as f64 + 0.5) * dx).collect())
+        .collect();
+    product(&axes, dim, |p| {
+        (0..dim).map(|a| (p[a] - center[a]).powi(2)).sum::<f64>() < radius * radius
+    })
+}
+
+/// Rows outside the box: a point is a wall point when any coordinate is a layer coordinate.
+fn container_points(
+    min: &[f64],
+    max: &[f64],
+    layers: u32,
+    open_top: bool,
+    dx: f64,
+    dim: usize,
+) -> Vec<P3> {
+    // Per axis: (coordinate, is_layer).
+    let axes: Vec<Vec<(f64, bool)>> = (0..dim)
+        .map(|a| {
+            let mut v: Vec<(f64, bool)> = (0..layers)
+                .rev()
+                .map(|k| (min[a] - (k as f64 + 0.5) * dx, true))
+                .collect();
+            v.extend(axis(min[a], max[a], dx).into_iter().map(|x| (x, false)));
+            if !(open_top && a == 1) {
+                v.extend((0..layers).map(|k| (max[a] + (k as f64 + 0.5) * dx, true)));
+            }
+            v
+        })
+        .collect();
+    let zs: Vec<(f64, bool)> = if dim == 3 {
+        axes[2].clone()
+    } else {
+        vec![(0.0, false)]
+    };
+    let mut out = Vec::new();
+    for &(z, lz) in &zs {
+        for &(y, ly) in &axes[1] {
+            for &(x, lx) in &axes[0] {
+                if lx || ly || lz {
+                    out.push([x, y, z]);
+                }
+            }
+        }
+    }
+    out
+}
+
+fn cylinder_points(
+    center: &[f64],
+    radius: f64,
+    layers: u32,
+    dx: f64,
+    dim: usize,
+    domain: &Domain,
+) -> Vec<P3> {
+    let zs: Vec<f64> = if dim == 3 {
+        axis(domain.min[2], domain.max[2], dx)
+    } else {
+        vec![0.0]
+    };
+    let mut out = Vec::new();
+    for &z in &zs {
+        for k in 0..layers {
+            let r = radius - (k as f64 + 0.5) * dx;
+            if r <= 0.0 {
+                if r > -0.5 * dx {
+                    out.push([center[0], center[1], z]);
+                }
+                break;
+            }
+            let n = ((2.0 * std::f64::consts::PI * r / dx).round() as usize).max(1);
+            // Alternate rings are offset by half a step so the layers interlock.
+            let offset = if k % 2 == 1 { 0.5 } else { 0.0 };
+            for j in 0..n {
+                let t = 2.0 * std::f64::consts::PI * (j as f64 + offset) / n as f64;
+                out.push([center[0] + r * t.cos(), center[1] + r * t.sin(), z]);
+            }
+        }
+    }
+    out
+}
+
+/// A hash grid of kept positions with cell size dx.
+struct Grid {
+    dx: f64,
+    cells: HashMap<[i64; 3], Vec<P3>>,
+}
+
+impl Grid {
+    fn key(&self, p: &P3) -> [i64; 3] {
+        [0, 1, 2].map(|a| (p[a] / self.dx).floor() as i64)
+    }
+
+    fn near(&self, p: &P3, r: f64) -> bool {
+        let k = self.key(p);
+        for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    if let Some(v) = self.cells.get(&[k[0] + dx, k[1] + dy, k[2] + dz]) {
+                        if v.iter()
+                            .any(|q| (0..3).map(|a| (p[a] - q[a]).powi(2)).sum::<f64>() < r * r)
+                        {
+                            return true;
+                        }
+                    }
+                }
+            }
+        }
+        false
+    }
+
+    fn insert(&mut self, p: P3) {
+        let k = self.key(&p);
+        self.cells.entry(k).or_default().push(p);
+    }
+}
+
+/// The hydrostatic pressure of eq. (9)'s set-up: p = rho0 g . (x - x_top), with x_top the
+/// block corner furthest against gravity.
+fn hydrostatic_pressure(block: &FluidBlock, g: &P3, rho0: f64, p: &P3, dim: usize) -> f64 {
+    // min over corners of g . c = sum over axes of min(g_a min_a, g_a max_a).
+    let top: f64 = (0..dim)
+        .map(|a| (g[a] * block.min[a]).min(g[a] * block.max[a]))
+        .sum();
+    let here: f64 = (0..dim).map(|a| g[a] * p[a]).sum();
+    rho0 * (here - top)
+}
+
+fn vec3(v: Option<&Vec<f64>>) -> P3 {
+    let mut out = [0.0; 3];
+    if let Some(v) = v {
+        for (o, x) in out.iter_mut().zip(v) {
+            *o = *x;
+        }
+    }
+    out
+}
+
+/// All particles of a validated scene, ordered by group; ids assigned.
+pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
+    let dim = s.dimension as usize;
+    let dx = s.discretisation.spacing;
+    let n_fluid = s.fluid_blocks.len() as u32;
+    let n_solid = s.solids.len() as u32;
+
+    let mut objects: Vec<Object> = Vec::new();
+    for (i, b) in s.fluid_blocks.iter().enumerate() {
+        objects.push(Object {
+            group: i as u32,
+            kind: Kind::Fluid,
+            points: box_points(&b.min, &b.max, dx, dim),
+            region: Region::Box(&b.min, &b.max),
+        });
+    }
+    for (i, o) in s.solids.iter().enumerate() {
+        let (points, region) = match o {
+            SolidObject::Box { min, max, .. } => {
+                (box_points(min, max, dx, dim), Region::Box(min, max))
+            }
+            SolidObject::Disc { center, radius, .. }
+            | SolidObject::Sphere { center, radius, .. } => (
+                ball_points(center, *radius, dx, dim),
+                Region::Ball {
+                    center,
+                    radius: *radius,
+                },
+            ),
+        };
+        objects.push(Object {
+            group: n_fluid + i as u32,
+            kind: Kind::Solid,
+            points,
+            region,
+        });
+    }
+    for (i, w) in s.walls.iter().enumerate() {
+        let (points, region) = match w {
+            Wall::BoxContainer {
+                min,
+                max,
+                layers,
+                open_top,
+                ..
+            } => {
+                let t = *layers as f64 * dx;
+                let lo: Vec<f64> = min.iter().map(|x| x - t).collect();
+                let mut hi: Vec<f64> = max.iter().map(|x| x + t).collect();
+                if *open_top {
+                    hi[1] = max[1];
+                }
+                (
+                    container_points(min, max, *layers, *open_top, dx, dim),
+                    Region::Band { lo, hi, min, max },
+                )
+            }
+            Wall::Box { min, max, .. } => (box_points(min, max, dx, dim), Region::Box(min, max)),
+            Wall::Cylinder {
+                center,
+                radius,
+                layers,
+                ..
+            } => (
+                cylinder_points(center, *radius, *layers, dx, dim, &s.domain),
+                Region::Column {
+                    center,
+                    radius: *radius,
+                },
+            ),
+        };
+        objects.push(Object {
+            group: n_fluid + n_solid + i as u32,
+            kind: Kind::Boundary,
+            points,
+            region,
+        });
+    }
+
+    // Precedence: walls, then solids, then fluid; within a kind, scene order.
+    let rank = |k: Kind| match k {
+        Kind::Boundary => 0,
+        Kind::Solid => 1,
+        Kind::Fluid => 2,
+    };
+    let mut order: Vec<usize> = (0..objects.len()).collect();
+    order.sort_by_key(|&i| (rank(objects[i].kind), objects[i].group));
+
+    let mut grid = Grid {
+        dx,
+        cells: HashMap::new(),
+    };
+    let mut kept: Vec<Vec<P3>> = vec![Vec::new(); objects.len()];
+    for (n, &i) in order.iter().enumerate() {
+        let obj = &objects[i];
+        let earlier = &order[..n];
+        let mut mine = Vec::with_capacity(obj.points.len());
+        for p in &obj.points {
+            if grid.near(p, 0.5 * dx) {
+                continue;
+            }
+            let covered = earlier.iter().any(|&j| {
+                let other = &objects[j];
+                let blocks = match obj.kind {
+                    Kind::Fluid => other.kind != Kind::Fluid,
+                    Kind::Solid => other.kind == Kind::Boundary,
+                    Kind::Boundary => false,
+                };
+                blocks && other.region.contains(p, dim)
+            });
+            if !covered {
+                mine.push(*p);
+            }
+        }
+        for p in &mine {
+            grid.insert(*p);
+        }
+        kept[i] = mine;
+    }
+
+    let g = vec3(s.gravity.as_ref());
+    let f = &s.fluid;
+    let tait_b = f.density * f.sound_speed * f.sound_speed / f.gamma;
+    let dxd = dx.powi(dim as i32);
+    let mut out = Vec::new();
+    for (i, obj) in objects.iter().enumerate() {
+        let (rho_ref, velocity) = match obj.kind {
+            Kind::Fluid => (f.density, vec3(s.fluid_blocks[i].velocity.as_ref())),
+            Kind::Solid => (
+                s.solid.as_ref().map(|m| m.density).unwrap_or(f.density),
+                vec3(s.solids[i - n_fluid as usize].velocity()),
+            ),
+            Kind::Boundary => (f.density, [0.0; 3]),
+        };
+        for p in &kept[i] {
+            let (mut density, mut pressure) = (rho_ref, 0.0);
+            if obj.kind == Kind::Fluid && s.fluid_blocks[i].hydrostatic {
+                pressure = hydrostatic_pressure(&s.fluid_blocks[i], &g, f.density, p, dim);
+                density = f.density * (1.0 + pressure / tait_b).powf(1.0 / f.gamma);
+            }
+            out.push(Particle {
+                id: out.len() as u32,
+                kind: obj.kind,
+                group: obj.group,
+                position: p.map(|x| x as f32),
+                velocity: velocity.map(|x| x as f32),
+                density: density as f32,
+                pressure: pressure as f32,
+                mass: (rho_ref * dxd) as f32,
+                stress: [0.0; 6],
+            });
+        }
+    }
+    out
+}

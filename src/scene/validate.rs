@@ -1,0 +1,344 @@
+//! Checks on a parsed scene that serde cannot express: array lengths against `dimension`,
+//! ordering of corners, positive sizes, objects inside the domain, materials present, and
+//! enough neighbour-grid cells on periodic axes. The first failure is returned.
+
+use super::format::*;
+use super::SceneError;
+
+type R = Result<(), SceneError>;
+
+struct Ctx<'a> {
+    origin: &'a str,
+    dim: usize,
+}
+
+impl Ctx<'_> {
+    fn err(&self, field: impl Into<String>, reason: impl Into<String>) -> SceneError {
+        SceneError::Invalid {
+            origin: self.origin.to_string(),
+            field: field.into(),
+            reason: reason.into(),
+        }
+    }
+
+    fn vec(&self, field: &str, v: &[f64]) -> R {
+        if v.len() != self.dim {
+            return Err(self.err(
+                field,
+                format!(
+                    "expected {} numbers (dimension = {}), found {}",
+                    self.dim,
+                    self.dim,
+                    v.len()
+                ),
+            ));
+        }
+        if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+            return Err(self.err(format!("{field}[{i}]"), "not a finite number"));
+        }
+        Ok(())
+    }
+
+    fn opt_vec(&self, field: &str, v: &Option<Vec<f64>>) -> R {
+        match v {
+            Some(v) => self.vec(field, v),
+            None => Ok(()),
+        }
+    }
+
+    fn corners(&self, field: &str, min: &[f64], max: &[f64]) -> R {
+        self.vec(&format!("{field}.min"), min)?;
+        self.vec(&format!("{field}.max"), max)?;
+        for a in 0..self.dim {
+            if min[a] >= max[a] {
+                return Err(self.err(
+                    format!("{field}.max"),
+                    format!(
+                        "max[{a}] = {} is not greater than min[{a}] = {}",
+                        max[a], min[a]
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn positive(&self, field: &str, x: f64) -> R {
+        if !(x.is_finite() && x > 0.0) {
+            return Err(self.err(field, format!("must be a positive number, found {x}")));
+        }
+        Ok(())
+    }
+
+    fn non_negative(&self, field: &str, x: f64) -> R {
+        if !(x.is_finite() && x >= 0.0) {
+            return Err(self.err(field, format!("must be zero or positive, found {x}")));
+        }
+        Ok(())
+    }
+
+    /// The box [lo, hi] (first `dim` axes) lies inside the domain.
+    fn inside(&self, field: &str, what: &str, lo: &[f64], hi: &[f64], d: &Domain) -> R {
+        for a in 0..self.dim {
+            let tol = 1e-9 * (d.max[a] - d.min[a]);
+            if lo[a] < d.min[a] - tol {
+                return Err(self.err(
+                    field,
+                    format!(
+                        "{what} reaches {} on axis {a}, below domain.min[{a}] = {}",
+                        fmt(lo[a]),
+                        d.min[a]
+                    ),
+                ));
+            }
+            if hi[a] > d.max[a] + tol {
+                return Err(self.err(
+                    field,
+                    format!(
+                        "{what} reaches {} on axis {a}, beyond domain.max[{a}] = {}",
+                        fmt(hi[a]),
+                        d.max[a]
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+fn fmt(x: f64) -> String {
+    format!("{}", (x * 1e9).round() / 1e9)
+}
+
+/// Validate everything that does not need the particles.
+pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
+    if s.dimension != 2 && s.dimension != 3 {
+        return Err(SceneError::Invalid {
+            origin: origin.into(),
+            field: "dimension".into(),
+            reason: format!("must be 2 or 3, found {}", s.dimension),
+        });
+    }
+    let c = Ctx {
+        origin,
+        dim: s.dimension as usize,
+    };
+    let dim = c.dim;
+    if s.name.trim().is_empty() || s.name.contains(['/', '\\']) || s.name == "." || s.name == ".." {
+        return Err(c.err("name", "must be a non-empty name without path separators"));
+    }
+
+    // Domain.
+    c.corners("domain", &s.domain.min, &s.domain.max)?;
+    if let Some(p) = &s.domain.periodic {
+        if p.len() != dim {
+            return Err(c.err(
+                "domain.periodic",
+                format!(
+                    "expected {dim} booleans (dimension = {dim}), found {}",
+                    p.len()
+                ),
+            ));
+        }
+    }
+
+    // Discretisation.
+    let d = &s.discretisation;
+    c.positive("discretisation.spacing", d.spacing)?;
+    c.positive("discretisation.h_factor", d.h_factor)?;
+    let h = d.h_factor * d.spacing;
+    if let Some(p) = &s.domain.periodic {
+        for (a, &on) in p.iter().enumerate() {
+            let len = s.domain.max[a] - s.domain.min[a];
+            let cells = (len / (2.0 * h)).floor();
+            if on && cells < 3.0 {
+                return Err(c.err(
+                    format!("domain.periodic[{a}]"),
+                    format!(
+                        "a periodic axis needs at least 3 neighbour cells of size 2h = {}, but the \
+                         domain is {len} long ({cells} cells)",
+                        fmt(2.0 * h)
+                    ),
+                ));
+            }
+        }
+    }
+    for a in 0..dim {
+        let len = s.domain.max[a] - s.domain.min[a];
+        if len < d.spacing {
+            return Err(c.err(
+                "domain.max",
+                format!(
+                    "the domain is {len} long on axis {a}, shorter than one spacing {}",
+                    d.spacing
+                ),
+            ));
+        }
+    }
+
+    // Time.
+    c.positive("time.end", s.time.end)?;
+    c.positive("time.output_interval", s.time.output_interval)?;
+    c.positive("time.courant", s.time.courant)?;
+    if let Some(dt) = s.time.dt {
+        c.positive("time.dt", dt)?;
+    }
+
+    // Materials.
+    let f = &s.fluid;
+    c.positive("fluid.density", f.density)?;
+    c.positive("fluid.sound_speed", f.sound_speed)?;
+    c.positive("fluid.gamma", f.gamma)?;
+    c.non_negative("fluid.alpha", f.alpha)?;
+    c.non_negative("fluid.beta", f.beta)?;
+    c.non_negative("fluid.viscosity", f.viscosity)?;
+    c.non_negative("fluid.xsph", f.xsph)?;
+    if f.xsph > 1.0 {
+        return Err(c.err(
+            "fluid.xsph",
+            format!("must lie in [0, 1] (eq. 18), found {}", f.xsph),
+        ));
+    }
+    if let Some(m) = &s.solid {
+        c.positive("solid.density", m.density)?;
+        c.positive("solid.sound_speed", m.sound_speed)?;
+        c.non_negative("solid.shear_modulus", m.shear_modulus)?;
+        c.non_negative("solid.artificial_stress", m.artificial_stress)?;
+        c.positive(
+            "solid.artificial_stress_exponent",
+            m.artificial_stress_exponent,
+        )?;
+    }
+    if let Some(b) = &s.boundary {
+        c.non_negative("boundary.strength", b.strength)?;
+        if let Some(r0) = b.r0 {
+            c.positive("boundary.r0", r0)?;
+        }
+        if b.p2 <= 0 || b.p1 <= b.p2 {
+            return Err(c.err(
+                "boundary.p1",
+                format!(
+                    "the exponents need p1 > p2 > 0, found p1 = {}, p2 = {}",
+                    b.p1, b.p2
+                ),
+            ));
+        }
+    }
+    c.opt_vec("gravity", &s.gravity)?;
+
+    // Objects.
+    let dom = &s.domain;
+    for (i, b) in s.fluid_blocks.iter().enumerate() {
+        let field = format!("fluid_blocks[{i}]");
+        c.corners(&field, &b.min, &b.max)?;
+        c.opt_vec(&format!("{field}.velocity"), &b.velocity)?;
+        c.inside(&field, "the block", &b.min, &b.max, dom)?;
+    }
+    if !s.solids.is_empty() && s.solid.is_none() {
+        return Err(c.err(
+            "solid",
+            format!(
+                "the scene has {} solid object(s) but no [solid] material table (density, \
+                 sound_speed, shear_modulus)",
+                s.solids.len()
+            ),
+        ));
+    }
+    for (i, o) in s.solids.iter().enumerate() {
+        let field = format!("solids[{i}]");
+        c.opt_vec(&format!("{field}.velocity"), &o.velocity().cloned())?;
+        match o {
+            SolidObject::Box { min, max, .. } => {
+                c.corners(&field, min, max)?;
+                c.inside(&field, "the box", min, max, dom)?;
+            }
+            SolidObject::Disc { center, radius, .. }
+            | SolidObject::Sphere { center, radius, .. } => {
+                let is_disc = matches!(o, SolidObject::Disc { .. });
+                if is_disc && dim != 2 {
+                    return Err(c.err(
+                        format!("{field}.shape"),
+                        "a \"disc\" is a 2D shape; use \"sphere\" in a 3D scene",
+                    ));
+                }
+                if !is_disc && dim != 3 {
+                    return Err(c.err(
+                        format!("{field}.shape"),
+                        "a \"sphere\" is a 3D shape; use \"disc\" in a 2D scene",
+                    ));
+                }
+                c.vec(&format!("{field}.center"), center)?;
+                c.positive(&format!("{field}.radius"), *radius)?;
+                let lo: Vec<f64> = center.iter().map(|x| x - radius).collect();
+                let hi: Vec<f64> = center.iter().map(|x| x + radius).collect();
+                c.inside(&field, "the shape", &lo, &hi, dom)?;
+            }
+        }
+    }
+    if !s.walls.is_empty() && s.boundary.is_none() {
+        return Err(c.err(
+            "boundary",
+            format!(
+                "the scene has {} wall(s) but no [boundary] table (strength = C0 of eq. 17)",
+                s.walls.len()
+            ),
+        ));
+    }
+    for (i, w) in s.walls.iter().enumerate() {
+        let field = format!("walls[{i}]");
+        if let Some(t) = w.remove_at() {
+            c.non_negative(&format!("{field}.remove_at"), t)?;
+        }
+        match w {
+            Wall::BoxContainer {
+                min,
+                max,
+                layers,
+                open_top,
+                ..
+            } => {
+                c.corners(&field, min, max)?;
+                if *layers == 0 {
+                    return Err(c.err(format!("{field}.layers"), "must be at least 1"));
+                }
+                let t = *layers as f64 * d.spacing;
+                let lo: Vec<f64> = min.iter().map(|x| x - t).collect();
+                let mut hi: Vec<f64> = max.iter().map(|x| x + t).collect();
+                if *open_top {
+                    hi[1] = max[1];
+                }
+                c.inside(&field, "the container with its wall layers", &lo, &hi, dom)?;
+            }
+            Wall::Box { min, max, .. } => {
+                c.corners(&field, min, max)?;
+                c.inside(&field, "the box", min, max, dom)?;
+            }
+            Wall::Cylinder {
+                center,
+                radius,
+                layers,
+                ..
+            } => {
+                c.vec(&format!("{field}.center"), center)?;
+                c.positive(&format!("{field}.radius"), *radius)?;
+                if *layers == 0 {
+                    return Err(c.err(format!("{field}.layers"), "must be at least 1"));
+                }
+                let mut lo = center.clone();
+                let mut hi = center.clone();
+                for a in 0..2 {
+                    lo[a] -= radius;
+                    hi[a] += radius;
+                }
+                c.inside(&field, "the cylinder", &lo, &hi, dom)?;
+            }
+        }
+    }
+    if s.fluid_blocks.is_empty() && s.solids.is_empty() && s.walls.is_empty() {
+        return Err(c.err(
+            "fluid_blocks",
+            "the scene has no objects (fluid_blocks, solids or walls)",
+        ));
+    }
+    Ok(())
+}

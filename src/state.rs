@@ -1,0 +1,142 @@
+//! The struct-of-arrays particle state the stages work on, and its conversion to and from
+//! the composite `Particle` (the paper converts composite C++ structures to raw arrays for
+//! its CUDA kernels; here that conversion is this one module). Round trip: `tests/state.rs`.
+//!
+//! Arrays are allocated only where a scene needs them: `drho` only with the continuity
+//! density, the stress arrays only where there are solid particles.
+
+use crate::dim::Dim;
+use crate::particle::{Kind, Particle};
+
+/// Struct-of-arrays particle state. Index `i` is a storage slot; `id[i]` is the particle's
+/// stable identity. The backends keep the storage sorted by (grid cell, id).
+#[derive(Clone, Debug, Default)]
+pub struct State<D: Dim> {
+    pub id: Vec<u32>,
+    /// `Kind` codes (`MF_KIND_*`).
+    pub kind: Vec<u8>,
+    pub group: Vec<u32>,
+    /// [M]
+    pub mass: Vec<f32>,
+    /// [L]
+    pub pos: Vec<D::V>,
+    /// [L/T]
+    pub vel: Vec<D::V>,
+    /// [M L^-d]
+    pub rho: Vec<f32>,
+    /// [M L^-d L^2 T^-2]
+    pub p: Vec<f32>,
+    /// [L/T^2] dv/dt from the forces stage, eqs. (7), (16), (17).
+    pub acc: Vec<D::V>,
+    /// [L/T] XSPH velocity correction eps sum_j ..., eq. (18).
+    pub xsph: Vec<D::V>,
+    /// [M L^-d / T] d rho/dt; only with the continuity density.
+    pub drho: Option<Vec<f32>>,
+    /// Solid-only arrays; `None` where the scene has no solid particles.
+    pub solid: Option<SolidState<D>>,
+}
+
+/// Arrays of the elastic-solid model, eqs. (11)-(16) (one entry per particle, zero for
+/// non-solid particles so that the storage order stays shared).
+#[derive(Clone, Debug, Default)]
+pub struct SolidState<D: Dim> {
+    /// Deviatoric stress S^{ab}, eq. (11).
+    pub stress: Vec<D::M>,
+    /// Jaumann rate dS^{ab}/dt, eq. (12).
+    pub stress_rate: Vec<D::M>,
+    /// Artificial stress R^{ab} (Gray, Monaghan & Swift 2001); `None` when switched off.
+    pub art_stress: Option<Vec<D::M>>,
+}
+
+impl<D: Dim> State<D> {
+    /// Composite -> raw arrays, in the given order.
+    pub fn from_particles(particles: &[Particle], continuity: bool, art_stress: bool) -> Self {
+        let n = particles.len();
+        let has_solids = particles.iter().any(|p| p.kind == Kind::Solid);
+        let solid = has_solids.then(|| SolidState {
+            stress: particles.iter().map(|p| D::sym_from6(p.stress)).collect(),
+            stress_rate: vec![D::zero(); n],
+            art_stress: art_stress.then(|| vec![D::zero(); n]),
+        });
+        State {
+            id: particles.iter().map(|p| p.id).collect(),
+            kind: particles.iter().map(|p| p.kind.code()).collect(),
+            group: particles.iter().map(|p| p.group).collect(),
+            mass: particles.iter().map(|p| p.mass).collect(),
+            pos: particles.iter().map(|p| D::from3(p.position)).collect(),
+            vel: particles.iter().map(|p| D::from3(p.velocity)).collect(),
+            rho: particles.iter().map(|p| p.density).collect(),
+            p: particles.iter().map(|p| p.pressure).collect(),
+            acc: vec![D::V::default(); n],
+            xsph: vec![D::V::default(); n],
+            drho: continuity.then(|| vec![0.0; n]),
+            solid,
+        }
+    }
+
+    /// Raw arrays -> composite, ordered by id.
+    pub fn to_particles(&self) -> Vec<Particle> {
+        let mut out: Vec<Particle> = (0..self.len()).map(|i| self.particle(i)).collect();
+        out.sort_by_key(|p| p.id);
+        out
+    }
+
+    /// The composite view of storage slot `i`.
+    pub fn particle(&self, i: usize) -> Particle {
+        Particle {
+            id: self.id[i],
+            kind: Kind::from_code(self.kind[i]).expect("valid kind code"),
+            group: self.group[i],
+            position: D::to3(self.pos[i]),
+            velocity: D::to3(self.vel[i]),
+            density: self.rho[i],
+            pressure: self.p[i],
+            mass: self.mass[i],
+            stress: self
+                .solid
+                .as_ref()
+                .map_or([0.0; 6], |s| D::sym_to6(s.stress[i])),
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.id.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.id.is_empty()
+    }
+
+    /// Keep the slots for which `keep(slot)` holds, in order, in every array.
+    pub fn retain(&mut self, keep: impl Fn(usize) -> bool) {
+        let slots: Vec<usize> = (0..self.len()).filter(|&i| keep(i)).collect();
+        self.gather(&slots);
+    }
+
+    /// Reorder every array so that new slot `k` holds old slot `order[k]`.
+    pub fn gather(&mut self, order: &[usize]) {
+        fn g<T: Copy>(v: &mut Vec<T>, order: &[usize]) {
+            *v = order.iter().map(|&i| v[i]).collect();
+        }
+        g(&mut self.id, order);
+        g(&mut self.kind, order);
+        g(&mut self.group, order);
+        g(&mut self.mass, order);
+        g(&mut self.pos, order);
+        g(&mut self.vel, order);
+        g(&mut self.rho, order);
+        g(&mut self.p, order);
+        g(&mut self.acc, order);
+        g(&mut self.xsph, order);
+        if let Some(d) = &mut self.drho {
+            g(d, order);
+        }
+        if let Some(s) = &mut self.solid {
+            g(&mut s.stress, order);
+            g(&mut s.stress_rate, order);
+            if let Some(r) = &mut s.art_stress {
+                g(r, order);
+            }
+        }
+    }
+}

@@ -1,0 +1,298 @@
+//! Bad scene files: each error names the file, the field and the reason; nothing panics;
+//! no output directory is created.
+
+use std::path::{Path, PathBuf};
+
+use meshfree::run::{self, Progress, RunOptions};
+use meshfree::scene::{Scene, SceneError};
+
+const BASE: &str = r#"
+dimension = 2
+name = "tiny"
+gravity = [0.0, -9.81]
+
+[domain]
+min = [-0.2, -0.2]
+max = [1.2, 1.2]
+
+[discretisation]
+spacing = 0.05
+
+[time]
+end = 0.01
+output_interval = 0.005
+
+[fluid]
+density = 1000.0
+sound_speed = 30.0
+alpha = 0.02
+
+[boundary]
+strength = 100.0
+
+[[fluid_blocks]]
+min = [0.0, 0.0]
+max = [0.5, 0.5]
+hydrostatic = true
+
+[[walls]]
+shape = "box-container"
+min = [0.0, 0.0]
+max = [1.0, 1.0]
+"#;
+
+/// Write `text` as a scene file in a fresh directory; return (dir, file).
+fn write(text: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bad scene.toml");
+    std::fs::write(&path, text).unwrap();
+    (dir, path)
+}
+
+/// Load `text` from a file; it must fail with the file's path, `field` and `reason` in the
+/// message. Also runs it through `run::run` and checks that no output directory appears.
+fn expect_error(text: &str, field: &str, reason: &str) -> SceneError {
+    let (dir, path) = write(text);
+    let err = Scene::from_file(&path).expect_err("the scene should be refused");
+    let msg = err.to_string();
+    assert!(
+        msg.starts_with(&path.display().to_string()),
+        "no file in `{msg}`"
+    );
+    assert!(
+        msg.contains(&format!(": {field}: ")),
+        "no field `{field}` in `{msg}`"
+    );
+    assert!(msg.contains(reason), "no reason `{reason}` in `{msg}`");
+    assert_eq!(err.field(), Some(field));
+    // Through the command line: non-zero exit, `error: <file>: <field>: <reason>`, no output.
+    let out = dir.path().join("out");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_meshfree"))
+        .arg("run")
+        .arg(&path)
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.starts_with(&format!("error: {}: {field}: ", path.display())),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    err
+}
+
+fn with(old: &str, new: &str) -> String {
+    assert!(BASE.contains(old), "BASE lacks `{old}`");
+    BASE.replacen(old, new, 1)
+}
+
+#[test]
+fn base_scene_is_valid() {
+    let s = Scene::from_toml(BASE, "base").unwrap();
+    let setup = s.setup().unwrap();
+    assert_eq!(
+        setup
+            .particles
+            .iter()
+            .filter(|p| p.kind == meshfree::particle::Kind::Fluid)
+            .count(),
+        100
+    );
+}
+
+#[test]
+fn unknown_key() {
+    let e = expect_error(
+        &with("alpha = 0.02", "alpha = 0.02\nalfa = 0.1"),
+        "fluid.alfa",
+        "unknown field `alfa`, expected one of",
+    );
+    match e {
+        SceneError::Parse { line, column, .. } => assert_eq!((line, column), (21, 1)),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn unknown_key_in_array_of_tables() {
+    expect_error(
+        &with(
+            "hydrostatic = true",
+            "hydrostatic = true\ncolour = \"blue\"",
+        ),
+        "fluid_blocks[0].colour",
+        "unknown field `colour`",
+    );
+}
+
+#[test]
+fn wrong_type() {
+    expect_error(
+        &with("spacing = 0.05", "spacing = \"fine\""),
+        "discretisation.spacing",
+        "invalid type",
+    );
+}
+
+#[test]
+fn wrong_enum_value() {
+    expect_error(
+        &with("spacing = 0.05", "spacing = 0.05\nkernel = \"gaussian\""),
+        "discretisation.kernel",
+        "unknown variant `gaussian`",
+    );
+}
+
+#[test]
+fn wrong_array_length() {
+    expect_error(
+        &with("max = [0.5, 0.5]", "max = [0.5, 0.5, 0.5]"),
+        "fluid_blocks[0].max",
+        "expected 2 numbers",
+    );
+}
+
+#[test]
+fn min_not_below_max() {
+    expect_error(
+        &with("max = [0.5, 0.5]", "max = [0.5, -0.5]"),
+        "fluid_blocks[0].max",
+        "not greater than min[1]",
+    );
+}
+
+#[test]
+fn spacing_not_positive() {
+    expect_error(
+        &with("spacing = 0.05", "spacing = 0.0"),
+        "discretisation.spacing",
+        "must be a positive number",
+    );
+}
+
+#[test]
+fn object_outside_domain() {
+    expect_error(
+        &with("max = [0.5, 0.5]", "max = [1.5, 0.5]"),
+        "fluid_blocks[0]",
+        "beyond domain.max[0]",
+    );
+}
+
+#[test]
+fn wall_layers_outside_domain() {
+    let t = with("min = [-0.2, -0.2]", "min = [-0.1, -0.1]")
+        .replace("spacing = 0.05", "spacing = 0.05\nh_factor = 1.3");
+    let t = t.replacen("max = [1.0, 1.0]", "max = [1.0, 1.0]\nlayers = 3", 1);
+    expect_error(&t, "walls[0]", "below domain.min[0]");
+}
+
+#[test]
+fn solid_without_material() {
+    let t = format!("{BASE}\n[[solids]]\nshape = \"disc\"\ncenter = [0.7, 0.7]\nradius = 0.1\n");
+    expect_error(&t, "solid", "no [solid] material table");
+}
+
+#[test]
+fn sphere_in_2d() {
+    let t = format!(
+        "{BASE}\n[solid]\ndensity = 600.0\nsound_speed = 30.0\nshear_modulus = 1e4\n\n[[solids]]\nshape = \"sphere\"\ncenter = [0.7, 0.7]\nradius = 0.1\n"
+    );
+    expect_error(&t, "solids[0].shape", "a \"sphere\" is a 3D shape");
+}
+
+#[test]
+fn periodic_axis_too_short() {
+    let t = with(
+        "max = [1.2, 1.2]",
+        "max = [1.2, 1.2]\nperiodic = [false, true]",
+    )
+    .replace("spacing = 0.05", "spacing = 0.2");
+    expect_error(&t, "domain.periodic[1]", "at least 3 neighbour cells");
+}
+
+#[test]
+fn toml_syntax_error() {
+    let e = expect_error(
+        &with("density = 1000.0", "density = = 1000.0"),
+        "(document)",
+        "invalid",
+    );
+    match e {
+        SceneError::Parse { line, column, .. } => {
+            assert_eq!(line, 18);
+            assert!(column > 1);
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn missing_key() {
+    expect_error(&with("end = 0.01\n", ""), "time", "missing field `end`");
+}
+
+#[test]
+fn dimension_out_of_range() {
+    expect_error(
+        &with("dimension = 2", "dimension = 4"),
+        "dimension",
+        "must be 2 or 3",
+    );
+}
+
+#[test]
+fn no_particles() {
+    // A block thinner than the spacing holds no particle.
+    let t = with("max = [0.5, 0.5]", "max = [0.5, 0.01]").replace(
+        "[[walls]]\nshape = \"box-container\"\nmin = [0.0, 0.0]\nmax = [1.0, 1.0]\n",
+        "",
+    );
+    let s = Scene::from_toml(&t, "thin.toml").unwrap();
+    let e = s.setup().unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("thin.toml: fluid_blocks: the scene generates no fluid"),
+        "{e}"
+    );
+}
+
+#[test]
+fn missing_file() {
+    let e = Scene::from_file(Path::new("/nonexistent/scene.toml")).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("/nonexistent/scene.toml: cannot read the file"),
+        "{e}"
+    );
+}
+
+#[test]
+fn unknown_builtin() {
+    let e = Scene::builtin("dam-brake-2d").unwrap_err();
+    assert!(e.to_string().contains("known: dam-break-2d"), "{e}");
+}
+
+#[test]
+fn bad_override_creates_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let s = Scene::from_toml(BASE, "base.toml").unwrap();
+    let options = RunOptions {
+        out_dir: Some(out.clone()),
+        t_end: Some(-1.0),
+        progress: Progress::Quiet,
+        ..Default::default()
+    };
+    let e = run::run(&s, &options).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("base.toml: time.end: must be a positive number"),
+        "{e}"
+    );
+    assert!(!out.exists());
+}

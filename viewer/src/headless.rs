@@ -1,0 +1,238 @@
+//! Headless rendering: EGL on a device (`EGL_EXT_platform_device`), no
+//! display server, a surfaceless OpenGL 3.3 core context, and an FBO.
+
+use std::ffi::CStr;
+
+use glow::HasContext;
+use glutin::api::egl::context::PossiblyCurrentContext;
+use glutin::api::egl::device::Device;
+use glutin::api::egl::display::Display;
+use glutin::config::{Api, ConfigSurfaceTypes, ConfigTemplateBuilder};
+use glutin::context::{ContextApi, ContextAttributesBuilder, GlProfile, Version};
+use glutin::prelude::*;
+
+use crate::renderer::Renderer;
+use crate::{FrameData, Image, RenderOptions, ViewerError};
+
+/// A reusable headless renderer: one EGL context and FBO for many frames.
+///
+/// Not `Send`: use it on the thread that made it.
+pub struct HeadlessRenderer {
+    renderer: Renderer,
+    fbo: Option<(
+        glow::Framebuffer,
+        glow::Renderbuffer,
+        glow::Renderbuffer,
+        u32,
+        u32,
+    )>,
+    gl: glow::Context,
+    gl_renderer: String,
+    // Declared last so they drop after the GL objects are deleted in `Drop`.
+    _context: PossiblyCurrentContext,
+    _display: Display,
+}
+
+impl std::fmt::Debug for HeadlessRenderer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("HeadlessRenderer")
+            .field("gl_renderer", &self.gl_renderer)
+            .finish()
+    }
+}
+
+fn make_context(device: &Device) -> Result<(Display, PossiblyCurrentContext), String> {
+    // SAFETY: no raw display handle is passed.
+    let display = unsafe { Display::with_device(device, None) }.map_err(|e| e.to_string())?;
+    let template = ConfigTemplateBuilder::new()
+        .with_surface_type(ConfigSurfaceTypes::empty())
+        .with_api(Api::OPENGL)
+        .build();
+    // SAFETY: the template has no native window.
+    let config = unsafe { display.find_configs(template) }
+        .map_err(|e| e.to_string())?
+        .next()
+        .ok_or("no EGL config without surface")?;
+    let mut last = String::new();
+    for version in [Some(Version::new(3, 3)), None] {
+        let attrs = ContextAttributesBuilder::new()
+            .with_context_api(ContextApi::OpenGl(version))
+            .with_profile(GlProfile::Core)
+            .build(None);
+        // SAFETY: config comes from this display.
+        match unsafe { display.create_context(&config, &attrs) } {
+            Ok(ctx) => {
+                let ctx = ctx.make_current_surfaceless().map_err(|e| e.to_string())?;
+                return Ok((display, ctx));
+            }
+            Err(e) => last = e.to_string(),
+        }
+    }
+    Err(format!("creating an OpenGL core context failed: {last}"))
+}
+
+impl HeadlessRenderer {
+    /// Opens the first EGL device that gives an OpenGL 3.3 core context.
+    pub fn new() -> Result<HeadlessRenderer, ViewerError> {
+        let devices: Vec<Device> = Device::query_devices()
+            .map_err(|e| ViewerError::NoEglDevice(format!("querying EGL devices: {e}")))?
+            .collect();
+        if devices.is_empty() {
+            return Err(ViewerError::NoEglDevice("EGL lists no devices".into()));
+        }
+        let mut errors = Vec::new();
+        for device in &devices {
+            let name = device
+                .name()
+                .or(device.vendor())
+                .unwrap_or("unnamed device");
+            match make_context(device) {
+                Ok((display, context)) => {
+                    // SAFETY: the context is current on this thread.
+                    let gl = unsafe {
+                        glow::Context::from_loader_function_cstr(|s: &CStr| {
+                            display.get_proc_address(s)
+                        })
+                    };
+                    let gl_renderer = unsafe {
+                        format!(
+                            "{} ({})",
+                            gl.get_parameter_string(glow::RENDERER),
+                            gl.get_parameter_string(glow::VERSION)
+                        )
+                    };
+                    let renderer = Renderer::new(&gl)?;
+                    return Ok(HeadlessRenderer {
+                        renderer,
+                        fbo: None,
+                        gl,
+                        gl_renderer,
+                        _context: context,
+                        _display: display,
+                    });
+                }
+                Err(e) => errors.push(format!("{name}: {e}")),
+            }
+        }
+        Err(ViewerError::NoEglDevice(errors.join("; ")))
+    }
+
+    /// `GL_RENDERER (GL_VERSION)` of the context, e.g. `llvmpipe (...) (4.5 (Core Profile) Mesa ...)`.
+    pub fn gl_renderer(&self) -> &str {
+        &self.gl_renderer
+    }
+
+    fn target(&mut self, w: u32, h: u32) -> Result<glow::Framebuffer, ViewerError> {
+        let gl = &self.gl;
+        if let Some((fbo, _, _, fw, fh)) = self.fbo {
+            if (fw, fh) == (w, h) {
+                return Ok(fbo);
+            }
+        }
+        unsafe {
+            if let Some((fbo, c, d, _, _)) = self.fbo.take() {
+                gl.delete_framebuffer(fbo);
+                gl.delete_renderbuffer(c);
+                gl.delete_renderbuffer(d);
+            }
+            let fbo = gl.create_framebuffer().map_err(ViewerError::Gl)?;
+            let color = gl.create_renderbuffer().map_err(ViewerError::Gl)?;
+            let depth = gl.create_renderbuffer().map_err(ViewerError::Gl)?;
+            gl.bind_renderbuffer(glow::RENDERBUFFER, Some(color));
+            gl.renderbuffer_storage(glow::RENDERBUFFER, glow::RGBA8, w as i32, h as i32);
+            gl.bind_renderbuffer(glow::RENDERBUFFER, Some(depth));
+            gl.renderbuffer_storage(
+                glow::RENDERBUFFER,
+                glow::DEPTH_COMPONENT24,
+                w as i32,
+                h as i32,
+            );
+            gl.bind_renderbuffer(glow::RENDERBUFFER, None);
+            gl.bind_framebuffer(glow::FRAMEBUFFER, Some(fbo));
+            gl.framebuffer_renderbuffer(
+                glow::FRAMEBUFFER,
+                glow::COLOR_ATTACHMENT0,
+                glow::RENDERBUFFER,
+                Some(color),
+            );
+            gl.framebuffer_renderbuffer(
+                glow::FRAMEBUFFER,
+                glow::DEPTH_ATTACHMENT,
+                glow::RENDERBUFFER,
+                Some(depth),
+            );
+            let status = gl.check_framebuffer_status(glow::FRAMEBUFFER);
+            if status != glow::FRAMEBUFFER_COMPLETE {
+                return Err(ViewerError::Gl(format!(
+                    "framebuffer incomplete: 0x{status:x}"
+                )));
+            }
+            self.fbo = Some((fbo, color, depth, w, h));
+            Ok(fbo)
+        }
+    }
+
+    /// Renders `frame` and reads the pixels back.
+    pub fn render(
+        &mut self,
+        frame: &FrameData,
+        opts: &RenderOptions,
+    ) -> Result<Image, ViewerError> {
+        let (w, h) = (opts.width, opts.height);
+        if w == 0 || h == 0 || w > 16384 || h > 16384 {
+            return Err(ViewerError::Gl(format!("bad image size {w}x{h}")));
+        }
+        let fbo = self.target(w, h)?;
+        self.renderer.upload(&self.gl, frame)?;
+        let gl = &self.gl;
+        unsafe {
+            gl.bind_framebuffer(glow::FRAMEBUFFER, Some(fbo));
+            gl.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
+        }
+        self.renderer.draw(gl, frame, opts);
+        let mut px = vec![0u8; (w * h * 4) as usize];
+        unsafe {
+            gl.bind_framebuffer(glow::READ_FRAMEBUFFER, Some(fbo));
+            gl.read_buffer(glow::COLOR_ATTACHMENT0);
+            gl.pixel_store_i32(glow::PACK_ALIGNMENT, 1);
+            gl.read_pixels(
+                0,
+                0,
+                w as i32,
+                h as i32,
+                glow::RGBA,
+                glow::UNSIGNED_BYTE,
+                glow::PixelPackData::Slice(&mut px),
+            );
+            gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+            let err = gl.get_error();
+            if err != glow::NO_ERROR {
+                return Err(ViewerError::Gl(format!(
+                    "GL error 0x{err:x} while rendering"
+                )));
+            }
+        }
+        Ok(Image::from_gl_rows(w, h, &px))
+    }
+}
+
+impl Drop for HeadlessRenderer {
+    fn drop(&mut self) {
+        self.renderer.destroy(&self.gl);
+        if let Some((fbo, c, d, _, _)) = self.fbo.take() {
+            unsafe {
+                self.gl.delete_framebuffer(fbo);
+                self.gl.delete_renderbuffer(c);
+                self.gl.delete_renderbuffer(d);
+            }
+        }
+    }
+}
+
+/// Renders one frame headless (EGL device, no display) and returns the image.
+///
+/// Makes a new EGL context each call; use [`HeadlessRenderer`] for many frames.
+/// Returns [`ViewerError::NoEglDevice`] where no EGL device is usable.
+pub fn render_headless(frame: &FrameData, opts: &RenderOptions) -> Result<Image, ViewerError> {
+    HeadlessRenderer::new()?.render(frame, opts)
+}

@@ -1,0 +1,250 @@
+//! # meshfree-viewer
+//!
+//! Live OpenGL window and headless (EGL, no display) renderer for the
+//! `meshfree` SPH solver. This crate holds every window and GL dependency
+//! (glow, glutin 0.32, glutin-winit 0.5, winit 0.30, png) and does **not**
+//! depend on the solver: the two talk through the small [`LiveSource`] trait.
+//!
+//! ## Talking to the solver
+//!
+//! The solver implements [`LiveSource`]:
+//!
+//! * [`LiveSource::advance`] runs `steps` solver steps;
+//! * [`LiveSource::frame`] fills a [`FrameData`] snapshot (positions, one
+//!   value of the chosen [`Field`] per particle, particle kinds, the domain
+//!   and the particle radius). The viewer calls it **once per drawn frame,
+//!   never per step**, and always passes the *same* buffer, so an
+//!   implementation that does `clear()` + `extend()` on its vectors allocates
+//!   only on the first frame;
+//! * [`LiveSource::status`] gives time, step count and particle count for the
+//!   overlay;
+//! * [`LiveSource::reset`] goes back to the initial state (key `r`).
+//!
+//! ## Live window
+//!
+//! [`run_window`] opens a window (winit 0.30 + glutin 0.32, GLX or EGL,
+//! OpenGL 3.3 core) and runs the solver in the render loop until the window is
+//! closed. 2D frames get an orthographic pan/zoom camera, 3D frames an orbit
+//! camera. Keys:
+//!
+//! | key | action |
+//! |---|---|
+//! | space | pause / resume |
+//! | `.` or `n` | single step (while paused) |
+//! | `r` | reset the source |
+//! | `+` / `-` | double / halve the steps per frame |
+//! | `f` | cycle the coloured field (speed, pressure, density, kind) |
+//! | `b` | hide / show boundary particles |
+//! | `p` | screenshot to PNG (in [`ViewOptions::screenshot_dir`]) |
+//! | `h` | show / hide the key list |
+//! | `c` | re-frame the camera on the domain |
+//! | Esc / `q` | close |
+//!
+//! Mouse: left drag pans (2D) or orbits (3D), right or middle drag pans (3D),
+//! the wheel zooms.
+//!
+//! winit allows one event loop per process, so [`run_window`] can be called
+//! only once per process.
+//!
+//! ## Headless
+//!
+//! [`render_headless`] (or a reusable [`HeadlessRenderer`]) renders a
+//! [`FrameData`] with EGL and no display server (`EGL_EXT_platform_device`,
+//! surfaceless context, rendering into a framebuffer object) and returns an
+//! [`Image`], which [`Image::save_png`] writes. Both paths share one renderer
+//! module and the same shaders. If no EGL device is found it returns
+//! [`ViewerError::NoEglDevice`].
+//!
+//! ## Look
+//!
+//! Particles are drawn as shaded sphere impostors (instanced quads with
+//! ray-cast spheres and correct fragment depth), coloured with the
+//! blue–purple–pink–red map of [`colormap()`], with a colour bar that shows
+//! the value range, and an overlay drawn with a built-in 5×7 bitmap font.
+//! Boundary particles are drawn grey unless the field is [`Field::Kind`].
+
+mod camera;
+mod colormap;
+pub mod demo;
+mod error;
+mod font;
+mod headless;
+mod image;
+mod renderer;
+mod window;
+
+pub use camera::{Camera, OrbitCamera, OrthoCamera};
+pub use colormap::colormap;
+pub use error::ViewerError;
+pub use headless::{render_headless, HeadlessRenderer};
+pub use image::Image;
+pub use window::{run_window, ViewOptions};
+
+/// What colours the particles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Field {
+    /// Velocity magnitude.
+    #[default]
+    Speed,
+    /// Pressure.
+    Pressure,
+    /// Density.
+    Density,
+    /// Particle kind: 0 fluid, 1 solid, 2 boundary.
+    Kind,
+}
+
+impl Field {
+    /// All fields, in the order the `f` key cycles through them.
+    pub const ALL: [Field; 4] = [Field::Speed, Field::Pressure, Field::Density, Field::Kind];
+
+    /// The next field in the `f` cycle.
+    pub fn next(self) -> Field {
+        match self {
+            Field::Speed => Field::Pressure,
+            Field::Pressure => Field::Density,
+            Field::Density => Field::Kind,
+            Field::Kind => Field::Speed,
+        }
+    }
+
+    /// A short label, shown over the colour bar.
+    pub fn label(self) -> &'static str {
+        match self {
+            Field::Speed => "speed",
+            Field::Pressure => "pressure",
+            Field::Density => "density",
+            Field::Kind => "kind",
+        }
+    }
+}
+
+/// Particle kinds as stored in [`FrameData::kinds`].
+pub mod kind {
+    /// Fluid particle.
+    pub const FLUID: u8 = 0;
+    /// Elastic solid particle.
+    pub const SOLID: u8 = 1;
+    /// Fixed boundary particle.
+    pub const BOUNDARY: u8 = 2;
+}
+
+/// A snapshot the solver hands over once per drawn frame.
+///
+/// The viewer reuses one `FrameData` for every frame: fill it with
+/// `clear()` + `extend()` so the vectors keep their capacity.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FrameData {
+    /// 2 or 3.
+    pub dim: u8,
+    /// Particle positions; z = 0 in 2D.
+    pub positions: Vec<[f32; 3]>,
+    /// The chosen field, one value per particle.
+    pub values: Vec<f32>,
+    /// Particle kinds, one per particle: 0 fluid, 1 solid, 2 boundary (see [`kind`]).
+    pub kinds: Vec<u8>,
+    /// Lower corner of the domain (z = 0 in 2D).
+    pub domain_min: [f32; 3],
+    /// Upper corner of the domain (z = 0 in 2D).
+    pub domain_max: [f32; 3],
+    /// Drawn sphere radius: half the particle spacing.
+    pub particle_radius: f32,
+}
+
+impl FrameData {
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// True when there are no particles.
+    pub fn is_empty(&self) -> bool {
+        self.positions.is_empty()
+    }
+
+    /// Checks that the vectors have matching lengths and `dim` is 2 or 3.
+    pub fn validate(&self) -> Result<(), ViewerError> {
+        let n = self.positions.len();
+        if self.dim != 2 && self.dim != 3 {
+            return Err(ViewerError::InvalidFrame(format!(
+                "dim is {}, expected 2 or 3",
+                self.dim
+            )));
+        }
+        if self.values.len() != n || self.kinds.len() != n {
+            return Err(ViewerError::InvalidFrame(format!(
+                "{} positions, {} values, {} kinds",
+                n,
+                self.values.len(),
+                self.kinds.len()
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Solver progress, shown in the overlay.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Status {
+    /// Simulated time.
+    pub time: f64,
+    /// Steps taken.
+    pub step: u64,
+    /// Number of particles.
+    pub particles: usize,
+}
+
+/// The simulation as the live window sees it.
+pub trait LiveSource {
+    /// Runs `steps` solver steps.
+    fn advance(&mut self, steps: u32) -> Result<(), String>;
+    /// Fills `out` with the current state, coloured by `field`. `out` is the
+    /// same buffer every frame: reuse its vectors.
+    fn frame(&mut self, field: Field, out: &mut FrameData);
+    /// Time, step and particle count.
+    fn status(&self) -> Status;
+    /// Goes back to the initial state.
+    fn reset(&mut self) -> Result<(), String>;
+}
+
+/// How to draw one frame (headless, or the starting state of the window).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RenderOptions {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// The field the frame's values hold (label and range rule of the colour bar).
+    pub field: Field,
+    /// Colour range; `None`: from the visible particles (speed from 0).
+    pub range: Option<(f32, f32)>,
+    /// Camera; [`Camera::Auto`] frames the domain.
+    pub camera: Camera,
+    /// `hide_kinds[k]` hides particles of kind `k` (0 fluid, 1 solid, 2 boundary).
+    pub hide_kinds: [bool; 3],
+    /// Draw the colour bar (in a panel on the right).
+    pub colorbar: bool,
+    /// Text lines drawn top-left over the particles.
+    pub overlay: Vec<String>,
+    /// Background colour, linear RGB 0..1.
+    pub background: [f32; 3],
+    /// Text scale (pixels per font pixel); 0 picks from the image height.
+    pub ui_scale: u32,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions {
+            width: 800,
+            height: 600,
+            field: Field::Speed,
+            range: None,
+            camera: Camera::Auto,
+            hide_kinds: [false; 3],
+            colorbar: true,
+            overlay: Vec::new(),
+            background: [0.08, 0.08, 0.1],
+            ui_scale: 0,
+        }
+    }
+}

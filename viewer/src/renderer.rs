@@ -1,0 +1,641 @@
+//! The one renderer shared by the live window and the headless path: sphere
+//! impostors for the particles, a colour bar and text overlay. It draws into
+//! whatever framebuffer is bound (the window's, or the headless FBO).
+
+use glow::HasContext;
+
+use crate::colormap::colormap_table;
+use crate::font;
+use crate::{Camera, Field, FrameData, RenderOptions, ViewerError};
+
+const PARTICLE_VS: &str = r#"#version 330 core
+layout(location = 0) in vec3 a_pos;
+layout(location = 1) in float a_value;
+layout(location = 2) in float a_kind;
+uniform mat4 u_view;
+uniform mat4 u_proj;
+uniform float u_radius;
+uniform float u_quad_scale;
+uniform vec2 u_range;
+uniform int u_hidden;
+uniform int u_grey_boundary;
+uniform sampler2D u_cmap;
+out vec3 v_center;
+out vec3 v_pos;
+out vec3 v_color;
+const vec2 CORNERS[6] = vec2[6](vec2(-1.0, -1.0), vec2(1.0, -1.0), vec2(1.0, 1.0),
+                                vec2(-1.0, -1.0), vec2(1.0, 1.0), vec2(-1.0, 1.0));
+void main() {
+    int k = int(a_kind + 0.5);
+    v_center = vec3(0.0);
+    v_pos = vec3(0.0);
+    v_color = vec3(0.0);
+    if (k >= 0 && k < 8 && ((u_hidden >> k) & 1) != 0) {
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // outside the clip volume
+        return;
+    }
+    vec3 c = (u_view * vec4(a_pos, 1.0)).xyz;
+    vec2 q = CORNERS[gl_VertexID % 6];
+    // Quad in the sphere's front tangent plane, large enough to hold its silhouette.
+    vec3 p = c + vec3(q * u_radius * u_quad_scale, u_radius);
+    v_center = c;
+    v_pos = p;
+    float span = u_range.y - u_range.x;
+    float x = span > 0.0 ? (a_value - u_range.x) / span : 0.0;
+    if (isnan(x)) x = 0.0;
+    float t = clamp(x, 0.0, 1.0);
+    v_color = textureLod(u_cmap, vec2((t * 255.0 + 0.5) / 256.0, 0.5), 0.0).rgb;
+    if (k == 2 && u_grey_boundary != 0) v_color = vec3(0.55, 0.55, 0.58);
+    gl_Position = u_proj * vec4(p, 1.0);
+}
+"#;
+
+const PARTICLE_FS: &str = r#"#version 330 core
+in vec3 v_center;
+in vec3 v_pos;
+in vec3 v_color;
+uniform mat4 u_proj;
+uniform float u_radius;
+uniform int u_ortho;
+out vec4 o_color;
+void main() {
+    // Ray-cast the sphere in view space.
+    vec3 ro = u_ortho != 0 ? v_pos : vec3(0.0);
+    vec3 rd = u_ortho != 0 ? vec3(0.0, 0.0, -1.0) : normalize(v_pos);
+    vec3 oc = ro - v_center;
+    float b = dot(rd, oc);
+    float c = dot(oc, oc) - u_radius * u_radius;
+    float disc = b * b - c;
+    if (disc < 0.0) discard;
+    float t = -b - sqrt(disc);
+    vec3 h = ro + t * rd;
+    vec3 n = (h - v_center) / u_radius;
+    vec4 clip = u_proj * vec4(h, 1.0);
+    gl_FragDepth = clamp(0.5 * clip.z / clip.w + 0.5, 0.0, 1.0);
+    vec3 l = normalize(vec3(-0.4, 0.6, 0.7));
+    float diff = max(dot(n, l), 0.0);
+    vec3 hv = normalize(l + vec3(0.0, 0.0, 1.0));
+    float spec = pow(max(dot(n, hv), 0.0), 48.0);
+    o_color = vec4(v_color * (0.3 + 0.7 * diff) + vec3(0.3 * spec), 1.0);
+}
+"#;
+
+const OVERLAY_VS: &str = r#"#version 330 core
+layout(location = 0) in vec2 a_pos;
+layout(location = 1) in vec2 a_uv;
+layout(location = 2) in vec4 a_color;
+uniform vec2 u_screen;
+out vec2 v_uv;
+out vec4 v_color;
+void main() {
+    v_uv = a_uv;
+    v_color = a_color;
+    gl_Position = vec4(a_pos.x / u_screen.x * 2.0 - 1.0, 1.0 - a_pos.y / u_screen.y * 2.0, 0.0, 1.0);
+}
+"#;
+
+const OVERLAY_FS: &str = r#"#version 330 core
+in vec2 v_uv;
+in vec4 v_color;
+uniform sampler2D u_font;
+out vec4 o_color;
+void main() {
+    o_color = vec4(v_color.rgb, v_color.a * texture(u_font, v_uv).r);
+}
+"#;
+
+/// Floats per overlay vertex: x, y, u, v, r, g, b, a.
+const OV_STRIDE: usize = 8;
+
+/// What [`Renderer::draw`] used, for the caller's overlay or camera.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct DrawInfo {
+    /// The camera after resolving [`Camera::Auto`].
+    pub camera: Camera,
+}
+
+pub(crate) struct Renderer {
+    particle_prog: glow::Program,
+    overlay_prog: glow::Program,
+    cmap_tex: glow::Texture,
+    font_tex: glow::Texture,
+    font_w: u32,
+    particle_vao: glow::VertexArray,
+    vbo_pos: glow::Buffer,
+    vbo_val: glow::Buffer,
+    vbo_kind: glow::Buffer,
+    capacity: usize,
+    count: usize,
+    overlay_vao: glow::VertexArray,
+    overlay_vbo: glow::Buffer,
+    overlay_capacity: usize,
+    verts: Vec<f32>,
+}
+
+fn gl_err(m: impl Into<String>) -> ViewerError {
+    ViewerError::Gl(m.into())
+}
+
+unsafe fn compile(gl: &glow::Context, vs: &str, fs: &str) -> Result<glow::Program, ViewerError> {
+    let prog = gl.create_program().map_err(gl_err)?;
+    let mut shaders = Vec::new();
+    for (kind, src) in [(glow::VERTEX_SHADER, vs), (glow::FRAGMENT_SHADER, fs)] {
+        let s = gl.create_shader(kind).map_err(gl_err)?;
+        gl.shader_source(s, src);
+        gl.compile_shader(s);
+        if !gl.get_shader_compile_status(s) {
+            let log = gl.get_shader_info_log(s);
+            gl.delete_shader(s);
+            gl.delete_program(prog);
+            return Err(gl_err(format!("shader compile: {log}")));
+        }
+        gl.attach_shader(prog, s);
+        shaders.push(s);
+    }
+    gl.link_program(prog);
+    for s in shaders {
+        gl.detach_shader(prog, s);
+        gl.delete_shader(s);
+    }
+    if !gl.get_program_link_status(prog) {
+        let log = gl.get_program_info_log(prog);
+        gl.delete_program(prog);
+        return Err(gl_err(format!("program link: {log}")));
+    }
+    Ok(prog)
+}
+
+unsafe fn texture(
+    gl: &glow::Context,
+    w: u32,
+    h: u32,
+    internal: u32,
+    format: u32,
+    data: &[u8],
+    filter: u32,
+) -> Result<glow::Texture, ViewerError> {
+    let t = gl.create_texture().map_err(gl_err)?;
+    gl.bind_texture(glow::TEXTURE_2D, Some(t));
+    gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
+    gl.tex_image_2d(
+        glow::TEXTURE_2D,
+        0,
+        internal as i32,
+        w as i32,
+        h as i32,
+        0,
+        format,
+        glow::UNSIGNED_BYTE,
+        Some(data),
+    );
+    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MIN_FILTER, filter as i32);
+    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAG_FILTER, filter as i32);
+    gl.tex_parameter_i32(
+        glow::TEXTURE_2D,
+        glow::TEXTURE_WRAP_S,
+        glow::CLAMP_TO_EDGE as i32,
+    );
+    gl.tex_parameter_i32(
+        glow::TEXTURE_2D,
+        glow::TEXTURE_WRAP_T,
+        glow::CLAMP_TO_EDGE as i32,
+    );
+    gl.bind_texture(glow::TEXTURE_2D, None);
+    Ok(t)
+}
+
+fn f32_bytes(v: &[f32]) -> &[u8] {
+    // SAFETY: f32 has no padding and any byte pattern may be read as u8.
+    unsafe { std::slice::from_raw_parts(v.as_ptr().cast::<u8>(), std::mem::size_of_val(v)) }
+}
+
+fn vec3_bytes(v: &[[f32; 3]]) -> &[u8] {
+    // SAFETY: [f32; 3] has no padding and any byte pattern may be read as u8.
+    unsafe { std::slice::from_raw_parts(v.as_ptr().cast::<u8>(), std::mem::size_of_val(v)) }
+}
+
+/// The colour range for `frame`: `opts.range`, or from the visible particles' values.
+pub(crate) fn value_range(frame: &FrameData, field: Field, hide: [bool; 3]) -> (f32, f32) {
+    if field == Field::Kind {
+        return (0.0, 2.0);
+    }
+    let mut lo = f32::INFINITY;
+    let mut hi = f32::NEG_INFINITY;
+    for (v, k) in frame.values.iter().zip(&frame.kinds) {
+        // Boundary particles are drawn grey, so they do not set the range.
+        if v.is_finite() && !hide.get(*k as usize).copied().unwrap_or(false) && *k != 2 {
+            lo = lo.min(*v);
+            hi = hi.max(*v);
+        }
+    }
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    if field == Field::Speed {
+        lo = 0.0;
+    }
+    if hi <= lo {
+        hi = lo + (lo.abs() * 1e-3).max(1e-6);
+    }
+    (lo, hi)
+}
+
+/// Short text for a colour-bar value.
+pub(crate) fn fmt_value(v: f32) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if (1e-2..1e4).contains(&a) {
+        let d = (3 - a.log10().floor() as i32).clamp(0, 4) as usize;
+        format!("{v:.d$}")
+    } else {
+        format!("{v:.2e}")
+    }
+}
+
+impl Renderer {
+    pub(crate) fn new(gl: &glow::Context) -> Result<Renderer, ViewerError> {
+        unsafe {
+            let particle_prog = compile(gl, PARTICLE_VS, PARTICLE_FS)?;
+            let overlay_prog = compile(gl, OVERLAY_VS, OVERLAY_FS)?;
+            let table = colormap_table(256);
+            let cmap_tex = texture(gl, 256, 1, glow::RGBA8, glow::RGBA, &table, glow::LINEAR)?;
+            let (fw, fh, fpx) = font::atlas();
+            let font_tex = texture(gl, fw, fh, glow::R8, glow::RED, &fpx, glow::NEAREST)?;
+
+            let particle_vao = gl.create_vertex_array().map_err(gl_err)?;
+            gl.bind_vertex_array(Some(particle_vao));
+            let vbo_pos = gl.create_buffer().map_err(gl_err)?;
+            let vbo_val = gl.create_buffer().map_err(gl_err)?;
+            let vbo_kind = gl.create_buffer().map_err(gl_err)?;
+            for (i, (b, n, ty, stride)) in [
+                (vbo_pos, 3, glow::FLOAT, 12),
+                (vbo_val, 1, glow::FLOAT, 4),
+                (vbo_kind, 1, glow::UNSIGNED_BYTE, 1),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                gl.bind_buffer(glow::ARRAY_BUFFER, Some(b));
+                gl.enable_vertex_attrib_array(i as u32);
+                gl.vertex_attrib_pointer_f32(i as u32, n, ty, false, stride, 0);
+                gl.vertex_attrib_divisor(i as u32, 1);
+            }
+
+            let overlay_vao = gl.create_vertex_array().map_err(gl_err)?;
+            gl.bind_vertex_array(Some(overlay_vao));
+            let overlay_vbo = gl.create_buffer().map_err(gl_err)?;
+            gl.bind_buffer(glow::ARRAY_BUFFER, Some(overlay_vbo));
+            let stride = (OV_STRIDE * 4) as i32;
+            for (i, (n, off)) in [(2, 0), (2, 8), (4, 16)].into_iter().enumerate() {
+                gl.enable_vertex_attrib_array(i as u32);
+                gl.vertex_attrib_pointer_f32(i as u32, n, glow::FLOAT, false, stride, off);
+            }
+            gl.bind_vertex_array(None);
+            gl.bind_buffer(glow::ARRAY_BUFFER, None);
+
+            Ok(Renderer {
+                particle_prog,
+                overlay_prog,
+                cmap_tex,
+                font_tex,
+                font_w: fw,
+                particle_vao,
+                vbo_pos,
+                vbo_val,
+                vbo_kind,
+                capacity: 0,
+                count: 0,
+                overlay_vao,
+                overlay_vbo,
+                overlay_capacity: 0,
+                verts: Vec::new(),
+            })
+        }
+    }
+
+    /// Frees the GL objects (the context must be current).
+    pub(crate) fn destroy(&self, gl: &glow::Context) {
+        unsafe {
+            gl.delete_program(self.particle_prog);
+            gl.delete_program(self.overlay_prog);
+            gl.delete_texture(self.cmap_tex);
+            gl.delete_texture(self.font_tex);
+            for b in [self.vbo_pos, self.vbo_val, self.vbo_kind, self.overlay_vbo] {
+                gl.delete_buffer(b);
+            }
+            gl.delete_vertex_array(self.particle_vao);
+            gl.delete_vertex_array(self.overlay_vao);
+        }
+    }
+
+    /// Copies the particles to the GPU; buffers grow only when the count grows.
+    pub(crate) fn upload(
+        &mut self,
+        gl: &glow::Context,
+        frame: &FrameData,
+    ) -> Result<(), ViewerError> {
+        frame.validate()?;
+        let n = frame.len();
+        unsafe {
+            if n > self.capacity {
+                for (b, size) in [(self.vbo_pos, 12), (self.vbo_val, 4), (self.vbo_kind, 1)] {
+                    gl.bind_buffer(glow::ARRAY_BUFFER, Some(b));
+                    gl.buffer_data_size(glow::ARRAY_BUFFER, (n * size) as i32, glow::DYNAMIC_DRAW);
+                }
+                self.capacity = n;
+            }
+            if n > 0 {
+                gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.vbo_pos));
+                gl.buffer_sub_data_u8_slice(glow::ARRAY_BUFFER, 0, vec3_bytes(&frame.positions));
+                gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.vbo_val));
+                gl.buffer_sub_data_u8_slice(glow::ARRAY_BUFFER, 0, f32_bytes(&frame.values));
+                gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.vbo_kind));
+                gl.buffer_sub_data_u8_slice(glow::ARRAY_BUFFER, 0, &frame.kinds);
+            }
+            gl.bind_buffer(glow::ARRAY_BUFFER, None);
+        }
+        self.count = n;
+        Ok(())
+    }
+
+    /// Draws the uploaded particles (using `frame` for the domain, radius and
+    /// range), the colour bar and the overlay into the bound framebuffer.
+    pub(crate) fn draw(
+        &mut self,
+        gl: &glow::Context,
+        frame: &FrameData,
+        opts: &RenderOptions,
+    ) -> DrawInfo {
+        let (w, h) = (opts.width.max(1), opts.height.max(1));
+        let s = if opts.ui_scale > 0 {
+            opts.ui_scale
+        } else if h >= 700 {
+            2
+        } else {
+            1
+        };
+        let panel = if opts.colorbar {
+            (96 * s).min(w / 2)
+        } else {
+            0
+        };
+        let sw = (w - panel).max(1);
+        let aspect = sw as f32 / h as f32;
+        let margin = frame.particle_radius.max(0.0);
+        let camera = opts.camera.resolve(
+            frame.dim,
+            frame.domain_min,
+            frame.domain_max,
+            margin,
+            aspect,
+        );
+        let m = camera.matrices(
+            frame.dim,
+            frame.domain_min,
+            frame.domain_max,
+            margin,
+            aspect,
+        );
+        let range = opts
+            .range
+            .unwrap_or_else(|| value_range(frame, opts.field, opts.hide_kinds));
+        let hidden =
+            opts.hide_kinds.iter().enumerate().fold(
+                0i32,
+                |acc, (k, &hide)| if hide { acc | (1 << k) } else { acc },
+            );
+        let bg = opts.background;
+
+        unsafe {
+            gl.viewport(0, 0, w as i32, h as i32);
+            gl.disable(glow::SCISSOR_TEST);
+            gl.clear_color(bg[0], bg[1], bg[2], 1.0);
+            gl.clear_depth_f64(1.0);
+            gl.depth_mask(true);
+            gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
+
+            // Particles.
+            if self.count > 0 {
+                gl.viewport(0, 0, sw as i32, h as i32);
+                gl.enable(glow::DEPTH_TEST);
+                gl.depth_func(glow::LESS);
+                gl.disable(glow::BLEND);
+                gl.disable(glow::CULL_FACE);
+                let p = self.particle_prog;
+                gl.use_program(Some(p));
+                let loc = |n: &str| gl.get_uniform_location(p, n);
+                gl.uniform_matrix_4_f32_slice(
+                    loc("u_view").as_ref(),
+                    false,
+                    &m.view.to_cols_array(),
+                );
+                gl.uniform_matrix_4_f32_slice(
+                    loc("u_proj").as_ref(),
+                    false,
+                    &m.proj.to_cols_array(),
+                );
+                gl.uniform_1_f32(loc("u_radius").as_ref(), frame.particle_radius.max(1e-9));
+                gl.uniform_1_f32(
+                    loc("u_quad_scale").as_ref(),
+                    if m.ortho { 1.0 } else { 1.5 },
+                );
+                gl.uniform_2_f32(loc("u_range").as_ref(), range.0, range.1);
+                gl.uniform_1_i32(loc("u_hidden").as_ref(), hidden);
+                gl.uniform_1_i32(
+                    loc("u_grey_boundary").as_ref(),
+                    (opts.field != Field::Kind) as i32,
+                );
+                gl.uniform_1_i32(loc("u_ortho").as_ref(), m.ortho as i32);
+                gl.uniform_1_i32(loc("u_cmap").as_ref(), 0);
+                gl.active_texture(glow::TEXTURE0);
+                gl.bind_texture(glow::TEXTURE_2D, Some(self.cmap_tex));
+                gl.bind_vertex_array(Some(self.particle_vao));
+                gl.draw_arrays_instanced(glow::TRIANGLES, 0, 6, self.count as i32);
+                gl.bind_vertex_array(None);
+            }
+
+            // Overlay: colour bar and text, in pixels over the whole target.
+            gl.viewport(0, 0, w as i32, h as i32);
+            gl.disable(glow::DEPTH_TEST);
+            gl.enable(glow::BLEND);
+            gl.blend_func(glow::SRC_ALPHA, glow::ONE_MINUS_SRC_ALPHA);
+        }
+
+        self.verts.clear();
+        if opts.colorbar {
+            self.colorbar(sw as f32, w as f32, h as f32, s as f32, opts.field, range);
+        }
+        if !opts.overlay.is_empty() {
+            let sf = s as f32;
+            let lw = opts
+                .overlay
+                .iter()
+                .map(|l| l.chars().count())
+                .max()
+                .unwrap_or(0) as f32;
+            let (cw, lh) = (font::CELL_W as f32 * sf, (font::CELL_H as f32 + 3.0) * sf);
+            let bw = lw * cw + 8.0 * sf;
+            let bh = opts.overlay.len() as f32 * lh + 6.0 * sf;
+            self.rect(2.0 * sf, 2.0 * sf, bw, bh, [0.0, 0.0, 0.0, 0.55]);
+            for (i, line) in opts.overlay.iter().enumerate() {
+                let y = 6.0 * sf + i as f32 * lh;
+                self.text(6.0 * sf, y, sf, line, [0.95, 0.95, 0.95, 1.0]);
+            }
+        }
+        unsafe {
+            self.flush_overlay(gl, w as f32, h as f32);
+            gl.disable(glow::BLEND);
+            gl.use_program(None);
+        }
+        DrawInfo { camera }
+    }
+
+    fn colorbar(&mut self, x0: f32, w: f32, h: f32, s: f32, field: Field, range: (f32, f32)) {
+        let bx = x0 + 10.0 * s;
+        let bw = 12.0 * s;
+        let top = 26.0 * s;
+        let bottom = h - 14.0 * s;
+        if bottom - top < 8.0 {
+            return;
+        }
+        let white = [0.92, 0.92, 0.92, 1.0];
+        self.text(x0 + 6.0 * s, 8.0 * s, s, field.label(), white);
+        // Frame, then the gradient in slices (the slice colours come from the colour map).
+        self.rect(
+            bx - s,
+            top - s,
+            bw + 2.0 * s,
+            bottom - top + 2.0 * s,
+            [0.7, 0.7, 0.7, 1.0],
+        );
+        let n = 64;
+        for i in 0..n {
+            let t0 = i as f32 / n as f32;
+            let t1 = (i + 1) as f32 / n as f32;
+            let c = crate::colormap((t0 + t1) * 0.5);
+            let y1 = bottom - (bottom - top) * t0;
+            let y0 = bottom - (bottom - top) * t1;
+            self.rect(bx, y0, bw, y1 - y0, [c[0], c[1], c[2], 1.0]);
+        }
+        let lx = bx + bw + 5.0 * s;
+        let half = font::CELL_H as f32 * s * 0.5;
+        let labels: Vec<(f32, String)> = if field == Field::Kind {
+            vec![
+                (0.0, "fluid".into()),
+                (0.5, "solid".into()),
+                (1.0, "bound".into()),
+            ]
+        } else {
+            vec![
+                (0.0, fmt_value(range.0)),
+                (0.5, fmt_value(0.5 * (range.0 + range.1))),
+                (1.0, fmt_value(range.1)),
+            ]
+        };
+        let max_chars = ((w - lx) / (font::CELL_W as f32 * s)).floor().max(0.0) as usize;
+        for (t, label) in labels {
+            let y = bottom - (bottom - top) * t - half;
+            let label: String = label.chars().take(max_chars).collect();
+            self.text(lx, y, s, &label, white);
+        }
+    }
+
+    fn quad(&mut self, x: f32, y: f32, w: f32, h: f32, uv: [f32; 4], c: [f32; 4]) {
+        let [u0, v0, u1, v1] = uv;
+        let corners = [(x, y, u0, v0), (x + w, y, u1, v0), (x + w, y + h, u1, v1)];
+        let corners2 = [(x, y, u0, v0), (x + w, y + h, u1, v1), (x, y + h, u0, v1)];
+        for (px, py, u, v) in corners.into_iter().chain(corners2) {
+            self.verts
+                .extend_from_slice(&[px, py, u, v, c[0], c[1], c[2], c[3]]);
+        }
+    }
+
+    fn cell_uv(&self, cell: usize) -> [f32; 4] {
+        let fw = self.font_w as f32;
+        let u0 = (cell as u32 * font::CELL_W) as f32 / fw;
+        let u1 = ((cell as u32 + 1) * font::CELL_W) as f32 / fw;
+        [u0, 0.0, u1, 1.0]
+    }
+
+    fn rect(&mut self, x: f32, y: f32, w: f32, h: f32, c: [f32; 4]) {
+        let [u0, _, u1, _] = self.cell_uv(font::SOLID);
+        let (u, v) = ((u0 + u1) * 0.5, 0.5);
+        self.quad(x, y, w, h, [u, v, u, v], c);
+    }
+
+    fn text(&mut self, x: f32, y: f32, s: f32, text: &str, c: [f32; 4]) {
+        let (cw, ch) = (font::CELL_W as f32 * s, font::CELL_H as f32 * s);
+        for (i, ch_) in text.chars().enumerate() {
+            if ch_ == ' ' {
+                continue;
+            }
+            let uv = self.cell_uv(font::glyph_index(ch_));
+            self.quad(x + i as f32 * cw, y, cw, ch, uv, c);
+        }
+    }
+
+    unsafe fn flush_overlay(&mut self, gl: &glow::Context, w: f32, h: f32) {
+        if self.verts.is_empty() {
+            return;
+        }
+        gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.overlay_vbo));
+        let bytes = f32_bytes(&self.verts);
+        if bytes.len() > self.overlay_capacity {
+            gl.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::DYNAMIC_DRAW);
+            self.overlay_capacity = bytes.len();
+        } else {
+            gl.buffer_sub_data_u8_slice(glow::ARRAY_BUFFER, 0, bytes);
+        }
+        gl.bind_buffer(glow::ARRAY_BUFFER, None);
+        let p = self.overlay_prog;
+        gl.use_program(Some(p));
+        gl.uniform_2_f32(gl.get_uniform_location(p, "u_screen").as_ref(), w, h);
+        gl.uniform_1_i32(gl.get_uniform_location(p, "u_font").as_ref(), 0);
+        gl.active_texture(glow::TEXTURE0);
+        gl.bind_texture(glow::TEXTURE_2D, Some(self.font_tex));
+        gl.bind_vertex_array(Some(self.overlay_vao));
+        gl.draw_arrays(glow::TRIANGLES, 0, (self.verts.len() / OV_STRIDE) as i32);
+        gl.bind_vertex_array(None);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(values: Vec<f32>, kinds: Vec<u8>) -> FrameData {
+        FrameData {
+            dim: 2,
+            positions: vec![[0.0; 3]; values.len()],
+            values,
+            kinds,
+            domain_min: [0.0; 3],
+            domain_max: [1.0, 1.0, 0.0],
+            particle_radius: 0.01,
+        }
+    }
+
+    #[test]
+    fn ranges() {
+        let f = frame(vec![1.0, 3.0, 100.0, f32::NAN], vec![0, 1, 2, 0]);
+        assert_eq!(value_range(&f, Field::Speed, [false; 3]), (0.0, 3.0));
+        assert_eq!(value_range(&f, Field::Pressure, [false; 3]), (1.0, 3.0));
+        assert_eq!(
+            value_range(&f, Field::Pressure, [false, true, false]),
+            (1.0, 1.001)
+        );
+        assert_eq!(value_range(&f, Field::Kind, [false; 3]), (0.0, 2.0));
+        let z = frame(vec![0.0; 3], vec![0; 3]);
+        assert_eq!(value_range(&z, Field::Speed, [false; 3]), (0.0, 1e-6));
+    }
+
+    #[test]
+    fn value_labels() {
+        assert_eq!(fmt_value(0.0), "0");
+        assert_eq!(fmt_value(1.5), "1.500");
+        assert_eq!(fmt_value(1000.0), "1000");
+        assert_eq!(fmt_value(-0.25), "-0.2500");
+        assert_eq!(fmt_value(123456.0), "1.23e5");
+    }
+}
