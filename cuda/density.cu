@@ -1,23 +1,89 @@
-// Density by summation eq. (8) and the equations of state eq. (9).
-// Twin: src/backend/cpu/density.rs; parity test: tests/cuda_parity.rs.
+// Density by summation eq. (8), the equations of state eq. (9), and the artificial stress
+// of solids (Gray, Monaghan & Swift 2001), fused: one kernel per stage.
+// Twin: src/backend/cpu/density.rs (+ update_artificial_stress in stress.rs);
+// parity test: tests/cuda_parity.rs.
 #include "common.cuh"
 
-// Tait eq. (9) for fluid; P = c_s^2 (rho - rho0_s) for solids (Gray & Monaghan 2001).
+// Tait eq. (9) for fluid and dynamic wall particles; P = c_s^2 (rho - rho0_s) for solids
+// (Gray & Monaghan 2001); 0 for the paper's walls.
 __device__ __forceinline__ float pressure(const SphParams& p, unsigned char kind, float rho) {
-    if (kind == MF_KIND_FLUID) return p.tait_b * (powf(rho / p.rho0, p.tait_gamma) - 1.0f);
     if (kind == MF_KIND_SOLID) return p.solid_c0 * p.solid_c0 * (rho - p.solid_rho0);
+    if (kind == MF_KIND_FLUID || p.wall_pressure != 0) return p.tait_b * (powf(rho / p.rho0, p.tait_gamma) - 1.0f);
     return 0.0f;
 }
 
+// Eigen-decomposition of the symmetric upper-left d x d block by cyclic Jacobi rotations:
+// line for line the CPU's jacobi_eigen (stress.rs).
+__device__ void jacobi_eigen(float a[3][3], int d, float lambda[3], float v[3][3]) {
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) v[r][c] = r == c ? 1.0f : 0.0f;
+    for (int sweep = 0; sweep < 8; ++sweep) {
+        float off = 0.0f;
+        for (int pp = 0; pp < d; ++pp)
+            for (int qq = pp + 1; qq < d; ++qq) off += fabsf(a[pp][qq]);
+        if (off <= 1e-20f) break;
+        for (int pp = 0; pp < d; ++pp) {
+            for (int qq = pp + 1; qq < d; ++qq) {
+                float apq = a[pp][qq];
+                if (fabsf(apq) <= 1e-30f) continue;
+                float theta = (a[qq][qq] - a[pp][pp]) / (2.0f * apq);
+                float sg = copysignf(1.0f, theta);  // Rust's f32::signum
+                float t = sg / (fabsf(theta) + sqrtf(theta * theta + 1.0f));
+                float c = 1.0f / sqrtf(t * t + 1.0f);
+                float s = t * c;
+                for (int k = 0; k < d; ++k) {
+                    float akp = a[k][pp], akq = a[k][qq];
+                    a[k][pp] = c * akp - s * akq;
+                    a[k][qq] = s * akp + c * akq;
+                }
+                for (int k = 0; k < d; ++k) {
+                    float apk = a[pp][k], aqk = a[qq][k];
+                    a[pp][k] = c * apk - s * aqk;
+                    a[qq][k] = s * apk + c * aqk;
+                }
+                for (int k = 0; k < d; ++k) {
+                    float vkp = v[k][pp], vkq = v[k][qq];
+                    v[k][pp] = c * vkp - s * vkq;
+                    v[k][qq] = s * vkp + c * vkq;
+                }
+            }
+        }
+    }
+    lambda[0] = a[0][0]; lambda[1] = a[1][1]; lambda[2] = a[2][2];
+}
+
+// Artificial stress R of a solid particle from sigma = -P I + S, eq. (11): in the principal
+// frame R'^aa = -eps sigma'^aa / rho^2 where sigma'^aa > 0 (tension), else 0; rotated back.
+template <int DIM>
+__device__ Mat<DIM> artificial_stress(const SphParams& p, const Mat<DIM>& si, float pi, float rhoi) {
+    float a3[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    for (int r = 0; r < DIM; ++r)
+        for (int c = 0; c < DIM; ++c) a3[r][c] = si.m[r][c] - (r == c ? pi : 0.0f);
+    float lam[3], v[3][3];
+    jacobi_eigen(a3, DIM, lam, v);
+    Mat<DIM> R = mzero<DIM>();
+    for (int k = 0; k < DIM; ++k) {
+        float rk = lam[k] > 0.0f ? -p.art_stress_eps * lam[k] / (rhoi * rhoi) : 0.0f;
+        if (rk != 0.0f)
+            for (int a = 0; a < DIM; ++a)
+                for (int b = 0; b < DIM; ++b) R.m[a][b] += (v[a][k] * v[b][k]) * rk;
+    }
+    return R;
+}
+
+// stress and art: null without solids / without artificial stress (both or art alone).
 template <int DIM, int L>
 __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __restrict__ cell_start,
-                                 const float* __restrict__ pos, const unsigned char* __restrict__ kind,
-                                 const float* __restrict__ mass, float* __restrict__ rho, float* __restrict__ pr) {
+                             const float* __restrict__ pos, const unsigned char* __restrict__ kind,
+                             const float* __restrict__ mass, float* __restrict__ rho, float* __restrict__ pr,
+                             const float* __restrict__ stress, float* __restrict__ art) {
     const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
     const unsigned i = t / L;
     const int lane = (int)(t % L);
     const unsigned char ki = i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY;
-    const bool active = ki != MF_KIND_BOUNDARY;
+    // Boundary particles carry density and pressure only with dynamic walls (Crespo 2007).
+    const bool active = i < n && (ki != MF_KIND_BOUNDARY || p.wall_pressure != 0);
+    float r = 0.0f;
     if (p.density_mode == MF_DENSITY_SUMMATION) {
         float sum_w = 0.0f;
         if (active)
@@ -27,31 +93,45 @@ __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __re
                                             });
         sum_w = lane_sum<L>(sum_w);  // every lane of the warp takes part
         if (active && lane == 0) {
-            const float r = mass[i] * sum_w;  // eq. (8), number-density form (Hu & Adams 2006)
+            r = mass[i] * sum_w;  // eq. (8), number-density form (Hu & Adams 2006)
             rho[i] = r;
-            pr[i] = pressure(p, ki, r);  // eq. (9)
         }
     } else if (active && lane == 0) {
-        pr[i] = pressure(p, ki, rho[i]);  // eq. (9)
+        r = rho[i];
+    }
+    if (i >= n || lane != 0) return;
+    float pi = 0.0f;
+    if (active) {
+        pi = pressure(p, ki, r);  // eq. (9)
+        pr[i] = pi;
+    }
+    if (art) {
+        if (ki == MF_KIND_SOLID) {
+            sstore<DIM>(art, i, n, artificial_stress<DIM>(p, sload<DIM>(stress, i, n), pi, r));
+        } else {
+            sstore<DIM>(art, i, n, mzero<DIM>());
+        }
     }
 }
 // Split lanes (small systems: shorter serial loops) and one lane per particle (large
 // systems: more particles in flight; the CPU's exact summation order). The launcher picks.
 template <int DIM>
 __device__ void sph_density_body(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos,
-                                 const unsigned char* kind, const float* mass, float* rho, float* pr) {
-    density_impl<DIM, Lanes<DIM>::L>(p, n, cell_start, pos, kind, mass, rho, pr);
+                                 const unsigned char* kind, const float* mass, float* rho, float* pr,
+                                 const float* stress, float* art) {
+    density_impl<DIM, Lanes<DIM>::L>(p, n, cell_start, pos, kind, mass, rho, pr, stress, art);
 }
 template <int DIM>
 __device__ void sph_density_1_body(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos,
-                                   const unsigned char* kind, const float* mass, float* rho, float* pr) {
-    density_impl<DIM, 1>(p, n, cell_start, pos, kind, mass, rho, pr);
+                                   const unsigned char* kind, const float* mass, float* rho, float* pr,
+                                   const float* stress, float* art) {
+    density_impl<DIM, 1>(p, n, cell_start, pos, kind, mass, rho, pr, stress, art);
 }
 MF_ENTRY2(sph_density,
           (const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const unsigned char* kind,
-           const float* mass, float* rho, float* pr),
-          (p, n, cell_start, pos, kind, mass, rho, pr))
+           const float* mass, float* rho, float* pr, const float* stress, float* art),
+          (p, n, cell_start, pos, kind, mass, rho, pr, stress, art))
 MF_ENTRY2(sph_density_1,
           (const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const unsigned char* kind,
-           const float* mass, float* rho, float* pr),
-          (p, n, cell_start, pos, kind, mass, rho, pr))
+           const float* mass, float* rho, float* pr, const float* stress, float* art),
+          (p, n, cell_start, pos, kind, mass, rho, pr, stress, art))

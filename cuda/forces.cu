@@ -1,5 +1,6 @@
-// Accelerations eqs. (7), (10), (16), (17), laminar viscosity, gravity; d rho/dt; the XSPH
-// sum of eq. (18); fused: the block maxima of |v|, |a| and c for the step size.
+// Accelerations eqs. (7), (10), (16), (17), laminar viscosity, artificial stress, gravity;
+// fused: the block maxima of |v|, |a| and c for the step size (the velocities do not change
+// between forces and time_step in either integrator order).
 // Twin: src/backend/cpu/forces.rs (+ extremes in reduce.rs); parity test: tests/cuda_parity.rs.
 #include "common.cuh"
 
@@ -28,23 +29,15 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
                             const float* __restrict__ rho, const float* __restrict__ pr,
                             const float* __restrict__ mass, const unsigned char* __restrict__ kind,
                             const unsigned* __restrict__ group, const float* __restrict__ stress,
-                            const float* __restrict__ art, float* __restrict__ acc_out, float* __restrict__ xsph_out,
-                            float* __restrict__ drho_out, unsigned* __restrict__ red) {
+                            const float* __restrict__ art, float* __restrict__ acc_out, unsigned* __restrict__ red) {
     __shared__ float sh[MF_BLOCK / 32];
     const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
     const unsigned i = t / L;
     const int lane = (int)(t % L);
     float vmax = 0.0f, amax = 0.0f, cmax = 0.0f;
     const unsigned char ki = i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY;
-    Vec<DIM> acc = vzero<DIM>(), xs = vzero<DIM>();
-    float drho = 0.0f;
-    if (i < n && ki == MF_KIND_BOUNDARY) {
-        if (lane == 0) {
-            vstore<DIM>(acc_out, i, vzero<DIM>());
-            vstore<DIM>(xsph_out, i, vzero<DIM>());
-            if (drho_out) drho_out[i] = 0.0f;
-        }
-    }
+    Vec<DIM> acc = vzero<DIM>();
+    if (i < n && ki == MF_KIND_BOUNDARY && lane == 0) vstore<DIM>(acc_out, i, vzero<DIM>());
     if (i < n && ki != MF_KIND_BOUNDARY) {
         const Vec<DIM> xi = vload<DIM>(pos, i), vi = vload<DIM>(vel, i);
         const float rhoi = rho[i], pi = pr[i];
@@ -77,14 +70,9 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
             const float mj = mass[j];
             if (kj == MF_KIND_BOUNDARY) {
                 acc = acc + lennard_jones<DIM>(p, r, rr);  // eq. (17)
+                // Dynamic walls: then like any other neighbour (own P_j, rho_j, v_j = 0,
+                // stress 0, sound speed c0).
                 if (!couples(p, kj)) return;
-                // Pressure mirror: the wall particle carries P_i, rho_i and v = 0.
-                float vr = dot(vi, r);
-                float pij = artificial_viscosity(p, vr, r2, ci, rhoi);
-                acc = acc - gw * (mj * (2.0f * pi / (rhoi * rhoi) + pij));
-                if (p.nu > 0.0f) acc = acc + vi * (mj * laminar(p, r2, fw, rhoi, rhoi));
-                drho += rhoi * mj / rho[j] * dot(vi, gw);
-                return;
             }
             const Vec<DIM> vj = vload<DIM>(vel, j);
             const float rhoj = rho[j];
@@ -124,23 +112,15 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
                     acc = acc + mat_vec<DIM>(ra, gw) * (mj * fij);
                 }
             }
-            // Continuity: d rho_i/dt = rho_i sum_j m_j / rho_j v_ij . grad W.
-            drho += rhoi * mj / rhoj * dot(vij, gw);
-            // XSPH, eq. (18), within one material (one body for solids).
-            if (same_body) xs = xs + (vj - vi) * (p.xsph_eps * mj / rho_bar * kernel_w(p, rr));
         });
     }
     // Combine the lanes of each particle (every lane of the warp takes part).
 #pragma unroll
     for (int a = 0; a < DIM; ++a) {
         acc.c[a] = lane_sum<L>(acc.c[a]);
-        xs.c[a] = lane_sum<L>(xs.c[a]);
     }
-    drho = lane_sum<L>(drho);
     if (i < n && ki != MF_KIND_BOUNDARY && lane == 0) {
         vstore<DIM>(acc_out, i, acc);
-        vstore<DIM>(xsph_out, i, xs);
-        if (drho_out) drho_out[i] = drho;
         const Vec<DIM> vi = vload<DIM>(vel, i);
         vmax = sqrtf(dot(vi, vi));
         amax = sqrtf(dot(acc, acc));
@@ -162,10 +142,8 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
     extern "C" __global__ void __launch_bounds__(MF_BLOCK, 3)                                                      \
         name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel,      \
              const float* rho, const float* pr, const float* mass, const unsigned char* kind,                    \
-             const unsigned* group, const float* stress, const float* art, float* acc, float* xsph, float* drho, \
-             unsigned* red) {                                                                                     \
-        forces_impl<DIM, SOLIDS, L>(p, n, cell_start, pos, vel, rho, pr, mass, kind, group, stress, art, acc, xsph, \
-                                 drho, red);                                                                      \
+             const unsigned* group, const float* stress, const float* art, float* acc, unsigned* red) {           \
+        forces_impl<DIM, SOLIDS, L>(p, n, cell_start, pos, vel, rho, pr, mass, kind, group, stress, art, acc, red); \
     }
 MF_FORCES_ENTRY(sph_forces_2d, 2, true, Lanes<2>::L)
 MF_FORCES_ENTRY(sph_forces_3d, 3, true, Lanes<3>::L)

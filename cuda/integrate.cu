@@ -1,31 +1,37 @@
-// XSPH motion eq. (18) and forward Euler eq. (19); the stress update; the device clock.
+// Time integration: the kick (v += dt a) and the drift (x += dt (v + xsph), eq. (18), with
+// the periodic wrap; rho += dt d rho/dt; S += dt dS/dt; the device clock). dt is read on the
+// device (written by sph_step_size): no host round trip per step.
 // Twin: src/backend/cpu/integrate.rs; parity test: tests/cuda_parity.rs.
 #include "common.cuh"
 
 template <int DIM>
-__device__ void sph_integrate_body(const SphParams p, unsigned n, const float* __restrict__ dt_dev,
-                                   double* __restrict__ time, const unsigned char* __restrict__ kind,
-                                   float* __restrict__ pos, float* __restrict__ vel, const float* __restrict__ acc,
-                                   const float* __restrict__ xsph, float* __restrict__ rho,
-                                   const float* __restrict__ drho, float* __restrict__ stress,
-                                   const float* __restrict__ rate) {
+__device__ void sph_kick_body(unsigned n, const float* __restrict__ dt_dev, const unsigned char* __restrict__ kind,
+                              float* __restrict__ vel, const float* __restrict__ acc) {
+    const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n || kind[i] == MF_KIND_BOUNDARY) return;
+    const float dt = *dt_dev;
+    vstore<DIM>(vel, i, vload<DIM>(vel, i) + vload<DIM>(acc, i) * dt);
+}
+MF_ENTRY2(sph_kick, (unsigned n, const float* dt_dev, const unsigned char* kind, float* vel, const float* acc),
+          (n, dt_dev, kind, vel, acc))
+
+// drho: null without the continuity density; stress, rate: null without solids.
+template <int DIM>
+__device__ void sph_drift_body(const SphParams p, unsigned n, const float* __restrict__ dt_dev,
+                               double* __restrict__ time, const unsigned char* __restrict__ kind,
+                               float* __restrict__ pos, const float* __restrict__ vel,
+                               const float* __restrict__ xsph, float* __restrict__ rho,
+                               const float* __restrict__ drho, float* __restrict__ stress,
+                               const float* __restrict__ rate) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
     const float dt = *dt_dev;
     if (i == 0) *time += (double)dt;
     if (i >= n) return;
     const unsigned char k = kind[i];
+    // Dynamic wall particles take part; their d rho/dt is zero otherwise.
+    if (drho) rho[i] += dt * drho[i];
     if (k == MF_KIND_BOUNDARY) return;
-    Vec<DIM> x = vload<DIM>(pos, i), v = vload<DIM>(vel, i);
-    const Vec<DIM> a = vload<DIM>(acc, i), xs = vload<DIM>(xsph, i);
-    if (p.integrator == MF_INTEGRATOR_EULER) {
-        // eq. (19) with eq. (18): x^{n+1} = x^n + dt (v^n + xsph), v^{n+1} = v^n + dt a^n
-        x = x + (v + xs) * dt;
-        v = v + a * dt;
-    } else {
-        // semi-implicit (symplectic) Euler: the position takes the new velocity
-        v = v + a * dt;
-        x = x + (v + xs) * dt;
-    }
+    Vec<DIM> x = vload<DIM>(pos, i) + (vload<DIM>(vel, i) + vload<DIM>(xsph, i)) * dt;
 #pragma unroll
     for (int d = 0; d < DIM; ++d) {  // wrap on periodic axes
         if (p.periodic[d]) {
@@ -35,15 +41,12 @@ __device__ void sph_integrate_body(const SphParams p, unsigned n, const float* _
         }
     }
     vstore<DIM>(pos, i, x);
-    vstore<DIM>(vel, i, v);
-    if (drho) rho[i] += dt * drho[i];
     if (stress && k == MF_KIND_SOLID) {
 #pragma unroll
-        for (int c = 0; c < Sym<DIM>::N; ++c) stress[c * n + i] += rate[c * n + i] * dt;  // Euler on eq. (12)
+        for (int c = 0; c < Sym<DIM>::N; ++c) stress[c * n + i] += rate[c * n + i] * dt;
     }
 }
-MF_ENTRY2(sph_integrate,
+MF_ENTRY2(sph_drift,
           (const SphParams p, unsigned n, const float* dt_dev, double* time, const unsigned char* kind, float* pos,
-           float* vel, const float* acc, const float* xsph, float* rho, const float* drho, float* stress,
-           const float* rate),
-          (p, n, dt_dev, time, kind, pos, vel, acc, xsph, rho, drho, stress, rate))
+           const float* vel, const float* xsph, float* rho, const float* drho, float* stress, const float* rate),
+          (p, n, dt_dev, time, kind, pos, vel, xsph, rho, drho, stress, rate))

@@ -74,8 +74,9 @@ typedef struct SphParams {
     int32_t lj_p1;         /* 12 */
     int32_t lj_p2;         /* 6 */
     int32_t lj_attractive; /* 1: the force acts for r < support (cohesive beyond r0); 0: r < r0 */
-    int32_t wall_pressure; /* 1: boundary neighbours mirror the fluid's pressure and take part
-                              in viscosity (no-slip); 0: the paper's form, Lennard-Jones only */
+    int32_t wall_pressure; /* 1: dynamic walls (Crespo 2007): boundary particles carry density
+                              and Tait pressure, enter the pressure and viscosity sums (no
+                              leaks, no-slip); 0: the paper's form, Lennard-Jones only */
 
     /* ---- body force and time step ---- */
     float gravity[3];      /* [L/T^2] */

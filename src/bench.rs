@@ -13,7 +13,7 @@ use crate::backend::cpu::{CpuSolver, Grid};
 use crate::backend::{BackendChoice, BackendError};
 use crate::dim::{Dim, D2, D3};
 use crate::params::{
-    self, SphParams, MF_DENSITY_SUMMATION, MF_INTEGRATOR_SYMPLECTIC_EULER, MF_KIND_BOUNDARY,
+    self, SphParams, MF_DENSITY_CONTINUITY, MF_INTEGRATOR_SYMPLECTIC_EULER, MF_KIND_BOUNDARY,
 };
 use crate::particle::{Kind, Particle};
 use crate::solver::{Setup, Solver};
@@ -104,7 +104,7 @@ pub fn dam_break(dim: u32, n_fluid: usize) -> Setup {
         kernel: 0,
         dx,
         h: 1.3 * dx,
-        density_mode: MF_DENSITY_SUMMATION as i32,
+        density_mode: MF_DENSITY_CONTINUITY as i32,
         rho0: 1000.0,
         c0: 10.0 * (2.0 * g * height).sqrt(),
         tait_gamma: 7.0,
@@ -112,7 +112,7 @@ pub fn dam_break(dim: u32, n_fluid: usize) -> Setup {
         beta: 0.0,
         xsph_eps: 0.5,
         solid_rho0: 1000.0,
-        lj_c0: 5.0 * g * height,
+        lj_c0: 5.0 * g * height / dx, // Monaghan's D = 5 g H, per unit r0 (an acceleration)
         lj_r0: dx,
         lj_p1: 12,
         lj_p2: 6,
@@ -135,12 +135,21 @@ pub fn dam_break(dim: u32, n_fluid: usize) -> Setup {
                     continue;
                 }
                 let z = if d3 { (k as f32 + 0.5) * dx } else { 0.0 };
+                let y = (j as f32 + 0.5) * dx;
+                // The column starts hydrostatic, eq. (9): p = rho0 g (H - y).
+                let pressure = if fluid {
+                    p.rho0 * g * (height - y)
+                } else {
+                    0.0
+                };
+                let density = p.rho0 * (1.0 + pressure / p.tait_b).powf(1.0 / p.tait_gamma);
                 out.push(Particle {
                     id: out.len() as u32,
                     kind: if wall { Kind::Boundary } else { Kind::Fluid },
                     group: if wall { 0 } else { 1 },
-                    position: [(i as f32 + 0.5) * dx, (j as f32 + 0.5) * dx, z],
-                    density: p.rho0,
+                    position: [(i as f32 + 0.5) * dx, y, z],
+                    density,
+                    pressure,
                     mass,
                     ..Default::default()
                 });

@@ -12,3 +12,4 @@ pub mod run;
 pub mod scene;
 pub mod solver;
 pub mod state;
+pub mod validate;

@@ -3,9 +3,19 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
+#[cfg(feature = "viewer")]
+mod view;
+
 fn main() -> ExitCode {
     let cli = meshfree::cli::Cli::parse();
-    match meshfree::cli::main(cli) {
+    let result = match cli.command {
+        #[cfg(feature = "viewer")]
+        meshfree::cli::Command::View(a) => view::view(a),
+        #[cfg(feature = "viewer")]
+        meshfree::cli::Command::Render(a) => view::render(a),
+        _ => meshfree::cli::main(cli),
+    };
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");

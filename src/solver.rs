@@ -79,11 +79,33 @@ pub mod fault_codes {
 pub const DENSITY_SANE_LOW: f32 = 0.1;
 pub const DENSITY_SANE_HIGH: f32 = 2.0;
 
+/// The particle quantity a snapshot carries for display.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Shown {
+    #[default]
+    Speed,
+    Pressure,
+    Density,
+    Kind,
+}
+
+/// What the viewer draws: positions, kinds and one quantity, in storage order, in buffers
+/// that are reused from frame to frame.
+#[derive(Clone, Debug, Default)]
+pub struct Snapshot {
+    pub positions: Vec<[f32; 3]>,
+    pub values: Vec<f32>,
+    pub kinds: Vec<u8>,
+}
+
 /// The solver stages (Fig. 1) and the read-back the driver, output and tests need.
 pub trait Solver: Send {
     fn info(&self) -> BackendInfo;
     fn params(&self) -> &SphParams;
     fn len(&self) -> usize;
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
     fn has_solids(&self) -> bool;
 
     /// Neighbour search: cell index, sort by (cell, id), cell ranges, reorder.
@@ -135,6 +157,23 @@ pub trait Solver: Send {
     fn diagnostics(&mut self) -> Diagnostics;
     /// All particles, ordered by id (a read-back on the GPU).
     fn particles(&mut self) -> Vec<Particle>;
+    /// Positions, kinds and one quantity, for display. The default reads back whole
+    /// particles; a GPU backend copies only what is shown.
+    fn snapshot(&mut self, shown: Shown, out: &mut Snapshot) {
+        out.positions.clear();
+        out.values.clear();
+        out.kinds.clear();
+        for q in self.particles() {
+            out.positions.push(q.position);
+            out.kinds.push(q.kind.code());
+            out.values.push(match shown {
+                Shown::Speed => q.speed(),
+                Shown::Pressure => q.pressure,
+                Shown::Density => q.density,
+                Shown::Kind => q.kind.code() as f32,
+            });
+        }
+    }
     /// Remove every particle of a scene group (opening a gate). Returns how many went.
     fn remove_group(&mut self, group: u32) -> usize;
 }

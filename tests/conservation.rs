@@ -1,5 +1,6 @@
 //! Physics invariants of the CPU backend on small particle sets: momentum conservation,
 //! an elastic body in free fall keeping its shape.
+#![allow(clippy::needless_range_loop)]
 mod common;
 
 use meshfree::backend::cpu_solver;
@@ -126,7 +127,10 @@ fn spinning_elastic_disc_in_free_fall_keeps_its_shape() {
         s.step();
         if s.steps() % 200 == 0 {
             let d = s.diagnostics();
-            eprintln!("step {} t {} dt {} vmax {}", d.step, d.time, d.dt, d.max_speed);
+            eprintln!(
+                "step {} t {} dt {} vmax {}",
+                d.step, d.time, d.dt, d.max_speed
+            );
         }
         assert!(s.steps() < 20_000, "too many steps");
     }

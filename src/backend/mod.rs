@@ -64,6 +64,21 @@ pub fn cuda_solver(setup: Setup) -> Result<Box<dyn Solver>, BackendError> {
     }
 }
 
+/// Whether the CUDA backend can start here (a driver, a device and PTX), without building a
+/// solver; the error says why not.
+pub fn cuda_solver_available() -> Result<(), BackendError> {
+    #[cfg(feature = "cuda")]
+    {
+        cuda::available().map(|_| ())
+    }
+    #[cfg(not(feature = "cuda"))]
+    {
+        Err(BackendError::CudaUnavailable(
+            "this build has the `cuda` feature off".into(),
+        ))
+    }
+}
+
 /// The CPU solver in the scene's dimension.
 pub fn cpu_solver(setup: Setup) -> Box<dyn Solver> {
     if setup.params.dim == 2 {

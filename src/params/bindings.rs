@@ -82,7 +82,7 @@ pub struct SphParams {
     pub lj_p2: i32,
     #[doc = " 1: the force acts for r < support (cohesive beyond r0); 0: r < r0"]
     pub lj_attractive: i32,
-    #[doc = " 1: boundary neighbours mirror the fluid's pressure and take part\nin viscosity (no-slip); 0: the paper's form, Lennard-Jones only"]
+    #[doc = " 1: dynamic walls (Crespo 2007): boundary particles carry density\nand Tait pressure, enter the pressure and viscosity sums (no\nleaks, no-slip); 0: the paper's form, Lennard-Jones only"]
     pub wall_pressure: i32,
     #[doc = " [L/T^2]"]
     pub gravity: [f32; 3usize],

@@ -175,9 +175,11 @@ fn default_art_n() -> f64 {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum WallCoupling {
-    /// Boundary neighbours also mirror the fluid's pressure and take part in viscosity.
+    /// Dynamic walls (Crespo, Gomez-Gesteira & Dalrymple 2007): wall particles take density
+    /// and pressure like fluid but do not move; they enter the pressure and viscosity sums
+    /// (no leaks, no-slip), and the Lennard-Jones force acts as well.
     #[default]
-    PressureMirror,
+    Dynamic,
     /// The paper's form: the Lennard-Jones force of eq. (17) only.
     LennardJonesOnly,
 }
@@ -199,7 +201,7 @@ pub struct BoundaryMaterial {
     /// true: the force also attracts beyond r0 (up to the support). Default false.
     #[serde(default)]
     pub attractive: bool,
-    /// Default "pressure-mirror".
+    /// Default "dynamic".
     #[serde(default)]
     pub wall_coupling: WallCoupling,
 }
@@ -300,6 +302,13 @@ pub enum Wall {
 }
 
 impl Wall {
+    /// Rows of boundary particles outside the shape (0 for a filled box).
+    pub fn layers(&self) -> u32 {
+        match self {
+            Wall::BoxContainer { layers, .. } | Wall::Cylinder { layers, .. } => *layers,
+            Wall::Box { .. } => 0,
+        }
+    }
     pub fn remove_at(&self) -> Option<f64> {
         match self {
             Wall::BoxContainer { remove_at, .. }

@@ -46,7 +46,7 @@
 //! p1 = 12                            # default 12
 //! p2 = 6                             # default 6
 //! attractive = false                 # default false
-//! wall_coupling = "pressure-mirror"  # default | "lennard-jones-only" (the paper)
+//! wall_coupling = "dynamic"          # default | "lennard-jones-only" (the paper)
 //!
 //! [[fluid_blocks]]
 //! min = [0.0, 0.0]
@@ -243,6 +243,27 @@ impl Scene {
         Ok(s)
     }
 
+    /// A copy at another particle spacing [L], validated: the Lennard-Jones strength C0
+    /// scales with 1/r0 (it is 5 g H / r0 in the built-ins), an explicit r0 with the
+    /// spacing, and the domain grows by the thicker wall layers.
+    pub fn with_spacing(&self, spacing: f64) -> Result<Scene, SceneError> {
+        let mut s = self.clone();
+        let old = s.file.discretisation.spacing;
+        s.file.discretisation.spacing = spacing;
+        if let Some(b) = s.file.boundary.as_mut() {
+            b.strength *= old / spacing;
+            if let Some(r0) = b.r0.as_mut() {
+                *r0 *= spacing / old;
+            }
+        }
+        let layers = s.file.walls.iter().map(|w| w.layers()).max().unwrap_or(0) as f64;
+        let grow = (layers * (spacing - old)).max(0.0);
+        s.file.domain.min.iter_mut().for_each(|x| *x -= grow);
+        s.file.domain.max.iter_mut().for_each(|x| *x += grow);
+        s.revalidate()?;
+        Ok(s)
+    }
+
     /// The parameter struct: every primary field from the scene, then `params::derive`.
     pub fn params(&self) -> SphParams {
         scene_params(&self.file)
@@ -355,7 +376,7 @@ fn scene_params(s: &SceneFile) -> SphParams {
             p.lj_p1 = b.p1;
             p.lj_p2 = b.p2;
             p.lj_attractive = b.attractive as i32;
-            p.wall_pressure = (b.wall_coupling == WallCoupling::PressureMirror) as i32;
+            p.wall_pressure = (b.wall_coupling == WallCoupling::Dynamic) as i32;
         }
         None => {
             p.lj_c0 = 0.0;

@@ -47,7 +47,10 @@ pub fn drift<D: Dim>(p: &SphParams, dt: f32, s: &mut State<D>) {
     });
     if let Some(drho) = &s.drho {
         // Dynamic wall particles (`wall_pressure`) take part; their d rho/dt is zero otherwise.
-        s.rho.par_iter_mut().zip(drho.par_iter()).for_each(|(r, d)| *r += dt * d);
+        s.rho
+            .par_iter_mut()
+            .zip(drho.par_iter())
+            .for_each(|(r, d)| *r += dt * d);
     }
     if let Some(solid) = s.solid.as_mut() {
         let rate = &solid.stress_rate;

@@ -26,7 +26,11 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
     let out: Vec<Rates<D::V, D::M>> = (0..s.len())
         .into_par_iter()
         .map(|i| {
-            let mut o = Rates { drho: 0.0, xsph: D::V::default(), stress_rate: D::zero() };
+            let mut o = Rates {
+                drho: 0.0,
+                xsph: D::V::default(),
+                stress_rate: D::zero(),
+            };
             let ki = kind[i];
             if ki as u32 == MF_KIND_BOUNDARY && p.wall_pressure == 0 {
                 return o;
@@ -42,7 +46,8 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 }
                 let rr = r2.sqrt();
                 let grad_w = r * kernel::f(p, rr); // grad_i W_ij
-                let vij = vi - vel[j]; // v = 0 on boundary particles
+                                                   // v = 0 on boundary particles.
+                let vij = vi - vel[j];
                 // Continuity: d rho_i/dt = sum_j m_j v_ij . grad W (Monaghan 1992), the
                 // form that pairs with eq. (7) to conserve energy.
                 o.drho += mass[j] * D::dot(vij, grad_w);
@@ -75,7 +80,8 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 // Jaumann rate, eq. (12): 2 mu (eps_dot^ab - delta^ab eps_dot^cc / 3)
                 //   + S^ac Omega^bc + Omega^ac S^cb   (trace term as corrected in the notes)
                 let dev = eps_dot - D::identity() * (D::trace(eps_dot) / 3.0);
-                o.stress_rate = dev * (2.0 * p.shear_modulus) + si * D::transpose(omega) + omega * si;
+                o.stress_rate =
+                    dev * (2.0 * p.shear_modulus) + si * D::transpose(omega) + omega * si;
             }
             o
         })

@@ -1,5 +1,7 @@
 //! The optional artificial stress of elastic solids (Gray, Monaghan & Swift 2001), taken
 //! in the density stage. Twin: `cuda/density.cu`; parity test `tests/cuda_parity.rs`.
+// Index loops over tensor and vector components read like the equations they implement.
+#![allow(clippy::needless_range_loop)]
 
 use rayon::prelude::*;
 
@@ -11,7 +13,9 @@ use crate::state::State;
 /// eq. (11), at the current time level. Does nothing where it is switched off.
 pub fn update_artificial_stress<D: Dim>(p: &SphParams, s: &mut State<D>) {
     let (kind, rho, pr) = (&s.kind, &s.rho, &s.p);
-    let Some(solid) = s.solid.as_mut() else { return };
+    let Some(solid) = s.solid.as_mut() else {
+        return;
+    };
     let stress = &solid.stress;
     if let Some(art) = solid.art_stress.as_mut() {
         art.par_iter_mut().enumerate().for_each(|(i, r)| {

@@ -66,18 +66,22 @@ pub struct Kernels {
     gather: Kernel,
     density: Kernel,
     density_1: Kernel,
-    stress: Kernel,
     forces: Kernel,
     forces_fluid: Kernel,
     forces_1: Kernel,
     forces_fluid_1: Kernel,
+    rates: Kernel,
+    rates_fluid: Kernel,
+    rates_1: Kernel,
+    rates_fluid_1: Kernel,
     /// Split each particle's neighbour loop over `lanes` threads (set by the solver: on
     /// for small systems, where serial loop latency dominates).
     pub split: bool,
     /// Threads per particle in density and forces (`Lanes<DIM>::L` in `cuda/common.cuh`).
     lanes: usize,
     step_size: Kernel,
-    integrate: Kernel,
+    kick: Kernel,
+    drift: Kernel,
     diagnostics: Kernel,
     check: Kernel,
     layout: Kernel,
@@ -96,15 +100,19 @@ impl Kernels {
             gather: Kernel::load(dev, "grid", d("sph_grid_gather"))?,
             density: Kernel::load(dev, "density", d("sph_density"))?,
             density_1: Kernel::load(dev, "density", d("sph_density_1"))?,
-            stress: Kernel::load(dev, "stress", d("sph_stress_rate"))?,
             forces: Kernel::load(dev, "forces", d("sph_forces"))?,
             forces_fluid: Kernel::load(dev, "forces", d("sph_forces_fluid"))?,
             forces_1: Kernel::load(dev, "forces", d("sph_forces_1"))?,
             forces_fluid_1: Kernel::load(dev, "forces", d("sph_forces_fluid_1"))?,
+            rates: Kernel::load(dev, "rates", d("sph_rates"))?,
+            rates_fluid: Kernel::load(dev, "rates", d("sph_rates_fluid"))?,
+            rates_1: Kernel::load(dev, "rates", d("sph_rates_1"))?,
+            rates_fluid_1: Kernel::load(dev, "rates", d("sph_rates_fluid_1"))?,
             split: true,
             lanes: if dim == 3 { 8 } else { 4 },
             step_size: Kernel::load(dev, "reduce", plain("sph_step_size"))?,
-            integrate: Kernel::load(dev, "integrate", d("sph_integrate"))?,
+            kick: Kernel::load(dev, "integrate", d("sph_kick"))?,
+            drift: Kernel::load(dev, "integrate", d("sph_drift"))?,
             diagnostics: Kernel::load(dev, "reduce", d("sph_diagnostics"))?,
             check: Kernel::load(dev, "reduce", d("sph_check"))?,
             layout: Kernel::load(dev, "reduce", plain("sph_params_layout"))?,
@@ -240,48 +248,57 @@ pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers)
     } else {
         (&k.density_1, 1)
     };
-    // SAFETY: sph_density_{2,3}d and sph_density_1_{2,3}d(const SphParams p, unsigned n, const unsigned* cell_start,
-    // const float* pos, const unsigned char* kind, const float* mass, float* rho, float* pr).
-    kd.check(unsafe {
-        s.launch_builder(&kd.f)
-            .arg(p)
-            .arg(&n)
-            .arg(&b.cell_start)
-            .arg(&c.pos)
-            .arg(&c.kind)
-            .arg(&c.mass)
-            .arg(&mut c.rho)
-            .arg(&mut c.p)
-            .launch(cfg(b.n * lanes))
-            .map(|_| ())
-    });
+    // SAFETY: sph_density[_1]_{2,3}d(const SphParams p, unsigned n, const unsigned* cell_start,
+    // const float* pos, const unsigned char* kind, const float* mass, float* rho, float* pr,
+    // const float* stress, float* art); art null without artificial stress (then stress is
+    // not read), else both hold n_sym planes of n.
+    let mut l = s.launch_builder(&kd.f);
+    l.arg(p)
+        .arg(&n)
+        .arg(&b.cell_start)
+        .arg(&c.pos)
+        .arg(&c.kind)
+        .arg(&c.mass)
+        .arg(&mut c.rho)
+        .arg(&mut c.p);
+    opt!(l, &c.stress);
+    opt!(l, &mut b.art);
+    kd.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
 }
 
-pub fn stress_rate(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
-    let (Some(stress), Some(rate)) = (&b.cur.stress, &mut b.stress_rate) else {
-        return;
-    };
+/// d rho/dt, XSPH and the Jaumann stress rate from the current velocities.
+pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     if b.n == 0 {
         return;
     }
     let n = b.n as u32;
     let c = &b.cur;
-    // SAFETY: sph_stress_rate_{2,3}d(const SphParams p, unsigned n, const unsigned* cell_start,
-    // const float* pos, const float* vel, const float* rho, const float* pr, const float* mass,
-    // const unsigned char* kind, const unsigned* group, const float* stress, float* rate,
-    // float* art); art may be null.
-    let mut l = s.launch_builder(&k.stress.f);
+    let (kr, lanes) = match (c.stress.is_some(), k.split) {
+        (true, true) => (&k.rates, k.lanes),
+        (false, true) => (&k.rates_fluid, k.lanes),
+        (true, false) => (&k.rates_1, 1),
+        (false, false) => (&k.rates_fluid_1, 1),
+    };
+    // SAFETY: sph_rates[_fluid][_1]_{2,3}d(const SphParams p, unsigned n, const unsigned*
+    // cell_start, const float* pos, const float* vel, const float* rho, const float* mass,
+    // const unsigned char* kind, const unsigned* group, const float* stress, float* drho,
+    // float* xsph, float* rate); drho null without the continuity density; stress and rate
+    // null without solids (the fluid variants read neither).
+    let mut l = s.launch_builder(&kr.f);
     l.arg(p)
         .arg(&n)
         .arg(&b.cell_start)
         .arg(&c.pos)
         .arg(&c.vel)
         .arg(&c.rho)
-        .arg(&c.p)
-        .arg(&c.mass);
-    l.arg(&c.kind).arg(&c.group).arg(stress).arg(rate);
-    opt!(l, &mut b.art);
-    k.stress.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
+        .arg(&c.mass)
+        .arg(&c.kind)
+        .arg(&c.group);
+    opt!(l, &c.stress);
+    opt!(l, &mut b.drho);
+    l.arg(&mut b.xsph);
+    opt!(l, &mut b.stress_rate);
+    kr.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
 }
 
 pub fn forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
@@ -300,8 +317,7 @@ pub fn forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) 
     // SAFETY: sph_forces[_fluid][_1]_{2,3}d(const SphParams p, unsigned n, const unsigned* cell_start,
     // const float* pos, const float* vel, const float* rho, const float* pr, const float* mass,
     // const unsigned char* kind, const unsigned* group, const float* stress, const float* art,
-    // float* acc, float* xsph, float* drho, unsigned* red); stress, art, drho may be null;
-    // red holds 3 words.
+    // float* acc, unsigned* red); stress, art may be null; red holds 3 words.
     let mut l = s.launch_builder(&kf.f);
     l.arg(p)
         .arg(&n)
@@ -314,9 +330,7 @@ pub fn forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) 
     l.arg(&c.kind).arg(&c.group);
     opt!(l, &c.stress);
     opt!(l, &b.art);
-    l.arg(&mut b.acc).arg(&mut b.xsph);
-    opt!(l, &mut b.drho);
-    l.arg(&mut b.red);
+    l.arg(&mut b.acc).arg(&mut b.red);
     kf.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
 }
 
@@ -332,26 +346,48 @@ pub fn step_size(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     });
 }
 
-pub fn integrate(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+/// v += dt a (dt read on the device).
+pub fn kick(k: &Kernels, s: &Arc<CudaStream>, b: &mut Buffers) {
+    if b.n == 0 {
+        return;
+    }
     let n = b.n as u32;
     let c = &mut b.cur;
-    // SAFETY: sph_integrate_{2,3}d(const SphParams p, unsigned n, const float* dt_dev,
-    // double* time, const unsigned char* kind, float* pos, float* vel, const float* acc,
+    // SAFETY: sph_kick_{2,3}d(unsigned n, const float* dt_dev, const unsigned char* kind,
+    // float* vel, const float* acc).
+    k.kick.check(unsafe {
+        s.launch_builder(&k.kick.f)
+            .arg(&n)
+            .arg(&b.dt)
+            .arg(&c.kind)
+            .arg(&mut c.vel)
+            .arg(&b.acc)
+            .launch(cfg(b.n))
+            .map(|_| ())
+    });
+}
+
+/// x += dt (v + xsph), rho += dt d rho/dt, S += dt dS/dt, time += dt (all on the device).
+pub fn drift(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    let n = b.n as u32;
+    let c = &mut b.cur;
+    // SAFETY: sph_drift_{2,3}d(const SphParams p, unsigned n, const float* dt_dev,
+    // double* time, const unsigned char* kind, float* pos, const float* vel,
     // const float* xsph, float* rho, const float* drho, float* stress, const float* rate);
     // drho, stress and rate may be null. Launched even for n = 0: it advances the clock.
-    let mut l = s.launch_builder(&k.integrate.f);
+    let mut l = s.launch_builder(&k.drift.f);
     l.arg(p)
         .arg(&n)
         .arg(&b.dt)
         .arg(&mut b.time)
         .arg(&c.kind)
         .arg(&mut c.pos)
-        .arg(&mut c.vel);
-    l.arg(&b.acc).arg(&b.xsph).arg(&mut c.rho);
+        .arg(&c.vel);
+    l.arg(&b.xsph).arg(&mut c.rho);
     opt!(l, &b.drho);
     opt!(l, &mut c.stress);
     opt!(l, &b.stress_rate);
-    k.integrate.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
+    k.drift.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
 }
 
 pub fn diagnostics(

@@ -30,15 +30,18 @@ pub fn available() -> Result<String, BackendError> {
     Device::open().map(|d| d.name)
 }
 
-/// False until `cuda/rates.cu` mirrors `src/backend/cpu/rates.rs` and the kick/drift
-/// split: until then `CudaSolver::new` refuses (see its error) unless
-/// `MESHFREE_CUDA_PRESPLIT=1`.
-pub const PORTED_TO_RATES_SPLIT: bool = false;
-
 /// Below this many particles the density and forces kernels split each particle's
 /// neighbour loop over several threads (measured on an H200: faster up to ~10^5 particles,
 /// slower at 3 x 10^5 and beyond; docs/performance.md).
 pub const SPLIT_BELOW: usize = 150_000;
+
+/// `SPLIT_BELOW`, or `MESHFREE_CUDA_SPLIT_BELOW` where set (for measurements).
+fn split_below() -> usize {
+    std::env::var("MESHFREE_CUDA_SPLIT_BELOW")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(SPLIT_BELOW)
+}
 
 /// The solver with its state in GPU memory.
 pub struct CudaSolver<D: Dim> {
@@ -58,16 +61,6 @@ fn oom(n: usize, e: cudarc::driver::DriverError) -> BackendError {
 
 impl<D: Dim> CudaSolver<D> {
     pub fn new(setup: Setup) -> Result<Self, BackendError> {
-        if !PORTED_TO_RATES_SPLIT
-            && std::env::var("MESHFREE_CUDA_PRESPLIT").map_or(true, |v| v != "1")
-        {
-            return Err(BackendError::CudaUnavailable(
-                "the CUDA kernels implement the stage set before the rates/kick/drift split \
-                 (no kernel-gradient correction, rates from pre-kick velocities); cuda/rates.cu \
-                 is not written yet. MESHFREE_CUDA_PRESPLIT=1 runs the old kernels anyway"
-                    .into(),
-            ));
-        }
         let dev = Device::open()?;
         let mut k = Kernels::load(&dev, D::D)?;
         let p = setup.params;
@@ -79,7 +72,7 @@ impl<D: Dim> CudaSolver<D> {
         let n = state.len();
         let buf =
             Buffers::new(&dev.stream, &state, p.n_cells.max(1) as usize).map_err(|e| oom(n, e))?;
-        k.split = n < SPLIT_BELOW;
+        k.split = n < split_below();
         Ok(CudaSolver {
             dev,
             k,
@@ -122,7 +115,7 @@ impl<D: Dim> CudaSolver<D> {
     /// Force (`Some`) or reset to the size rule (`None`) the split of each particle's
     /// neighbour loop over several threads. For tests and benchmarks.
     pub fn set_lane_split(&mut self, split: Option<bool>) {
-        self.k.split = split.unwrap_or(self.buf.n < SPLIT_BELOW);
+        self.k.split = split.unwrap_or(self.buf.n < split_below());
     }
 
     /// Device memory held by this solver's arrays [bytes].
@@ -171,10 +164,8 @@ impl<D: Dim> Solver for CudaSolver<D> {
     fn density(&mut self) {
         launch::density(&self.k, &self.dev.stream, &self.params, &mut self.buf);
     }
-    /// PRE-SPLIT: the stress rate only (xsph and d rho/dt come from `forces`, at the
-    /// velocities `forces` sees). Matches the old stage set, not `cpu/rates.rs`.
     fn rates(&mut self) {
-        launch::stress_rate(&self.k, &self.dev.stream, &self.params, &mut self.buf);
+        launch::rates(&self.k, &self.dev.stream, &self.params, &mut self.buf);
     }
     fn forces(&mut self) {
         launch::forces(&self.k, &self.dev.stream, &self.params, &mut self.buf);
@@ -182,10 +173,11 @@ impl<D: Dim> Solver for CudaSolver<D> {
     fn time_step(&mut self) {
         launch::step_size(&self.k, &self.dev.stream, &self.params, &mut self.buf);
     }
-    /// PRE-SPLIT: nothing; `drift` does the whole update (the old `integrate` kernel).
-    fn kick(&mut self) {}
+    fn kick(&mut self) {
+        launch::kick(&self.k, &self.dev.stream, &mut self.buf);
+    }
     fn drift(&mut self) {
-        launch::integrate(&self.k, &self.dev.stream, &self.params, &mut self.buf);
+        launch::drift(&self.k, &self.dev.stream, &self.params, &mut self.buf);
         self.steps += 1;
     }
     fn time(&mut self) -> f64 {

@@ -1,0 +1,82 @@
+//! `meshfree validate --quick` through the library: every quick-tier check passes, the
+//! report files and plots are written and the JSON report reads back.
+
+use meshfree::backend::BackendChoice;
+use meshfree::validate::{self, Options, Report, Tier};
+
+#[test]
+fn quick_validation_passes_and_writes_reports() {
+    let dir = tempfile::tempdir().unwrap();
+    let report = validate::run(&Options {
+        tier: Tier::Quick,
+        backend: BackendChoice::Cpu,
+        out_dir: dir.path().to_path_buf(),
+        cases: Vec::new(),
+        verbose: false,
+    })
+    .expect("validation runs");
+    for c in &report.checks {
+        println!(
+            "{} {}: measured {:.4}, error {:.4}, tolerance {} ({}), {}",
+            c.case,
+            c.quantity,
+            c.measured,
+            c.error,
+            c.tolerance,
+            c.basis,
+            if c.pass { "pass" } else { "FAIL" }
+        );
+    }
+    let failed: Vec<String> = report
+        .checks
+        .iter()
+        .filter(|c| !c.pass)
+        .map(|c| {
+            format!(
+                "{} / {}: error {} > tolerance {} ({})",
+                c.case, c.quantity, c.error, c.tolerance, c.note
+            )
+        })
+        .collect();
+    assert!(
+        failed.is_empty(),
+        "quick-tier checks failed:\n{}",
+        failed.join("\n")
+    );
+    for case in validate::CASES {
+        assert!(
+            report.checks.iter().any(|c| c.case == case.name),
+            "no row for {}",
+            case.name
+        );
+    }
+    let json = std::fs::read_to_string(dir.path().join("report.json")).unwrap();
+    let back: Report = serde_json::from_str(&json).expect("report.json reads back");
+    assert_eq!(back.checks.len(), report.checks.len());
+    let md = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
+    assert!(md.contains("| quantity |"));
+    for png in [
+        "hydrostatic-tank.png",
+        "dam-break-front.png",
+        "dam-break-height.png",
+        "poiseuille.png",
+        "taylor-green.png",
+    ] {
+        let bytes = std::fs::read(dir.path().join(png)).unwrap_or_else(|e| panic!("{png}: {e}"));
+        assert!(bytes.starts_with(b"\x89PNG"), "{png} is not a PNG");
+    }
+}
+
+#[test]
+fn unknown_case_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let err = validate::run(&Options {
+        tier: Tier::Quick,
+        backend: BackendChoice::Cpu,
+        out_dir: dir.path().to_path_buf(),
+        cases: vec!["no-such-case".into()],
+        verbose: false,
+    })
+    .unwrap_err();
+    assert!(err.to_string().contains("taylor-green"), "{err}");
+}
