@@ -92,6 +92,12 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
             } else {
                 acc = acc + (gw * (psi + -pr[j] * inv_r2j)) * mj;
             }
+            if (kj == MF_KIND_BOUNDARY) {
+                // A wall pushes and never pulls: negative pressures are cut to zero across a
+                // fluid-wall pair (twin of the same lines in cpu/forces.rs).
+                const float neg = fmaxf(-pi, 0.0f) * inv_r2i + fmaxf(-pr[j], 0.0f) * inv_r2j;
+                acc = acc - gw * (neg * mj);
+            }
             // Artificial viscosity, eq. (10).
             const float c_bar = 0.5f * (ci + sound_speed(p, kj));
             const float rho_bar = 0.5f * (rhoi + rhoj);

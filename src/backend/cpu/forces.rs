@@ -87,7 +87,17 @@ pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 // Stress term, eq. (16) (eq. (7) when both are fluid: sigma = -P I).
                 let sj = stress.map_or(D::zero(), |st| st[j]);
                 let sig_j = (sj - D::identity() * pr[j]) * (1.0 / (rhoj * rhoj));
-                acc += D::mat_vec(sig_i + sig_j, grad_w) * mass[j];
+                if kj as u32 == MF_KIND_BOUNDARY {
+                    // A wall pushes and never pulls: negative pressures (the tension of a
+                    // thinning layer) are cut to zero across a fluid-wall pair, or water
+                    // clings to the walls (a dam break's column stayed at the wall's top).
+                    let neg_i = (-pi).max(0.0) / (rhoi * rhoi);
+                    let neg_j = (-pr[j]).max(0.0) / (rhoj * rhoj);
+                    acc += D::mat_vec(sig_i + sig_j - D::identity() * (neg_i + neg_j), grad_w)
+                        * mass[j];
+                } else {
+                    acc += D::mat_vec(sig_i + sig_j, grad_w) * mass[j];
+                }
                 // Artificial viscosity, eq. (10).
                 let c_bar = 0.5 * (ci + p.sound_speed(kj));
                 let rho_bar = 0.5 * (rhoi + rhoj);

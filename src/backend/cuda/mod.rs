@@ -16,7 +16,9 @@ use crate::backend::BackendError;
 use crate::dim::Dim;
 use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
 use crate::particle::Particle;
-use crate::solver::{fault_codes as fc, BackendInfo, Diagnostics, Fault, Setup, Solver};
+use crate::solver::{
+    fault_codes as fc, BackendInfo, Diagnostics, Fault, Setup, Shown, Snapshot, Solver,
+};
 use crate::state::State;
 
 pub use device::{driver_version, NVCC_VERSION};
@@ -50,6 +52,9 @@ pub struct CudaSolver<D: Dim> {
     params: SphParams,
     buf: Buffers,
     steps: u64,
+    /// Host buffers of `snapshot`, kept between frames.
+    host_pos: Vec<f32>,
+    host_vel: Vec<f32>,
     _d: PhantomData<D>,
 }
 
@@ -79,6 +84,8 @@ impl<D: Dim> CudaSolver<D> {
             params: p,
             buf,
             steps: 0,
+            host_pos: Vec::new(),
+            host_vel: Vec::new(),
             _d: PhantomData,
         })
     }
@@ -249,6 +256,53 @@ impl<D: Dim> Solver for CudaSolver<D> {
     }
     fn particles(&mut self) -> Vec<Particle> {
         self.download_state().to_particles()
+    }
+    /// Copies only positions, kinds and the shown quantity (one read-back per drawn frame,
+    /// into buffers that keep their size from frame to frame).
+    fn snapshot(&mut self, shown: Shown, out: &mut Snapshot) {
+        let n = self.buf.n;
+        let vs = buffers::vstride::<D>();
+        let s = self.dev.stream.clone();
+        let c = &self.buf.cur;
+        self.host_pos.resize(n * vs, 0.0);
+        out.kinds.resize(n, 0);
+        out.values.resize(n, 0.0);
+        let r = (|| {
+            s.memcpy_dtoh(&c.pos, &mut self.host_pos)?;
+            s.memcpy_dtoh(&c.kind, &mut out.kinds)?;
+            match shown {
+                Shown::Speed => {
+                    self.host_vel.resize(n * vs, 0.0);
+                    s.memcpy_dtoh(&c.vel, &mut self.host_vel)?;
+                }
+                Shown::Pressure => s.memcpy_dtoh(&c.p, &mut out.values)?,
+                Shown::Density => s.memcpy_dtoh(&c.rho, &mut out.values)?,
+                Shown::Kind => {}
+            }
+            s.synchronize()
+        })();
+        if let Err(e) = r {
+            self.sync_err("reading a snapshot back", e)
+        }
+        out.positions.clear();
+        out.positions.extend(
+            self.host_pos
+                .chunks_exact(vs)
+                .map(|x| [x[0], x[1], if vs == 4 { x[2] } else { 0.0 }]),
+        );
+        match shown {
+            Shown::Speed => {
+                for (v, x) in out.values.iter_mut().zip(self.host_vel.chunks_exact(vs)) {
+                    *v = x.iter().take(D::D).map(|c| c * c).sum::<f32>().sqrt();
+                }
+            }
+            Shown::Kind => {
+                for (v, k) in out.values.iter_mut().zip(&out.kinds) {
+                    *v = *k as f32;
+                }
+            }
+            Shown::Pressure | Shown::Density => {}
+        }
     }
     fn remove_group(&mut self, group: u32) -> usize {
         let mut st = self.download_state();
