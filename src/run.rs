@@ -21,6 +21,50 @@ use crate::solver::{Diagnostics, Fault, Solver};
 /// Health checks (`Solver::check`) run every this many steps, and at every output.
 pub const CHECK_EVERY: u64 = 10;
 
+/// A scene's removable walls, (group, opening time [T]), opened in time order.
+#[derive(Clone, Debug, Default)]
+pub struct Gates {
+    pending: Vec<(u32, f64)>,
+}
+
+impl Gates {
+    pub fn new(mut gates: Vec<(u32, f64)>) -> Gates {
+        gates.sort_by(|a, b| a.1.total_cmp(&b.1));
+        Gates { pending: gates }
+    }
+
+    /// Remove the groups whose opening time is at most `t`; returns (group, particles
+    /// removed) for each.
+    pub fn open_due(&mut self, solver: &mut dyn Solver, t: f64) -> Vec<(u32, usize)> {
+        let due = self.pending.iter().take_while(|g| g.1 <= t).count();
+        self.pending
+            .drain(..due)
+            .map(|(group, _)| (group, solver.remove_group(group)))
+            .collect()
+    }
+}
+
+/// One step of a scene: open the gates whose time came, step, and check the particles'
+/// health every `CHECK_EVERY` steps.
+pub fn step_scene(solver: &mut dyn Solver, gates: &mut Gates) -> Result<(), Fault> {
+    let t = solver.time();
+    gates.open_due(solver, t);
+    solver.step();
+    if solver.steps() % CHECK_EVERY == 0 {
+        solver.check()?;
+    }
+    Ok(())
+}
+
+/// Step a scene until its clock reaches `t_end` [T] (the last step may pass it by less than
+/// one dt), then check the particles' health.
+pub fn advance_to(solver: &mut dyn Solver, gates: &mut Gates, t_end: f64) -> Result<(), Fault> {
+    while solver.time() < t_end - 1e-12 * t_end.abs().max(1.0) {
+        step_scene(solver, gates)?;
+    }
+    solver.check()
+}
+
 /// How to report progress on stderr.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Progress {
@@ -156,8 +200,7 @@ pub fn run_observed(
         fault: None,
     };
 
-    let gates = scene.gates();
-    let mut next_gate = 0;
+    let mut gates = Gates::new(scene.gates());
     let first_step = solver.steps();
     let mut step_seconds = 0.0;
     let eps = 1e-9 * interval.min(t_end);
@@ -172,13 +215,10 @@ pub fn run_observed(
             if t >= t_end - eps || options.max_steps.is_some_and(|n| taken >= n) {
                 break;
             }
-            while next_gate < gates.len() && gates[next_gate].1 <= t + eps {
-                let (group, _) = gates[next_gate];
-                let n = solver.remove_group(group);
+            for (group, n) in gates.open_due(&mut *solver, t + eps) {
                 report.line(&format!(
                     "t = {t:.4}: gate (group {group}) removed, {n} particles"
                 ));
-                next_gate += 1;
             }
             let s0 = Instant::now();
             solver.step();

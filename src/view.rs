@@ -8,6 +8,7 @@ use anyhow::Context;
 use meshfree::backend::create;
 use meshfree::cli::{RenderArgs, ShownField, ViewArgs};
 use meshfree::output::{write_vtu, RunStatus, RunSummary};
+use meshfree::run::{advance_to, step_scene, Gates};
 use meshfree::scene::{Counts, Overrides, Scene};
 use meshfree::solver::{Diagnostics, Shown, Snapshot, Solver};
 use meshfree_viewer::{Field, FrameData, LiveSource, RenderOptions, Status, ViewOptions};
@@ -26,7 +27,7 @@ struct Live {
     scene: Scene,
     backend: meshfree::backend::BackendChoice,
     solver: Box<dyn Solver>,
-    gates: Vec<(u32, f64)>,
+    gates: Gates,
     time: f64,
     snapshot: Snapshot,
 }
@@ -43,7 +44,7 @@ impl Live {
             info.backend,
             info.device
         );
-        let gates = scene.gates();
+        let gates = Gates::new(scene.gates());
         Ok(Live {
             scene,
             backend,
@@ -56,9 +57,8 @@ impl Live {
 
     /// Step until `t_end` [T], opening gates on time and checking health.
     fn advance_to(&mut self, t_end: f64) -> Result<(), String> {
-        while self.time < t_end {
-            self.advance(1)?;
-        }
+        advance_to(self.solver.as_mut(), &mut self.gates, t_end).map_err(|e| e.to_string())?;
+        self.time = self.solver.time();
         Ok(())
     }
 }
@@ -76,21 +76,9 @@ fn shown(f: Field) -> Shown {
 impl LiveSource for Live {
     fn advance(&mut self, steps: u32) -> Result<(), String> {
         for _ in 0..steps {
-            let now = self.time;
-            let solver = &mut self.solver;
-            self.gates.retain(|&(group, at)| {
-                let due = now >= at;
-                if due {
-                    solver.remove_group(group);
-                }
-                !due
-            });
-            self.solver.step();
-            self.time = self.solver.time();
-            if self.solver.steps() % 10 == 0 {
-                self.solver.check().map_err(|e| e.to_string())?;
-            }
+            step_scene(self.solver.as_mut(), &mut self.gates).map_err(|e| e.to_string())?;
         }
+        self.time = self.solver.time();
         Ok(())
     }
 

@@ -248,7 +248,7 @@ pub fn convergence(
 /// A solver with the scene's gates, stepped to given times with health checks.
 pub struct Sim {
     pub solver: Box<dyn Solver>,
-    gates: Vec<(u32, f64)>,
+    gates: crate::run::Gates,
     pub counts: Counts,
     started: Instant,
     resolution: String,
@@ -265,7 +265,7 @@ impl Sim {
         let solver = backend::create(ctx.backend, setup)?;
         Ok(Sim {
             solver,
-            gates,
+            gates: crate::run::Gates::new(gates),
             counts,
             started: Instant::now(),
             resolution,
@@ -275,29 +275,7 @@ impl Sim {
     /// Step until the clock reaches `t` (the last step may pass it by less than one dt),
     /// removing gates whose time came; a blow-up is an error.
     pub fn advance_to(&mut self, t: f64) -> anyhow::Result<()> {
-        let s = &mut self.solver;
-        loop {
-            let now = s.time();
-            if now >= t - 1e-12 * t.abs().max(1.0) {
-                break;
-            }
-            let gates = std::mem::take(&mut self.gates);
-            self.gates = gates
-                .into_iter()
-                .filter(|&(group, at)| {
-                    let due = now >= at;
-                    if due {
-                        s.remove_group(group);
-                    }
-                    !due
-                })
-                .collect();
-            s.step();
-            if s.steps() % 20 == 0 {
-                s.check()?;
-            }
-        }
-        s.check()?;
+        crate::run::advance_to(self.solver.as_mut(), &mut self.gates, t)?;
         Ok(())
     }
 
