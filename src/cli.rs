@@ -54,9 +54,29 @@ pub enum Command {
     View(ViewArgs),
     /// Render a scene to PNG without a display (EGL), at a time or as a sequence of frames.
     Render(RenderArgs),
+    /// Compare two particle CSV files (`run --csv`, or another code's export in the same
+    /// columns): per-field error norms and the worst particles.
+    Compare(CompareArgs),
     /// Accuracy cases against published references (hydrostatic tank, dam break, Poiseuille,
     /// Taylor-Green): plots, report.md and report.json; exits non-zero when a check fails.
     Validate(ValidateArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct CompareArgs {
+    /// The particle CSV to check (e.g. the GPU run's).
+    pub a: PathBuf,
+    /// The reference particle CSV (e.g. the CPU run's).
+    pub b: PathBuf,
+    /// Pair particles by id (same scene) or by nearest position (different codes).
+    #[arg(long = "match", value_enum, default_value_t = crate::compare::MatchBy::Id)]
+    pub match_by: crate::compare::MatchBy,
+    /// How many of the farthest-apart pairs to list.
+    #[arg(long, default_value_t = 5)]
+    pub worst: usize,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -183,6 +203,10 @@ pub struct RunArgs {
     /// End time, replacing the scene's `time.end`.
     #[arg(long, value_name = "T")]
     pub t_end: Option<f64>,
+    /// Also write every output as a plain particle CSV (id, kind, position, velocity,
+    /// density, pressure), for `meshfree compare` and other codes.
+    #[arg(long)]
+    pub csv: bool,
     /// Stop after N time steps (even before the end time).
     #[arg(long, value_name = "N")]
     pub steps: Option<u64>,
@@ -226,6 +250,7 @@ pub fn scene_rows() -> anyhow::Result<Vec<SceneRow>> {
 pub fn main(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Bench(a) => bench(a),
+        Command::Compare(a) => compare(a),
         Command::Validate(a) => validate(a),
         Command::View(_) | Command::Render(_) => anyhow::bail!(
             "this build has no viewer: rebuild with the `viewer` feature (on by default)"
@@ -275,6 +300,7 @@ pub fn main(cli: Cli) -> anyhow::Result<()> {
         Command::Run(a) => {
             let s = Scene::load(&a.scene)?;
             let options = RunOptions {
+                particle_csv: a.csv,
                 backend: a.backend,
                 out_dir: a.out,
                 t_end: a.t_end,
@@ -366,5 +392,33 @@ fn validate(a: ValidateArgs) -> anyhow::Result<()> {
         a.out.join("report.md").display()
     );
     anyhow::ensure!(failed == 0, "{failed} validation check(s) failed");
+    Ok(())
+}
+
+fn compare(a: CompareArgs) -> anyhow::Result<()> {
+    let c = crate::compare::compare_files(&a.a, &a.b, a.match_by, a.worst)
+        .map_err(anyhow::Error::msg)?;
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&c)?);
+        return Ok(());
+    }
+    println!(
+        "{} pairs matched by {:?}; {} particles only in A, {} only in B",
+        c.matched, a.match_by, c.only_in_a, c.only_in_b
+    );
+    println!(
+        "{:<9} {:>12} {:>12} {:>12} {:>9}",
+        "field", "max |A-B|", "rms", "rel. L2", "worst id"
+    );
+    for f in &c.fields {
+        println!(
+            "{:<9} {:>12.4e} {:>12.4e} {:>12.4e} {:>9}",
+            f.field, f.max_abs, f.rms, f.rel_l2, f.worst_id
+        );
+    }
+    println!("farthest pairs (id in A, id in B, distance):");
+    for (ia, ib, d) in &c.worst_positions {
+        println!("  {ia:>8} {ib:>8} {d:.4e}");
+    }
     Ok(())
 }

@@ -3,6 +3,7 @@
 pub mod backend;
 pub mod bench;
 pub mod cli;
+pub mod compare;
 pub mod dim;
 pub mod kernel;
 pub mod output;

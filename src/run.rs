@@ -90,6 +90,8 @@ pub struct RunOptions {
     /// Replaces the scene's `time.output_interval`.
     pub output_interval: Option<f64>,
     pub progress: Progress,
+    /// Also write each output as a plain particle CSV (`particles_NNNNN.csv`).
+    pub particle_csv: bool,
 }
 
 /// Why a run did not complete.
@@ -164,6 +166,7 @@ pub fn run_observed(
         csv: DiagnosticsCsv::create(&csv_path).map_err(io_err(&csv_path))?,
         frames: 0,
         with_stress,
+        particle_csv: options.particle_csv,
     };
 
     let t_end = scene.file.time.end;
@@ -294,6 +297,7 @@ struct Writer {
     csv: DiagnosticsCsv,
     frames: usize,
     with_stress: bool,
+    particle_csv: bool,
 }
 
 impl Writer {
@@ -308,6 +312,10 @@ impl Writer {
         let name = format!("particles_{:05}.vtu", self.frames);
         let path = self.dir.join(&name);
         output::write_vtu(&path, &particles, self.with_stress).map_err(io_err(&path))?;
+        if self.particle_csv {
+            let path = self.dir.join(format!("particles_{:05}.csv", self.frames));
+            output::write_particles_csv(&path, &particles).map_err(io_err(&path))?;
+        }
         self.pvd
             .add(d.time, &name)
             .map_err(io_err(self.pvd.path()))?;

@@ -133,6 +133,7 @@ fn run_writes_consistent_output() {
     let out = dir.path().join("tank");
     let scene = Scene::builtin("tank-2d").unwrap();
     let options = RunOptions {
+        particle_csv: false,
         out_dir: Some(out.clone()),
         max_steps: Some(12),
         output_interval: Some(1e-3),
@@ -185,6 +186,7 @@ fn blow_up_is_reported() {
     scene.file.time.dt = Some(0.5);
     scene.revalidate().unwrap();
     let options = RunOptions {
+        particle_csv: false,
         out_dir: Some(out.clone()),
         max_steps: Some(50),
         output_interval: Some(0.5),
