@@ -244,6 +244,12 @@ __device__ __forceinline__ void for_each_neighbor(const SphParams& p, const unsi
 // order. Deterministic; the summation order differs from the CPU's only in this split.
 template <int DIM> struct Lanes { static constexpr int L = DIM == 3 ? 8 : 4; };
 
+// Candidates per batch in the neighbour loop (see for_each_neighbor_split).
+#ifndef MF_NB_BATCH
+#define MF_NB_BATCH 4
+#endif
+template <int DIM, int L> struct Batch { static constexpr int B = MF_NB_BATCH; };
+
 template <int DIM, int L, class F>
 __device__ __forceinline__ void for_each_neighbor_split(const SphParams& p, const unsigned* __restrict__ cell_start,
                                                         const float* __restrict__ pos, Vec<DIM> xi, int lane,
@@ -282,10 +288,23 @@ __device__ __forceinline__ void for_each_neighbor_split(const SphParams& p, cons
                     s = cell_start[row + cx];
                     e = cell_start[row + cx + 1];
                 }
-                for (unsigned j = s + lane; j < e; j += L) {
-                    Vec<DIM> r = separation<DIM>(p, xi, vload<DIM>(pos, j));
-                    float r2 = dot(r, r);
-                    if (r2 < p.support2) f(j, r, r2);
+                // Batches of B candidates: B independent position loads in flight, then
+                // the accepted ones in candidate order (same calls, same order as one by one).
+                for (unsigned base = s + lane; base < e; base += Batch<DIM, L>::B * L) {
+                    unsigned mask = 0;
+#pragma unroll
+                    for (int k = 0; k < Batch<DIM, L>::B; ++k) {
+                        const unsigned j = base + k * L;
+                        const Vec<DIM> r = separation<DIM>(p, xi, vload<DIM>(pos, min(j, e - 1)));
+                        if (j < e && dot(r, r) < p.support2) mask |= 1u << k;
+                    }
+                    while (mask) {
+                        const int k = __ffs(mask) - 1;
+                        mask &= mask - 1;
+                        const unsigned j = base + k * L;
+                        const Vec<DIM> r = separation<DIM>(p, xi, vload<DIM>(pos, j));
+                        f(j, r, dot(r, r));
+                    }
                 }
             }
         }

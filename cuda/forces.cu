@@ -145,7 +145,7 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
 // Two entry points per dimension: with solids (stress, artificial stress) and fluid only
 // (no tensor registers), picked by the launcher.
 #define MF_FORCES_ENTRY(name, DIM, SOLIDS, L)                                                                        \
-    extern "C" __global__ void __launch_bounds__(MF_BLOCK, 3)                                                      \
+    extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 3 : 4)                                         \
         name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel,      \
              const float* rho, const float* pr, const float* mass, const unsigned char* kind,                    \
              const unsigned* group, const float* stress, const float* art, float* acc, unsigned* red) {           \
