@@ -226,7 +226,7 @@ fn close(what: &str, ids: &[u32], width: usize, cpu: &[f32], gpu: &[f32], rtol: 
             } else {
                 err / tol.max(f32::MIN_POSITIVE)
             };
-            if worst.map_or(true, |w| excess > w.0) {
+            if worst.is_none_or(|w| excess > w.0) {
                 worst = Some((excess, k));
             }
         }
