@@ -68,8 +68,9 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
             const Vec<DIM> gw = r * kernel_f(p, rr);  // grad_i W_ij
             const Vec<DIM> vij = vi - vload<DIM>(vel, j);  // v = 0 on boundary particles
             const float mj = mass[j];
-            // Continuity: d rho_i/dt = sum_j m_j v_ij . grad W (Monaghan 1992).
-            drho += mj * dot(vij, gw);
+            // Continuity, volume form: d rho_i/dt = rho_i sum_j m_j / rho_j v_ij . grad W
+            // (the factor rho_i is applied after the sum, as in cpu/rates.rs).
+            drho += mj / rho[j] * dot(vij, gw);
             const bool same_body = kj == ki && (ki == MF_KIND_FLUID || group[j] == gi);
             if (!same_body || ki == MF_KIND_BOUNDARY) return;
             const float s = mj / (0.5f * (rhoi + rho[j]));
@@ -93,6 +94,7 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
 #pragma unroll
     for (int a = 0; a < DIM; ++a) xs.c[a] = lane_sum<L>(xs.c[a]);
     drho = lane_sum<L>(drho);
+    if (active) drho *= rho[i];
     if constexpr (SOLIDS) {
 #pragma unroll
         for (int a = 0; a < DIM; ++a)

@@ -42,6 +42,10 @@ fn documented_counts() {
     let c = counts("dam-break-3d");
     assert_eq!((c.fluid, c.solid, c.boundary), (7500, 0, 20336)); // tank 19616 + gate 720
     assert!(c.total < 30_000);
+    let c = counts("impinging-2d");
+    assert_eq!((c.fluid, c.solid, c.boundary), (3384, 116, 2004)); // square 64 + disc 52; tank 1710 + gate 294
+    let c = counts("impinging-3d");
+    assert_eq!((c.fluid, c.solid, c.boundary), (5376, 56, 22352)); // tank 21520 + gate 832
     let c = counts("tank-2d");
     assert_eq!((c.fluid, c.solid, c.boundary), (1600, 0, 426));
     let c = counts("tank-3d");

@@ -95,6 +95,14 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "dam-break-3d",
         include_str!("../../scenes/dam-break-3d.toml"),
     ),
+    (
+        "impinging-2d",
+        include_str!("../../scenes/impinging-2d.toml"),
+    ),
+    (
+        "impinging-3d",
+        include_str!("../../scenes/impinging-3d.toml"),
+    ),
     ("tank-2d", include_str!("../../scenes/tank-2d.toml")),
     ("tank-3d", include_str!("../../scenes/tank-3d.toml")),
 ];

@@ -48,9 +48,11 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 let grad_w = r * kernel::f(p, rr); // grad_i W_ij
                                                    // v = 0 on boundary particles.
                 let vij = vi - vel[j];
-                // Continuity: d rho_i/dt = sum_j m_j v_ij . grad W (Monaghan 1992), the
-                // form that pairs with eq. (7) to conserve energy.
-                o.drho += mass[j] * D::dot(vij, grad_w);
+                // Continuity: d rho_i/dt = rho_i sum_j m_j / rho_j v_ij . grad W, the
+                // volume form (Colagrossi & Landrini 2003): a fluid neighbour of mass 1.0 dx^d
+                // must not compress a solid of density 0.6 as if it were its own kind.
+                // (The sum of m_j / rho_j v_ij . grad W here, times rho_i after the loop.)
+                o.drho += mass[j] / rho[j] * D::dot(vij, grad_w);
                 let same_body = kj == ki && (ki as u32 == MF_KIND_FLUID || group[j] == group[i]);
                 if !same_body || ki as u32 == MF_KIND_BOUNDARY {
                     return;
@@ -65,6 +67,7 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                     moment += D::outer(-r, grad_w) * (mass[j] / rho_bar);
                 }
             });
+            o.drho *= rhoi;
             if solid_i {
                 // Kernel-gradient correction (Randles & Libersky 1996; Bonet & Lok 1999):
                 // for v = G x the sum above gives G A with A = sum_j V_j (x_j - x_i) (x)
