@@ -113,7 +113,7 @@ fn default_courant() -> f64 {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum DensityForm {
-    /// d rho / dt = sum_j m_j v_ij . grad_i W_ij. The default.
+    /// d rho_i / dt = rho_i sum_j m_j / rho_j v_ij . grad_i W_ij. The default.
     #[default]
     Continuity,
     /// rho_i = sum_j m_j W_ij, eq. (8), as the paper.
