@@ -242,12 +242,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
     let png_height = "dam-break-height.png";
     let mut s = vec![Series::points("Martin & Moyce 1952", mm_front.clone())];
     for tr in &mm_runs {
-        let pts = tr
-            .times
-            .iter()
-            .zip(&tr.front)
-            .map(|(&t, &x)| (t, x))
-            .collect();
+        let pts = curve(&tr.times, &tr.front);
         s.push(Series::line(
             format!("SPH square column, {}", tr.run.resolution),
             pts,
@@ -262,12 +257,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
         ko_mps.into_iter().filter(|p| p.1 < 4.0).collect(),
     ));
     for tr in &ko_runs {
-        let pts = tr
-            .times
-            .iter()
-            .zip(&tr.front)
-            .map(|(&t, &x)| (t, x))
-            .collect();
+        let pts = curve(&tr.times, &tr.front);
         s.push(Series::line(
             format!("SPH 1 x 2 column, {}", tr.run.resolution),
             pts,
@@ -285,12 +275,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
     )?;
     let mut s = vec![Series::points("Martin & Moyce 1952", mm_height.clone())];
     for tr in &mm_runs {
-        let pts = tr
-            .times
-            .iter()
-            .zip(&tr.height)
-            .map(|(&t, &x)| (t, x))
-            .collect();
+        let pts = curve(&tr.times, &tr.height);
         s.push(Series::line(format!("SPH, {}", tr.run.resolution), pts));
     }
     plot(
@@ -381,4 +366,9 @@ impl Check {
         self.note.push_str(more);
         self
     }
+}
+
+/// (time, value) points of a run's curve.
+fn curve(times: &[f64], values: &[f64]) -> Vec<(f64, f64)> {
+    times.iter().copied().zip(values.iter().copied()).collect()
 }
