@@ -78,6 +78,25 @@ typedef struct SphParams {
                               and Tait pressure, enter the pressure and viscosity sums (no
                               leaks, no-slip); 0: the paper's form, Lennard-Jones only */
 
+    /* ---- prescribed motion: pistons, clamps, inflow bands ---- */
+    int32_t driven;             /* 1: particles of scene group `driven_group` (any kind) move at
+                                   `driven_velocity`, whatever the forces (a piston, a clamp) */
+    int32_t driven_group;       /* the scene group id */
+    float driven_velocity[3];   /* [L/T] */
+    int32_t inflow;             /* 1: fluid particles with inflow_lo <= x[inflow_axis] < inflow_hi
+                                   have their velocity set to `inflow_velocity` every step (holds
+                                   the mean flow of a periodic channel) */
+    int32_t inflow_axis;        /* 0, 1 or 2 */
+    float inflow_lo;            /* [L] */
+    float inflow_hi;            /* [L] */
+    float inflow_velocity[3];   /* [L/T] */
+
+    /* ---- beyond the paper: cohesion and density diffusion ---- */
+    float cohesion;        /* [L^(d+1) M^-1 T^-2] gamma of the fluid-fluid cohesion force of
+                              Akinci, Akinci & Teschner 2013 (droplets); 0 = off */
+    float delta_sph;       /* [-] delta of the density-diffusion term of Molteni & Colagrossi
+                              2009 in the continuity equation; 0 = off (the paper) */
+
     /* ---- body force and time step ---- */
     float gravity[3];      /* [L/T^2] */
     int32_t integrator;    /* MF_INTEGRATOR_* */

@@ -84,6 +84,26 @@ pub struct SphParams {
     pub lj_attractive: i32,
     #[doc = " 1: dynamic walls (Crespo 2007): boundary particles carry density\nand Tait pressure, enter the pressure and viscosity sums (no\nleaks, no-slip); 0: the paper's form, Lennard-Jones only"]
     pub wall_pressure: i32,
+    #[doc = " 1: particles of scene group `driven_group` (any kind) move at\n`driven_velocity`, whatever the forces (a piston, a clamp)"]
+    pub driven: i32,
+    #[doc = " the scene group id"]
+    pub driven_group: i32,
+    #[doc = " [L/T]"]
+    pub driven_velocity: [f32; 3usize],
+    #[doc = " 1: fluid particles with inflow_lo <= x[inflow_axis] < inflow_hi\nhave their velocity set to `inflow_velocity` every step (holds\nthe mean flow of a periodic channel)"]
+    pub inflow: i32,
+    #[doc = " 0, 1 or 2"]
+    pub inflow_axis: i32,
+    #[doc = " [L]"]
+    pub inflow_lo: f32,
+    #[doc = " [L]"]
+    pub inflow_hi: f32,
+    #[doc = " [L/T]"]
+    pub inflow_velocity: [f32; 3usize],
+    #[doc = " [L^(d+1) M^-1 T^-2] gamma of the fluid-fluid cohesion force of\nAkinci, Akinci & Teschner 2013 (droplets); 0 = off"]
+    pub cohesion: f32,
+    #[doc = " [-] delta of the density-diffusion term of Molteni & Colagrossi\n2009 in the continuity equation; 0 = off (the paper)"]
+    pub delta_sph: f32,
     #[doc = " [L/T^2]"]
     pub gravity: [f32; 3usize],
     #[doc = " MF_INTEGRATOR_*"]
