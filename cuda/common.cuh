@@ -1,5 +1,6 @@
 // Shared device code: kernels W and F (twin of src/kernel.rs), vectors and tensors for
-// DIM = 2/3, the neighbour loop (twin of src/backend/cpu/grid.rs), min-image separation.
+// DIM = 2/3, the neighbour rows and loop (twin of src/backend/cpu/grid.rs), min-image
+// separation.
 // Parity test: tests/cuda_parity.rs.
 #pragma once
 #include "sph_params.h"
@@ -189,51 +190,56 @@ template <int DIM> __device__ __forceinline__ Vec<DIM> separation(const SphParam
     return r;
 }
 
-// Calls f(j, r_ij, r_ij^2) for every j (i included) within the support of xi, in the CPU's
-// order: cell offsets z, then y, then x from -1 to 1; within a cell in storage order.
-// The three x cells of a row are contiguous in storage (cells are x-fastest and the storage
-// is sorted by cell), so a row without wrap-around is one range: same order, fewer loads.
-template <int DIM, class F>
-__device__ __forceinline__ void for_each_neighbor(const SphParams& p, const unsigned* __restrict__ cell_start,
-                                                  const float* __restrict__ pos, Vec<DIM> xi, F&& f) {
+// Relative slack of the cell pruning in `rows`: a cell is skipped only when it is farther
+// than (1 + slack) x the support, so rounding never drops a neighbour.
+#define MF_PRUNE_SLACK 1e-4f
+
+// Squared distance from coordinate x to the slab of (unwrapped) cell c on axis a.
+__device__ __forceinline__ float slab_gap2(const SphParams& p, int a, int c, float x) {
+    const float lo = p.domain_min[a] + (float)c * p.cell_size[a];
+    const float g = fmaxf(fmaxf(lo - x, x - (lo + p.cell_size[a])), 0.0f);
+    return g * g;
+}
+
+// The neighbour candidates of xi as rows of cells: for each (z, y) cell offset within
+// MF_CELL_REACH (z outer, then y), skipping rows whose slab lies beyond the support, calls
+// row(first cell index of the row, x0, x1) with the x cells x0..x1 (unwrapped on a periodic
+// x axis) that the support's cross-section at that row reaches. Twin of `rows` in
+// src/backend/cpu/grid.rs: same candidates, same order.
+template <int DIM, class R>
+__device__ __forceinline__ void rows(const SphParams& p, Vec<DIM> xi, R&& row) {
     int ci[3];
     cell_coords<DIM>(p, xi, ci);
-    const int rz = DIM == 3 ? 1 : 0;
+    const int reach = MF_CELL_REACH;
+    const int rz = DIM == 3 ? reach : 0;
     const int nx = p.grid_dims[0];
+    const float r2max = p.support2;
     for (int dz = -rz; dz <= rz; ++dz) {
         int cz = ci[2] + dz;
         if (cz < 0 || cz >= p.grid_dims[2]) {
             if (!p.periodic[2]) continue;
             cz = (cz + p.grid_dims[2]) % p.grid_dims[2];
         }
-        for (int dy = -1; dy <= 1; ++dy) {
+        float gz = 0.0f;
+        if constexpr (DIM == 3) gz = slab_gap2(p, 2, ci[2] + dz, xi.c[2]);
+        for (int dy = -reach; dy <= reach; ++dy) {
             int cy = ci[1] + dy;
             if (cy < 0 || cy >= p.grid_dims[1]) {
                 if (!p.periodic[1]) continue;
                 cy = (cy + p.grid_dims[1]) % p.grid_dims[1];
             }
-            const unsigned row = (unsigned)(p.grid_dims[0] * (cy + p.grid_dims[1] * cz));
-            int x0 = ci[0] - 1, x1 = ci[0] + 1;
-            if (!p.periodic[0] || (x0 >= 0 && x1 < nx)) {
+            const float d2 = gz + slab_gap2(p, 1, ci[1] + dy, xi.c[1]);
+            if (d2 > r2max * (1.0f + MF_PRUNE_SLACK)) continue;
+            // Half-width of the support's cross-section at this row, then the x cells it spans.
+            const float w = sqrtf(fmaxf(r2max - d2, 0.0f)) + MF_PRUNE_SLACK * p.support;
+            int x0 = max(ci[0] - reach, (int)floorf((xi.c[0] - w - p.domain_min[0]) / p.cell_size[0]));
+            int x1 = min(ci[0] + reach, (int)floorf((xi.c[0] + w - p.domain_min[0]) / p.cell_size[0]));
+            if (!p.periodic[0]) {
                 x0 = max(x0, 0);
                 x1 = min(x1, nx - 1);
-                const unsigned e = cell_start[row + x1 + 1];
-                for (unsigned j = cell_start[row + x0]; j < e; ++j) {
-                    Vec<DIM> r = separation<DIM>(p, xi, vload<DIM>(pos, j));
-                    float r2 = dot(r, r);
-                    if (r2 < p.support2) f(j, r, r2);
-                }
-            } else {
-                for (int dx = -1; dx <= 1; ++dx) {
-                    int cx = (ci[0] + dx + nx) % nx;
-                    const unsigned e = cell_start[row + cx + 1];
-                    for (unsigned j = cell_start[row + cx]; j < e; ++j) {
-                        Vec<DIM> r = separation<DIM>(p, xi, vload<DIM>(pos, j));
-                        float r2 = dot(r, r);
-                        if (r2 < p.support2) f(j, r, r2);
-                    }
-                }
             }
+            if (x0 > x1) continue;
+            row((unsigned)(nx * (cy + p.grid_dims[1] * cz)), x0, x1);
         }
     }
 }
@@ -250,65 +256,48 @@ template <int DIM> struct Lanes { static constexpr int L = DIM == 3 ? 8 : 4; };
 #endif
 template <int DIM, int L> struct Batch { static constexpr int B = MF_NB_BATCH; };
 
+// Calls f(j, r_ij, r_ij^2) for every j (i included) within the support of xi, the
+// candidates of `rows` split over L lanes (lane l takes every L-th). A row that does not
+// wrap around a periodic x axis is one contiguous range of storage (cells are x-fastest and
+// the storage is sorted by cell); a wrapping row is taken cell by cell, in the same order.
 template <int DIM, int L, class F>
 __device__ __forceinline__ void for_each_neighbor_split(const SphParams& p, const unsigned* __restrict__ cell_start,
                                                         const float* __restrict__ pos, Vec<DIM> xi, int lane,
                                                         F&& f) {
-    int ci[3];
-    cell_coords<DIM>(p, xi, ci);
-    const int rz = DIM == 3 ? 1 : 0;
     const int nx = p.grid_dims[0];
-    for (int dz = -rz; dz <= rz; ++dz) {
-        int cz = ci[2] + dz;
-        if (cz < 0 || cz >= p.grid_dims[2]) {
-            if (!p.periodic[2]) continue;
-            cz = (cz + p.grid_dims[2]) % p.grid_dims[2];
-        }
-        for (int dy = -1; dy <= 1; ++dy) {
-            int cy = ci[1] + dy;
-            if (cy < 0 || cy >= p.grid_dims[1]) {
-                if (!p.periodic[1]) continue;
-                cy = (cy + p.grid_dims[1]) % p.grid_dims[1];
-            }
-            const unsigned row = (unsigned)(p.grid_dims[0] * (cy + p.grid_dims[1] * cz));
-            int x0 = ci[0] - 1, x1 = ci[0] + 1;
-            const bool contiguous = !p.periodic[0] || (x0 >= 0 && x1 < nx);
-            const int ncell = contiguous ? 1 : 3;
+    rows<DIM>(p, xi, [&](unsigned row, int x0, int x1) {
+        const bool contiguous = x0 >= 0 && x1 < nx;
+        const int ncell = contiguous ? 1 : x1 - x0 + 1;
+        for (int t = 0; t < ncell; ++t) {
+            unsigned s, e;
             if (contiguous) {
-                x0 = max(x0, 0);
-                x1 = min(x1, nx - 1);
+                s = cell_start[row + x0];
+                e = cell_start[row + x1 + 1];
+            } else {
+                const int cx = (x0 + t + nx) % nx;
+                s = cell_start[row + cx];
+                e = cell_start[row + cx + 1];
             }
-            for (int t = 0; t < ncell; ++t) {
-                unsigned s, e;
-                if (contiguous) {
-                    s = cell_start[row + x0];
-                    e = cell_start[row + x1 + 1];
-                } else {
-                    const int cx = (ci[0] + t - 1 + nx) % nx;
-                    s = cell_start[row + cx];
-                    e = cell_start[row + cx + 1];
-                }
-                // Batches of B candidates: B independent position loads in flight, then
-                // the accepted ones in candidate order (same calls, same order as one by one).
-                for (unsigned base = s + lane; base < e; base += Batch<DIM, L>::B * L) {
-                    unsigned mask = 0;
+            // Batches of B candidates: B independent position loads in flight, then the
+            // accepted ones in candidate order (same calls, same order as one by one).
+            for (unsigned base = s + lane; base < e; base += Batch<DIM, L>::B * L) {
+                unsigned mask = 0;
 #pragma unroll
-                    for (int k = 0; k < Batch<DIM, L>::B; ++k) {
-                        const unsigned j = base + k * L;
-                        const Vec<DIM> r = separation<DIM>(p, xi, vload<DIM>(pos, min(j, e - 1)));
-                        if (j < e && dot(r, r) < p.support2) mask |= 1u << k;
-                    }
-                    while (mask) {
-                        const int k = __ffs(mask) - 1;
-                        mask &= mask - 1;
-                        const unsigned j = base + k * L;
-                        const Vec<DIM> r = separation<DIM>(p, xi, vload<DIM>(pos, j));
-                        f(j, r, dot(r, r));
-                    }
+                for (int k = 0; k < Batch<DIM, L>::B; ++k) {
+                    const unsigned j = base + k * L;
+                    const Vec<DIM> r = separation<DIM>(p, xi, vload<DIM>(pos, min(j, e - 1)));
+                    if (j < e && dot(r, r) < p.support2) mask |= 1u << k;
+                }
+                while (mask) {
+                    const int k = __ffs(mask) - 1;
+                    mask &= mask - 1;
+                    const unsigned j = base + k * L;
+                    const Vec<DIM> r = separation<DIM>(p, xi, vload<DIM>(pos, j));
+                    f(j, r, dot(r, r));
                 }
             }
         }
-    }
+    });
 }
 // Sum over the L lanes of a particle (all 32 lanes of the warp must call).
 template <int L> __device__ __forceinline__ float lane_sum(float v) {

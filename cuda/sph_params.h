@@ -24,6 +24,11 @@
 #define MF_INTEGRATOR_EULER 0            /* eq. (19) forward Euler: x += dt (v^n + xsph) */
 #define MF_INTEGRATOR_SYMPLECTIC_EULER 1 /* semi-implicit: x += dt (v^{n+1} + xsph) */
 
+/* Neighbour grid: cells of at least support / MF_CELL_REACH per axis, so the support of a
+ * particle spans at most MF_CELL_REACH cells on each side of its own (finer cells: fewer
+ * candidates outside the support). */
+#define MF_CELL_REACH 2
+
 /* Particle kinds (the `kind` array). */
 #define MF_KIND_FLUID 0
 #define MF_KIND_SOLID 1
@@ -37,7 +42,7 @@ typedef struct SphParams {
     int32_t n_cells;       /* derived: product of grid_dims */
     float domain_min[3];   /* [L] lower corner of the domain */
     float domain_max[3];   /* [L] upper corner of the domain */
-    float cell_size[3];    /* derived: [L] cell edge per axis, >= support */
+    float cell_size[3];    /* derived: [L] cell edge per axis, >= support / MF_CELL_REACH */
 
     /* ---- kernel, eqs. (1)-(4) ---- */
     int32_t kernel;        /* MF_KERNEL_* */

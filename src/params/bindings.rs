@@ -6,6 +6,7 @@ pub const MF_DENSITY_SUMMATION: u32 = 0;
 pub const MF_DENSITY_CONTINUITY: u32 = 1;
 pub const MF_INTEGRATOR_EULER: u32 = 0;
 pub const MF_INTEGRATOR_SYMPLECTIC_EULER: u32 = 1;
+pub const MF_CELL_REACH: u32 = 2;
 pub const MF_KIND_FLUID: u32 = 0;
 pub const MF_KIND_SOLID: u32 = 1;
 pub const MF_KIND_BOUNDARY: u32 = 2;
@@ -24,7 +25,7 @@ pub struct SphParams {
     pub domain_min: [f32; 3usize],
     #[doc = " [L] upper corner of the domain"]
     pub domain_max: [f32; 3usize],
-    #[doc = " derived: [L] cell edge per axis, >= support"]
+    #[doc = " derived: [L] cell edge per axis, >= support / MF_CELL_REACH"]
     pub cell_size: [f32; 3usize],
     #[doc = " MF_KERNEL_*"]
     pub kernel: i32,

@@ -32,7 +32,7 @@ pub fn derive(p: &mut SphParams) {
     for a in 0..3 {
         if a < d {
             let len = p.domain_max[a] - p.domain_min[a];
-            let n = ((len / p.support).floor() as i32).max(1);
+            let n = ((len * MF_CELL_REACH as f32 / p.support).floor() as i32).max(1);
             p.grid_dims[a] = n;
             p.cell_size[a] = len / n as f32;
         } else {

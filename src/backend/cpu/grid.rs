@@ -1,13 +1,13 @@
 //! Neighbour search: a cell grid built by sorting particles by (cell, id), then reordering
 //! the storage so that a cell's particles are contiguous. Twin: `cuda/grid.cu`; parity test
-//! `tests/cuda_parity.rs`. Neighbours are visited cell by cell in a fixed order
-//! (z, then y, then x offsets from -1 to 1), and within a cell in storage order, on both
-//! backends, so that sums run in the same order.
+//! `tests/cuda_parity.rs`. Cells are at least support / `MF_CELL_REACH` wide; neighbours
+//! are visited row by row in a fixed order (`rows`: z, then y offsets, then x cells), and
+//! within a cell in storage order, on both backends, so that sums run in the same order.
 
 use rayon::prelude::*;
 
 use crate::dim::Dim;
-use crate::params::SphParams;
+use crate::params::{SphParams, MF_CELL_REACH};
 use crate::state::State;
 
 /// Cell ranges of the sorted storage: particles of cell `c` are slots
@@ -85,7 +85,7 @@ impl Grid {
     }
 
     /// Call `f(j, r_ij, r_ij^2)` for every particle j (i itself included) within the
-    /// support radius of position `xi`.
+    /// support radius of position `xi`, in the order of [`rows`].
     #[inline]
     pub fn for_each_neighbor<D: Dim>(
         &self,
@@ -94,32 +94,93 @@ impl Grid {
         xi: D::V,
         mut f: impl FnMut(usize, D::V, f32),
     ) {
-        let ci = cell_coords::<D>(p, xi);
-        let reach = |a: usize| if a < D::D { 1 } else { 0 };
-        for dz in -reach(2)..=reach(2) {
-            for dy in -reach(1)..=reach(1) {
-                'cell: for dx in -reach(0)..=reach(0) {
-                    let mut c = [ci[0] + dx, ci[1] + dy, ci[2] + dz];
-                    for (a, ca) in c.iter_mut().enumerate().take(D::D) {
-                        let n = p.grid_dims[a];
-                        if *ca < 0 || *ca >= n {
-                            if p.periodic[a] == 0 {
-                                continue 'cell;
-                            }
-                            *ca = (*ca + n) % n;
-                        }
-                    }
-                    let cell = cell_index(p, c) as usize;
-                    for j in self.cell_start[cell]..self.cell_end[cell] {
-                        let j = j as usize;
-                        let r = separation::<D>(p, xi, pos[j]);
-                        let r2 = D::length2(r);
-                        if r2 < p.support2 {
-                            f(j, r, r2);
-                        }
+        rows::<D>(p, xi, |row, x0, x1| {
+            let nx = p.grid_dims[0];
+            for cx in x0..=x1 {
+                // On a periodic x axis the row wraps around; else x0..=x1 is inside the grid.
+                let cell = row as usize + ((cx + nx) % nx) as usize;
+                for j in self.cell_start[cell]..self.cell_end[cell] {
+                    let j = j as usize;
+                    let r = separation::<D>(p, xi, pos[j]);
+                    let r2 = D::length2(r);
+                    if r2 < p.support2 {
+                        f(j, r, r2);
                     }
                 }
             }
+        });
+    }
+}
+
+/// Relative slack of the cell pruning in [`rows`]: a cell is skipped only when it is
+/// farther than (1 + SLACK) x the support, so rounding never drops a neighbour.
+const PRUNE_SLACK: f32 = 1e-4;
+
+/// Squared distance [L^2] from coordinate `x` to the slab of (unwrapped) cell `c` on axis `a`.
+#[inline]
+fn slab_gap2(p: &SphParams, a: usize, c: i32, x: f32) -> f32 {
+    let lo = p.domain_min[a] + c as f32 * p.cell_size[a];
+    let g = (lo - x).max(x - (lo + p.cell_size[a])).max(0.0);
+    g * g
+}
+
+/// The neighbour candidates of position `xi` as rows of cells: for each (z, y) cell offset
+/// within `MF_CELL_REACH` (z outer, then y, each from -reach to reach), skipping rows whose
+/// slab lies beyond the support, calls `row(first cell index of the row, x0, x1)` with the
+/// x cells x0..=x1 (unwrapped on a periodic x axis) that the support's cross-section at
+/// that row reaches. Within a row the cells are contiguous in storage. Twin of `rows` in
+/// `cuda/common.cuh`: both backends visit the same candidates in the same order.
+#[inline]
+pub fn rows<D: Dim>(p: &SphParams, xi: D::V, mut row: impl FnMut(u32, i32, i32)) {
+    let reach = MF_CELL_REACH as i32;
+    let ci = cell_coords::<D>(p, xi);
+    let r2max = p.support2;
+    let rz = if D::D == 3 { reach } else { 0 };
+    let x = D::comp(xi, 0);
+    let nx = p.grid_dims[0];
+    for dz in -rz..=rz {
+        let Some(cz) = wrap_cell(p, 2, ci[2] + dz) else {
+            continue;
+        };
+        let gz = if D::D == 3 {
+            slab_gap2(p, 2, ci[2] + dz, D::comp(xi, 2))
+        } else {
+            0.0
+        };
+        for dy in -reach..=reach {
+            let Some(cy) = wrap_cell(p, 1, ci[1] + dy) else {
+                continue;
+            };
+            let d2 = gz + slab_gap2(p, 1, ci[1] + dy, D::comp(xi, 1));
+            if d2 > r2max * (1.0 + PRUNE_SLACK) {
+                continue;
+            }
+            // Half-width of the support's cross-section at this row, then the x cells it spans.
+            let w = (r2max - d2).max(0.0).sqrt() + PRUNE_SLACK * p.support;
+            let cell_of = |v: f32| ((v - p.domain_min[0]) / p.cell_size[0]).floor() as i32;
+            let mut x0 = (ci[0] - reach).max(cell_of(x - w));
+            let mut x1 = (ci[0] + reach).min(cell_of(x + w));
+            if p.periodic[0] == 0 {
+                x0 = x0.max(0);
+                x1 = x1.min(nx - 1);
+            }
+            if x0 > x1 {
+                continue;
+            }
+            row((p.grid_dims[0] * (cy + p.grid_dims[1] * cz)) as u32, x0, x1);
         }
+    }
+}
+
+/// Cell coordinate `c` on axis `a` wrapped on a periodic axis; `None` outside a closed one.
+#[inline]
+fn wrap_cell(p: &SphParams, a: usize, c: i32) -> Option<i32> {
+    let n = p.grid_dims[a];
+    if (0..n).contains(&c) {
+        Some(c)
+    } else if p.periodic[a] != 0 {
+        Some((c + n) % n)
+    } else {
+        None
     }
 }
