@@ -248,8 +248,12 @@ pub fn run_observed(
                 batch = batch.min(n - taken);
             }
             let s0 = Instant::now();
-            for _ in 0..batch {
-                solver.step();
+            let mut left = batch;
+            while left > 0 {
+                // Up to the next health check, as one batch (a CUDA graph on the GPU).
+                let k = left.min(CHECK_EVERY - solver.steps() % CHECK_EVERY);
+                solver.advance(k);
+                left -= k;
                 if solver.steps() % CHECK_EVERY == 0 {
                     solver.check().map_err(RunFailure::Fault)?;
                 }

@@ -148,6 +148,14 @@ pub trait Solver: Send {
         }
     }
 
+    /// `steps` steps of `step`, as one batch: a backend may record the trait's `step` once
+    /// and replay the recording (the CUDA backend replays a CUDA graph), never reorder it.
+    fn advance(&mut self, steps: u64) {
+        for _ in 0..steps {
+            self.step();
+        }
+    }
+
     /// Simulated time [T] (a read-back on the GPU).
     fn time(&mut self) -> f64;
     fn steps(&self) -> u64;

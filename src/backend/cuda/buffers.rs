@@ -78,6 +78,8 @@ pub struct Buffers {
     pub layout: CudaSlice<u32>,
     /// Bytes allocated on the device for all of the above.
     pub bytes: usize,
+    /// Flips at each swap of `cur` and `alt` (a captured graph is bound to one assignment).
+    pub swapped: bool,
 }
 
 struct Alloc<'a> {
@@ -163,6 +165,7 @@ impl Buffers {
             first: a.z(1)?,
             layout: a.z(4)?,
             bytes: 0,
+            swapped: false,
         };
         b.bytes = a.bytes;
         b.write_state(s, state)?;

@@ -59,7 +59,14 @@ impl Device {
         let ctx =
             CudaContext::new(0).map_err(|e| unavailable(format!("cannot open device 0: {e:?}")))?;
         let name = ctx.name().unwrap_or_else(|_| "unknown CUDA device".into());
-        let stream = ctx.default_stream();
+        // SAFETY: every allocation, copy and launch of this backend goes to this one stream,
+        // in order, so cudarc's cross-stream event tracking has nothing to order; without it
+        // a step can be captured into a CUDA graph (no events recorded during capture).
+        unsafe { ctx.disable_event_tracking() };
+        // A stream of our own: the legacy default stream cannot be captured into a graph.
+        let stream = ctx
+            .new_stream()
+            .map_err(|e| BackendError::Cuda(format!("cannot create a CUDA stream: {e:?}")))?;
         let mut modules = HashMap::new();
         for (stem, src) in ptx::MODULES {
             let m = ctx.load_module(Ptx::from_src(*src)).map_err(|e| {

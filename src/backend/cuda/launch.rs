@@ -129,6 +129,15 @@ macro_rules! opt {
     };
 }
 
+/// A captured CUDA graph of whole steps, owned by one solver, and the buffer assignment
+/// (`Buffers::swapped`) it was captured with: it reads and writes those buffers only.
+pub struct StepGraph(pub cudarc::driver::CudaGraph, pub bool);
+
+// SAFETY: a CUDA graph may be used from any thread as long as no two threads use it at once
+// (CUDA's graph thread-safety rules); the solver owns it and `Solver` methods take `&mut`,
+// so it moves between threads with the solver but is never shared.
+unsafe impl Send for StepGraph {}
+
 /// Neighbour grid: hist, scan (3 kernels), scatter, per-cell sort by id, gather; then the
 /// two persistent buffer sets are swapped.
 pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
@@ -235,6 +244,7 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
         k.gather.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
     }
     std::mem::swap(&mut b.cur, &mut b.alt);
+    b.swapped = !b.swapped;
 }
 
 pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {

@@ -11,6 +11,8 @@ mod launch;
 
 use std::marker::PhantomData;
 
+use cudarc::driver::sys;
+
 use crate::backend::cpu::fault;
 use crate::backend::BackendError;
 use crate::dim::Dim;
@@ -25,7 +27,7 @@ pub use device::{driver_version, NVCC_VERSION};
 
 use buffers::Buffers;
 use device::Device;
-use launch::Kernels;
+use launch::{Kernels, StepGraph};
 
 /// Whether a usable CUDA device answers (driver, device 0, PTX in this build).
 pub fn available() -> Result<String, BackendError> {
@@ -55,6 +57,13 @@ pub struct CudaSolver<D: Dim> {
     /// Host buffers of `snapshot`, kept between frames.
     host_pos: Vec<f32>,
     host_vel: Vec<f32>,
+    /// Two steps of `Solver::step` captured as a CUDA graph (two, so that the grid's buffer
+    /// swap comes back to the captured buffers), replayed by `advance`. Dropped whenever the
+    /// buffers or the kernels change.
+    graph: Option<StepGraph>,
+    /// Whether `advance` may capture and replay graphs: `MESHFREE_CUDA_GRAPHS=0` turns them
+    /// off (for measurements); a failed capture turns them off for this solver.
+    graphs: bool,
     _d: PhantomData<D>,
 }
 
@@ -86,6 +95,8 @@ impl<D: Dim> CudaSolver<D> {
             steps: 0,
             host_pos: Vec::new(),
             host_vel: Vec::new(),
+            graph: None,
+            graphs: std::env::var("MESHFREE_CUDA_GRAPHS").map_or(true, |v| v != "0"),
             _d: PhantomData,
         })
     }
@@ -123,6 +134,36 @@ impl<D: Dim> CudaSolver<D> {
     /// neighbour loop over several threads. For tests and benchmarks.
     pub fn set_lane_split(&mut self, split: Option<bool>) {
         self.k.split = split.unwrap_or(self.buf.n < split_below());
+        self.graph = None;
+    }
+
+    /// Record two calls of the trait's `step` as a CUDA graph (nothing runs while it is
+    /// recorded; the step counter is restored). `None`, and no more graphs for this solver,
+    /// where the driver refuses.
+    fn capture_pair(&mut self) -> Option<StepGraph> {
+        let s = self.dev.stream.clone();
+        let (steps, swapped) = (self.steps, self.buf.swapped);
+        let mode = sys::CUstreamCaptureMode::CU_STREAM_CAPTURE_MODE_THREAD_LOCAL;
+        let graph = match s.begin_capture(mode) {
+            Ok(()) => {
+                self.step();
+                self.step();
+                s.end_capture(sys::CUgraphInstantiate_flags(0))
+            }
+            Err(e) => Err(e),
+        };
+        self.steps = steps;
+        match graph {
+            Ok(Some(g)) => Some(StepGraph(g, swapped)),
+            Ok(None) | Err(_) => {
+                eprintln!(
+                    "note: CUDA graph capture refused on {}; stepping kernel by kernel",
+                    self.dev.name
+                );
+                self.graphs = false;
+                None
+            }
+        }
     }
 
     /// Device memory held by this solver's arrays [bytes].
@@ -186,6 +227,32 @@ impl<D: Dim> Solver for CudaSolver<D> {
     fn drift(&mut self) {
         launch::drift(&self.k, &self.dev.stream, &self.params, &mut self.buf);
         self.steps += 1;
+    }
+    fn advance(&mut self, steps: u64) {
+        let mut left = steps;
+        if self.graphs && left >= 2 {
+            if self.graph.is_none() {
+                self.graph = self.capture_pair();
+            }
+            if self.graph.as_ref().is_some_and(|g| g.1 != self.buf.swapped) {
+                // After an odd number of single steps: one more, back to the graph's buffers.
+                self.step();
+                left -= 1;
+            }
+            if let Some(g) = &self.graph {
+                let pairs = left / 2;
+                for _ in 0..pairs {
+                    if let Err(e) = g.0.launch() {
+                        self.sync_err("launching the captured step graph", e)
+                    }
+                }
+                left -= 2 * pairs;
+                self.steps += 2 * pairs;
+            }
+        }
+        for _ in 0..left {
+            self.step();
+        }
     }
     fn time(&mut self) -> f64 {
         self.dev
@@ -324,6 +391,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
                 self.sync_err("restoring the clock", e)
             }
             self.buf = buf;
+            self.graph = None;
         }
         removed
     }
