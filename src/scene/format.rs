@@ -145,6 +145,10 @@ pub struct FluidMaterial {
     /// [-] XSPH epsilon, eq. (18). Default 0.
     #[serde(default)]
     pub xsph: f64,
+    /// [L^(d+1) M^-1 T^-2] gamma of the fluid-fluid cohesion force of Akinci, Akinci &
+    /// Teschner 2013 (droplets, surface tension). Default 0 = off (the paper).
+    #[serde(default)]
+    pub cohesion: f64,
 }
 
 fn default_gamma() -> f64 {
@@ -229,6 +233,8 @@ pub struct FluidBlock {
 }
 
 /// An elastic body. `shape` picks the variant; the other keys belong to that shape.
+/// `motion` [L/T] makes it driven: every particle moves at that velocity whatever the
+/// forces (a clamp with zero); at most one driven object (solid or wall) per scene.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum SolidObject {
@@ -237,6 +243,8 @@ pub enum SolidObject {
         max: Vec<f64>,
         #[serde(default)]
         velocity: Option<Vec<f64>>,
+        #[serde(default)]
+        motion: Option<Vec<f64>>,
     },
     /// 2D only.
     Disc {
@@ -244,6 +252,8 @@ pub enum SolidObject {
         radius: f64,
         #[serde(default)]
         velocity: Option<Vec<f64>>,
+        #[serde(default)]
+        motion: Option<Vec<f64>>,
     },
     /// 3D only.
     Sphere {
@@ -251,6 +261,8 @@ pub enum SolidObject {
         radius: f64,
         #[serde(default)]
         velocity: Option<Vec<f64>>,
+        #[serde(default)]
+        motion: Option<Vec<f64>>,
     },
 }
 
@@ -262,9 +274,19 @@ impl SolidObject {
             | SolidObject::Sphere { velocity, .. } => velocity.as_ref(),
         }
     }
+    /// [L/T] the prescribed velocity of a driven body (a clamp: zero), if any.
+    pub fn motion(&self) -> Option<&Vec<f64>> {
+        match self {
+            SolidObject::Box { motion, .. }
+            | SolidObject::Disc { motion, .. }
+            | SolidObject::Sphere { motion, .. } => motion.as_ref(),
+        }
+    }
 }
 
-/// Fixed boundary particles. Any wall may be a gate, removed at `remove_at`.
+/// Fixed boundary particles. Any wall may be a gate, removed at `remove_at`, or driven:
+/// `motion` [L/T] moves all its particles at that velocity (a piston); at most one driven
+/// object (solid or wall) per scene.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Wall {
@@ -281,6 +303,8 @@ pub enum Wall {
         open_top: bool,
         #[serde(default)]
         remove_at: Option<f64>,
+        #[serde(default)]
+        motion: Option<Vec<f64>>,
     },
     /// A filled box of boundary particles (obstacle or gate).
     Box {
@@ -288,6 +312,8 @@ pub enum Wall {
         max: Vec<f64>,
         #[serde(default)]
         remove_at: Option<f64>,
+        #[serde(default)]
+        motion: Option<Vec<f64>>,
     },
     /// Rings of boundary particles inward from `radius` (a cylinder along z in 3D).
     Cylinder {
@@ -298,6 +324,8 @@ pub enum Wall {
         layers: u32,
         #[serde(default)]
         remove_at: Option<f64>,
+        #[serde(default)]
+        motion: Option<Vec<f64>>,
     },
 }
 
@@ -314,6 +342,14 @@ impl Wall {
             Wall::BoxContainer { remove_at, .. }
             | Wall::Box { remove_at, .. }
             | Wall::Cylinder { remove_at, .. } => *remove_at,
+        }
+    }
+    /// [L/T] the prescribed velocity of a driven wall (a piston), if any.
+    pub fn motion(&self) -> Option<&Vec<f64>> {
+        match self {
+            Wall::BoxContainer { motion, .. }
+            | Wall::Box { motion, .. }
+            | Wall::Cylinder { motion, .. } => motion.as_ref(),
         }
     }
 }

@@ -15,6 +15,7 @@
 //! * `group` = the object's index in the sequence fluid_blocks, solids, walls; the final
 //!   list is ordered by group, then generation order; `id` = index in that list.
 //! * Mass = reference density * dx^dim (boundary particles take the fluid's rho0).
+//! * A driven object (`motion`) starts at its prescribed velocity.
 
 use std::collections::HashMap;
 
@@ -365,11 +366,18 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
     for (i, obj) in objects.iter().enumerate() {
         let (rho_ref, velocity) = match obj.kind {
             Kind::Fluid => (f.density, vec3(s.fluid_blocks[i].velocity.as_ref())),
-            Kind::Solid => (
-                s.solid.as_ref().map(|m| m.density).unwrap_or(f.density),
-                vec3(s.solids[i - n_fluid as usize].velocity()),
+            Kind::Solid => {
+                let o = &s.solids[i - n_fluid as usize];
+                (
+                    s.solid.as_ref().map(|m| m.density).unwrap_or(f.density),
+                    vec3(o.motion().or(o.velocity())),
+                )
+            }
+            // A driven wall (piston) starts at its prescribed velocity.
+            Kind::Boundary => (
+                f.density,
+                vec3(s.walls[i - (n_fluid + n_solid) as usize].motion()),
             ),
-            Kind::Boundary => (f.density, [0.0; 3]),
         };
         for p in &kept[i] {
             let (mut density, mut pressure) = (rho_ref, 0.0);

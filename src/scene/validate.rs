@@ -193,6 +193,7 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
     c.non_negative("fluid.beta", f.beta)?;
     c.non_negative("fluid.viscosity", f.viscosity)?;
     c.non_negative("fluid.xsph", f.xsph)?;
+    c.non_negative("fluid.cohesion", f.cohesion)?;
     if f.xsph > 1.0 {
         return Err(c.err(
             "fluid.xsph",
@@ -247,6 +248,13 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
     for (i, o) in s.solids.iter().enumerate() {
         let field = format!("solids[{i}]");
         c.opt_vec(&format!("{field}.velocity"), &o.velocity().cloned())?;
+        c.opt_vec(&format!("{field}.motion"), &o.motion().cloned())?;
+        if o.velocity().is_some() && o.motion().is_some() {
+            return Err(c.err(
+                format!("{field}.velocity"),
+                "a driven body (motion) moves at its motion; give motion or velocity, not both",
+            ));
+        }
         match o {
             SolidObject::Box { min, max, .. } => {
                 c.corners(&field, min, max)?;
@@ -286,6 +294,7 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
     }
     for (i, w) in s.walls.iter().enumerate() {
         let field = format!("walls[{i}]");
+        c.opt_vec(&format!("{field}.motion"), &w.motion().cloned())?;
         if let Some(t) = w.remove_at() {
             c.non_negative(&format!("{field}.remove_at"), t)?;
         }
@@ -333,6 +342,25 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
                 c.inside(&field, "the cylinder", &lo, &hi, dom)?;
             }
         }
+    }
+    let driven: Vec<String> = (s.solids.iter().enumerate())
+        .filter(|(_, o)| o.motion().is_some())
+        .map(|(i, _)| format!("solids[{i}]"))
+        .chain(
+            (s.walls.iter().enumerate())
+                .filter(|(_, w)| w.motion().is_some())
+                .map(|(i, _)| format!("walls[{i}]")),
+        )
+        .collect();
+    if driven.len() > 1 {
+        return Err(c.err(
+            format!("{}.motion", driven[1]),
+            format!(
+                "at most one driven object (motion) per scene; found {} ({})",
+                driven.len(),
+                driven.join(", ")
+            ),
+        ));
     }
     if s.fluid_blocks.is_empty() && s.solids.is_empty() && s.walls.is_empty() {
         return Err(c.err(
