@@ -315,6 +315,21 @@ pub enum Wall {
         #[serde(default)]
         motion: Option<Vec<f64>>,
     },
+    /// 2D: `layers` rows of boundary particles along the segment `from` -> `to`, on its
+    /// left looking from `from` to `to` (the side away from the fluid), about dx apart. Fluid
+    /// and solids behind it (on its left, within its length) are not generated: a sloped
+    /// wall, e.g. a converging nozzle, cuts a fluid block.
+    Segment {
+        from: Vec<f64>,
+        to: Vec<f64>,
+        /// Default 3.
+        #[serde(default = "default_layers")]
+        layers: u32,
+        #[serde(default)]
+        remove_at: Option<f64>,
+        #[serde(default)]
+        motion: Option<Vec<f64>>,
+    },
     /// Rings of boundary particles inward from `radius` (a cylinder along z in 3D).
     Cylinder {
         center: Vec<f64>,
@@ -333,7 +348,9 @@ impl Wall {
     /// Rows of boundary particles outside the shape (0 for a filled box).
     pub fn layers(&self) -> u32 {
         match self {
-            Wall::BoxContainer { layers, .. } | Wall::Cylinder { layers, .. } => *layers,
+            Wall::BoxContainer { layers, .. }
+            | Wall::Cylinder { layers, .. }
+            | Wall::Segment { layers, .. } => *layers,
             Wall::Box { .. } => 0,
         }
     }
@@ -341,7 +358,8 @@ impl Wall {
         match self {
             Wall::BoxContainer { remove_at, .. }
             | Wall::Box { remove_at, .. }
-            | Wall::Cylinder { remove_at, .. } => *remove_at,
+            | Wall::Cylinder { remove_at, .. }
+            | Wall::Segment { remove_at, .. } => *remove_at,
         }
     }
     /// [L/T] the prescribed velocity of a driven wall (a piston), if any.
@@ -349,7 +367,8 @@ impl Wall {
         match self {
             Wall::BoxContainer { motion, .. }
             | Wall::Box { motion, .. }
-            | Wall::Cylinder { motion, .. } => motion.as_ref(),
+            | Wall::Cylinder { motion, .. }
+            | Wall::Segment { motion, .. } => motion.as_ref(),
         }
     }
 }

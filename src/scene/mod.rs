@@ -64,6 +64,8 @@
 //!
 //! [[walls]]
 //! shape = "box-container"            # | "box" {min, max} | "cylinder" {center, radius, layers}
+//!                                    # | "segment" (2D) {from, to, layers}: rows on the left
+//!                                    #   of from -> to; fluid behind it is not generated
 //! min = [0.0, 0.0]
 //! max = [4.0, 2.0]
 //! layers = 3                         # default 3
@@ -107,6 +109,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "impinging-3d",
         include_str!("../../scenes/impinging-3d.toml"),
     ),
+    ("nozzle", include_str!("../../scenes/nozzle.toml")),
     ("tank-2d", include_str!("../../scenes/tank-2d.toml")),
     ("tank-3d", include_str!("../../scenes/tank-3d.toml")),
 ];

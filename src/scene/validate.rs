@@ -322,6 +322,33 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
                 c.corners(&field, min, max)?;
                 c.inside(&field, "the box", min, max, dom)?;
             }
+            Wall::Segment {
+                from, to, layers, ..
+            } => {
+                if dim != 2 {
+                    return Err(c.err(format!("{field}.shape"), "a \"segment\" wall is 2D only"));
+                }
+                c.vec(&format!("{field}.from"), from)?;
+                c.vec(&format!("{field}.to"), to)?;
+                let len = (to[0] - from[0]).hypot(to[1] - from[1]);
+                if len < d.spacing {
+                    return Err(c.err(
+                        format!("{field}.to"),
+                        format!("the segment is {} long, shorter than one spacing", fmt(len)),
+                    ));
+                }
+                if *layers == 0 {
+                    return Err(c.err(format!("{field}.layers"), "must be at least 1"));
+                }
+                // The rows reach `layers` dx to the left of the segment.
+                let t = *layers as f64 * d.spacing / len;
+                let n = [-(to[1] - from[1]) * t, (to[0] - from[0]) * t];
+                let xs = [from[0], to[0], from[0] + n[0], to[0] + n[0]];
+                let ys = [from[1], to[1], from[1] + n[1], to[1] + n[1]];
+                let lo = [xs, ys].map(|v| v.iter().cloned().fold(f64::MAX, f64::min));
+                let hi = [xs, ys].map(|v| v.iter().cloned().fold(f64::MIN, f64::max));
+                c.inside(&field, "the segment with its wall layers", &lo, &hi, dom)?;
+            }
             Wall::Cylinder {
                 center,
                 radius,
