@@ -336,3 +336,10 @@ fn negative_cohesion() {
         "must be zero or positive",
     );
 }
+
+#[test]
+fn segment_wall_too_short() {
+    let bad =
+        format!("{BASE}\n[[walls]]\nshape = \"segment\"\nfrom = [0.2, 0.6]\nto = [0.22, 0.6]\n");
+    expect_error(&bad, "walls[1].to", "shorter than one spacing");
+}
