@@ -234,7 +234,10 @@ pub struct FluidBlock {
 
 /// An elastic body. `shape` picks the variant; the other keys belong to that shape.
 /// `motion` [L/T] makes it driven: every particle moves at that velocity whatever the
-/// forces (a clamp with zero); at most one driven object (solid or wall) per scene.
+/// forces (a clamp with zero); at most one driven object (solid or wall) per scene. A
+/// driven body is its own group: it touches another body through the pressure and stress
+/// terms but is not elastically bonded to it (the velocity gradient, eq. (15), stays within
+/// a body).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum SolidObject {
