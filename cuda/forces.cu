@@ -1,4 +1,5 @@
-// Accelerations eqs. (7), (10), (16), (17), laminar viscosity, artificial stress, gravity;
+// Accelerations eqs. (7), (10), (16), (17), laminar viscosity, artificial stress, fluid
+// cohesion (Akinci et al. 2013), gravity;
 // fused: the block maxima of |v|, |a| and c for the step size (the velocities do not change
 // between forces and time_step in either integrator order).
 // Twin: src/backend/cpu/forces.rs (+ extremes in reduce.rs); parity test: tests/cuda_parity.rs.
@@ -21,6 +22,17 @@ __device__ __forceinline__ float artificial_viscosity(const SphParams& p, float 
 // Laminar viscosity factor (Morris, Fox & Zhu 1997).
 __device__ __forceinline__ float laminar(const SphParams& p, float r2, float f, float rho_i, float rho_j) {
     return p.nu * (rho_i + rho_j) / (rho_i * rho_j) * (r2 * f) / (r2 + p.visc_eta2);
+}
+
+// Cohesion spline of Akinci, Akinci & Teschner 2013, eq. (2), over s = 2h, divided by r
+// (3D normalisation in 2D too); twin of `cohesion_over_r` in cpu/forces.rs. [L^-d-1]
+__device__ __forceinline__ float cohesion_over_r(float support, float rr) {
+    if (rr <= 0.0f || rr > support) return 0.0f;
+    const float x = rr / support;
+    const float y = 1.0f - x;
+    const float poly = y * y * y * x * x * x;
+    const float c = x > 0.5f ? poly : 2.0f * poly - 1.0f / 64.0f;
+    return 32.0f / (3.14159265358979323846f * support * support * support) * c / rr;
 }
 
 template <int DIM, bool SOLIDS, int L>
@@ -106,6 +118,10 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
             bool same_body = kj == ki && (ki == MF_KIND_FLUID || group[j] == gi);
             if (p.nu > 0.0f && (ki == MF_KIND_FLUID || kj == MF_KIND_FLUID))
                 acc = acc + vij * (mj * laminar(p, r2, fw, rhoi, rhoj));
+            // Fluid-fluid cohesion, Akinci et al. 2013, eq. (2): -gamma m_j C(r) r_ij / r
+            // (uniform branch: nothing when gamma = 0).
+            if (p.cohesion != 0.0f && ki == MF_KIND_FLUID && kj == MF_KIND_FLUID)
+                acc = acc - r * (p.cohesion * mj * cohesion_over_r(p.support, rr));
             if constexpr (SOLIDS) {
                 if (art && same_body && ki == MF_KIND_SOLID) {
                     // Gray, Monaghan & Swift 2001: f_ij^n (R_i + R_j) . grad W.

@@ -1,25 +1,43 @@
-// Time integration: the kick (v += dt a) and the drift (x += dt (v + xsph), eq. (18), with
+// Time integration: the kick (v += dt a; a driven group's velocity set) and the drift (x += dt (v + xsph), eq. (18), with
 // the periodic wrap; rho += dt d rho/dt; S += dt dS/dt; the device clock). dt is read on the
 // device (written by sph_step_size): no host round trip per step.
 // Twin: src/backend/cpu/integrate.rs; parity test: tests/cuda_parity.rs.
 #include "common.cuh"
 
+// The driven group (a piston, a clamp; any kind): its prescribed velocity (twin:
+// `driven_velocity` in integrate.rs).
+__device__ __forceinline__ bool is_driven(const SphParams& p, unsigned group) {
+    return p.driven != 0 && group == (unsigned)p.driven_group;
+}
+
 template <int DIM>
-__device__ void sph_kick_body(unsigned n, const float* __restrict__ dt_dev, const unsigned char* __restrict__ kind,
+__device__ void sph_kick_body(const SphParams p, unsigned n, const float* __restrict__ dt_dev,
+                              const unsigned char* __restrict__ kind, const unsigned* __restrict__ group,
                               float* __restrict__ vel, const float* __restrict__ acc) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= n || kind[i] == MF_KIND_BOUNDARY) return;
+    if (i >= n) return;
+    // Driven group: prescribed velocity, whatever the forces.
+    if (is_driven(p, group[i])) {
+        Vec<DIM> u;
+#pragma unroll
+        for (int d = 0; d < DIM; ++d) u.c[d] = p.driven_velocity[d];
+        vstore<DIM>(vel, i, u);
+        return;
+    }
+    if (kind[i] == MF_KIND_BOUNDARY) return;
     const float dt = *dt_dev;
     vstore<DIM>(vel, i, vload<DIM>(vel, i) + vload<DIM>(acc, i) * dt);
 }
-MF_ENTRY2(sph_kick, (unsigned n, const float* dt_dev, const unsigned char* kind, float* vel, const float* acc),
-          (n, dt_dev, kind, vel, acc))
+MF_ENTRY2(sph_kick,
+          (const SphParams p, unsigned n, const float* dt_dev, const unsigned char* kind, const unsigned* group,
+           float* vel, const float* acc),
+          (p, n, dt_dev, kind, group, vel, acc))
 
 // drho: null without the continuity density; stress, rate: null without solids.
 template <int DIM>
 __device__ void sph_drift_body(const SphParams p, unsigned n, const float* __restrict__ dt_dev,
                                double* __restrict__ time, const unsigned char* __restrict__ kind,
-                               float* __restrict__ pos, const float* __restrict__ vel,
+                               const unsigned* __restrict__ group, float* __restrict__ pos, const float* __restrict__ vel,
                                const float* __restrict__ xsph, float* __restrict__ rho,
                                const float* __restrict__ drho, float* __restrict__ stress,
                                const float* __restrict__ rate) {
@@ -30,8 +48,18 @@ __device__ void sph_drift_body(const SphParams p, unsigned n, const float* __res
     const unsigned char k = kind[i];
     // Dynamic wall particles take part; their d rho/dt is zero otherwise.
     if (drho) rho[i] += dt * drho[i];
-    if (k == MF_KIND_BOUNDARY) return;
-    Vec<DIM> x = vload<DIM>(pos, i) + (vload<DIM>(vel, i) + vload<DIM>(xsph, i)) * dt;
+    // A driven group moves at its prescribed velocity (no XSPH), whatever its kind.
+    const bool driven = is_driven(p, group[i]);
+    if (k == MF_KIND_BOUNDARY && !driven) return;
+    Vec<DIM> x;
+    if (driven) {
+        Vec<DIM> u;
+#pragma unroll
+        for (int d = 0; d < DIM; ++d) u.c[d] = p.driven_velocity[d];
+        x = vload<DIM>(pos, i) + u * dt;
+    } else {
+        x = vload<DIM>(pos, i) + (vload<DIM>(vel, i) + vload<DIM>(xsph, i)) * dt;
+    }
 #pragma unroll
     for (int d = 0; d < DIM; ++d) {  // wrap on periodic axes
         if (p.periodic[d]) {
@@ -47,6 +75,7 @@ __device__ void sph_drift_body(const SphParams p, unsigned n, const float* __res
     }
 }
 MF_ENTRY2(sph_drift,
-          (const SphParams p, unsigned n, const float* dt_dev, double* time, const unsigned char* kind, float* pos,
-           const float* vel, const float* xsph, float* rho, const float* drho, float* stress, const float* rate),
-          (p, n, dt_dev, time, kind, pos, vel, xsph, rho, drho, stress, rate))
+          (const SphParams p, unsigned n, const float* dt_dev, double* time, const unsigned char* kind,
+           const unsigned* group, float* pos, const float* vel, const float* xsph, float* rho, const float* drho,
+           float* stress, const float* rate),
+          (p, n, dt_dev, time, kind, group, pos, vel, xsph, rho, drho, stress, rate))

@@ -1,5 +1,6 @@
 //! meshfree: weakly compressible SPH with elastic solids (Liu, Wang, Ma & Zhang), on the
 //! CPU (rayon) and on NVIDIA GPUs (CUDA through cudarc). See `ARCHITECTURE.md`.
+pub mod analysis;
 pub mod backend;
 pub mod bench;
 pub mod cli;

@@ -6,12 +6,15 @@
 //! Then: output at t = 0; loop { open gates whose time came; step; health check every
 //! `CHECK_EVERY` steps and at each output; output at each output time }; a last output at
 //! the end. Each output writes `particles_NNNNN.vtu`, rewrites `particles.pvd`, appends a
-//! row to `diagnostics.csv`. `summary.json` is written at the end, also after a blow-up.
+//! row to `diagnostics.csv` and one to `clusters.csv` (the number of connected fluid
+//! clusters, `analysis::clusters`). `summary.json` is written at the end, also after a
+//! blow-up, with the cluster count of the last output.
 
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::analysis::clusters;
 use crate::backend::{self, BackendChoice, BackendError};
 use crate::output::{self, DiagnosticsCsv, PvdSeries, RunStatus, RunSummary};
 use crate::particle::Particle;
@@ -168,7 +171,13 @@ pub fn run_observed(
     let scene_copy = out_dir.join("scene.toml");
     std::fs::write(&scene_copy, &scene.text).map_err(io_err(&scene_copy))?;
     let csv_path = out_dir.join("diagnostics.csv");
+    let clusters_path = out_dir.join("clusters.csv");
+    let mut clusters_csv = std::fs::File::create(&clusters_path).map_err(io_err(&clusters_path))?;
+    writeln!(clusters_csv, "step,time,fluid_clusters").map_err(io_err(&clusters_path))?;
     let mut out = Writer {
+        clusters_csv,
+        cluster_radius: clusters::DEFAULT_FACTOR * scene.file.discretisation.spacing as f32,
+        last_clusters: None,
         dir: out_dir.clone(),
         pvd: PvdSeries::new(out_dir.join("particles.pvd")),
         csv: DiagnosticsCsv::create(&csv_path).map_err(io_err(&csv_path))?,
@@ -207,6 +216,7 @@ pub fn run_observed(
         outputs: 0,
         output_dir: out_dir.display().to_string(),
         final_diagnostics: None,
+        fluid_clusters: None,
         status: RunStatus::Completed,
         fault: None,
     };
@@ -287,6 +297,7 @@ pub fn run_observed(
         0.0
     };
     summary.final_diagnostics = Some(solver.diagnostics());
+    summary.fluid_clusters = out.last_clusters;
     let failure = match result {
         Ok(()) => None,
         Err(RunFailure::Fault(f)) => {
@@ -324,6 +335,10 @@ impl From<RunError> for RunFailure {
 
 struct Writer {
     dir: PathBuf,
+    clusters_csv: std::fs::File,
+    /// [L] link radius of the cluster count.
+    cluster_radius: f32,
+    last_clusters: Option<usize>,
     pvd: PvdSeries,
     csv: DiagnosticsCsv,
     frames: usize,
@@ -353,6 +368,10 @@ impl Writer {
         self.csv
             .write(&d)
             .map_err(io_err(&self.dir.join("diagnostics.csv")))?;
+        let n = clusters::count_fluid_clusters(&particles, self.cluster_radius);
+        self.last_clusters = Some(n);
+        writeln!(self.clusters_csv, "{},{},{n}", d.step, d.time)
+            .map_err(io_err(&self.dir.join("clusters.csv")))?;
         observer(&Frame {
             index: self.frames,
             diagnostics: &d,

@@ -160,6 +160,7 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
         particle_steps_per_second: particles.len() as f64 * d.step as f64 / wall.max(1e-9),
         outputs: 1,
         output_dir: out.display().to_string(),
+        fluid_clusters: None,
         final_diagnostics: Some(d),
         status: RunStatus::Completed,
         fault: None,

@@ -345,14 +345,19 @@ fn cmp_drift<D: Dim>(c: &mut CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u32]) {
 }
 
 fn stages<D: Dim>(dim: usize, v: Variant) {
-    let setup = scene(dim, v);
+    stages_on::<D>(&format!("{v:?}"), scene(dim, v));
+}
+
+/// The stage comparison on any parity scene (`what` names it in the log).
+fn stages_on<D: Dim>(what: &str, setup: Setup) {
+    let dim = setup.params.dim;
     let Some(mut g) = gpu::<D>(&setup) else {
         return;
     };
     let mut c = CpuSolver::<D>::new(setup.clone());
     let p = setup.params;
     eprintln!(
-        "{dim}D parity {v:?}: {} particles ({} solid), on {}",
+        "{dim}D parity {what}: {} particles ({} solid), on {}",
         c.len(),
         setup
             .particles
@@ -484,6 +489,34 @@ fn long_run<D: Dim>(dim: usize, v: Variant, steps: usize) {
         dc.density_error,
         dg.density_error
     );
+}
+
+/// `scene(dim, v)` with a driven group (`group` 0: the wall, moving as a piston; 2: the
+/// elastic body, a moving clamp) and fluid cohesion (Akinci et al. 2013) switched on.
+fn driven_cohesive(dim: usize, v: Variant, group: i32, u: [f32; 3]) -> Setup {
+    let mut setup = scene(dim, v);
+    let p = &mut setup.params;
+    p.driven = 1;
+    p.driven_group = group;
+    p.driven_velocity = u;
+    p.cohesion = 2.0;
+    setup
+}
+
+#[test]
+fn stages_2d_driven_wall_cohesion_continuity_symplectic() {
+    let setup = driven_cohesive(2, V_2D_B, 0, [0.5, 0.0, 0.0]);
+    stages_on::<D2>("V_2D_B + driven wall + cohesion", setup);
+}
+#[test]
+fn stages_2d_driven_solid_cohesion_summation_euler() {
+    let setup = driven_cohesive(2, V_2D_A, 2, [0.0, 0.0, 0.0]);
+    stages_on::<D2>("V_2D_A + clamped disc + cohesion", setup);
+}
+#[test]
+fn stages_3d_driven_solid_cohesion_continuity_euler() {
+    let setup = driven_cohesive(3, V_3D_B, 2, [0.2, -0.3, 0.1]);
+    stages_on::<D3>("V_3D_B + driven sphere + cohesion", setup);
 }
 
 #[test]

@@ -173,6 +173,14 @@ fn run_writes_consistent_output() {
     assert_eq!(json["scene_source"], "builtin:tank-2d");
     assert_eq!(json["particles"]["fluid"], 1600);
     assert!(json["fault"].is_null());
+    // The tank's water is one connected body: one fluid cluster at every output.
+    assert_eq!(json["fluid_clusters"], 1);
+    let clusters = std::fs::read_to_string(out.join("clusters.csv")).unwrap();
+    assert_eq!(clusters.lines().count(), summary.outputs + 1);
+    assert!(
+        clusters.lines().skip(1).all(|l| l.ends_with(",1")),
+        "{clusters}"
+    );
     assert!(out.join("scene.toml").exists());
 }
 

@@ -297,3 +297,49 @@ fn bad_override_creates_nothing() {
     );
     assert!(!out.exists());
 }
+
+#[test]
+fn two_driven_objects() {
+    let two = format!(
+        "{BASE}\n[[walls]]\nshape = \"box\"\nmin = [0.0, 0.6]\nmax = [0.1, 0.9]\nmotion = [1.0, 0.0]\n\
+         \n[[walls]]\nshape = \"box\"\nmin = [0.8, 0.6]\nmax = [0.9, 0.9]\nmotion = [-1.0, 0.0]\n"
+    );
+    expect_error(&two, "walls[2].motion", "at most one driven object");
+}
+
+#[test]
+fn driven_motion_wrong_length() {
+    let bad = format!(
+        "{BASE}\n[[walls]]\nshape = \"box\"\nmin = [0.0, 0.6]\nmax = [0.1, 0.9]\nmotion = [1.0]\n"
+    );
+    expect_error(&bad, "walls[1].motion", "expected 2 numbers");
+}
+
+#[test]
+fn driven_solid_with_velocity_too() {
+    let bad = format!(
+        "{BASE}\n[solid]\ndensity = 500.0\nsound_speed = 30.0\nshear_modulus = 1e4\n\n[[solids]]\n\
+         shape = \"box\"\nmin = [0.6, 0.6]\nmax = [0.8, 0.8]\nvelocity = [1.0, 0.0]\nmotion = [0.0, 0.0]\n"
+    );
+    expect_error(
+        &bad,
+        "solids[0].velocity",
+        "give motion or velocity, not both",
+    );
+}
+
+#[test]
+fn negative_cohesion() {
+    expect_error(
+        &with("alpha = 0.02", "alpha = 0.02\ncohesion = -1.0"),
+        "fluid.cohesion",
+        "must be zero or positive",
+    );
+}
+
+#[test]
+fn segment_wall_too_short() {
+    let bad =
+        format!("{BASE}\n[[walls]]\nshape = \"segment\"\nfrom = [0.2, 0.6]\nto = [0.22, 0.6]\n");
+    expect_error(&bad, "walls[1].to", "shorter than one spacing");
+}

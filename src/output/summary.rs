@@ -34,6 +34,10 @@ pub struct RunSummary {
     pub outputs: usize,
     pub output_dir: String,
     pub final_diagnostics: Option<Diagnostics>,
+    /// Connected clusters of fluid particles (links under 1.5 dx,
+    /// `analysis::clusters`) at the last output: droplets.
+    #[serde(default)]
+    pub fluid_clusters: Option<usize>,
     pub status: RunStatus,
     /// The blow-up that stopped a failed run.
     pub fault: Option<Fault>,

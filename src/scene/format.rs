@@ -145,6 +145,10 @@ pub struct FluidMaterial {
     /// [-] XSPH epsilon, eq. (18). Default 0.
     #[serde(default)]
     pub xsph: f64,
+    /// [L^(d+1) M^-1 T^-2] gamma of the fluid-fluid cohesion force of Akinci, Akinci &
+    /// Teschner 2013 (droplets, surface tension). Default 0 = off (the paper).
+    #[serde(default)]
+    pub cohesion: f64,
 }
 
 fn default_gamma() -> f64 {
@@ -229,6 +233,11 @@ pub struct FluidBlock {
 }
 
 /// An elastic body. `shape` picks the variant; the other keys belong to that shape.
+/// `motion` [L/T] makes it driven: every particle moves at that velocity whatever the
+/// forces (a clamp with zero); at most one driven object (solid or wall) per scene. A
+/// driven body is its own group: it touches another body through the pressure and stress
+/// terms but is not elastically bonded to it (the velocity gradient, eq. (15), stays within
+/// a body).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum SolidObject {
@@ -237,6 +246,8 @@ pub enum SolidObject {
         max: Vec<f64>,
         #[serde(default)]
         velocity: Option<Vec<f64>>,
+        #[serde(default)]
+        motion: Option<Vec<f64>>,
     },
     /// 2D only.
     Disc {
@@ -244,6 +255,8 @@ pub enum SolidObject {
         radius: f64,
         #[serde(default)]
         velocity: Option<Vec<f64>>,
+        #[serde(default)]
+        motion: Option<Vec<f64>>,
     },
     /// 3D only.
     Sphere {
@@ -251,6 +264,8 @@ pub enum SolidObject {
         radius: f64,
         #[serde(default)]
         velocity: Option<Vec<f64>>,
+        #[serde(default)]
+        motion: Option<Vec<f64>>,
     },
 }
 
@@ -262,9 +277,19 @@ impl SolidObject {
             | SolidObject::Sphere { velocity, .. } => velocity.as_ref(),
         }
     }
+    /// [L/T] the prescribed velocity of a driven body (a clamp: zero), if any.
+    pub fn motion(&self) -> Option<&Vec<f64>> {
+        match self {
+            SolidObject::Box { motion, .. }
+            | SolidObject::Disc { motion, .. }
+            | SolidObject::Sphere { motion, .. } => motion.as_ref(),
+        }
+    }
 }
 
-/// Fixed boundary particles. Any wall may be a gate, removed at `remove_at`.
+/// Fixed boundary particles. Any wall may be a gate, removed at `remove_at`, or driven:
+/// `motion` [L/T] moves all its particles at that velocity (a piston); at most one driven
+/// object (solid or wall) per scene.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Wall {
@@ -281,6 +306,8 @@ pub enum Wall {
         open_top: bool,
         #[serde(default)]
         remove_at: Option<f64>,
+        #[serde(default)]
+        motion: Option<Vec<f64>>,
     },
     /// A filled box of boundary particles (obstacle or gate).
     Box {
@@ -288,6 +315,23 @@ pub enum Wall {
         max: Vec<f64>,
         #[serde(default)]
         remove_at: Option<f64>,
+        #[serde(default)]
+        motion: Option<Vec<f64>>,
+    },
+    /// 2D: `layers` rows of boundary particles along the segment `from` -> `to`, on its
+    /// left looking from `from` to `to` (the side away from the fluid), about dx apart. Fluid
+    /// and solids behind it (on its left, within its length) are not generated: a sloped
+    /// wall, e.g. a converging nozzle, cuts a fluid block.
+    Segment {
+        from: Vec<f64>,
+        to: Vec<f64>,
+        /// Default 3.
+        #[serde(default = "default_layers")]
+        layers: u32,
+        #[serde(default)]
+        remove_at: Option<f64>,
+        #[serde(default)]
+        motion: Option<Vec<f64>>,
     },
     /// Rings of boundary particles inward from `radius` (a cylinder along z in 3D).
     Cylinder {
@@ -298,6 +342,8 @@ pub enum Wall {
         layers: u32,
         #[serde(default)]
         remove_at: Option<f64>,
+        #[serde(default)]
+        motion: Option<Vec<f64>>,
     },
 }
 
@@ -305,7 +351,9 @@ impl Wall {
     /// Rows of boundary particles outside the shape (0 for a filled box).
     pub fn layers(&self) -> u32 {
         match self {
-            Wall::BoxContainer { layers, .. } | Wall::Cylinder { layers, .. } => *layers,
+            Wall::BoxContainer { layers, .. }
+            | Wall::Cylinder { layers, .. }
+            | Wall::Segment { layers, .. } => *layers,
             Wall::Box { .. } => 0,
         }
     }
@@ -313,7 +361,17 @@ impl Wall {
         match self {
             Wall::BoxContainer { remove_at, .. }
             | Wall::Box { remove_at, .. }
-            | Wall::Cylinder { remove_at, .. } => *remove_at,
+            | Wall::Cylinder { remove_at, .. }
+            | Wall::Segment { remove_at, .. } => *remove_at,
+        }
+    }
+    /// [L/T] the prescribed velocity of a driven wall (a piston), if any.
+    pub fn motion(&self) -> Option<&Vec<f64>> {
+        match self {
+            Wall::BoxContainer { motion, .. }
+            | Wall::Box { motion, .. }
+            | Wall::Cylinder { motion, .. }
+            | Wall::Segment { motion, .. } => motion.as_ref(),
         }
     }
 }

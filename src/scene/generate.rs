@@ -6,6 +6,8 @@
 //! * `box-container` walls: `layers` rows just outside the box, at `min - (k + 0.5) dx` and
 //!   `max + (k + 0.5) dx`, none above `max[1]` when `open_top` (y is up). Fluid at spacing dx
 //!   inside the box then sits dx from the first row.
+//! * `segment` walls (2D): `layers` rows on the segment's left at (k + 0.5) dx, about dx
+//!   apart along it; fluid and solids behind it (its left, within its length) are dropped.
 //! * `cylinder` walls: rings at radius `r - (k + 0.5) dx`, about dx apart along the ring;
 //!   in 3D repeated along z on the domain's lattice.
 //! * Overlaps: walls take precedence over solids, solids over fluid; within a kind an
@@ -15,6 +17,7 @@
 //! * `group` = the object's index in the sequence fluid_blocks, solids, walls; the final
 //!   list is ordered by group, then generation order; `id` = index in that list.
 //! * Mass = reference density * dx^dim (boundary particles take the fluid's rho0).
+//! * A driven object (`motion`) starts at its prescribed velocity.
 
 use std::collections::HashMap;
 
@@ -49,6 +52,11 @@ enum Region<'a> {
         center: &'a [f64],
         radius: f64,
     },
+    /// Behind a 2D segment: on its left (looking from `from` to `to`), within its length.
+    Behind {
+        from: &'a [f64],
+        to: &'a [f64],
+    },
 }
 
 impl Region<'_> {
@@ -62,6 +70,13 @@ impl Region<'_> {
             }
             Region::Column { center, radius } => {
                 (0..2).map(|a| (p[a] - center[a]).powi(2)).sum::<f64>() < radius * radius
+            }
+            Region::Behind { from, to } => {
+                let d = [to[0] - from[0], to[1] - from[1]];
+                let q = [p[0] - from[0], p[1] - from[1]];
+                let along = (q[0] * d[0] + q[1] * d[1]) / (d[0] * d[0] + d[1] * d[1]);
+                let left = d[0] * q[1] - d[1] * q[0];
+                (0.0..=1.0).contains(&along) && left > 0.0
             }
         }
     }
@@ -181,6 +196,28 @@ fn cylinder_points(
     out
 }
 
+/// `layers` rows along the 2D segment from -> to, on its left, at (k + 0.5) dx from it;
+/// round(len / dx) particles per row at the midpoints of equal pieces.
+fn segment_points(from: &[f64], to: &[f64], layers: u32, dx: f64) -> Vec<P3> {
+    let d = [to[0] - from[0], to[1] - from[1]];
+    let len = d[0].hypot(d[1]);
+    let n_left = [-d[1] / len, d[0] / len];
+    let n = ((len / dx).round() as usize).max(1);
+    let mut out = Vec::new();
+    for k in 0..layers {
+        let off = (k as f64 + 0.5) * dx;
+        for i in 0..n {
+            let t = (i as f64 + 0.5) / n as f64;
+            out.push([
+                from[0] + t * d[0] + off * n_left[0],
+                from[1] + t * d[1] + off * n_left[1],
+                0.0,
+            ]);
+        }
+    }
+    out
+}
+
 /// A hash grid of kept positions with cell size dx.
 struct Grid {
     dx: f64,
@@ -295,6 +332,12 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
                 )
             }
             Wall::Box { min, max, .. } => (box_points(min, max, dx, dim), Region::Box(min, max)),
+            Wall::Segment {
+                from, to, layers, ..
+            } => (
+                segment_points(from, to, *layers, dx),
+                Region::Behind { from, to },
+            ),
             Wall::Cylinder {
                 center,
                 radius,
@@ -365,11 +408,18 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
     for (i, obj) in objects.iter().enumerate() {
         let (rho_ref, velocity) = match obj.kind {
             Kind::Fluid => (f.density, vec3(s.fluid_blocks[i].velocity.as_ref())),
-            Kind::Solid => (
-                s.solid.as_ref().map(|m| m.density).unwrap_or(f.density),
-                vec3(s.solids[i - n_fluid as usize].velocity()),
+            Kind::Solid => {
+                let o = &s.solids[i - n_fluid as usize];
+                (
+                    s.solid.as_ref().map(|m| m.density).unwrap_or(f.density),
+                    vec3(o.motion().or(o.velocity())),
+                )
+            }
+            // A driven wall (piston) starts at its prescribed velocity.
+            Kind::Boundary => (
+                f.density,
+                vec3(s.walls[i - (n_fluid + n_solid) as usize].motion()),
             ),
-            Kind::Boundary => (f.density, [0.0; 3]),
         };
         for p in &kept[i] {
             let (mut density, mut pressure) = (rho_ref, 0.0);

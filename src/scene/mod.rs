@@ -32,6 +32,7 @@
 //! beta = 0.0                         # default 0, eq. (10)
 //! viscosity = 0.0                    # nu, default 0 = off
 //! xsph = 0.5                         # default 0, eq. (18)
+//! cohesion = 0.0                     # gamma, default 0 = off: Akinci et al. 2013 fluid cohesion
 //!
 //! [solid]                            # only with solid objects
 //! density = 600.0
@@ -59,14 +60,19 @@
 //! center = [2.0, 1.5]
 //! radius = 0.2
 //! velocity = [0.0, 0.0]              # default zero
+//! # motion = [0.0, 0.0]              # optional: driven (a clamp), moves at this velocity
 //!
 //! [[walls]]
 //! shape = "box-container"            # | "box" {min, max} | "cylinder" {center, radius, layers}
+//!                                    # | "segment" (2D) {from, to, layers}: rows on the left
+//!                                    #   of from -> to; fluid behind it is not generated
 //! min = [0.0, 0.0]
 //! max = [4.0, 2.0]
 //! layers = 3                         # default 3
 //! open_top = true                    # default true
 //! remove_at = 0.5                    # optional: a gate, removed at this time
+//! # motion = [20.0, 0.0]             # optional: driven (a piston), moves at this velocity;
+//! #                                  # at most one driven object (wall or solid) per scene
 //! ```
 //!
 //! See `generate.rs` for how shapes become particles and how overlaps are resolved.
@@ -103,6 +109,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "impinging-3d",
         include_str!("../../scenes/impinging-3d.toml"),
     ),
+    ("nozzle", include_str!("../../scenes/nozzle.toml")),
     ("tank-2d", include_str!("../../scenes/tank-2d.toml")),
     ("tank-3d", include_str!("../../scenes/tank-3d.toml")),
 ];
@@ -319,6 +326,24 @@ impl Scene {
     }
 }
 
+/// The driven object (a `motion` on a solid or a wall; validation allows one): its group
+/// id and prescribed velocity [L/T].
+pub(crate) fn driven_object(s: &SceneFile) -> Option<(u32, &Vec<f64>)> {
+    let n_fluid = s.fluid_blocks.len();
+    let solids = s
+        .solids
+        .iter()
+        .enumerate()
+        .filter_map(|(i, o)| o.motion().map(|m| ((n_fluid + i) as u32, m)));
+    let base = n_fluid + s.solids.len();
+    let walls = s
+        .walls
+        .iter()
+        .enumerate()
+        .filter_map(|(i, w)| w.motion().map(|m| ((base + i) as u32, m)));
+    solids.chain(walls).next()
+}
+
 fn scene_params(s: &SceneFile) -> SphParams {
     use format::*;
     let dim = s.dimension as usize;
@@ -358,6 +383,7 @@ fn scene_params(s: &SceneFile) -> SphParams {
     p.beta = f.beta as f32;
     p.nu = f.viscosity as f32;
     p.xsph_eps = f.xsph as f32;
+    p.cohesion = f.cohesion as f32;
 
     // Without solids the solid fields mirror the fluid's, so nothing divides by zero.
     match &s.solid {
@@ -402,6 +428,13 @@ fn scene_params(s: &SceneFile) -> SphParams {
     } as i32;
     p.courant = s.time.courant as f32;
     p.dt_fixed = s.time.dt.unwrap_or(0.0) as f32;
+    if let Some((group, motion)) = driven_object(s) {
+        p.driven = 1;
+        p.driven_group = group as i32;
+        for (a, u) in motion.iter().enumerate() {
+            p.driven_velocity[a] = *u as f32;
+        }
+    }
     params::derive(&mut p);
     p
 }

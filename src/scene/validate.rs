@@ -193,6 +193,7 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
     c.non_negative("fluid.beta", f.beta)?;
     c.non_negative("fluid.viscosity", f.viscosity)?;
     c.non_negative("fluid.xsph", f.xsph)?;
+    c.non_negative("fluid.cohesion", f.cohesion)?;
     if f.xsph > 1.0 {
         return Err(c.err(
             "fluid.xsph",
@@ -247,6 +248,13 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
     for (i, o) in s.solids.iter().enumerate() {
         let field = format!("solids[{i}]");
         c.opt_vec(&format!("{field}.velocity"), &o.velocity().cloned())?;
+        c.opt_vec(&format!("{field}.motion"), &o.motion().cloned())?;
+        if o.velocity().is_some() && o.motion().is_some() {
+            return Err(c.err(
+                format!("{field}.velocity"),
+                "a driven body (motion) moves at its motion; give motion or velocity, not both",
+            ));
+        }
         match o {
             SolidObject::Box { min, max, .. } => {
                 c.corners(&field, min, max)?;
@@ -286,6 +294,7 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
     }
     for (i, w) in s.walls.iter().enumerate() {
         let field = format!("walls[{i}]");
+        c.opt_vec(&format!("{field}.motion"), &w.motion().cloned())?;
         if let Some(t) = w.remove_at() {
             c.non_negative(&format!("{field}.remove_at"), t)?;
         }
@@ -313,6 +322,33 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
                 c.corners(&field, min, max)?;
                 c.inside(&field, "the box", min, max, dom)?;
             }
+            Wall::Segment {
+                from, to, layers, ..
+            } => {
+                if dim != 2 {
+                    return Err(c.err(format!("{field}.shape"), "a \"segment\" wall is 2D only"));
+                }
+                c.vec(&format!("{field}.from"), from)?;
+                c.vec(&format!("{field}.to"), to)?;
+                let len = (to[0] - from[0]).hypot(to[1] - from[1]);
+                if len < d.spacing {
+                    return Err(c.err(
+                        format!("{field}.to"),
+                        format!("the segment is {} long, shorter than one spacing", fmt(len)),
+                    ));
+                }
+                if *layers == 0 {
+                    return Err(c.err(format!("{field}.layers"), "must be at least 1"));
+                }
+                // The rows reach `layers` dx to the left of the segment.
+                let t = *layers as f64 * d.spacing / len;
+                let n = [-(to[1] - from[1]) * t, (to[0] - from[0]) * t];
+                let xs = [from[0], to[0], from[0] + n[0], to[0] + n[0]];
+                let ys = [from[1], to[1], from[1] + n[1], to[1] + n[1]];
+                let lo = [xs, ys].map(|v| v.iter().cloned().fold(f64::MAX, f64::min));
+                let hi = [xs, ys].map(|v| v.iter().cloned().fold(f64::MIN, f64::max));
+                c.inside(&field, "the segment with its wall layers", &lo, &hi, dom)?;
+            }
             Wall::Cylinder {
                 center,
                 radius,
@@ -333,6 +369,25 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
                 c.inside(&field, "the cylinder", &lo, &hi, dom)?;
             }
         }
+    }
+    let driven: Vec<String> = (s.solids.iter().enumerate())
+        .filter(|(_, o)| o.motion().is_some())
+        .map(|(i, _)| format!("solids[{i}]"))
+        .chain(
+            (s.walls.iter().enumerate())
+                .filter(|(_, w)| w.motion().is_some())
+                .map(|(i, _)| format!("walls[{i}]")),
+        )
+        .collect();
+    if driven.len() > 1 {
+        return Err(c.err(
+            format!("{}.motion", driven[1]),
+            format!(
+                "at most one driven object (motion) per scene; found {} ({})",
+                driven.len(),
+                driven.join(", ")
+            ),
+        ));
     }
     if s.fluid_blocks.is_empty() && s.solids.is_empty() && s.walls.is_empty() {
         return Err(c.err(

@@ -1,5 +1,5 @@
 //! Accelerations: eqs. (7), (10), (16), (17), laminar viscosity, artificial stress,
-//! gravity. Twin: `cuda/forces.cu`; parity test `tests/cuda_parity.rs`.
+//! fluid cohesion (Akinci et al. 2013), gravity. Twin: `cuda/forces.cu`; parity test `tests/cuda_parity.rs`.
 
 use rayon::prelude::*;
 
@@ -46,6 +46,29 @@ pub fn artificial_viscosity(p: &SphParams, vr: f32, r2: f32, c_bar: f32, rho_bar
 #[inline]
 pub fn laminar(p: &SphParams, r2: f32, f: f32, rho_i: f32, rho_j: f32) -> f32 {
     p.nu * (rho_i + rho_j) / (rho_i * rho_j) * (r2 * f) / (r2 + p.visc_eta2)
+}
+
+/// Cohesion spline of Akinci, Akinci & Teschner 2013 ("Versatile surface tension and
+/// adhesion for SPH fluids", eq. (2)) over the support s = 2h, divided by r:
+/// C(r) / r with C(r) = 32 / (pi s^9) * { (s - r)^3 r^3 for s/2 < r <= s;
+/// 2 (s - r)^3 r^3 - s^6 / 64 for 0 < r <= s/2 }, 0 beyond s, written with x = r / s as
+/// 32 / (pi s^3) (1 - x)^3 x^3 (f32 range). The 3D normalisation in 2D as well (gamma is a
+/// tuning constant either way). C < 0 (repulsive) for r < 0.27 s, > 0 (attractive) beyond.
+/// [L^-d-1]; the pair acceleration is -gamma m_j C(r) r_ij / r.
+#[inline]
+pub fn cohesion_over_r(support: f32, rr: f32) -> f32 {
+    if rr <= 0.0 || rr > support {
+        return 0.0;
+    }
+    let x = rr / support;
+    let y = 1.0 - x;
+    let poly = y * y * y * x * x * x;
+    let c = if x > 0.5 {
+        poly
+    } else {
+        2.0 * poly - 1.0 / 64.0
+    };
+    32.0 / (std::f32::consts::PI * support * support * support) * c / rr
 }
 
 pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
@@ -107,6 +130,11 @@ pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 // Laminar viscosity wherever fluid meets fluid, a solid or a wall (no-slip).
                 if p.nu > 0.0 && (ki as u32 == MF_KIND_FLUID || kj32 == MF_KIND_FLUID) {
                     acc += vij * (mass[j] * laminar(p, r2, fw, rhoi, rhoj));
+                }
+                // Cohesion between fluid particles, Akinci et al. 2013, eq. (2) (no curvature
+                // term): -gamma m_j C(r) r_ij / r. A uniform branch: nothing when gamma = 0.
+                if p.cohesion != 0.0 && ki as u32 == MF_KIND_FLUID && kj32 == MF_KIND_FLUID {
+                    acc -= r * (p.cohesion * mass[j] * cohesion_over_r(p.support, rr));
                 }
                 if let Some(r_art) = art {
                     if same_body && ki as u32 == MF_KIND_SOLID {

@@ -23,12 +23,24 @@ pub fn wrap<D: Dim>(p: &SphParams, x: &mut D::V) {
     }
 }
 
-/// The kick: v += dt a for fluid and solid particles. [L/T]
-pub fn kick<D: Dim>(dt: f32, s: &mut State<D>) {
-    let (kind, acc) = (&s.kind, &s.acc);
+/// The prescribed velocity of particle `i` when it belongs to the driven group (a piston,
+/// a clamp: `driven`, `driven_group`, `driven_velocity`), of any kind. [L/T]
+#[inline]
+pub fn driven_velocity<D: Dim>(p: &SphParams, group: u32) -> Option<D::V> {
+    (p.driven != 0 && group == p.driven_group as u32).then(|| D::from3(p.driven_velocity))
+}
+
+/// The kick: v += dt a for fluid and solid particles; the driven group's velocity is set to
+/// its prescribed value, whatever the forces. [L/T]
+pub fn kick<D: Dim>(p: &SphParams, dt: f32, s: &mut State<D>) {
+    let (kind, group, acc) = (&s.kind, &s.group, &s.acc);
     s.vel.par_iter_mut().enumerate().for_each(|(i, v)| {
         if kind[i] as u32 != MF_KIND_BOUNDARY {
             *v += acc[i] * dt;
+        }
+        // Driven group (piston, clamp): prescribed velocity.
+        if let Some(u) = driven_velocity::<D>(p, group[i]) {
+            *v = u;
         }
     });
 }
@@ -36,11 +48,15 @@ pub fn kick<D: Dim>(dt: f32, s: &mut State<D>) {
 /// The drift: x += dt (v + xsph), eq. (18); rho += dt d rho/dt; S += dt dS/dt. With the
 /// paper's forward Euler, eq. (19), it runs before the kick (x^{n+1} takes v^n); with the
 /// symplectic Euler after it (x^{n+1} takes v^{n+1}). Boundary particles stay put (their
-/// density changes with dynamic walls).
+/// density changes with dynamic walls), except a driven group, which moves at its
+/// prescribed velocity (no XSPH), whatever its kind.
 pub fn drift<D: Dim>(p: &SphParams, dt: f32, s: &mut State<D>) {
-    let (kind, vel, xsph) = (&s.kind, &s.vel, &s.xsph);
+    let (kind, group, vel, xsph) = (&s.kind, &s.group, &s.vel, &s.xsph);
     s.pos.par_iter_mut().enumerate().for_each(|(i, x)| {
-        if kind[i] as u32 != MF_KIND_BOUNDARY {
+        if let Some(u) = driven_velocity::<D>(p, group[i]) {
+            *x += u * dt;
+            wrap::<D>(p, x);
+        } else if kind[i] as u32 != MF_KIND_BOUNDARY {
             *x += (vel[i] + xsph[i]) * dt;
             wrap::<D>(p, x);
         }

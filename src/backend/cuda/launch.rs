@@ -356,20 +356,22 @@ pub fn step_size(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     });
 }
 
-/// v += dt a (dt read on the device).
-pub fn kick(k: &Kernels, s: &Arc<CudaStream>, b: &mut Buffers) {
+/// v += dt a (dt read on the device); the driven group's velocity set.
+pub fn kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     if b.n == 0 {
         return;
     }
     let n = b.n as u32;
     let c = &mut b.cur;
-    // SAFETY: sph_kick_{2,3}d(unsigned n, const float* dt_dev, const unsigned char* kind,
-    // float* vel, const float* acc).
+    // SAFETY: sph_kick_{2,3}d(const SphParams p, unsigned n, const float* dt_dev,
+    // const unsigned char* kind, const unsigned* group, float* vel, const float* acc).
     k.kick.check(unsafe {
         s.launch_builder(&k.kick.f)
+            .arg(p)
             .arg(&n)
             .arg(&b.dt)
             .arg(&c.kind)
+            .arg(&c.group)
             .arg(&mut c.vel)
             .arg(&b.acc)
             .launch(cfg(b.n))
@@ -382,8 +384,9 @@ pub fn drift(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     let n = b.n as u32;
     let c = &mut b.cur;
     // SAFETY: sph_drift_{2,3}d(const SphParams p, unsigned n, const float* dt_dev,
-    // double* time, const unsigned char* kind, float* pos, const float* vel,
-    // const float* xsph, float* rho, const float* drho, float* stress, const float* rate);
+    // double* time, const unsigned char* kind, const unsigned* group, float* pos,
+    // const float* vel, const float* xsph, float* rho, const float* drho, float* stress,
+    // const float* rate);
     // drho, stress and rate may be null. Launched even for n = 0: it advances the clock.
     let mut l = s.launch_builder(&k.drift.f);
     l.arg(p)
@@ -391,6 +394,7 @@ pub fn drift(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
         .arg(&b.dt)
         .arg(&mut b.time)
         .arg(&c.kind)
+        .arg(&c.group)
         .arg(&mut c.pos)
         .arg(&c.vel);
     l.arg(&b.xsph).arg(&mut c.rho);

@@ -1,0 +1,3 @@
+//! Measurements on particle sets, shared by the run driver, the tests and validation.
+
+pub mod clusters;
