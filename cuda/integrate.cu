@@ -1,19 +1,35 @@
-// Time integration: the kick (v += dt a) and the drift (x += dt (v + xsph), eq. (18), with
+// Time integration: the kick (v += dt a; set in the inflow band) and the drift (x += dt (v + xsph), eq. (18), with
 // the periodic wrap; rho += dt d rho/dt; S += dt dS/dt; the device clock). dt is read on the
 // device (written by sph_step_size): no host round trip per step.
 // Twin: src/backend/cpu/integrate.rs; parity test: tests/cuda_parity.rs.
 #include "common.cuh"
 
+// Inflow band (`p.inflow`): fluid particles with inflow_lo <= x[inflow_axis] < inflow_hi
+// get their velocity set to inflow_velocity instead of integrated.
 template <int DIM>
-__device__ void sph_kick_body(unsigned n, const float* __restrict__ dt_dev, const unsigned char* __restrict__ kind,
+__device__ void sph_kick_body(const SphParams p, unsigned n, const float* __restrict__ dt_dev,
+                              const unsigned char* __restrict__ kind, const float* __restrict__ pos,
                               float* __restrict__ vel, const float* __restrict__ acc) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= n || kind[i] == MF_KIND_BOUNDARY) return;
+    if (i >= n) return;
+    if (p.inflow && kind[i] == MF_KIND_FLUID) {
+        const float c = vload<DIM>(pos, i).c[p.inflow_axis];
+        if (c >= p.inflow_lo && c < p.inflow_hi) {
+            Vec<DIM> v;
+#pragma unroll
+            for (int d = 0; d < DIM; ++d) v.c[d] = p.inflow_velocity[d];
+            vstore<DIM>(vel, i, v);
+            return;
+        }
+    }
+    if (kind[i] == MF_KIND_BOUNDARY) return;
     const float dt = *dt_dev;
     vstore<DIM>(vel, i, vload<DIM>(vel, i) + vload<DIM>(acc, i) * dt);
 }
-MF_ENTRY2(sph_kick, (unsigned n, const float* dt_dev, const unsigned char* kind, float* vel, const float* acc),
-          (n, dt_dev, kind, vel, acc))
+MF_ENTRY2(sph_kick,
+          (const SphParams p, unsigned n, const float* dt_dev, const unsigned char* kind, const float* pos,
+           float* vel, const float* acc),
+          (p, n, dt_dev, kind, pos, vel, acc))
 
 // drho: null without the continuity density; stress, rate: null without solids.
 template <int DIM>

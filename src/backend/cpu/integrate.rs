@@ -4,7 +4,7 @@
 use rayon::prelude::*;
 
 use crate::dim::Dim;
-use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_SOLID};
+use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID};
 use crate::state::State;
 
 /// Wrap a position into the domain on periodic axes.
@@ -23,10 +23,28 @@ pub fn wrap<D: Dim>(p: &SphParams, x: &mut D::V) {
     }
 }
 
+/// Whether a particle lies in the scene's inflow band: a fluid particle with
+/// `inflow_lo <= x[inflow_axis] < inflow_hi` while `inflow` is on.
+#[inline]
+pub fn in_inflow_band<D: Dim>(p: &SphParams, kind: u8, x: D::V) -> bool {
+    if p.inflow == 0 || kind as u32 != MF_KIND_FLUID {
+        return false;
+    }
+    let c = D::comp(x, p.inflow_axis as usize);
+    c >= p.inflow_lo && c < p.inflow_hi
+}
+
 /// The kick: v += dt a for fluid and solid particles. [L/T]
-pub fn kick<D: Dim>(dt: f32, s: &mut State<D>) {
-    let (kind, acc) = (&s.kind, &s.acc);
+pub fn kick<D: Dim>(p: &SphParams, dt: f32, s: &mut State<D>) {
+    let (kind, acc, pos) = (&s.kind, &s.acc, &s.pos);
+    let band_v = D::from3(p.inflow_velocity);
     s.vel.par_iter_mut().enumerate().for_each(|(i, v)| {
+        // Inflow band: the velocity is set, not integrated (holds the mean flow of a
+        // periodic channel, wiping the wake that comes round).
+        if in_inflow_band::<D>(p, kind[i], pos[i]) {
+            *v = band_v;
+            return;
+        }
         if kind[i] as u32 != MF_KIND_BOUNDARY {
             *v += acc[i] * dt;
         }

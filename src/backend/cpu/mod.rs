@@ -9,8 +9,8 @@ mod rates;
 mod reduce;
 mod stress;
 
-pub use density::pressure;
-pub use forces::{artificial_viscosity, laminar, lennard_jones};
+pub use density::{couples, pressure};
+pub use forces::{artificial_viscosity, laminar, lennard_jones, wall_pair_stress};
 pub use grid::{cell_coords, cell_index, separation, Grid};
 pub use reduce::step_size;
 pub use stress::{artificial_stress, jacobi_eigen};
@@ -98,7 +98,7 @@ impl<D: Dim> Solver for CpuSolver<D> {
         self.dt = step_size(&self.params, c, v, a);
     }
     fn kick(&mut self) {
-        integrate::kick(self.dt, &mut self.state);
+        integrate::kick(&self.params, self.dt, &mut self.state);
     }
     fn drift(&mut self) {
         integrate::drift(&self.params, self.dt, &mut self.state);

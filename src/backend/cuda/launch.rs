@@ -346,20 +346,22 @@ pub fn step_size(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     });
 }
 
-/// v += dt a (dt read on the device).
-pub fn kick(k: &Kernels, s: &Arc<CudaStream>, b: &mut Buffers) {
+/// v += dt a (dt read on the device); v = inflow_velocity in the inflow band.
+pub fn kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     if b.n == 0 {
         return;
     }
     let n = b.n as u32;
     let c = &mut b.cur;
-    // SAFETY: sph_kick_{2,3}d(unsigned n, const float* dt_dev, const unsigned char* kind,
-    // float* vel, const float* acc).
+    // SAFETY: sph_kick_{2,3}d(const SphParams p, unsigned n, const float* dt_dev,
+    // const unsigned char* kind, const float* pos, float* vel, const float* acc).
     k.kick.check(unsafe {
         s.launch_builder(&k.kick.f)
+            .arg(p)
             .arg(&n)
             .arg(&b.dt)
             .arg(&c.kind)
+            .arg(&c.pos)
             .arg(&mut c.vel)
             .arg(&b.acc)
             .launch(cfg(b.n))

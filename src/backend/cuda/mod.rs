@@ -181,7 +181,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
         launch::step_size(&self.k, &self.dev.stream, &self.params, &mut self.buf);
     }
     fn kick(&mut self) {
-        launch::kick(&self.k, &self.dev.stream, &mut self.buf);
+        launch::kick(&self.k, &self.dev.stream, &self.params, &mut self.buf);
     }
     fn drift(&mut self) {
         launch::drift(&self.k, &self.dev.stream, &self.params, &mut self.buf);
