@@ -118,6 +118,14 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ),
     ("tank-2d", include_str!("../../scenes/tank-2d.toml")),
     ("tank-3d", include_str!("../../scenes/tank-3d.toml")),
+    (
+        "vortex-street-re105",
+        include_str!("../../scenes/vortex-street-re105.toml"),
+    ),
+    (
+        "vortex-street-re140",
+        include_str!("../../scenes/vortex-street-re140.toml"),
+    ),
 ];
 
 /// Names of the built-in scenes.
