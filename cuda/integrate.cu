@@ -1,6 +1,7 @@
-// Time integration: the kick (v += dt a; set in the inflow band) and the drift (x += dt (v + xsph), eq. (18), with
-// the periodic wrap; rho += dt d rho/dt; S += dt dS/dt; the device clock). dt is read on the
-// device (written by sph_step_size): no host round trip per step.
+// Time integration: the kick (v += dt a; v set in the inflow band) and the drift
+// (x += dt (v + xsph), eq. (18), with the periodic wrap; rho += dt d rho/dt; S += dt dS/dt;
+// the device clock). dt is read on the device (written by sph_step_size): no host round
+// trip per step.
 // Twin: src/backend/cpu/integrate.rs; parity test: tests/cuda_parity.rs.
 #include "common.cuh"
 

@@ -34,7 +34,8 @@ pub fn in_inflow_band<D: Dim>(p: &SphParams, kind: u8, x: D::V) -> bool {
     c >= p.inflow_lo && c < p.inflow_hi
 }
 
-/// The kick: v += dt a for fluid and solid particles. [L/T]
+/// The kick: v += dt a for fluid and solid particles; v = inflow_velocity for fluid in the
+/// inflow band (`in_inflow_band`). [L/T]
 pub fn kick<D: Dim>(p: &SphParams, dt: f32, s: &mut State<D>) {
     let (kind, acc, pos) = (&s.kind, &s.acc, &s.pos);
     let band_v = D::from3(p.inflow_velocity);
