@@ -1,6 +1,7 @@
-// Time integration: the kick (v += dt a; a driven group's velocity set) and the drift (x += dt (v + xsph), eq. (18), with
-// the periodic wrap; rho += dt d rho/dt; S += dt dS/dt; the device clock). dt is read on the
-// device (written by sph_step_size): no host round trip per step.
+// Time integration: the kick (v += dt a; v set in the inflow band; a driven group's
+// velocity set) and the drift (x += dt (v + xsph), eq. (18), with the periodic wrap;
+// rho += dt d rho/dt; S += dt dS/dt; the device clock). dt is read on the device (written
+// by sph_step_size): no host round trip per step.
 // Twin: src/backend/cpu/integrate.rs; parity test: tests/cuda_parity.rs.
 #include "common.cuh"
 
@@ -10,12 +11,25 @@ __device__ __forceinline__ bool is_driven(const SphParams& p, unsigned group) {
     return p.driven != 0 && group == (unsigned)p.driven_group;
 }
 
+// Inflow band (`p.inflow`): fluid particles with inflow_lo <= x[inflow_axis] < inflow_hi
+// get their velocity set to inflow_velocity instead of integrated (twin: `in_inflow_band`).
 template <int DIM>
 __device__ void sph_kick_body(const SphParams p, unsigned n, const float* __restrict__ dt_dev,
                               const unsigned char* __restrict__ kind, const unsigned* __restrict__ group,
-                              float* __restrict__ vel, const float* __restrict__ acc) {
+                              const float* __restrict__ pos, float* __restrict__ vel,
+                              const float* __restrict__ acc) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
+    if (p.inflow && kind[i] == MF_KIND_FLUID) {
+        const float c = vload<DIM>(pos, i).c[p.inflow_axis];
+        if (c >= p.inflow_lo && c < p.inflow_hi) {
+            Vec<DIM> v;
+#pragma unroll
+            for (int d = 0; d < DIM; ++d) v.c[d] = p.inflow_velocity[d];
+            vstore<DIM>(vel, i, v);
+            return;
+        }
+    }
     // Driven group: prescribed velocity, whatever the forces.
     if (is_driven(p, group[i])) {
         Vec<DIM> u;
@@ -30,8 +44,8 @@ __device__ void sph_kick_body(const SphParams p, unsigned n, const float* __rest
 }
 MF_ENTRY2(sph_kick,
           (const SphParams p, unsigned n, const float* dt_dev, const unsigned char* kind, const unsigned* group,
-           float* vel, const float* acc),
-          (p, n, dt_dev, kind, group, vel, acc))
+           const float* pos, float* vel, const float* acc),
+          (p, n, dt_dev, kind, group, pos, vel, acc))
 
 // drho: null without the continuity density; stress, rate: null without solids.
 template <int DIM>

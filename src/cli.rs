@@ -58,7 +58,8 @@ pub enum Command {
     /// columns): per-field error norms and the worst particles.
     Compare(CompareArgs),
     /// Accuracy cases against published references (hydrostatic tank, dam break, Poiseuille,
-    /// Taylor-Green): plots, report.md and report.json; exits non-zero when a check fails.
+    /// Taylor-Green, cylinder): plots, report.md and report.json; exits non-zero when a check
+    /// fails.
     Validate(ValidateArgs),
 }
 
@@ -365,7 +366,8 @@ pub struct ValidateArgs {
     /// Output directory for report.md, report.json and the plots.
     #[arg(long, value_name = "DIR", default_value = "out/validate")]
     pub out: PathBuf,
-    /// Run only this case (repeatable): hydrostatic-tank, dam-break, poiseuille, taylor-green.
+    /// Run only this case (repeatable): hydrostatic-tank, dam-break, poiseuille, taylor-green,
+    /// cylinder.
     #[arg(long, value_name = "NAME")]
     pub case: Vec<String>,
 }

@@ -7,6 +7,7 @@ pub mod cli;
 pub mod compare;
 pub mod dim;
 pub mod kernel;
+pub mod monitor;
 pub mod output;
 pub mod params;
 pub mod particle;

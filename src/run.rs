@@ -7,8 +7,10 @@
 //! `CHECK_EVERY` steps and at each output; output at each output time }; a last output at
 //! the end. Each output writes `particles_NNNNN.vtu`, rewrites `particles.pvd`, appends a
 //! row to `diagnostics.csv` and one to `clusters.csv` (the number of connected fluid
-//! clusters, `analysis::clusters`). `summary.json` is written at the end, also after a
-//! blow-up, with the cluster count of the last output.
+//! clusters, `analysis::clusters`). Force monitors (`crate::monitor`) sample at t = 0 and
+//! every `interval` after it (a step boundary at or past the time) into `<name>.csv`.
+//! `summary.json` is written at the end, also after a blow-up, with the cluster count of
+//! the last output.
 
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -16,6 +18,7 @@ use std::time::Instant;
 
 use crate::analysis::clusters;
 use crate::backend::{self, BackendChoice, BackendError};
+use crate::monitor::Monitors;
 use crate::output::{self, DiagnosticsCsv, PvdSeries, RunStatus, RunSummary};
 use crate::particle::Particle;
 use crate::scene::{Counts, Overrides, Scene, SceneError};
@@ -185,6 +188,8 @@ pub fn run_observed(
         with_stress,
         particle_csv: options.particle_csv,
     };
+    let mut monitors = Monitors::create(&scene, &out_dir)
+        .map_err(|(path, source)| RunError::Io { path, source })?;
 
     let t_end = scene.file.time.end;
     let interval = scene.file.time.output_interval;
@@ -219,6 +224,7 @@ pub fn run_observed(
         fluid_clusters: None,
         status: RunStatus::Completed,
         fault: None,
+        monitors: Vec::new(),
     };
 
     let mut gates = Gates::new(scene.gates());
@@ -229,6 +235,7 @@ pub fn run_observed(
     let result = (|| -> Result<(), RunFailure> {
         solver.check().map_err(RunFailure::Fault)?;
         let mut last = out.output(&mut *solver, observer)?;
+        monitors.sample_due(&mut *solver, eps)?;
         let mut next_output = interval;
         // The clock is a read-back on the GPU: between reads the driver takes a batch of
         // steps, half the estimated number to the next output, gate or end, at most
@@ -247,7 +254,8 @@ pub fn run_observed(
             }
             let next_event = next_output
                 .min(t_end)
-                .min(gates.next_time().unwrap_or(f64::INFINITY));
+                .min(gates.next_time().unwrap_or(f64::INFINITY))
+                .min(monitors.next_time().unwrap_or(f64::INFINITY));
             let mut batch = if dt_estimate > 0.0 {
                 ((next_event - t) / dt_estimate * 0.5).floor().max(1.0) as u64
             } else {
@@ -277,6 +285,7 @@ pub fn run_observed(
                 last = out.output(&mut *solver, observer)?;
                 next_output = ((t_new / interval + 1e-9).floor() + 1.0) * interval;
             }
+            monitors.sample_due(&mut *solver, eps)?;
             report.progress(t_new, steps - first_step, &last);
         }
         if last.step != solver.steps() {
@@ -298,6 +307,7 @@ pub fn run_observed(
     };
     summary.final_diagnostics = Some(solver.diagnostics());
     summary.fluid_clusters = out.last_clusters;
+    summary.monitors = monitors.summaries();
     let failure = match result {
         Ok(()) => None,
         Err(RunFailure::Fault(f)) => {
@@ -330,6 +340,12 @@ enum RunFailure {
 impl From<RunError> for RunFailure {
     fn from(e: RunError) -> Self {
         RunFailure::Io(e)
+    }
+}
+
+impl From<(PathBuf, std::io::Error)> for RunFailure {
+    fn from((path, source): (PathBuf, std::io::Error)) -> Self {
+        RunFailure::Io(RunError::Io { path, source })
     }
 }
 
@@ -466,5 +482,8 @@ impl Reporter {
             "{status}: {} steps to t = {:.4} in {:.2} s ({:.3e} particle-steps/s), {} outputs in {}",
             s.steps, s.simulated_time, s.wall_seconds, s.particle_steps_per_second, s.outputs, s.output_dir
         ));
+        for m in &s.monitors {
+            self.line(&m.to_string());
+        }
     }
 }

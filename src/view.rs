@@ -164,6 +164,7 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
         final_diagnostics: Some(d),
         status: RunStatus::Completed,
         fault: None,
+        monitors: Vec::new(),
     };
     let path = out.join("summary.json");
     std::fs::write(&path, serde_json::to_string_pretty(&summary)?)

@@ -1,9 +1,9 @@
 //! CPU vs CUDA, stage by stage (`src/backend/cpu/*.rs` <-> `cuda/*.cu`), in 2D and 3D with
 //! fluid, an elastic body, wall particles and a periodic axis, in four variants (dynamic
 //! walls / Lennard-Jones-only walls, summation / continuity density, forward / symplectic
-//! Euler, with / without artificial stress); the stages run in the order of `Solver::step`
-//! for the variant's integrator. Then diagnostics after 200 steps; and the `SphParams`
-//! layout as nvcc sees it.
+//! Euler, with / without artificial stress; two also with an inflow band); the stages run
+//! in the order of `Solver::step` for the variant's integrator. Then diagnostics after 200
+//! steps; and the `SphParams` layout as nvcc sees it.
 //!
 //! Without a usable GPU each test prints why and passes; with `MESHFREE_REQUIRE_CUDA=1` it
 //! fails instead.
@@ -348,6 +348,19 @@ fn stages<D: Dim>(dim: usize, v: Variant) {
     stages_on::<D>(&format!("{v:?}"), scene(dim, v));
 }
 
+/// `scene(dim, v)` with an inflow band across the periodic x axis: fluid in
+/// 0.4 <= x < 0.8 moves at (1.5, -0.5, 0.25) (src/backend/cpu/integrate.rs::kick).
+fn with_inflow_band(dim: usize, v: Variant) -> Setup {
+    let mut setup = scene(dim, v);
+    let p = &mut setup.params;
+    p.inflow = 1;
+    p.inflow_axis = 0;
+    p.inflow_lo = 0.4;
+    p.inflow_hi = 0.8;
+    p.inflow_velocity = [1.5, -0.5, 0.25];
+    setup
+}
+
 /// The stage comparison on any parity scene (`what` names it in the log).
 fn stages_on<D: Dim>(what: &str, setup: Setup) {
     let dim = setup.params.dim;
@@ -534,6 +547,14 @@ fn stages_3d_lj_walls_continuity_symplectic() {
 #[test]
 fn stages_3d_dynamic_walls_continuity_euler() {
     stages::<D3>(3, V_3D_B);
+}
+#[test]
+fn stages_2d_inflow_band_symplectic() {
+    stages_on::<D2>("V_2D_B + inflow band", with_inflow_band(2, V_2D_B));
+}
+#[test]
+fn stages_3d_inflow_band_euler() {
+    stages_on::<D3>("V_3D_B + inflow band", with_inflow_band(3, V_3D_B));
 }
 #[test]
 fn diagnostics_after_200_steps_2d_dynamic_walls_euler() {

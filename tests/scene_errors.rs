@@ -337,9 +337,78 @@ fn negative_cohesion() {
     );
 }
 
+/// BASE with an inflow band `band` (TOML lines of the [inflow] table).
+fn with_inflow(band: &str) -> String {
+    format!("{BASE}\n[inflow]\n{band}\n")
+}
+
+#[test]
+fn inflow_band_is_checked() {
+    let ok = with_inflow("axis = \"x\"\nmin = 0.0\nmax = 0.2\nvelocity = [1.0, 0.0]");
+    let s = Scene::from_toml(&ok, "ok").unwrap();
+    let p = s.params();
+    assert_eq!(
+        (p.inflow, p.inflow_axis, p.inflow_lo, p.inflow_hi),
+        (1, 0, 0.0, 0.2)
+    );
+    assert_eq!(p.inflow_velocity, [1.0, 0.0, 0.0]);
+    expect_error(
+        &with_inflow("axis = \"z\"\nmin = 0.0\nmax = 0.2\nvelocity = [1.0, 0.0]"),
+        "inflow.axis",
+        "does not exist in a 2D scene",
+    );
+    expect_error(
+        &with_inflow("axis = \"x\"\nmin = 0.2\nmax = 0.2\nvelocity = [1.0, 0.0]"),
+        "inflow.max",
+        "needs min < max",
+    );
+    expect_error(
+        &with_inflow("axis = \"y\"\nmin = 0.0\nmax = 2.0\nvelocity = [1.0, 0.0]"),
+        "inflow",
+        "reaches outside the domain",
+    );
+    expect_error(
+        &with_inflow("axis = \"x\"\nmin = 0.0\nmax = 0.2\nvelocity = [1.0, 0.0, 0.0]"),
+        "inflow.velocity",
+        "expected 2 numbers",
+    );
+}
+
 #[test]
 fn segment_wall_too_short() {
     let bad =
         format!("{BASE}\n[[walls]]\nshape = \"segment\"\nfrom = [0.2, 0.6]\nto = [0.22, 0.6]\n");
     expect_error(&bad, "walls[1].to", "shorter than one spacing");
+}
+
+#[test]
+fn monitors_are_checked() {
+    let m = |body: &str| format!("{BASE}\n[[monitors]]\n{body}\n");
+    let good = "wall = 0\ninterval = 0.01\nreference_velocity = 1.0\nreference_length = 0.2";
+    assert!(Scene::from_toml(&m(good), "ok").is_ok());
+    expect_error(
+        &m(&good.replace("wall = 0", "wall = 1")),
+        "monitors[0].wall",
+        "wall 1 does not exist: the scene has 1 wall(s)",
+    );
+    expect_error(
+        &m(&good.replace("interval = 0.01", "interval = 0.0")),
+        "monitors[0].interval",
+        "must be a positive number",
+    );
+    expect_error(
+        &m(&good.replace("reference_length = 0.2", "reference_length = -1.0")),
+        "monitors[0].reference_length",
+        "must be a positive number",
+    );
+    expect_error(
+        &m(&format!("{good}\nname = \"a/b\"")),
+        "monitors[0].name",
+        "file name of letters",
+    );
+    expect_error(
+        &format!("{}\n[[monitors]]\n{good}\n", m(good)),
+        "monitors[1].name",
+        "names an earlier monitor",
+    );
 }

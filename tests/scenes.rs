@@ -50,6 +50,10 @@ fn documented_counts() {
     assert_eq!((c.fluid, c.solid, c.boundary), (1600, 0, 426));
     let c = counts("tank-3d");
     assert_eq!((c.fluid, c.solid, c.boundary), (8000, 0, 5376));
+    let c = counts("vortex-street-re140");
+    assert_eq!((c.fluid, c.solid, c.boundary), (15684, 0, 160)); // paper 16,000
+    let c = counts("vortex-street-re105");
+    assert_eq!((c.fluid, c.solid, c.boundary), (33628, 0, 286)); // paper 34,000
 }
 
 fn min_distance(ps: &[Particle]) -> f32 {

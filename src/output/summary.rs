@@ -2,6 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::monitor::MonitorSummary;
 use crate::scene::Counts;
 use crate::solver::{Diagnostics, Fault};
 
@@ -41,6 +42,9 @@ pub struct RunSummary {
     pub status: RunStatus,
     /// The blow-up that stopped a failed run.
     pub fault: Option<Fault>,
+    /// The scene's force monitors: Strouhal number, mean Cd, rms Cl, blockage ratio.
+    #[serde(default)]
+    pub monitors: Vec<MonitorSummary>,
 }
 
 impl RunSummary {

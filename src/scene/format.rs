@@ -36,6 +36,67 @@ pub struct SceneFile {
     pub solids: Vec<SolidObject>,
     #[serde(default)]
     pub walls: Vec<Wall>,
+    /// A band whose fluid moves at a set velocity (a periodic channel's driver).
+    #[serde(default)]
+    pub inflow: Option<Inflow>,
+    /// Force monitors on wall objects (forces.csv, Strouhal number, Cd, Cl).
+    #[serde(default)]
+    pub monitors: Vec<Monitor>,
+}
+
+/// Coordinate axis names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Axis {
+    X,
+    Y,
+    Z,
+}
+
+impl Axis {
+    pub fn index(self) -> usize {
+        match self {
+            Axis::X => 0,
+            Axis::Y => 1,
+            Axis::Z => 2,
+        }
+    }
+}
+
+/// Fluid particles with `min <= x[axis] < max` have their velocity set to `velocity`
+/// every step instead of integrated: with a periodic `axis` a recirculating channel whose
+/// band wipes the wake and holds the mean flow.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Inflow {
+    pub axis: Axis,
+    /// [L] band limits along `axis`.
+    pub min: f64,
+    pub max: f64,
+    /// [L/T] `dimension` numbers.
+    pub velocity: Vec<f64>,
+}
+
+/// The force of the fluid (and solids) on one wall object, sampled every `interval`.
+/// Drag along x, lift along y; coefficients F / (0.5 rho0 U^2 L^(d-1)).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Monitor {
+    /// Output file `<name>.csv` and key in summary.json. Default "forces".
+    #[serde(default = "default_monitor_name")]
+    pub name: String,
+    /// Index of the wall in `[[walls]]`.
+    pub wall: usize,
+    /// [T] time between samples.
+    pub interval: f64,
+    /// [L/T] U of the coefficients and the Strouhal number.
+    pub reference_velocity: f64,
+    /// [L] D of the coefficients, the Strouhal number and the blockage ratio D / H.
+    pub reference_length: f64,
+}
+
+fn default_monitor_name() -> String {
+    "forces".into()
 }
 
 /// The simulation box. Particles leaving it on a non-periodic axis stop the run.

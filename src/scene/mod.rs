@@ -73,6 +73,19 @@
 //! remove_at = 0.5                    # optional: a gate, removed at this time
 //! # motion = [20.0, 0.0]             # optional: driven (a piston), moves at this velocity;
 //! #                                  # at most one driven object (wall or solid) per scene
+//!
+//! [inflow]                           # optional: fluid in the band moves at `velocity`
+//! axis = "x"                         # "x" | "y" | "z" (within dimension)
+//! min = 0.0                          # band: min <= x[axis] < max, inside the domain
+//! max = 1.0
+//! velocity = [15.0, 0.0]             # set every step instead of integrated
+//!
+//! [[monitors]]                       # optional: force of the fluid on a wall object
+//! name = "forces"                    # default "forces": writes forces.csv
+//! wall = 0                           # index in [[walls]]
+//! interval = 0.02                    # time between samples
+//! reference_velocity = 15.0          # U: Cd = Fx / (0.5 rho0 U^2 D^(d-1)), St = f D / U
+//! reference_length = 2.0             # D; blockage ratio D / (domain extent along y)
 //! ```
 //!
 //! See `generate.rs` for how shapes become particles and how overlaps are resolved.
@@ -112,6 +125,14 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("nozzle", include_str!("../../scenes/nozzle.toml")),
     ("tank-2d", include_str!("../../scenes/tank-2d.toml")),
     ("tank-3d", include_str!("../../scenes/tank-3d.toml")),
+    (
+        "vortex-street-re105",
+        include_str!("../../scenes/vortex-street-re105.toml"),
+    ),
+    (
+        "vortex-street-re140",
+        include_str!("../../scenes/vortex-street-re140.toml"),
+    ),
 ];
 
 /// Names of the built-in scenes.
@@ -260,7 +281,7 @@ impl Scene {
 
     /// A copy at another particle spacing [L], validated: the Lennard-Jones strength C0
     /// scales with 1/r0 (it is 5 g H / r0 in the built-ins), an explicit r0 with the
-    /// spacing, and the domain grows by the thicker wall layers.
+    /// spacing, and the domain grows by the thicker wall layers on its non-periodic axes.
     pub fn with_spacing(&self, spacing: f64) -> Result<Scene, SceneError> {
         let mut s = self.clone();
         let old = s.file.discretisation.spacing;
@@ -273,8 +294,14 @@ impl Scene {
         }
         let layers = s.file.walls.iter().map(|w| w.layers()).max().unwrap_or(0) as f64;
         let grow = (layers * (spacing - old)).max(0.0);
-        s.file.domain.min.iter_mut().for_each(|x| *x -= grow);
-        s.file.domain.max.iter_mut().for_each(|x| *x += grow);
+        // Periodic axes keep their length: the lattice must still wrap without a seam.
+        let periodic = s.file.domain.periodic.clone().unwrap_or_default();
+        for a in 0..s.file.domain.min.len() {
+            if !periodic.get(a).copied().unwrap_or(false) {
+                s.file.domain.min[a] -= grow;
+                s.file.domain.max[a] += grow;
+            }
+        }
         s.revalidate()?;
         Ok(s)
     }
@@ -311,9 +338,15 @@ impl Scene {
         })
     }
 
+    /// The particle group of wall `index` of `[[walls]]` (groups number the objects in the
+    /// order fluid_blocks, solids, walls).
+    pub fn wall_group(&self, index: usize) -> u32 {
+        (self.file.fluid_blocks.len() + self.file.solids.len() + index) as u32
+    }
+
     /// Gates: (group, removal time), in removal order.
     pub fn gates(&self) -> Vec<(u32, f64)> {
-        let base = (self.file.fluid_blocks.len() + self.file.solids.len()) as u32;
+        let base = self.wall_group(0);
         let mut g: Vec<(u32, f64)> = self
             .file
             .walls
@@ -419,6 +452,16 @@ fn scene_params(s: &SceneFile) -> SphParams {
             p.lj_p2 = 6;
             p.lj_attractive = 0;
             p.wall_pressure = 1;
+        }
+    }
+
+    if let Some(b) = &s.inflow {
+        p.inflow = 1;
+        p.inflow_axis = b.axis.index() as i32;
+        p.inflow_lo = b.min as f32;
+        p.inflow_hi = b.max as f32;
+        for (o, v) in p.inflow_velocity.iter_mut().zip(&b.velocity) {
+            *o = *v as f32;
         }
     }
 

@@ -389,6 +389,70 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
             ),
         ));
     }
+    if let Some(b) = &s.inflow {
+        let a = b.axis.index();
+        if a >= dim {
+            return Err(c.err(
+                "inflow.axis",
+                format!("axis {a} does not exist in a {dim}D scene"),
+            ));
+        }
+        if !(b.min.is_finite() && b.max.is_finite() && b.min < b.max) {
+            return Err(c.err(
+                "inflow.max",
+                format!(
+                    "the band needs min < max, found min = {}, max = {}",
+                    b.min, b.max
+                ),
+            ));
+        }
+        if b.min < dom.min[a] || b.max > dom.max[a] {
+            return Err(c.err(
+                "inflow",
+                format!(
+                    "the band [{}, {}] reaches outside the domain [{}, {}] on axis {a}",
+                    b.min, b.max, dom.min[a], dom.max[a]
+                ),
+            ));
+        }
+        c.vec("inflow.velocity", &b.velocity)?;
+    }
+    let mut names = std::collections::HashSet::new();
+    for (i, m) in s.monitors.iter().enumerate() {
+        let field = format!("monitors[{i}]");
+        let ok = !m.name.is_empty()
+            && m.name
+                .chars()
+                .all(|ch| ch.is_ascii_alphanumeric() || ch == '-' || ch == '_');
+        if !ok {
+            return Err(c.err(
+                format!("{field}.name"),
+                format!(
+                    "must be a non-empty file name of letters, digits, '-' and '_', found {:?}",
+                    m.name
+                ),
+            ));
+        }
+        if !names.insert(m.name.as_str()) {
+            return Err(c.err(
+                format!("{field}.name"),
+                format!("{:?} names an earlier monitor too", m.name),
+            ));
+        }
+        if m.wall >= s.walls.len() {
+            return Err(c.err(
+                format!("{field}.wall"),
+                format!(
+                    "wall {} does not exist: the scene has {} wall(s) (indices from 0)",
+                    m.wall,
+                    s.walls.len()
+                ),
+            ));
+        }
+        c.positive(&format!("{field}.interval"), m.interval)?;
+        c.positive(&format!("{field}.reference_velocity"), m.reference_velocity)?;
+        c.positive(&format!("{field}.reference_length"), m.reference_length)?;
+    }
     if s.fluid_blocks.is_empty() && s.solids.is_empty() && s.walls.is_empty() {
         return Err(c.err(
             "fluid_blocks",

@@ -13,6 +13,7 @@
 //! reference file's recommendation), "regression" (a looser quick-tier bound that catches
 //! breakage, not a claim of accuracy) or "convergence" (observed order, must be positive).
 
+pub mod cylinder;
 pub mod dam_break;
 pub mod hydrostatic;
 pub mod plot;
@@ -95,6 +96,11 @@ pub const CASES: &[Case] = &[
         name: taylor_green::NAME,
         description: taylor_green::DESCRIPTION,
         run: taylor_green::run,
+    },
+    Case {
+        name: cylinder::NAME,
+        description: cylinder::DESCRIPTION,
+        run: cylinder::run,
     },
 ];
 
@@ -300,6 +306,9 @@ pub fn refdata(name: &str) -> &'static str {
         }
         "analytic_poiseuille_couette_startup_profiles.csv" => {
             include_str!("../../refdata/analytic_poiseuille_couette_startup_profiles.csv")
+        }
+        "cylinder_strouhal_vs_Re.csv" => {
+            include_str!("../../refdata/cylinder_strouhal_vs_Re.csv")
         }
         "analytic_taylor_green_decay.csv" => {
             include_str!("../../refdata/analytic_taylor_green_decay.csv")

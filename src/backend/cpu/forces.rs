@@ -71,6 +71,24 @@ pub fn cohesion_over_r(support: f32, rr: f32) -> f32 {
     32.0 / (std::f32::consts::PI * support * support * support) * c / rr
 }
 
+/// sigma_i / rho_i^2 + sigma_j / rho_j^2 of eqs. (7), (16) across a pair with a wall
+/// particle j. A wall pushes and never pulls: negative pressures (the tension of a thinning
+/// layer) are cut to zero across a fluid-wall pair, or water clings to the walls (a dam
+/// break's column stayed at the wall's top). [L^2 T^-2 / (M L^-d)]
+#[inline]
+pub fn wall_pair_stress<D: Dim>(
+    sig_i: D::M,
+    sig_j: D::M,
+    p_i: f32,
+    p_j: f32,
+    rho_i: f32,
+    rho_j: f32,
+) -> D::M {
+    let neg_i = (-p_i).max(0.0) / (rho_i * rho_i);
+    let neg_j = (-p_j).max(0.0) / (rho_j * rho_j);
+    sig_i + sig_j - D::identity() * (neg_i + neg_j)
+}
+
 pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
     let g = D::from3(p.gravity);
     let (pos, vel, rho, pr, mass, kind, group) =
@@ -111,13 +129,8 @@ pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 let sj = stress.map_or(D::zero(), |st| st[j]);
                 let sig_j = (sj - D::identity() * pr[j]) * (1.0 / (rhoj * rhoj));
                 if kj as u32 == MF_KIND_BOUNDARY {
-                    // A wall pushes and never pulls: negative pressures (the tension of a
-                    // thinning layer) are cut to zero across a fluid-wall pair, or water
-                    // clings to the walls (a dam break's column stayed at the wall's top).
-                    let neg_i = (-pi).max(0.0) / (rhoi * rhoi);
-                    let neg_j = (-pr[j]).max(0.0) / (rhoj * rhoj);
-                    acc += D::mat_vec(sig_i + sig_j - D::identity() * (neg_i + neg_j), grad_w)
-                        * mass[j];
+                    let sig = wall_pair_stress::<D>(sig_i, sig_j, pi, pr[j], rhoi, rhoj);
+                    acc += D::mat_vec(sig, grad_w) * mass[j];
                 } else {
                     acc += D::mat_vec(sig_i + sig_j, grad_w) * mass[j];
                 }

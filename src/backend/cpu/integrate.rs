@@ -4,7 +4,7 @@
 use rayon::prelude::*;
 
 use crate::dim::Dim;
-use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_SOLID};
+use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID};
 use crate::state::State;
 
 /// Wrap a position into the domain on periodic axes.
@@ -30,11 +30,30 @@ pub fn driven_velocity<D: Dim>(p: &SphParams, group: u32) -> Option<D::V> {
     (p.driven != 0 && group == p.driven_group as u32).then(|| D::from3(p.driven_velocity))
 }
 
-/// The kick: v += dt a for fluid and solid particles; the driven group's velocity is set to
-/// its prescribed value, whatever the forces. [L/T]
+/// Whether a particle lies in the scene's inflow band: a fluid particle with
+/// `inflow_lo <= x[inflow_axis] < inflow_hi` while `inflow` is on.
+#[inline]
+pub fn in_inflow_band<D: Dim>(p: &SphParams, kind: u8, x: D::V) -> bool {
+    if p.inflow == 0 || kind as u32 != MF_KIND_FLUID {
+        return false;
+    }
+    let c = D::comp(x, p.inflow_axis as usize);
+    c >= p.inflow_lo && c < p.inflow_hi
+}
+
+/// The kick: v += dt a for fluid and solid particles; v = inflow_velocity for fluid in the
+/// inflow band (`in_inflow_band`); the driven group's velocity is set to its prescribed
+/// value, whatever the forces. [L/T]
 pub fn kick<D: Dim>(p: &SphParams, dt: f32, s: &mut State<D>) {
-    let (kind, group, acc) = (&s.kind, &s.group, &s.acc);
+    let (kind, group, acc, pos) = (&s.kind, &s.group, &s.acc, &s.pos);
+    let band_v = D::from3(p.inflow_velocity);
     s.vel.par_iter_mut().enumerate().for_each(|(i, v)| {
+        // Inflow band: the velocity is set, not integrated (holds the mean flow of a
+        // periodic channel, wiping the wake that comes round).
+        if in_inflow_band::<D>(p, kind[i], pos[i]) {
+            *v = band_v;
+            return;
+        }
         if kind[i] as u32 != MF_KIND_BOUNDARY {
             *v += acc[i] * dt;
         }

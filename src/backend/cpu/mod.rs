@@ -9,8 +9,8 @@ mod rates;
 mod reduce;
 mod stress;
 
-pub use density::pressure;
-pub use forces::{artificial_viscosity, cohesion_over_r, laminar, lennard_jones};
+pub use density::{couples, pressure};
+pub use forces::{artificial_viscosity, cohesion_over_r, laminar, lennard_jones, wall_pair_stress};
 pub use grid::{cell_coords, cell_index, separation, Grid};
 pub use reduce::step_size;
 pub use stress::{artificial_stress, jacobi_eigen};

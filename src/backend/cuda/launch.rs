@@ -356,7 +356,8 @@ pub fn step_size(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     });
 }
 
-/// v += dt a (dt read on the device); the driven group's velocity set.
+/// v += dt a (dt read on the device); v = inflow_velocity in the inflow band; the driven
+/// group's velocity set.
 pub fn kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     if b.n == 0 {
         return;
@@ -364,7 +365,8 @@ pub fn kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     let n = b.n as u32;
     let c = &mut b.cur;
     // SAFETY: sph_kick_{2,3}d(const SphParams p, unsigned n, const float* dt_dev,
-    // const unsigned char* kind, const unsigned* group, float* vel, const float* acc).
+    // const unsigned char* kind, const unsigned* group, const float* pos, float* vel,
+    // const float* acc).
     k.kick.check(unsafe {
         s.launch_builder(&k.kick.f)
             .arg(p)
@@ -372,6 +374,7 @@ pub fn kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
             .arg(&b.dt)
             .arg(&c.kind)
             .arg(&c.group)
+            .arg(&c.pos)
             .arg(&mut c.vel)
             .arg(&b.acc)
             .launch(cfg(b.n))

@@ -1,0 +1,329 @@
+//! Force monitors (`[[monitors]]` in a scene): the force the fluid and solids exert on one
+//! wall object, its drag and lift coefficients, and the Strouhal number of the lift.
+//!
+//! The force is computed from a particle read-back (`Solver::particles`, either backend)
+//! with the pair functions of the CPU force stage (`src/backend/cpu/forces.rs`): for every
+//! wall particle j of the object and every fluid or solid neighbour i, the acceleration
+//! that j contributes to i (Lennard-Jones eq. (17); with dynamic walls also the pressure
+//! term of eqs. (7)/(16) with the wall cut-off, the artificial viscosity eq. (10) and the
+//! laminar viscosity of Morris, Fox & Zhu 1997). By Newton's third law the wall feels
+//! F = - sum_i m_i a_i(from wall). [M L T^-2] (per unit depth in 2D: [M T^-2]).
+//! Pressures are the Tait / solid EOS of the read-back density, as the next force stage
+//! would take them.
+
+use crate::backend::cpu::{
+    artificial_viscosity, couples, laminar, lennard_jones, pressure, wall_pair_stress, Grid,
+};
+use crate::dim::{Dim, D2, D3};
+use crate::kernel;
+use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID};
+use crate::particle::Particle;
+use crate::state::State;
+
+/// The force [M L T^-2] that fluid and solid particles exert on the boundary particles of
+/// scene group `group`, as three numbers (z = 0 in 2D).
+pub fn wall_force(p: &SphParams, particles: &[Particle], group: u32) -> [f64; 3] {
+    if p.dim == 2 {
+        wall_force_d::<D2>(p, particles, group)
+    } else {
+        wall_force_d::<D3>(p, particles, group)
+    }
+}
+
+fn wall_force_d<D: Dim>(p: &SphParams, particles: &[Particle], group: u32) -> [f64; 3] {
+    let mut s = State::<D>::from_particles(particles, false, false);
+    for i in 0..s.len() {
+        s.p[i] = pressure(p, s.kind[i], s.rho[i]); // eq. (9)
+    }
+    let mut grid = Grid::default();
+    grid.build(p, &mut s);
+    let stress = s.solid.as_ref().map(|so| &so.stress);
+    let mut force = [0.0f64; 3];
+    for j in 0..s.len() {
+        if s.kind[j] as u32 != MF_KIND_BOUNDARY || s.group[j] != group {
+            continue;
+        }
+        let (kj, vj, rhoj, pj) = (s.kind[j], s.vel[j], s.rho[j], s.p[j]);
+        let sig_j =
+            (stress.map_or(D::zero(), |st| st[j]) - D::identity() * pj) * (1.0 / (rhoj * rhoj));
+        grid.for_each_neighbor::<D>(p, &s.pos, s.pos[j], |i, r_ji, r2| {
+            let ki = s.kind[i];
+            if ki as u32 == MF_KIND_BOUNDARY {
+                return;
+            }
+            // The same pair terms, in the same order, as forces.rs adds for a wall j.
+            let r = -r_ji; // r_ij = x_i - x_j
+            let (vi, rhoi, pi) = (s.vel[i], s.rho[i], s.p[i]);
+            let rr = r2.sqrt();
+            let fw = kernel::f(p, rr);
+            let grad_w = r * fw;
+            let mut acc = lennard_jones::<D>(p, r, rr); // eq. (17)
+            if couples(p, kj) {
+                let si = stress.map_or(D::zero(), |st| st[i]);
+                let sig_i = (si - D::identity() * pi) * (1.0 / (rhoi * rhoi));
+                let sig = wall_pair_stress::<D>(sig_i, sig_j, pi, pj, rhoi, rhoj);
+                acc += D::mat_vec(sig, grad_w) * s.mass[j]; // eqs. (7), (16)
+                let vij = vi - vj;
+                let vr = D::dot(vij, r);
+                let c_bar = 0.5 * (p.sound_speed(ki) + p.sound_speed(kj));
+                let rho_bar = 0.5 * (rhoi + rhoj);
+                let pi_ij = artificial_viscosity(p, vr, r2, c_bar, rho_bar); // eq. (10)
+                acc -= grad_w * (s.mass[j] * pi_ij);
+                if p.nu > 0.0 && ki as u32 == MF_KIND_FLUID {
+                    acc += vij * (s.mass[j] * laminar(p, r2, fw, rhoi, rhoj));
+                }
+            }
+            let a = D::to3(acc);
+            for (f, a) in force.iter_mut().zip(a) {
+                *f -= s.mass[i] as f64 * a as f64;
+            }
+        });
+    }
+    force
+}
+
+/// One sample of a monitor.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ForceSample {
+    /// [T]
+    pub t: f64,
+    /// [M L T^-2]
+    pub force: [f64; 3],
+    /// Drag coefficient Fx / (0.5 rho0 U^2 D^(d-1)).
+    pub cd: f64,
+    /// Lift coefficient Fy / (0.5 rho0 U^2 D^(d-1)).
+    pub cl: f64,
+}
+
+/// The frequency [1/T] of the largest peak of the Hann-windowed discrete Fourier transform
+/// of `x(t)` (mean removed), evaluated directly on the sample times (they need not be
+/// evenly spaced): a scan in steps of 1 / (4 T) between 1.5 / T (at least one and a half
+/// periods in the record of length T) and the Nyquist frequency of the mean spacing, then
+/// a scan in steps of 1 / (256 T) around the best coarse frequency. None with fewer than 8
+/// samples or a constant signal.
+pub fn dominant_frequency(t: &[f64], x: &[f64]) -> Option<f64> {
+    let n = t.len().min(x.len());
+    if n < 8 {
+        return None;
+    }
+    let (t0, span) = (t[0], t[n - 1] - t[0]);
+    if span <= 0.0 {
+        return None;
+    }
+    let mean = x[..n].iter().sum::<f64>() / n as f64;
+    let tau = 2.0 * std::f64::consts::PI;
+    let w: Vec<f64> = (0..n)
+        .map(|k| (0.5 - 0.5 * (tau * (t[k] - t0) / span).cos()) * (x[k] - mean))
+        .collect();
+    if w.iter().all(|v| v.abs() < 1e-300) {
+        return None;
+    }
+    let power = |f: f64| {
+        let (mut re, mut im) = (0.0, 0.0);
+        for k in 0..n {
+            let ph = tau * f * (t[k] - t0);
+            re += w[k] * ph.cos();
+            im -= w[k] * ph.sin();
+        }
+        re * re + im * im
+    };
+    let best_on = |lo: f64, hi: f64, df: f64| {
+        let steps = ((hi - lo) / df).floor().max(0.0) as usize;
+        (0..=steps)
+            .map(|k| lo + k as f64 * df)
+            .map(|f| (f, power(f)))
+            .fold(None, |b: Option<(f64, f64)>, c| match b {
+                Some(b) if b.1 >= c.1 => Some(b),
+                _ => Some(c),
+            })
+    };
+    let (f_lo, nyquist) = (1.5 / span, 0.5 * (n - 1) as f64 / span);
+    if nyquist <= f_lo {
+        return None;
+    }
+    let coarse = best_on(f_lo, nyquist, 0.25 / span)?.0;
+    let lo = (coarse - 0.25 / span).max(f_lo);
+    let hi = (coarse + 0.25 / span).min(nyquist);
+    best_on(lo, hi, 1.0 / (256.0 * span)).map(|b| b.0)
+}
+
+/// What a monitor reports at the end of a run (summary.json, end-of-run line).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct MonitorSummary {
+    pub name: String,
+    /// Index of the wall in `[[walls]]`.
+    pub wall: usize,
+    pub samples: usize,
+    /// [T] the statistics below are over t >= window_start: the second half of the record.
+    pub window_start: f64,
+    /// f D / U from the lift's dominant frequency (`dominant_frequency`); None when the
+    /// window holds too few samples or the lift is constant.
+    pub strouhal: Option<f64>,
+    pub mean_cd: f64,
+    pub mean_cl: f64,
+    /// Root mean square of Cl about its mean.
+    pub rms_cl: f64,
+    /// D / H, H the domain's extent along y (the lift axis).
+    pub blockage_ratio: f64,
+}
+
+impl MonitorSummary {
+    /// Statistics over the second half (in time) of `samples`.
+    pub fn of(
+        name: &str,
+        wall: usize,
+        samples: &[ForceSample],
+        reference_velocity: f64,
+        reference_length: f64,
+        blockage_ratio: f64,
+    ) -> MonitorSummary {
+        let (first, last) = match (samples.first(), samples.last()) {
+            (Some(a), Some(b)) => (a.t, b.t),
+            _ => (0.0, 0.0),
+        };
+        let window_start = 0.5 * (first + last);
+        let win: Vec<&ForceSample> = samples.iter().filter(|s| s.t >= window_start).collect();
+        let m = win.len().max(1) as f64;
+        let mean_cd = win.iter().map(|s| s.cd).sum::<f64>() / m;
+        let mean_cl = win.iter().map(|s| s.cl).sum::<f64>() / m;
+        let rms_cl = (win.iter().map(|s| (s.cl - mean_cl).powi(2)).sum::<f64>() / m).sqrt();
+        let t: Vec<f64> = win.iter().map(|s| s.t).collect();
+        let cl: Vec<f64> = win.iter().map(|s| s.cl).collect();
+        let strouhal =
+            dominant_frequency(&t, &cl).map(|f| f * reference_length / reference_velocity);
+        MonitorSummary {
+            name: name.to_string(),
+            wall,
+            samples: samples.len(),
+            window_start,
+            strouhal,
+            mean_cd,
+            mean_cl,
+            rms_cl,
+            blockage_ratio,
+        }
+    }
+}
+
+/// The scene's monitors during a run: when each samples next, its samples and its CSV.
+pub struct Monitors {
+    list: Vec<Active>,
+    /// [M L^-d] rho0 of the coefficients.
+    rho0: f64,
+    dim: i32,
+    /// [L] domain extent along y, for the blockage ratio.
+    height: f64,
+}
+
+struct Active {
+    spec: crate::scene::format::Monitor,
+    group: u32,
+    next: f64,
+    samples: Vec<ForceSample>,
+    csv: crate::output::ForcesCsv,
+    path: std::path::PathBuf,
+}
+
+impl Monitors {
+    /// Open `<name>.csv` in `dir` for each of the scene's monitors.
+    pub fn create(
+        scene: &crate::scene::Scene,
+        dir: &std::path::Path,
+    ) -> Result<Monitors, (std::path::PathBuf, std::io::Error)> {
+        let f = &scene.file;
+        let mut list = Vec::new();
+        for m in &f.monitors {
+            let path = dir.join(format!("{}.csv", m.name));
+            let csv = crate::output::ForcesCsv::create(&path).map_err(|e| (path.clone(), e))?;
+            list.push(Active {
+                spec: m.clone(),
+                group: scene.wall_group(m.wall),
+                next: 0.0,
+                samples: Vec::new(),
+                csv,
+                path,
+            });
+        }
+        Ok(Monitors {
+            list,
+            rho0: f.fluid.density,
+            dim: f.dimension as i32,
+            height: f.domain.max[1] - f.domain.min[1],
+        })
+    }
+
+    /// The time of the next sample, if there is a monitor.
+    pub fn next_time(&self) -> Option<f64> {
+        self.list.iter().map(|m| m.next).min_by(f64::total_cmp)
+    }
+
+    /// Sample every monitor whose time came (`t + eps >= next`): one particle read-back
+    /// for all of them.
+    pub fn sample_due(
+        &mut self,
+        solver: &mut dyn crate::solver::Solver,
+        eps: f64,
+    ) -> Result<(), (std::path::PathBuf, std::io::Error)> {
+        let t = solver.time();
+        if self.next_time().is_none_or(|n| t + eps < n) {
+            return Ok(());
+        }
+        let particles = solver.particles();
+        let p = *solver.params();
+        for m in self.list.iter_mut().filter(|m| t + eps >= m.next) {
+            let force = wall_force(&p, &particles, m.group);
+            let (u, d) = (m.spec.reference_velocity, m.spec.reference_length);
+            let q = 0.5 * self.rho0 * u * u * d.powi(self.dim - 1);
+            let s = ForceSample {
+                t,
+                force,
+                cd: force[0] / q,
+                cl: force[1] / q,
+            };
+            m.csv.write(&s).map_err(|e| (m.path.clone(), e))?;
+            m.samples.push(s);
+            m.next = ((t / m.spec.interval + 1e-9).floor() + 1.0) * m.spec.interval;
+        }
+        Ok(())
+    }
+
+    /// The statistics of every monitor (`MonitorSummary::of`).
+    pub fn summaries(&self) -> Vec<MonitorSummary> {
+        self.list
+            .iter()
+            .map(|m| {
+                MonitorSummary::of(
+                    &m.spec.name,
+                    m.spec.wall,
+                    &m.samples,
+                    m.spec.reference_velocity,
+                    m.spec.reference_length,
+                    m.spec.reference_length / self.height,
+                )
+            })
+            .collect()
+    }
+}
+
+impl std::fmt::Display for MonitorSummary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let st = self
+            .strouhal
+            .map_or("n/a (too few samples or no oscillation)".to_string(), |s| {
+                format!("{s:.4}")
+            });
+        write!(
+            f,
+            "monitor {} (wall {}): {} samples; over t >= {:.3}: Strouhal {st} (lift DFT peak), \
+             mean Cd {:.4}, rms Cl {:.4}, mean Cl {:.4}, blockage D/H {:.3}",
+            self.name,
+            self.wall,
+            self.samples,
+            self.window_start,
+            self.mean_cd,
+            self.rms_cl,
+            self.mean_cl,
+            self.blockage_ratio
+        )
+    }
+}

@@ -1,0 +1,167 @@
+//! Force monitors (`src/monitor.rs`): the Strouhal estimator on synthetic signals, the
+//! end-of-run statistics, the wall force against the CPU force stage, and on a resting tank
+//! (the fluid's weight).
+
+use meshfree::backend::cpu::CpuSolver;
+use meshfree::backend::cpu_solver;
+use meshfree::dim::{Dim, D2};
+use meshfree::monitor::{dominant_frequency, wall_force, ForceSample, MonitorSummary};
+use meshfree::particle::Kind;
+use meshfree::run::{self, Gates};
+use meshfree::scene::Scene;
+use meshfree::solver::Solver;
+
+/// A sine of frequency 1.37 with an offset, noise and a drag-like second harmonic, sampled
+/// at jittered times over 9 periods: the DFT peak is the sine's frequency within 1 %.
+#[test]
+fn dominant_frequency_of_a_noisy_sine() {
+    let f0 = 1.37;
+    let mut seed = 12345u64;
+    let mut rnd = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let (mut t, mut x) = (Vec::new(), Vec::new());
+    let mut tk = 3.0;
+    while tk < 3.0 + 9.0 / f0 {
+        t.push(tk);
+        let w = 2.0 * std::f64::consts::PI * f0 * tk;
+        x.push(0.4 + 0.3 * (w + 0.7).sin() + 0.1 * (2.0 * w).sin() + 0.1 * rnd());
+        tk += 0.02 * (1.0 + 0.3 * rnd());
+    }
+    let f = dominant_frequency(&t, &x).expect("a frequency");
+    assert!((f - f0).abs() < 0.01 * f0, "found {f}, expected {f0}");
+    // Too short or constant signals give none.
+    assert_eq!(dominant_frequency(&t[..5], &x[..5]), None);
+    assert_eq!(dominant_frequency(&t, &vec![2.0; t.len()]), None);
+}
+
+/// The statistics over the second half of the record: St = f D / U, mean Cd, rms Cl.
+#[test]
+fn monitor_summary_of_a_synthetic_record() {
+    let (u, d, f0) = (15.0, 2.0, 1.35);
+    let samples: Vec<ForceSample> = (0..1000)
+        .map(|k| {
+            let t = k as f64 * 0.02;
+            // Transient in the first half (ignored): a larger drag, no lift.
+            let (cd, cl) = if t < 10.0 {
+                (3.0, 0.0)
+            } else {
+                (1.4, 0.5 * (2.0 * std::f64::consts::PI * f0 * t).sin())
+            };
+            ForceSample {
+                t,
+                force: [cd, cl, 0.0],
+                cd,
+                cl,
+            }
+        })
+        .collect();
+    let s = MonitorSummary::of("forces", 0, &samples, u, d, 0.25);
+    let st = s.strouhal.expect("a Strouhal number");
+    assert!((st - f0 * d / u).abs() < 0.005 * st, "St {st}");
+    assert!((s.window_start - 9.99).abs() < 1e-9);
+    assert!((s.mean_cd - 1.4).abs() < 1e-9, "mean Cd {}", s.mean_cd);
+    assert!(
+        (s.rms_cl - 0.5 / 2f64.sqrt()).abs() < 0.01,
+        "rms Cl {}",
+        s.rms_cl
+    );
+    assert_eq!(s.samples, 1000);
+    assert_eq!(s.blockage_ratio, 0.25);
+    let line = s.to_string();
+    assert!(
+        line.contains("Strouhal 0.18") && line.contains("blockage D/H 0.250"),
+        "{line}"
+    );
+}
+
+/// A resting tank: the fluid's weight rests on the container, so the time-averaged force
+/// of the fluid on the wall object is M g (down) within 2 %, and nothing sideways.
+#[test]
+fn resting_tank_wall_carries_the_fluid_weight() {
+    let scene = Scene::builtin("tank-2d")
+        .unwrap()
+        .with_spacing(0.05)
+        .unwrap();
+    let setup = scene.setup().unwrap();
+    let p = setup.params;
+    let mass: f64 = setup
+        .particles
+        .iter()
+        .filter(|q| q.kind == Kind::Fluid)
+        .map(|q| q.mass as f64)
+        .sum();
+    let weight = mass * p.gravity[1] as f64; // negative: down
+    let group = scene.wall_group(0);
+    let mut s = cpu_solver(setup);
+    let mut gates = Gates::default();
+    run::advance_to(s.as_mut(), &mut gates, 0.3).unwrap();
+    // Averaged over 0.5: the force rings by +-15 % with a period of about 0.1.
+    let n = 50;
+    let mut mean = [0.0f64; 3];
+    for k in 1..=n {
+        run::advance_to(s.as_mut(), &mut gates, 0.3 + 0.5 * k as f64 / n as f64).unwrap();
+        let f = wall_force(&p, &s.particles(), group);
+        for a in 0..3 {
+            mean[a] += f[a] / n as f64;
+        }
+    }
+    eprintln!("mean wall force {mean:?}, weight {weight}");
+    assert!(
+        (mean[1] - weight).abs() < 0.02 * weight.abs(),
+        "vertical force {} vs the weight {weight}",
+        mean[1]
+    );
+    assert!(
+        mean[0].abs() < 0.01 * weight.abs(),
+        "sideways force {}",
+        mean[0]
+    );
+}
+
+/// The monitor's force is exactly the wall part of the force stage: fluid-fluid pair terms
+/// cancel in sum m_i a_i, so - sum_i m_i (a_i - g) over the fluid is the force on the walls
+/// (tank-2d after 200 steps, with laminar viscosity switched on as well).
+#[test]
+fn wall_force_is_the_wall_part_of_the_force_stage() {
+    let mut scene = Scene::builtin("tank-2d")
+        .unwrap()
+        .with_spacing(0.05)
+        .unwrap();
+    scene.file.fluid.viscosity = 0.01;
+    scene.revalidate().unwrap();
+    let setup = scene.setup().unwrap();
+    let p = setup.params;
+    let mut c = CpuSolver::<D2>::new(setup);
+    for _ in 0..200 {
+        c.step();
+    }
+    c.build_grid();
+    c.density();
+    c.forces();
+    let s = c.state();
+    let g = D2::from3(p.gravity);
+    let mut expect = [0.0f64; 2];
+    for i in 0..s.len() {
+        if s.kind[i] == Kind::Fluid.code() {
+            let a = D2::to3(s.acc[i] - g);
+            for k in 0..2 {
+                expect[k] -= s.mass[i] as f64 * a[k] as f64;
+            }
+        }
+    }
+    let f = wall_force(&p, &c.particles(), scene.wall_group(0));
+    let scale = expect[1].abs();
+    eprintln!("monitor {f:?}, force stage {expect:?}");
+    for k in 0..2 {
+        assert!(
+            (f[k] - expect[k]).abs() < 1e-4 * scale,
+            "axis {k}: monitor {} vs force stage {}",
+            f[k],
+            expect[k]
+        );
+    }
+}
