@@ -145,6 +145,10 @@ pub struct FluidMaterial {
     /// [-] XSPH epsilon, eq. (18). Default 0.
     #[serde(default)]
     pub xsph: f64,
+    /// [-] delta of the density diffusion of Molteni & Colagrossi 2009 (continuity density
+    /// only, fluid-fluid pairs), usually 0.1. Default 0 = off (the paper).
+    #[serde(default)]
+    pub density_diffusion: f64,
 }
 
 fn default_gamma() -> f64 {
