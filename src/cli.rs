@@ -65,6 +65,10 @@ pub enum Command {
     /// inaccurate or failed (with its blow-up time); heat-map PNGs, report.md, report.json,
     /// cells.csv.
     Stability(StabilityArgs),
+    /// Speed against accuracy: error vs wall time over resolutions, kernels, density forms,
+    /// viscosity, integrators and backends, log-log with the Pareto front; one PNG per case,
+    /// chart.csv and chart.json.
+    Chart(ChartArgs),
 }
 
 #[derive(Debug, clap::Args)]
@@ -258,6 +262,7 @@ pub fn main(cli: Cli) -> anyhow::Result<()> {
         Command::Compare(a) => compare(a),
         Command::Validate(a) => validate(a),
         Command::Stability(a) => stability(a),
+        Command::Chart(a) => chart(a),
         Command::View(_) | Command::Render(_) => anyhow::bail!(
             "this build has no viewer: rebuild with the `viewer` feature (on by default)"
         ),
@@ -446,6 +451,38 @@ fn stability(a: StabilityArgs) -> anyhow::Result<()> {
         report.tier,
         report.wall_seconds,
         a.out.join("report.md").display()
+    );
+    Ok(())
+}
+
+#[derive(Debug, clap::Args)]
+pub struct ChartArgs {
+    /// The quick tier: two coarse resolutions and one variant per case (seconds).
+    /// Without it: four resolutions and six variants per case (minutes in a release build).
+    #[arg(long)]
+    pub quick: bool,
+    /// Where to run (repeatable: `--backend cpu --backend cuda` puts both on the charts).
+    #[arg(long, value_enum, default_values_t = vec![BackendChoice::Auto])]
+    pub backend: Vec<BackendChoice>,
+    /// Output directory for chart-<case>.png, chart.csv and chart.json.
+    #[arg(long, value_name = "DIR", default_value = "out/chart")]
+    pub out: PathBuf,
+}
+
+fn chart(a: ChartArgs) -> anyhow::Result<()> {
+    use crate::validate::{chart, Tier};
+    let points = chart::run(&chart::Options {
+        tier: if a.quick { Tier::Quick } else { Tier::Full },
+        backends: a.backend,
+        out_dir: a.out.clone(),
+        verbose: true,
+    })?;
+    let failed = points.iter().filter(|p| p.error.is_none()).count();
+    println!(
+        "chart: {} runs ({failed} failed, {} on the Pareto front); charts in {}",
+        points.len(),
+        points.iter().filter(|p| p.pareto).count(),
+        a.out.display()
     );
     Ok(())
 }

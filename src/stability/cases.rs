@@ -15,7 +15,7 @@ use crate::backend::{self, BackendChoice};
 use crate::particle::{Kind, Particle};
 use crate::run::{self, Gates};
 use crate::scene::Scene;
-use crate::solver::Fault;
+use crate::solver::{BackendInfo, Fault};
 use crate::validate::dam_break;
 
 /// A measured run: the error, or the blow-up that stopped it.
@@ -23,6 +23,8 @@ pub struct Measured {
     pub result: Result<f64, Fault>,
     pub particles: usize,
     pub wall_seconds: f64,
+    /// The backend and device it ran on.
+    pub info: BackendInfo,
 }
 
 /// The stretched strip: spacing `dx`, solid density 1000, bulk sound speed 20, shear
@@ -134,6 +136,7 @@ pub fn measure(
     let dx = setup.params.dx;
     let started = Instant::now();
     let mut solver = backend::create(backend, setup)?;
+    let info = solver.info();
     let mut gates = Gates::new(scene.gates());
     let mut error = 0.0f64;
     let mut go = || -> Result<f64, Fault> {
@@ -162,5 +165,6 @@ pub fn measure(
         result,
         particles,
         wall_seconds: started.elapsed().as_secs_f64(),
+        info,
     })
 }

@@ -154,7 +154,7 @@ pub fn run(options: &Options) -> anyhow::Result<Report> {
                     .with_context(|| format!("map {} at ({x}, {y})", def.name))?;
                 let m = cases::measure(def.base, &scene, options.backend, t_end)?;
                 if backend_name.is_empty() {
-                    backend_name = format!("{:?}", options.backend).to_lowercase();
+                    backend_name = format!("{} ({})", m.info.backend, m.info.device);
                 }
                 let cell = match m.result {
                     Ok(error) => Cell {

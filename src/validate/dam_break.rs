@@ -282,6 +282,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
             x_label: "T = t sqrt(g/a)  (K&O: t sqrt(2g/L))",
             y_label: "front x / a  (K&O: Z / L)",
             log_y: false,
+            log_x: false,
         },
         &s,
     )?;
@@ -297,6 +298,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
             x_label: "T = t sqrt(g/a)",
             y_label: "h / a",
             log_y: false,
+            log_x: false,
         },
         &s,
     )?;
