@@ -1,6 +1,7 @@
-// Rates from the current velocities: d rho/dt (continuity form), the XSPH velocity of
-// eq. (18), and for solids the velocity gradient eq. (15) with the kernel-gradient
-// correction, strain and rotation rates eqs. (13)-(14) and the Jaumann rate eq. (12).
+// Rates from the current velocities: d rho/dt (continuity form, with the density diffusion of
+// Molteni & Colagrossi 2009 where delta_sph > 0), the XSPH velocity of eq. (18), and for
+// solids the velocity gradient eq. (15) with the kernel-gradient correction, strain and
+// rotation rates eqs. (13)-(14) and the Jaumann rate eq. (12).
 // Twin: src/backend/cpu/rates.rs; parity test: tests/cuda_parity.rs.
 #include "common.cuh"
 
@@ -51,6 +52,9 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
     const bool solid_i = i < n && ki == MF_KIND_SOLID;
     Vec<DIM> xs = vzero<DIM>();
     float drho = 0.0f;
+    // Density diffusion (delta-SPH) between fluid particles only, as in cpu/rates.rs.
+    const bool diffuse = p.delta_sph > 0.0f && i < n && ki == MF_KIND_FLUID;
+    float diffusion = 0.0f;
     Mat<DIM> gv, mo;
     if constexpr (SOLIDS) {
         gv = mzero<DIM>();
@@ -71,6 +75,12 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
             // Continuity, volume form: d rho_i/dt = rho_i sum_j m_j / rho_j v_ij . grad W
             // (the factor rho_i is applied after the sum, as in cpu/rates.rs).
             drho += mj / rho[j] * dot(vij, gw);
+            if (diffuse && kj == MF_KIND_FLUID && r2 > 0.0f) {
+                // Molteni & Colagrossi 2009 (Comput. Phys. Commun. 180, 861), diffusive term:
+                // sum_j psi_ij . grad_i W_ij V_j, psi_ij = 2 (rho_j - rho_i) r_ji / |r_ji|^2 with
+                // r_ji = r_j - r_i = -r (diffusive sign, see cpu/rates.rs): 2 (rho_i - rho_j) r . gw / r^2.
+                diffusion += 2.0f * (rhoi - rho[j]) * dot(r, gw) / r2 * (mj / rho[j]);
+            }
             const bool same_body = kj == ki && (ki == MF_KIND_FLUID || group[j] == gi);
             if (!same_body || ki == MF_KIND_BOUNDARY) return;
             const float s = mj / (0.5f * (rhoi + rho[j]));
@@ -94,7 +104,9 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
 #pragma unroll
     for (int a = 0; a < DIM; ++a) xs.c[a] = lane_sum<L>(xs.c[a]);
     drho = lane_sum<L>(drho);
+    diffusion = lane_sum<L>(diffusion);
     if (active) drho *= rho[i];
+    if (active && diffuse) drho += p.delta_sph * p.h * p.c0 * diffusion;
     if constexpr (SOLIDS) {
 #pragma unroll
         for (int a = 0; a < DIM; ++a)

@@ -61,6 +61,15 @@ pub enum Command {
     /// Taylor-Green, cylinder): plots, report.md and report.json; exits non-zero when a check
     /// fails.
     Validate(ValidateArgs),
+    /// Stability maps: sweep the Courant number, alpha, density form, integrator,
+    /// Lennard-Jones strength, density diffusion and artificial stress; each run stable,
+    /// inaccurate or failed (with its blow-up time); heat-map PNGs, report.md, report.json,
+    /// cells.csv.
+    Stability(StabilityArgs),
+    /// Speed against accuracy: error vs wall time over resolutions, kernels, density forms,
+    /// viscosity, integrators and backends, log-log with the Pareto front; one PNG per case,
+    /// chart.csv and chart.json.
+    Chart(ChartArgs),
 }
 
 #[derive(Debug, clap::Args)]
@@ -253,6 +262,8 @@ pub fn main(cli: Cli) -> anyhow::Result<()> {
         Command::Bench(a) => bench(a),
         Command::Compare(a) => compare(a),
         Command::Validate(a) => validate(a),
+        Command::Stability(a) => stability(a),
+        Command::Chart(a) => chart(a),
         Command::View(_) | Command::Render(_) => anyhow::bail!(
             "this build has no viewer: rebuild with the `viewer` feature (on by default)"
         ),
@@ -394,6 +405,87 @@ fn validate(a: ValidateArgs) -> anyhow::Result<()> {
         a.out.join("report.md").display()
     );
     anyhow::ensure!(failed == 0, "{failed} validation check(s) failed");
+    Ok(())
+}
+
+#[derive(Debug, clap::Args)]
+pub struct StabilityArgs {
+    /// The quick tier: two values per axis on coarse scenes (seconds; what the tests run).
+    /// Without it: five values per axis, dx = 0.04 dam break (tens of minutes on a CPU).
+    #[arg(long)]
+    pub quick: bool,
+    /// Where to run: `auto` takes CUDA where a driver and a device answer, else the CPU.
+    #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
+    pub backend: BackendChoice,
+    /// Output directory for report.md, report.json, cells.csv and the heat maps.
+    #[arg(long, value_name = "DIR", default_value = "out/stability")]
+    pub out: PathBuf,
+    /// Run only the maps whose name contains this (repeatable), e.g. `elastic-strip`.
+    #[arg(long, value_name = "NAME")]
+    pub map: Vec<String>,
+}
+
+fn stability(a: StabilityArgs) -> anyhow::Result<()> {
+    use crate::stability::{self, Class};
+    let report = stability::run(&stability::Options {
+        tier: if a.quick {
+            stability::Tier::Quick
+        } else {
+            stability::Tier::Full
+        },
+        backend: a.backend,
+        out_dir: a.out.clone(),
+        maps: a.map,
+        verbose: true,
+    })?;
+    for m in &report.maps {
+        let n = |k: Class| m.cells.iter().filter(|c| c.class == k).count();
+        println!(
+            "{}: {} stable, {} inaccurate, {} failed",
+            m.def.name,
+            n(Class::Stable),
+            n(Class::Inaccurate),
+            n(Class::Failed)
+        );
+    }
+    println!(
+        "stability ({:?} tier) in {:.1} s; report in {}",
+        report.tier,
+        report.wall_seconds,
+        a.out.join("report.md").display()
+    );
+    Ok(())
+}
+
+#[derive(Debug, clap::Args)]
+pub struct ChartArgs {
+    /// The quick tier: two coarse resolutions and one variant per case (seconds).
+    /// Without it: four resolutions and six variants per case (minutes in a release build).
+    #[arg(long)]
+    pub quick: bool,
+    /// Where to run (repeatable: `--backend cpu --backend cuda` puts both on the charts).
+    #[arg(long, value_enum, default_values_t = vec![BackendChoice::Auto])]
+    pub backend: Vec<BackendChoice>,
+    /// Output directory for chart-<case>.png, chart.csv and chart.json.
+    #[arg(long, value_name = "DIR", default_value = "out/chart")]
+    pub out: PathBuf,
+}
+
+fn chart(a: ChartArgs) -> anyhow::Result<()> {
+    use crate::validate::{chart, Tier};
+    let points = chart::run(&chart::Options {
+        tier: if a.quick { Tier::Quick } else { Tier::Full },
+        backends: a.backend,
+        out_dir: a.out.clone(),
+        verbose: true,
+    })?;
+    let failed = points.iter().filter(|p| p.error.is_none()).count();
+    println!(
+        "chart: {} runs ({failed} failed, {} on the Pareto front); charts in {}",
+        points.len(),
+        points.iter().filter(|p| p.pareto).count(),
+        a.out.display()
+    );
     Ok(())
 }
 

@@ -14,5 +14,6 @@ pub mod particle;
 pub mod run;
 pub mod scene;
 pub mod solver;
+pub mod stability;
 pub mod state;
 pub mod validate;

@@ -1,9 +1,9 @@
 //! CPU vs CUDA, stage by stage (`src/backend/cpu/*.rs` <-> `cuda/*.cu`), in 2D and 3D with
 //! fluid, an elastic body, wall particles and a periodic axis, in four variants (dynamic
 //! walls / Lennard-Jones-only walls, summation / continuity density, forward / symplectic
-//! Euler, with / without artificial stress; two also with an inflow band); the stages run
-//! in the order of `Solver::step` for the variant's integrator. Then diagnostics after 200
-//! steps; and the `SphParams` layout as nvcc sees it.
+//! Euler, with / without artificial stress, with / without density diffusion; two also
+//! with an inflow band); the stages run in the order of `Solver::step` for the variant's
+//! integrator. Then diagnostics after 200 steps; and the `SphParams` layout as nvcc sees it.
 //!
 //! Without a usable GPU each test prints why and passes; with `MESHFREE_REQUIRE_CUDA=1` it
 //! fails instead.
@@ -58,6 +58,9 @@ struct Variant {
     symplectic: bool,
     art_stress: bool,
     laminar: bool,
+    /// Density diffusion (delta-SPH, `delta_sph` = 0.1) with a perturbed initial fluid
+    /// density, so that the diffusive term is not zero from the first step.
+    delta_sph: bool,
 }
 /// 2D: summation, dynamic walls, forward Euler, artificial stress, laminar viscosity.
 const V_2D_A: Variant = Variant {
@@ -66,6 +69,7 @@ const V_2D_A: Variant = Variant {
     symplectic: false,
     art_stress: true,
     laminar: true,
+    delta_sph: false,
 };
 /// 2D: continuity, Lennard-Jones-only walls, symplectic Euler, artificial stress.
 const V_2D_B: Variant = Variant {
@@ -74,6 +78,7 @@ const V_2D_B: Variant = Variant {
     symplectic: true,
     art_stress: true,
     laminar: false,
+    delta_sph: false,
 };
 /// 3D: continuity, Lennard-Jones-only walls, symplectic Euler, no artificial stress.
 const V_3D_A: Variant = Variant {
@@ -82,6 +87,7 @@ const V_3D_A: Variant = Variant {
     symplectic: true,
     art_stress: false,
     laminar: false,
+    delta_sph: false,
 };
 /// 3D: continuity with dynamic walls (wall d rho/dt), forward Euler, artificial stress,
 /// laminar viscosity.
@@ -91,6 +97,16 @@ const V_3D_B: Variant = Variant {
     symplectic: false,
     art_stress: true,
     laminar: true,
+    delta_sph: false,
+};
+/// 2D and 3D: `V_2D_B` / `V_3D_B` with density diffusion.
+const V_2D_DELTA: Variant = Variant {
+    delta_sph: true,
+    ..V_2D_B
+};
+const V_3D_DELTA: Variant = Variant {
+    delta_sph: true,
+    ..V_3D_B
 };
 
 /// A fluid lattice over a wall (3 layers, bottom; in 3D also the two z faces), periodic in
@@ -128,6 +144,7 @@ fn scene_with(dim: usize, v: Variant, vel_amp: f32) -> Setup {
         beta: 0.1,
         nu: if v.laminar { 0.005 } else { 0.0 },
         xsph_eps: 0.3,
+        delta_sph: if v.delta_sph { 0.1 } else { 0.0 },
         solid_rho0: 0.8,
         solid_c0: 15.0,
         shear_modulus: 50.0,
@@ -174,6 +191,9 @@ fn scene_with(dim: usize, v: Variant, vel_amp: f32) -> Setup {
                 q.position[a] += rng.sym(0.1 * dx);
                 q.velocity[a] = rng.sym(vel_amp);
             }
+        }
+        if v.delta_sph && kind == Kind::Fluid {
+            q.density *= 1.0 + rng.sym(0.01);
         }
         if kind == Kind::Solid {
             for c in 0..6 {
@@ -555,6 +575,18 @@ fn stages_2d_inflow_band_symplectic() {
 #[test]
 fn stages_3d_inflow_band_euler() {
     stages_on::<D3>("V_3D_B + inflow band", with_inflow_band(3, V_3D_B));
+}
+#[test]
+fn stages_2d_density_diffusion() {
+    stages::<D2>(2, V_2D_DELTA);
+}
+#[test]
+fn stages_3d_density_diffusion() {
+    stages::<D3>(3, V_3D_DELTA);
+}
+#[test]
+fn diagnostics_after_200_steps_2d_density_diffusion() {
+    long_run::<D2>(2, V_2D_DELTA, 200);
 }
 #[test]
 fn diagnostics_after_200_steps_2d_dynamic_walls_euler() {

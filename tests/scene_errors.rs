@@ -175,6 +175,23 @@ fn spacing_not_positive() {
 }
 
 #[test]
+fn density_diffusion_out_of_range_or_with_summation() {
+    expect_error(
+        &with("alpha = 0.02", "alpha = 0.02\ndensity_diffusion = 1.5"),
+        "fluid.density_diffusion",
+        "must lie in [0, 1]",
+    );
+    expect_error(
+        &with(
+            "alpha = 0.02",
+            "alpha = 0.02\ndensity_diffusion = 0.1\ndensity_form = \"summation\"",
+        ),
+        "fluid.density_diffusion",
+        "acts on the continuity equation",
+    );
+}
+
+#[test]
 fn object_outside_domain() {
     expect_error(
         &with("max = [0.5, 0.5]", "max = [1.5, 0.5]"),

@@ -80,3 +80,39 @@ fn unknown_case_is_an_error() {
     .unwrap_err();
     assert!(err.to_string().contains("taylor-green"), "{err}");
 }
+
+#[test]
+fn quick_chart_writes_error_vs_time_with_a_pareto_front() {
+    use meshfree::validate::chart;
+    let dir = tempfile::tempdir().unwrap();
+    let points = chart::run(&chart::Options {
+        tier: Tier::Quick,
+        backends: vec![BackendChoice::Cpu],
+        out_dir: dir.path().to_path_buf(),
+        verbose: false,
+    })
+    .expect("chart runs");
+    for case in ["dam-break", "taylor-green"] {
+        let ps: Vec<_> = points.iter().filter(|p| p.case == case).collect();
+        assert_eq!(ps.len(), 3, "{case}: {ps:?}");
+        assert!(
+            ps.iter()
+                .all(|p| p.error.is_some_and(|e| e.is_finite()) && p.wall_seconds > 0.0),
+            "{ps:?}"
+        );
+        // The fastest run is always on the front, and so is the most accurate.
+        let fastest = ps
+            .iter()
+            .min_by(|a, b| a.wall_seconds.total_cmp(&b.wall_seconds))
+            .unwrap();
+        let best = ps
+            .iter()
+            .min_by(|a, b| a.error.unwrap().total_cmp(&b.error.unwrap()))
+            .unwrap();
+        assert!(fastest.pareto && best.pareto, "{ps:?}");
+        let png = dir.path().join(format!("chart-{case}.png"));
+        assert!(std::fs::metadata(&png).is_ok_and(|m| m.len() > 5_000));
+    }
+    let csv = std::fs::read_to_string(dir.path().join("chart.csv")).unwrap();
+    assert_eq!(csv.lines().count(), points.len() + 1);
+}

@@ -210,6 +210,10 @@ pub struct FluidMaterial {
     /// Teschner 2013 (droplets, surface tension). Default 0 = off (the paper).
     #[serde(default)]
     pub cohesion: f64,
+    /// [-] delta of the density diffusion of Molteni & Colagrossi 2009 (continuity density
+    /// only, fluid-fluid pairs), usually 0.1. Default 0 = off (the paper).
+    #[serde(default)]
+    pub density_diffusion: f64,
 }
 
 fn default_gamma() -> f64 {

@@ -33,6 +33,7 @@
 //! viscosity = 0.0                    # nu, default 0 = off
 //! xsph = 0.5                         # default 0, eq. (18)
 //! cohesion = 0.0                     # gamma, default 0 = off: Akinci et al. 2013 fluid cohesion
+//! density_diffusion = 0.1            # default 0 = off; delta-SPH (Molteni & Colagrossi 2009), continuity only
 //!
 //! [solid]                            # only with solid objects
 //! density = 600.0
@@ -417,6 +418,7 @@ fn scene_params(s: &SceneFile) -> SphParams {
     p.nu = f.viscosity as f32;
     p.xsph_eps = f.xsph as f32;
     p.cohesion = f.cohesion as f32;
+    p.delta_sph = f.density_diffusion as f32;
 
     // Without solids the solid fields mirror the fluid's, so nothing divides by zero.
     match &s.solid {

@@ -200,6 +200,23 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
             format!("must lie in [0, 1] (eq. 18), found {}", f.xsph),
         ));
     }
+    c.non_negative("fluid.density_diffusion", f.density_diffusion)?;
+    if f.density_diffusion > 1.0 {
+        return Err(c.err(
+            "fluid.density_diffusion",
+            format!(
+                "must lie in [0, 1] (Molteni & Colagrossi 2009 use 0.1), found {}",
+                f.density_diffusion
+            ),
+        ));
+    }
+    if f.density_diffusion > 0.0 && f.density_form == DensityForm::Summation {
+        return Err(c.err(
+            "fluid.density_diffusion",
+            "acts on the continuity equation: set density_form = \"continuity\" or leave it at 0"
+                .to_string(),
+        ));
+    }
     if let Some(m) = &s.solid {
         c.positive("solid.density", m.density)?;
         c.positive("solid.sound_speed", m.sound_speed)?;

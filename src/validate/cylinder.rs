@@ -115,6 +115,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
             title: "Flow past a cylinder, Re = 100: drag and lift",
             x_label: "t U / D",
             y_label: "Cd, Cl",
+            log_x: false,
             log_y: false,
         },
         &[

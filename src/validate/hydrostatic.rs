@@ -180,6 +180,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
             x_label: "depth / H",
             y_label: "p / (rho0 g H)",
             log_y: false,
+            log_x: false,
         },
         &[
             Series::points("SPH particles", fine.profile.clone()),

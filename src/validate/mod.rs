@@ -13,6 +13,7 @@
 //! reference file's recommendation), "regression" (a looser quick-tier bound that catches
 //! breakage, not a claim of accuracy) or "convergence" (observed order, must be positive).
 
+pub mod chart;
 pub mod cylinder;
 pub mod dam_break;
 pub mod hydrostatic;

@@ -8,9 +8,9 @@ use plotters::prelude::*;
 use plotters::style::FontStyle;
 
 static FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSansMono.ttf");
-const FAMILY: &str = "sans-serif";
+pub(crate) const FAMILY: &str = "sans-serif";
 
-fn register_font() {
+pub(crate) fn register_font() {
     static ONCE: std::sync::Once = std::sync::Once::new();
     ONCE.call_once(|| {
         // Registering a valid embedded font cannot fail; if it did, text is just missing.
@@ -59,6 +59,8 @@ pub struct Figure<'a> {
     pub y_label: &'a str,
     /// Log scale on y (every y must be positive).
     pub log_y: bool,
+    /// Log scale on x (every x must be positive).
+    pub log_x: bool,
 }
 
 fn range(v: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
@@ -71,26 +73,33 @@ fn range(v: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
         return (0.0, 1.0);
     }
     if log {
-        return (lo / 1.5, hi * 1.5);
+        // Whole decades, so that the axis has labelled ticks (plotters labels powers of 10).
+        let lo = 10f64.powf((lo / 1.2).log10().floor());
+        let hi = 10f64.powf((hi * 1.2).log10().ceil());
+        return (lo, hi);
     }
     let pad = if hi > lo { 0.05 * (hi - lo) } else { 0.5 };
     (lo - pad, hi + pad)
 }
 
-const COLORS: [RGBColor; 6] = [
+const COLORS: [RGBColor; 10] = [
     RGBColor(200, 30, 30),
     RGBColor(30, 80, 200),
     RGBColor(20, 140, 40),
     RGBColor(160, 60, 180),
     RGBColor(230, 130, 0),
     RGBColor(0, 0, 0),
+    RGBColor(0, 160, 170),
+    RGBColor(140, 90, 40),
+    RGBColor(240, 80, 160),
+    RGBColor(120, 120, 120),
 ];
 
 /// Draw `series` into a 900 x 600 PNG at `path`.
 pub fn plot(path: &Path, fig: &Figure, series: &[Series]) -> anyhow::Result<()> {
     register_font();
     let all = || series.iter().flat_map(|s| s.points.iter());
-    let (x0, x1) = range(all().map(|p| p.0), false);
+    let (x0, x1) = range(all().map(|p| p.0), fig.log_x);
     let (y0, y1) = range(all().map(|p| p.1), fig.log_y);
     let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
     let err = |e: &dyn std::fmt::Display| anyhow::anyhow!("plot {}: {e}", path.display());
@@ -140,7 +149,15 @@ pub fn plot(path: &Path, fig: &Figure, series: &[Series]) -> anyhow::Result<()> 
                 .map_err(|e| err(&e))?;
         }};
     }
-    if fig.log_y {
+    if fig.log_x && fig.log_y {
+        draw!(builder
+            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+            .map_err(|e| err(&e))?);
+    } else if fig.log_x {
+        draw!(builder
+            .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
+            .map_err(|e| err(&e))?);
+    } else if fig.log_y {
         draw!(builder
             .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
             .map_err(|e| err(&e))?);

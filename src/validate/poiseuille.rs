@@ -217,6 +217,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
             x_label: "y / L",
             y_label: "vx / v_max",
             log_y: false,
+            log_x: false,
         },
         &s,
     )?;

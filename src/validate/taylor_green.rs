@@ -74,7 +74,20 @@ struct Outcome {
 }
 
 fn simulate(ctx: &Ctx, n: usize, t_end: f64, fit_from: f64) -> anyhow::Result<Outcome> {
-    let scene = Scene::from_toml(&scene_text(n), "validate:taylor-green")?;
+    simulate_edited(ctx, n, t_end, fit_from, &|_| {})
+}
+
+/// `simulate` with the scene changed by `edit` (revalidated) before it runs.
+fn simulate_edited(
+    ctx: &Ctx,
+    n: usize,
+    t_end: f64,
+    fit_from: f64,
+    edit: &dyn Fn(&mut Scene),
+) -> anyhow::Result<Outcome> {
+    let mut scene = Scene::from_toml(&scene_text(n), "validate:taylor-green")?;
+    edit(&mut scene);
+    scene.revalidate()?;
     let mut setup = scene.setup()?;
     let tau = 2.0 * std::f64::consts::PI;
     let tait_b = 1.0 * C0 * C0 / GAMMA;
@@ -118,6 +131,18 @@ fn simulate(ctx: &Ctx, n: usize, t_end: f64, fit_from: f64) -> anyhow::Result<Ou
     })
 }
 
+/// The error of the kinetic-energy decay rate, |rate / exact - 1| fitted over
+/// 0.2 <= t <= 1, of the n x n vortex with the scene changed by `edit` (for the speed
+/// vs accuracy chart, `chart.rs`).
+pub fn decay_rate_error(
+    ctx: &Ctx,
+    n: usize,
+    edit: &dyn Fn(&mut Scene),
+) -> anyhow::Result<(f64, RunInfo)> {
+    let o = simulate_edited(ctx, n, 1.0, 0.2, edit)?;
+    Ok(((o.rate / (2.0 * b()) - 1.0).abs(), o.run))
+}
+
 pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
     let quick = ctx.tier == Tier::Quick;
     let (ns, t_end, fit_from): (&[usize], f64, f64) = if quick {
@@ -155,6 +180,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
             x_label: "t U / L",
             y_label: "E_k / E_k(0)",
             log_y: true,
+            log_x: false,
         },
         &s,
     )?;
