@@ -7,6 +7,7 @@ pub mod compare;
 pub mod dim;
 pub mod kernel;
 pub mod output;
+pub mod paper_bench;
 pub mod params;
 pub mod particle;
 pub mod run;
