@@ -200,8 +200,8 @@ pub fn run_scenes(o: &PaperBenchOptions, out_dir: &Path) -> Result<PaperBench, P
         }
         let scene = match Scene::builtin(&name) {
             Ok(s) => s,
-            Err(e @ SceneError::UnknownBuiltin { .. }) => {
-                let reason = format!("no built-in scene `{name}` in this build ({e})");
+            Err(SceneError::UnknownBuiltin { .. }) => {
+                let reason = format!("no built-in scene `{name}` in this build");
                 eprintln!("bench paper: skipping {name}: {reason}");
                 out.skipped.push((name, reason));
                 continue;
@@ -450,7 +450,9 @@ pub fn markdown(rows: &[Table1Row], cpu: Option<&PaperBench>, gpu: Option<&Paper
          from the runs' `paper-bench.json` (kept in `docs/data/`). Times are whole runs in\n\
          seconds (set-up, steps and four outputs). The paper gives neither step counts nor end\n\
          times, so its times compare with ours only as whole-scene figures; our scenes and\n\
-         end times are those of `docs/paper-scenes.md`.\n\n",
+         end times are those of `docs/paper-scenes.md`. To fill or renew it: `meshfree bench\n\
+         paper --backend cuda --out DIR` on the GPU machine, `--backend cpu` here (with\n\
+         `--t-end-fraction F` where the whole run is too long), then this command.\n\n",
     );
     s += &format!("- paper: {PAPER_HARDWARE}\n");
     for (what, b) in [("our GPU", gpu), ("our CPU", cpu)] {
