@@ -3,8 +3,9 @@
 //! at a fixed step (eq. (19)), artificial viscosity only (eq. (10)), XSPH (eq. (18)), walls
 //! by the Lennard-Jones force alone (eq. (17)), no artificial stress. The values the paper
 //! leaves open (alpha, beta, the step, XSPH epsilon) come from the parameter study in
-//! `docs/paper-scenes.md` ("--paper-exact"): the paper's low-Mach advice alpha = 0 with
-//! forward Euler grows every acoustic mode (see `tests/stability.rs`), so alpha has a floor.
+//! `docs/paper-scenes.md` (section `--paper-exact`): forward Euler grows every undamped
+//! oscillation, so the paper's low-Mach advice (alpha = 0, 0 < beta < 1) blows a resting
+//! tank up, and alpha has a floor.
 
 use super::format::{DensityForm, IntegratorChoice, WallCoupling};
 use super::{Scene, SceneError};
@@ -21,7 +22,7 @@ pub const DT_FRACTION: f64 = 0.05;
 pub const XSPH: f64 = 0.5;
 
 /// [-] The linear artificial viscosity with the effective kinematic viscosity nu [L^2/T]:
-/// nu = alpha h c / 8 in 2D, alpha h c / 10 in 3D (Monaghan 2005, sec. 4.7).
+/// nu = alpha h c / 8 in 2D, alpha h c / 10 in 3D (Monaghan 2005, Rep. Prog. Phys. 68, 1703).
 pub fn alpha_for_viscosity(nu: f64, h: f64, c: f64, dimension: u32) -> f64 {
     let k = if dimension == 3 { 10.0 } else { 8.0 };
     k * nu / (h * c)
