@@ -125,7 +125,8 @@ pub struct PaperBenchRow {
     /// `wall_s`, or for a run short of `scene_end_time`, set-up plus `ms_per_step` times
     /// the steps of the whole run estimated as steps x end time / time reached [s].
     pub full_run_s: f64,
-    /// True where `full_run_s` is such an estimate.
+    /// True where `full_run_s` is such an estimate (also for a run that failed short of
+    /// the end: the table then says where it failed).
     pub extrapolated: bool,
     pub completed: bool,
     /// The blow-up that stopped a failed run.
@@ -396,6 +397,10 @@ fn seconds(r: &Option<PaperBenchRow>) -> String {
         Some(r) if !r.completed && !r.extrapolated => {
             format!("failed at t = {:.2}", r.simulated_time)
         }
+        Some(r) if !r.completed => format!(
+            "{:.1}* (failed at t = {:.2})",
+            r.full_run_s, r.simulated_time
+        ),
         Some(r) if r.extrapolated => format!("{:.1}*", r.full_run_s),
         Some(r) => format!("{:.1}", r.full_run_s),
     }

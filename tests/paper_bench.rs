@@ -99,6 +99,12 @@ fn merging_a_cpu_and_a_gpu_run_gives_the_speed_ups() {
     assert!((r3.speedup_over_our_cpu.unwrap() - 502.0 / 100.0).abs() < 1e-9);
     assert!((r3.speedup_over_paper_gpu.unwrap() - 1731.0 / 100.0).abs() < 1e-9);
 
+    // A run that failed short of its end is extrapolated and says where it failed.
+    let mut failed = cpu.clone();
+    failed.rows[1].completed = false;
+    let text = text_table(&merge(Some(&failed), Some(&gpu)));
+    assert!(text.contains("502.0* (failed at t = 1.20)"), "{text}");
+
     // Scenes without a run have no speed-up.
     let rn = get("nozzle");
     assert!(rn.gpu.is_none() && rn.speedup_over_paper_gpu.is_none());
