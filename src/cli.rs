@@ -90,7 +90,10 @@ pub struct CompareArgs {
 }
 
 #[derive(Debug, clap::Args)]
+#[command(args_conflicts_with_subcommands = true)]
 pub struct BenchArgs {
+    #[command(subcommand)]
+    pub mode: Option<BenchMode>,
     /// Where to run.
     #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
     pub backend: BackendChoice,
@@ -113,6 +116,47 @@ pub struct BenchArgs {
     /// Output directory for bench.csv and bench.json.
     #[arg(long, value_name = "DIR", default_value = "out/bench")]
     pub out: PathBuf,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum BenchMode {
+    /// The paper's Table 1 beside ours: run the paper's five scenes on one backend and write
+    /// DIR/paper-bench.json, or (with --table) merge a CPU and a GPU result into the table.
+    Paper(PaperBenchArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct PaperBenchArgs {
+    /// Where to run.
+    #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
+    pub backend: BackendChoice,
+    /// Run each scene to this fraction of its end time (the whole run is then estimated
+    /// per step, and the table says so).
+    #[arg(long, value_name = "F", conflicts_with = "t_end")]
+    pub t_end_fraction: Option<f64>,
+    /// Run every scene to this end time instead of its own.
+    #[arg(long, value_name = "T")]
+    pub t_end: Option<f64>,
+    /// Only these built-in scenes, e.g. `impinging-2d,impinging-3d` [default: all five].
+    #[arg(long, value_delimiter = ',', value_name = "A,B")]
+    pub scenes: Vec<String>,
+    /// Run the scenes in the paper's own scheme (see `meshfree run --help`).
+    #[arg(long)]
+    pub paper_exact: bool,
+    /// Output directory: paper-bench.json and each scene's run.
+    #[arg(long, value_name = "DIR", default_value = "out/paper-bench")]
+    pub out: PathBuf,
+    /// Instead of running: merge paper-bench.json files (a CPU and a CUDA run, in either
+    /// order; one alone leaves the other's columns empty) into the full table.
+    #[arg(long, num_args = 1..=2, value_names = ["A.json", "B.json"],
+          conflicts_with_all = ["t_end_fraction", "t_end", "scenes", "paper_exact"])]
+    pub table: Vec<PathBuf>,
+    /// With --table: also write the table as Markdown here (e.g. docs/paper-table1.md).
+    #[arg(long, value_name = "MD", requires = "table")]
+    pub markdown: Option<PathBuf>,
+    /// No progress output.
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 /// What the window or the renderer shows.
@@ -142,6 +186,10 @@ pub struct ViewArgs {
     /// [default: out/<scene name>].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Use only the paper's own equations: summation density, forward Euler at a fixed
+    /// step, artificial viscosity only, Lennard-Jones walls (docs/paper-scenes.md).
+    #[arg(long)]
+    pub paper_exact: bool,
     /// Replace the scene's particle spacing (more or fewer particles; the wall strength
     /// follows).
     #[arg(long, value_name = "DX")]
@@ -162,10 +210,16 @@ pub struct RenderArgs {
     /// OUT_0000.png, OUT_0001.png, ...
     #[arg(long, value_name = "N")]
     pub frames: Option<u32>,
-    /// End time for --frames, replacing the scene's.
+    /// Render at each of the scene's figure moments (`time.figures`: the moments of the
+    /// paper's figures) into the directory --out, as SCENE_tT.png.
+    #[arg(long, conflicts_with_all = ["at", "frames"])]
+    pub figures: bool,
+    /// End time for --frames (and --figures: later moments are skipped), replacing the
+    /// scene's.
     #[arg(long, value_name = "T")]
     pub t_end: Option<f64>,
-    /// The PNG to write (with --frames, the stem of the sequence).
+    /// The PNG to write (with --frames, the stem of the sequence; with --figures, a
+    /// directory).
     #[arg(long, value_name = "PNG")]
     pub out: PathBuf,
     /// Image size as WIDTHxHEIGHT.
@@ -181,6 +235,10 @@ pub struct RenderArgs {
     /// follows).
     #[arg(long, value_name = "DX")]
     pub spacing: Option<f64>,
+    /// Use only the paper's own equations: summation density, forward Euler at a fixed
+    /// step, artificial viscosity only, Lennard-Jones walls (docs/paper-scenes.md).
+    #[arg(long)]
+    pub paper_exact: bool,
     /// With --frames: solver steps between frames instead of even times, and a timing line
     /// (frames per second, solver slow-down from drawing).
     #[arg(long, value_name = "K", requires = "frames")]
@@ -223,6 +281,10 @@ pub struct RunArgs {
     /// Time between outputs, replacing the scene's `time.output_interval`.
     #[arg(long, value_name = "T")]
     pub output_interval: Option<f64>,
+    /// Use only the paper's own equations: summation density, forward Euler at a fixed
+    /// step, artificial viscosity only, Lennard-Jones walls (docs/paper-scenes.md).
+    #[arg(long)]
+    pub paper_exact: bool,
     /// No progress output; only errors (and the final line on stdout).
     #[arg(long, short)]
     pub quiet: bool,
@@ -310,7 +372,10 @@ pub fn main(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Run(a) => {
-            let s = Scene::load(&a.scene)?;
+            let mut s = Scene::load(&a.scene)?;
+            if a.paper_exact {
+                s = s.with_paper_exact()?;
+            }
             let options = RunOptions {
                 particle_csv: a.csv,
                 backend: a.backend,
@@ -346,6 +411,9 @@ pub fn main(cli: Cli) -> anyhow::Result<()> {
 }
 
 fn bench(a: BenchArgs) -> anyhow::Result<()> {
+    if let Some(BenchMode::Paper(p)) = a.mode {
+        return paper_bench(p);
+    }
     let mut o = crate::bench::BenchOptions {
         backend: a.backend,
         dims: a.dims,
@@ -362,6 +430,60 @@ fn bench(a: BenchArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
     crate::bench::bench(&o, Some(&a.out))?;
     println!("wrote {}/bench.csv and bench.json", a.out.display());
+    Ok(())
+}
+
+fn paper_bench(a: PaperBenchArgs) -> anyhow::Result<()> {
+    use crate::paper_bench as pb;
+    if !a.table.is_empty() {
+        let (mut cpu, mut gpu) = (None, None);
+        for path in &a.table {
+            let b = pb::read(path)?;
+            let slot = if b.backend == "cuda" {
+                &mut gpu
+            } else {
+                &mut cpu
+            };
+            anyhow::ensure!(
+                slot.is_none(),
+                "--table wants one CPU and one CUDA paper-bench.json; {} is a second `{}` run",
+                path.display(),
+                b.backend
+            );
+            *slot = Some(b);
+        }
+        let rows = pb::merge(cpu.as_ref(), gpu.as_ref());
+        print!("{}", pb::text_table(&rows));
+        if let Some(md) = &a.markdown {
+            std::fs::write(md, pb::markdown(&rows, cpu.as_ref(), gpu.as_ref()))
+                .with_context(|| format!("writing {}", md.display()))?;
+            println!("wrote {}", md.display());
+        }
+        return Ok(());
+    }
+    let o = pb::PaperBenchOptions {
+        backend: a.backend,
+        span: match (a.t_end_fraction, a.t_end) {
+            (Some(f), _) => pb::Span::Fraction(f),
+            (None, Some(t)) => pb::Span::Time(t),
+            (None, None) => pb::Span::Full,
+        },
+        scenes: a.scenes,
+        paper_exact: a.paper_exact,
+        progress: if a.quiet {
+            Progress::Quiet
+        } else {
+            Progress::Auto
+        },
+    };
+    let b = pb::run_scenes(&o, &a.out)?;
+    let rows = if b.backend == "cuda" {
+        pb::merge(None, Some(&b))
+    } else {
+        pb::merge(Some(&b), None)
+    };
+    print!("{}", pb::text_table(&rows));
+    println!("wrote {}", a.out.join("paper-bench.json").display());
     Ok(())
 }
 

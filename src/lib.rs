@@ -9,6 +9,7 @@ pub mod dim;
 pub mod kernel;
 pub mod monitor;
 pub mod output;
+pub mod paper_bench;
 pub mod params;
 pub mod particle;
 pub mod run;

@@ -122,6 +122,9 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
     if let Some(dx) = a.spacing {
         scene = scene.with_spacing(dx)?;
     }
+    if a.paper_exact {
+        scene = scene.with_paper_exact()?;
+    }
     let out = a
         .out
         .clone()
@@ -184,6 +187,9 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
     if let Some(dx) = a.spacing {
         scene = scene.with_spacing(dx)?;
     }
+    if a.paper_exact {
+        scene = scene.with_paper_exact()?;
+    }
     if a.t_end.is_some() {
         scene = scene.with_overrides(&Overrides {
             t_end: a.t_end,
@@ -216,6 +222,21 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
     };
     let stem = a.out.with_extension("");
     let numbered = |k: u32| std::path::PathBuf::from(format!("{}_{k:04}.png", stem.display()));
+    if a.figures {
+        let moments = figure_moments(&scene);
+        std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
+        let end = scene.file.time.end;
+        for &t in &moments {
+            if t > end + 1e-12 {
+                println!("skipping t = {t}: past the end time {end}");
+                continue;
+            }
+            live.advance_to(t).map_err(anyhow::Error::msg)?;
+            let path = a.out.join(format!("{}_t{t:.2}.png", scene.name()));
+            shoot(&mut live, Some(&path))?;
+        }
+        return Ok(());
+    }
     match (a.frames, a.steps_per_frame) {
         (Some(n), Some(k)) => {
             // Timed: K solver steps, then one snapshot and render, N times.
@@ -260,4 +281,20 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+/// The scene's `time.figures`; without them, five moments from the start to the end time
+/// (said on stderr).
+fn figure_moments(scene: &Scene) -> Vec<f64> {
+    let f = &scene.file.time.figures;
+    if !f.is_empty() {
+        return f.clone();
+    }
+    let end = scene.file.time.end;
+    let m: Vec<f64> = (0..5).map(|k| end * k as f64 / 4.0).collect();
+    eprintln!(
+        "{}: no `time.figures` in the scene; rendering at {m:?}",
+        scene.name()
+    );
+    m
 }

@@ -429,3 +429,32 @@ fn monitors_are_checked() {
         "names an earlier monitor",
     );
 }
+
+#[test]
+fn figure_moments_must_increase() {
+    expect_error(
+        &with(
+            "output_interval = 0.005",
+            "output_interval = 0.005\nfigures = [0.0, 0.5, 0.5]",
+        ),
+        "time.figures[2]",
+        "must increase",
+    );
+    expect_error(
+        &with(
+            "output_interval = 0.005",
+            "output_interval = 0.005\nfigures = [-1.0]",
+        ),
+        "time.figures[0]",
+        "zero or positive",
+    );
+    // Moments past the end time are fine: a shortened run renders the ones it reaches.
+    Scene::from_toml(
+        &with(
+            "output_interval = 0.005",
+            "output_interval = 0.005\nfigures = [0.0, 5.0]",
+        ),
+        "x",
+    )
+    .unwrap();
+}

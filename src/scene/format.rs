@@ -165,6 +165,10 @@ pub struct Time {
     /// Default "symplectic-euler".
     #[serde(default)]
     pub integrator: IntegratorChoice,
+    /// [T] the moments the paper's figures show, ascending (`meshfree render --figures`).
+    /// Default none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub figures: Vec<f64>,
 }
 
 fn default_courant() -> f64 {

@@ -22,6 +22,7 @@
 //! courant = 0.2                      # default 0.2
 //! # dt = 1e-4                        # optional fixed step (default adaptive)
 //! integrator = "symplectic-euler"    # default | "euler" (the paper's forward Euler)
+//! figures = [1.0, 2.0]               # optional: moments for `meshfree render --figures`
 //!
 //! [fluid]
 //! density = 1000.0                   # rho0
@@ -94,6 +95,7 @@
 mod error;
 pub mod format;
 mod generate;
+pub mod paper_exact;
 mod validate;
 
 use std::path::{Path, PathBuf};

@@ -183,6 +183,19 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
     if let Some(dt) = s.time.dt {
         c.positive("time.dt", dt)?;
     }
+    // Figure moments may lie past `end`: a shortened run renders the ones it reaches.
+    for (i, &t) in s.time.figures.iter().enumerate() {
+        c.non_negative(&format!("time.figures[{i}]"), t)?;
+        if i > 0 && t <= s.time.figures[i - 1] {
+            return Err(c.err(
+                format!("time.figures[{i}]"),
+                format!(
+                    "the figure moments must increase: {t} follows {}",
+                    s.time.figures[i - 1]
+                ),
+            ));
+        }
+    }
 
     // Materials.
     let f = &s.fluid;
