@@ -22,13 +22,8 @@ use serde::{Deserialize, Serialize};
 use crate::backend::BackendChoice;
 use sweep::{Base, MapDef};
 
-/// Quick (coarse, two values per axis: the tests) or full.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Tier {
-    Quick,
-    Full,
-}
+/// Quick (coarse, two values per axis: the tests) or full: the tiers of `validate`.
+pub use crate::validate::Tier;
 
 /// What `run` does.
 #[derive(Clone, Debug)]
