@@ -406,6 +406,22 @@ fn seconds(r: &Option<PaperBenchRow>) -> String {
     }
 }
 
+/// A row's cells from "particles (paper)" to "speed-up over our CPU", as both tables show them.
+fn cells(r: &Table1Row) -> [String; 10] {
+    [
+        r.paper.particles.to_string(),
+        opt(r.particles, |n| n.to_string()),
+        opt(r.steps, |n| n.to_string()),
+        opt(r.simulated_time, |t| format!("{t:.3}")),
+        format!("{:.0}", r.paper.gpu_s),
+        format!("{:.0}", r.paper.serial_s),
+        seconds(&r.gpu),
+        seconds(&r.cpu),
+        opt(r.speedup_over_paper_gpu, |x| format!("{x:.1}")),
+        opt(r.speedup_over_our_cpu, |x| format!("{x:.1}")),
+    ]
+}
+
 /// The merged table as text columns (what the terminal shows).
 pub fn text_table(rows: &[Table1Row]) -> String {
     let mut s = format!(
@@ -423,19 +439,10 @@ pub fn text_table(rows: &[Table1Row]) -> String {
         "x our CPU"
     );
     for r in rows {
+        let c = cells(r);
         s += &format!(
-            "{:<22} {:>9} {:>9} {:>8} {:>9} {:>9.0} {:>9.0} {:>10} {:>10} {:>9} {:>9}\n",
-            r.paper.scene,
-            r.paper.particles,
-            opt(r.particles, |n| n.to_string()),
-            opt(r.steps, |n| n.to_string()),
-            opt(r.simulated_time, |t| format!("{t:.3}")),
-            r.paper.gpu_s,
-            r.paper.serial_s,
-            seconds(&r.gpu),
-            seconds(&r.cpu),
-            opt(r.speedup_over_paper_gpu, |x| format!("{x:.1}")),
-            opt(r.speedup_over_our_cpu, |x| format!("{x:.1}")),
+            "{:<22} {:>9} {:>9} {:>8} {:>9} {:>9} {:>9} {:>10} {:>10} {:>9} {:>9}\n",
+            r.paper.scene, c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9],
         );
     }
     if rows.iter().any(|r| {
@@ -482,20 +489,11 @@ pub fn markdown(rows: &[Table1Row], cpu: Option<&PaperBench>, gpu: Option<&Paper
     s += "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in rows {
         s += &format!(
-            "| {} ({}) | {}D | {} | {} | {} | {} | {:.0} | {:.0} | {} | {} | {} | {} |\n",
+            "| {} ({}) | {}D | {} |\n",
             r.paper.label,
             r.paper.scene,
             r.paper.dimension,
-            r.paper.particles,
-            opt(r.particles, |n| n.to_string()),
-            opt(r.steps, |n| n.to_string()),
-            opt(r.simulated_time, |t| format!("{t:.3}")),
-            r.paper.gpu_s,
-            r.paper.serial_s,
-            seconds(&r.gpu),
-            seconds(&r.cpu),
-            opt(r.speedup_over_paper_gpu, |x| format!("{x:.1}")),
-            opt(r.speedup_over_our_cpu, |x| format!("{x:.1}")),
+            cells(r).join(" | ")
         );
     }
     s += "\nSteps and simulated time are the GPU run's where there is one. \
