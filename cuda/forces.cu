@@ -35,12 +35,12 @@ __device__ __forceinline__ float cohesion_over_r(float support, float rr) {
     return 32.0f / (3.14159265358979323846f * support * support * support) * c / rr;
 }
 
-// Whether a pair exchanges the whole stress -P I + S of eq. (16) or only -P I: with dynamic
-// coupling only two particles of one body (or two fluid particles); across a fluid-solid
-// interface, two bodies or a body and a wall, pressure alone (Antoci, Gallati & Sibilla
-// 2007). Twin of `whole_stress_pair` in cpu/forces.rs.
+// Whether a pair exchanges the whole stress -P I + S of eq. (16) or only -P I
+// (`interface_stress`): by default only two particles of one body (or two fluid particles);
+// across a fluid-solid interface, two bodies or a body and a wall, pressure alone (Antoci,
+// Gallati & Sibilla 2007). Twin of `whole_stress_pair` in cpu/forces.rs.
 __device__ __forceinline__ bool whole_stress_pair(const SphParams& p, bool same_body) {
-    return same_body || p.wall_pressure == 0;
+    return same_body || p.interface_stress != 0;
 }
 
 template <int DIM, bool SOLIDS, int L>

@@ -72,6 +72,10 @@ typedef struct SphParams {
     float art_stress_eps;  /* [-] Gray-Monaghan-Swift 2001 artificial stress factor; 0 = off */
     float art_stress_n;    /* [-] exponent n of f_ij^n, usually 4 */
     float inv_w_dx;        /* derived: [L^d] 1 / W(dx), normalises f_ij = W_ij / W(dx) */
+    int32_t interface_stress; /* 1: a pair across two objects (fluid-solid, two bodies, a body
+                                 and a wall) exchanges the whole stress -P I + S, the paper's
+                                 eq. (16); 0: its pressure part only (Antoci, Gallati &
+                                 Sibilla 2007), the default */
 
     /* ---- boundary particles: eq. (17) ---- */
     float lj_c0;           /* [L/T^2] C0, strength of the Lennard-Jones force */

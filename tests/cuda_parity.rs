@@ -554,11 +554,12 @@ fn stages_3d_driven_solid_cohesion_continuity_euler() {
 
 /// `scene(dim, v)` where elastic bodies touch each other and the wall: the disc / sphere
 /// split in two bodies at its centre plane (group 3 the +x half), and a layer of solid
-/// (group 4, with stress) on the wall under the left part of the fluid. With dynamic
-/// coupling the pairs across two objects take the pressure part of the stress only
-/// (`whole_stress_pair` in forces.rs / forces.cu).
-fn bodies_in_contact(dim: usize, v: Variant) -> Setup {
+/// (group 4, with stress) on the wall under the left part of the fluid. Pairs across two
+/// objects take the pressure part of the stress only, or with `whole` the whole stress
+/// (`interface_stress`, `whole_stress_pair` in forces.rs / forces.cu).
+fn bodies_in_contact(dim: usize, v: Variant, whole: bool) -> Setup {
     let mut setup = scene(dim, v);
+    setup.params.interface_stress = whole as i32;
     let p = setup.params;
     let xc = 0.5 * p.domain_max[0];
     let vol = p.dx.powi(dim as i32);
@@ -580,15 +581,22 @@ fn bodies_in_contact(dim: usize, v: Variant) -> Setup {
 
 #[test]
 fn stages_2d_bodies_in_contact_dynamic_walls() {
-    stages_on::<D2>("V_2D_A + bodies in contact", bodies_in_contact(2, V_2D_A));
+    stages_on::<D2>(
+        "V_2D_A + bodies in contact",
+        bodies_in_contact(2, V_2D_A, false),
+    );
 }
 #[test]
 fn stages_3d_bodies_in_contact_dynamic_walls() {
-    stages_on::<D3>("V_3D_B + bodies in contact", bodies_in_contact(3, V_3D_B));
+    stages_on::<D3>(
+        "V_3D_B + bodies in contact",
+        bodies_in_contact(3, V_3D_B, false),
+    );
 }
 #[test]
-fn stages_2d_bodies_in_contact_lj_walls() {
-    stages_on::<D2>("V_2D_B + bodies in contact", bodies_in_contact(2, V_2D_B));
+fn stages_2d_bodies_in_contact_lj_walls_whole_stress() {
+    let setup = bodies_in_contact(2, V_2D_B, true);
+    stages_on::<D2>("V_2D_B + bodies in contact, whole stress", setup);
 }
 
 #[test]

@@ -2,7 +2,7 @@
 //! with those settings keeps a tank bounded past where the first attempt blew up.
 
 use meshfree::run::{run, Progress, RunOptions};
-use meshfree::scene::format::{DensityForm, IntegratorChoice, WallCoupling};
+use meshfree::scene::format::{DensityForm, IntegratorChoice, SolidInterface, WallCoupling};
 use meshfree::scene::paper_exact::{alpha_for_viscosity, ALPHA_MIN, BETA, DT_FRACTION, XSPH};
 use meshfree::scene::{builtin_names, Scene};
 
@@ -28,6 +28,7 @@ fn the_transform_sets_exactly_the_paper_options() {
         want.fluid.xsph = XSPH;
         if let Some(m) = want.solid.as_mut() {
             m.artificial_stress = 0.0;
+            m.interface = SolidInterface::Stress;
         }
         if let Some(b) = want.boundary.as_mut() {
             b.wall_coupling = WallCoupling::LennardJonesOnly;

@@ -5,7 +5,7 @@
 //! gravity. With the paper's eq. (16) across every pair the square comes apart within
 //! 0.3 time units (radius of gyration x 1.34 at t = 0.3, x 2.24 when the run stops at
 //! t = 0.48, a particle's density out of range); with the fluid and the body meeting through pressure
-//! only (`whole_stress_pair`, the default) it keeps its shape.
+//! only (`[solid] interface = "pressure"`, the default) it keeps its shape.
 
 use meshfree::analysis::bodies::{body, Body};
 use meshfree::backend::cpu_solver;
@@ -13,11 +13,9 @@ use meshfree::run::{self, Gates};
 use meshfree::scene::Scene;
 
 /// The square (group 1) at rest, the water block (group 0) to its left moving at +6.
-/// `coupling` is the `[boundary] wall_coupling` value (None: no [boundary] table).
-fn scene(coupling: Option<&str>) -> Scene {
-    let boundary = coupling.map_or(String::new(), |c| {
-        format!("[boundary]\nstrength = 0.0\nwall_coupling = \"{c}\"\n")
-    });
+/// `interface` is the `[solid] interface` value (None: the default).
+fn scene(interface: Option<&str>) -> Scene {
+    let interface = interface.map_or(String::new(), |c| format!("interface = \"{c}\"\n"));
     let text = format!(
         r#"dimension = 2
 name = "solid-impact"
@@ -38,7 +36,7 @@ xsph = 0.5
 density = 0.6
 sound_speed = 85.0
 shear_modulus = 1080.0
-{boundary}
+{interface}
 [[fluid_blocks]]
 min = [0.0, -1.5]
 max = [6.0, 6.0]
@@ -105,9 +103,9 @@ fn a_square_hit_by_water_keeps_its_shape() {
 
 #[test]
 fn with_the_papers_interface_stress_the_square_comes_apart() {
-    // `lennard-jones-only` selects the paper's eq. (16) across every pair: the body's
+    // `interface = "stress"` selects the paper's eq. (16) across every pair: the body's
     // deviatoric stress reaches the fluid, and the square is torn apart (or the run stops).
-    let (b0, history, fault) = follow(&scene(Some("lennard-jones-only")), 0.6);
+    let (b0, history, fault) = follow(&scene(Some("stress")), 0.6);
     let worst = history
         .iter()
         .map(|(_, b)| b.rg / b0.rg)

@@ -73,6 +73,8 @@ pub struct SphParams {
     pub art_stress_n: f32,
     #[doc = " derived: [L^d] 1 / W(dx), normalises f_ij = W_ij / W(dx)"]
     pub inv_w_dx: f32,
+    #[doc = " 1: a pair across two objects (fluid-solid, two bodies, a body\nand a wall) exchanges the whole stress -P I + S, the paper's\neq. (16); 0: its pressure part only (Antoci, Gallati &\nSibilla 2007), the default"]
+    pub interface_stress: i32,
     #[doc = " [L/T^2] C0, strength of the Lennard-Jones force"]
     pub lj_c0: f32,
     #[doc = " [L] r0, the initial particle spacing"]

@@ -239,6 +239,22 @@ pub struct SolidMaterial {
     /// [-] exponent n of the artificial stress. Default 4.
     #[serde(default = "default_art_n")]
     pub artificial_stress_exponent: f64,
+    /// What a body exchanges with the fluid, walls and other bodies. Default `pressure`.
+    #[serde(default)]
+    pub interface: SolidInterface,
+}
+
+/// What a pair across two objects (fluid and body, two bodies, a body and a wall) exchanges
+/// in eq. (16); within one body it is always the whole stress -P I + S.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SolidInterface {
+    /// The pressure part -P I only (Antoci, Gallati & Sibilla 2007: an inviscid fluid
+    /// carries no shear traction; the pair force is central).
+    #[default]
+    Pressure,
+    /// The whole stress -P I + S across every pair: the paper's eq. (16).
+    Stress,
 }
 
 fn default_art_n() -> f64 {
@@ -250,12 +266,10 @@ fn default_art_n() -> f64 {
 pub enum WallCoupling {
     /// Dynamic walls (Crespo, Gomez-Gesteira & Dalrymple 2007): wall particles take density
     /// and pressure like fluid but do not move; they enter the pressure and viscosity sums
-    /// (no leaks, no-slip), and the Lennard-Jones force acts as well. An elastic body meets
-    /// the fluid, walls and other bodies through pressure only (Antoci et al. 2007).
+    /// (no leaks, no-slip), and the Lennard-Jones force acts as well.
     #[default]
     Dynamic,
-    /// The paper's form: the Lennard-Jones force of eq. (17) only, and an elastic body's
-    /// whole stress across every pair, eq. (16).
+    /// The paper's form: the Lennard-Jones force of eq. (17) only.
     LennardJonesOnly,
 }
 

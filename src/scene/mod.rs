@@ -42,6 +42,9 @@
 //! shear_modulus = 1e5                # mu_s, eq. (12)
 //! artificial_stress = 0.0            # default 0 = off (the paper)
 //! artificial_stress_exponent = 4.0   # default 4
+//! interface = "pressure"             # default: the body meets fluid, walls and other
+//!                                    # bodies through pressure only (Antoci et al. 2007) |
+//!                                    # "stress": its whole stress, the paper's eq. (16)
 //!
 //! [boundary]                         # only with walls; eq. (17)
 //! strength = 2500.0                  # C0
@@ -49,11 +52,7 @@
 //! p1 = 12                            # default 12
 //! p2 = 6                             # default 6
 //! attractive = false                 # default false
-//! wall_coupling = "dynamic"          # default | "lennard-jones-only" (the paper); "dynamic"
-//!                                    # also makes an elastic body meet the fluid, walls and
-//!                                    # other bodies through pressure only (the paper: its
-//!                                    # whole stress, eq. (16)); a scene without [boundary]
-//!                                    # is "dynamic"
+//! wall_coupling = "dynamic"          # default | "lennard-jones-only" (the paper)
 //!
 //! [[fluid_blocks]]
 //! min = [0.0, 0.0]
@@ -434,6 +433,7 @@ fn scene_params(s: &SceneFile) -> SphParams {
             p.shear_modulus = m.shear_modulus as f32;
             p.art_stress_eps = m.artificial_stress as f32;
             p.art_stress_n = m.artificial_stress_exponent as f32;
+            p.interface_stress = (m.interface == SolidInterface::Stress) as i32;
         }
         None => {
             p.solid_rho0 = p.rho0;
@@ -441,6 +441,7 @@ fn scene_params(s: &SceneFile) -> SphParams {
             p.shear_modulus = 0.0;
             p.art_stress_eps = 0.0;
             p.art_stress_n = 4.0;
+            p.interface_stress = 0;
         }
     }
 

@@ -72,17 +72,17 @@ pub fn cohesion_over_r(support: f32, rr: f32) -> f32 {
 }
 
 /// Whether a pair exchanges the whole stress sigma = -P I + S of eq. (16), or only its
-/// pressure part -P I. With dynamic coupling (`wall_pressure`, the default) only two
+/// pressure part -P I (`[solid] interface`, `interface_stress`). By default only two
 /// particles of one body (or two fluid particles) do: an inviscid fluid carries no shear
 /// traction, so across a fluid-solid interface the fluid and the body meet through pressure
 /// alone (Antoci, Gallati & Sibilla 2007, Comput. Struct. 85, 879: the interface term is a
 /// surface integral of the fluid's pressure), and so do two bodies in contact or a body and
 /// a wall. Passing a body's deviatoric stress to the fluid (the paper's eq. (16) across
-/// every pair) tore an 8 x 8-particle square apart within 0.3 time units of the water's
-/// impact (docs/paper-scenes.md); the paper's own form stays with `lennard-jones-only`.
+/// every pair, `interface = "stress"`, kept by `--paper-exact`) tore an 8 x 8-particle
+/// square apart within 0.3 time units of the water's impact (docs/paper-scenes.md).
 #[inline]
 pub fn whole_stress_pair(p: &SphParams, same_body: bool) -> bool {
-    same_body || p.wall_pressure == 0
+    same_body || p.interface_stress != 0
 }
 
 /// sigma_i / rho_i^2 + sigma_j / rho_j^2 of eqs. (7), (16) across a pair with a wall
