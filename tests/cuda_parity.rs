@@ -400,11 +400,12 @@ fn stages_on<D: Dim>(what: &str, setup: Setup) {
         g.info().device
     );
     let euler = p.integrator as u32 == MF_INTEGRATOR_EULER;
-    for round in 0..2 {
-        // Round 0: neighbour loops split over several lanes (small systems); round 1: one
-        // thread per particle (large systems), the CPU's exact order.
-        g.set_lane_split(Some(round == 0));
-        eprintln!(" round {round} (lane split {})", round == 0);
+    for lanes in [8, 4, 2, 1] {
+        // Each entry of the neighbour kernels: loops split over 8, 4 or 2 lanes per particle
+        // (small systems use 4 in 2D and 8 in 3D; large ones fewer), and one thread per
+        // particle, the CPU's exact order.
+        g.set_lanes(Some(lanes));
+        eprintln!(" round with {lanes} lanes per particle");
         // Grid: the (cell, id) order must be identical.
         c.build_grid();
         g.build_grid();
