@@ -287,18 +287,20 @@ __device__ __forceinline__ void rows(const SphParams& p, Vec<DIM> xi, R&& row) {
 // launcher (src/backend/cuda/launch.rs) picks L by system size.
 #define MF_LANES_EACH(X) X(1) X(2) X(4) X(8)
 
-// Candidates per batch in the neighbour loop (see for_each_neighbor_split).
+// Candidates per batch in the neighbour loop (see for_each_neighbor_split): 8 for the
+// one-lane fluid-only forces and rates (large systems; measured on the H100 against 4 and 2,
+// docs/performance.md, Session 3), MF_NB_BATCH for the others.
 #ifndef MF_NB_BATCH
 #define MF_NB_BATCH 4
 #endif
-template <int DIM, int L> struct Batch { static constexpr int B = MF_NB_BATCH; };
+template <int L, bool SOLIDS> struct Batch { static constexpr int B = L == 1 && !SOLIDS ? 8 : MF_NB_BATCH; };
 
 // Calls f(j, r_ij, r_ij^2, w_j) for every j (i included) within the support of xi (w_j: the
 // w slot of j's stored position, its mass in 3D; 0 in 2D), the
 // candidates of `rows` split over L lanes (lane l takes every L-th). A row that does not
 // wrap around a periodic x axis is one contiguous range of storage (cells are x-fastest and
 // the storage is sorted by cell); a wrapping row is taken cell by cell, in the same order.
-template <int DIM, int L, class F>
+template <int DIM, int L, int B = MF_NB_BATCH, class F>
 __device__ __forceinline__ void for_each_neighbor_split(const SphParams& p, const unsigned* __restrict__ cell_start,
                                                         const float* __restrict__ pos, Vec<DIM> xi, int lane,
                                                         F&& f) {
@@ -318,10 +320,10 @@ __device__ __forceinline__ void for_each_neighbor_split(const SphParams& p, cons
             }
             // Batches of B candidates: B independent position loads in flight, then the
             // accepted ones in candidate order (same calls, same order as one by one).
-            for (unsigned base = s + lane; base < e; base += Batch<DIM, L>::B * L) {
+            for (unsigned base = s + lane; base < e; base += B * L) {
                 unsigned mask = 0;
 #pragma unroll
-                for (int k = 0; k < Batch<DIM, L>::B; ++k) {
+                for (int k = 0; k < B; ++k) {
                     const unsigned j = base + k * L;
                     const Vec<DIM> r = separation<DIM>(p, xi, vload<DIM>(pos, min(j, e - 1)));
                     if (j < e && dot(r, r) < p.support2) mask |= 1u << k;

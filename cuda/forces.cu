@@ -35,7 +35,7 @@ __device__ __forceinline__ float cohesion_over_r(float support, float rr) {
     return 32.0f / (3.14159265358979323846f * support * support * support) * c / rr;
 }
 
-template <int DIM, bool SOLIDS, int L>
+template <int DIM, bool SOLIDS, int L, int B = Batch<L, SOLIDS>::B>
 __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
                             const float* __restrict__ pos, const float* __restrict__ vel,
                             const float* __restrict__ rho, const float* __restrict__ pr,
@@ -73,7 +73,7 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
 #pragma unroll
             for (int a = 0; a < DIM; ++a) acc.c[a] = p.gravity[a];
         }
-        for_each_neighbor_split<DIM, L>(p, cell_start, pos, xi, lane, [&](unsigned j, Vec<DIM> r, float r2,
+        for_each_neighbor_split<DIM, L, B>(p, cell_start, pos, xi, lane, [&](unsigned j, Vec<DIM> r, float r2,
                                                                          float pw) {
             if (j == i) return;
             // v_j, and in 3D m_j, rho_j and (fluid-only scenes) the kind from the w slots.
@@ -181,3 +181,4 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
     MF_FORCES_ENTRY(sph_forces_fluid_##L##_2d, 2, false, L) \
     MF_FORCES_ENTRY(sph_forces_fluid_##L##_3d, 3, false, L)
 MF_LANES_EACH(MF_FORCES_LANES)
+

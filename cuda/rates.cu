@@ -37,7 +37,7 @@ template <int DIM> __device__ __forceinline__ Mat<DIM> inverse(const Mat<DIM>& a
 }
 
 // drho: null without the continuity density; stress, rate: null without solids.
-template <int DIM, bool SOLIDS, int L>
+template <int DIM, bool SOLIDS, int L, int B = Batch<L, SOLIDS>::B>
 __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
                            const float* __restrict__ pos, const float* __restrict__ vel,
                            const float* __restrict__ rho, const float* __restrict__ mass,
@@ -64,7 +64,7 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
         const Vec<DIM> vi = vload<DIM>(vel, i);
         const float rhoi = rho[i];
         const unsigned gi = group[i];
-        for_each_neighbor_split<DIM, L>(p, cell_start, pos, vload<DIM>(pos, i), lane,
+        for_each_neighbor_split<DIM, L, B>(p, cell_start, pos, vload<DIM>(pos, i), lane,
                                         [&](unsigned j, Vec<DIM> r, float r2, float pw) {
             if (j == i) return;
             // v_j, and in 3D m_j, rho_j and (fluid-only scenes) the kind from the w slots
@@ -198,3 +198,4 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
     MF_RATES_ENTRY(sph_rates_fluid_##L##_2d, 2, false, L) \
     MF_RATES_ENTRY(sph_rates_fluid_##L##_3d, 3, false, L)
 MF_LANES_EACH(MF_RATES_LANES)
+

@@ -381,6 +381,23 @@ fn with_inflow_band(dim: usize, v: Variant) -> Setup {
     setup
 }
 
+/// `scene(dim, v)` with the solid body turned into fluid (rest density, no stress): the only
+/// scenes that take the fluid-only entries of forces and rates (`sph_forces_fluid_*`,
+/// `sph_rates_fluid_*`: batches of 8 candidates at one lane, and in 3D the neighbour's kind
+/// read from the sign of its vel.w, `Packed` in cuda/common.cuh).
+fn fluid_only(dim: usize, v: Variant) -> Setup {
+    let mut setup = scene(dim, v);
+    let (rho0, dx) = (setup.params.rho0, setup.params.dx);
+    for q in setup.particles.iter_mut().filter(|q| q.kind == Kind::Solid) {
+        q.kind = Kind::Fluid;
+        q.group = 1;
+        q.density = rho0;
+        q.mass = rho0 * dx.powi(dim as i32);
+        q.stress = Default::default();
+    }
+    setup
+}
+
 /// The stage comparison on any parity scene (`what` names it in the log).
 fn stages_on<D: Dim>(what: &str, setup: Setup) {
     let dim = setup.params.dim;
@@ -576,6 +593,18 @@ fn stages_2d_inflow_band_symplectic() {
 #[test]
 fn stages_3d_inflow_band_euler() {
     stages_on::<D3>("V_3D_B + inflow band", with_inflow_band(3, V_3D_B));
+}
+#[test]
+fn stages_2d_fluid_only_dynamic_walls_summation_euler() {
+    stages_on::<D2>("V_2D_A fluid only", fluid_only(2, V_2D_A));
+}
+#[test]
+fn stages_3d_fluid_only_lj_walls_continuity_symplectic() {
+    stages_on::<D3>("V_3D_A fluid only", fluid_only(3, V_3D_A));
+}
+#[test]
+fn stages_3d_fluid_only_dynamic_walls_continuity_euler() {
+    stages_on::<D3>("V_3D_B fluid only", fluid_only(3, V_3D_B));
 }
 #[test]
 fn stages_2d_density_diffusion() {
