@@ -43,7 +43,7 @@ pub const SPLIT_BELOW: usize = 150_000;
 pub const SPLIT_LANES: [usize; 2] = [4, 8];
 
 /// Threads per particle at and above `SPLIT_BELOW`, for 2D and 3D (1: the CPU's exact
-/// summation order).
+/// summation order; 2, 4 and 8 were slower at 4M particles on an H100, docs/performance.md).
 pub const LARGE_LANES: [usize; 2] = [1, 1];
 
 /// Lanes per particle for a system of `n` particles in `dim` dimensions: the size rule,
