@@ -35,6 +35,14 @@ __device__ __forceinline__ float cohesion_over_r(float support, float rr) {
     return 32.0f / (3.14159265358979323846f * support * support * support) * c / rr;
 }
 
+// Whether a pair exchanges the whole stress -P I + S of eq. (16) or only -P I: with dynamic
+// coupling only two particles of one body (or two fluid particles); across a fluid-solid
+// interface, two bodies or a body and a wall, pressure alone (Antoci, Gallati & Sibilla
+// 2007). Twin of `whole_stress_pair` in cpu/forces.rs.
+__device__ __forceinline__ bool whole_stress_pair(const SphParams& p, bool same_body) {
+    return same_body || p.wall_pressure == 0;
+}
+
 template <int DIM, bool SOLIDS, int L, int B = Batch<L, SOLIDS>::B>
 __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
                             const float* __restrict__ pos, const float* __restrict__ vel,
@@ -98,15 +106,21 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
             const Vec<DIM> vij = vi - vj;
             const float vr = dot(vij, r);
             const float inv_r2j = 1.0f / (rhoj * rhoj);
-            // Stress term, eq. (16); eq. (7) when both are fluid (sigma = -P I).
+            const bool same_body = kj == ki && (ki == MF_KIND_FLUID || group[j] == gi);
+            // Stress term, eq. (16); eq. (7) when both are fluid (sigma = -P I); across two
+            // objects the pressure part only (whole_stress_pair).
             if constexpr (SOLIDS) {
-                Mat<DIM> sj = sload<DIM>(stress, j, n);
+                const bool whole = whole_stress_pair(p, same_body);
+                Mat<DIM> sj = whole ? sload<DIM>(stress, j, n) : mzero<DIM>();
                 const float pj = pr[j];
 #pragma unroll
                 for (int a = 0; a < DIM; ++a)
 #pragma unroll
-                    for (int b = 0; b < DIM; ++b)
-                        sj.m[a][b] = sig_i.m[a][b] + (sj.m[a][b] - (a == b ? pj : 0.0f)) * inv_r2j;
+                    for (int b = 0; b < DIM; ++b) {
+                        // sigma_i / rho_i^2, or its pressure part (0 - P_i delta) / rho_i^2.
+                        const float si_ab = whole ? sig_i.m[a][b] : (0.0f - (a == b ? pi : 0.0f)) * inv_r2i;
+                        sj.m[a][b] = si_ab + (sj.m[a][b] - (a == b ? pj : 0.0f)) * inv_r2j;
+                    }
                 acc = acc + mat_vec<DIM>(sj, gw) * mj;
             } else {
                 acc = acc + (gw * (psi + -pr[j] * inv_r2j)) * mj;
@@ -122,7 +136,6 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
             const float rho_bar = 0.5f * (rhoi + rhoj);
             const float pij = artificial_viscosity(p, vr, r2, c_bar, rho_bar);
             acc = acc - gw * (mj * pij);
-            bool same_body = kj == ki && (ki == MF_KIND_FLUID || group[j] == gi);
             if (p.nu > 0.0f && (ki == MF_KIND_FLUID || kj == MF_KIND_FLUID))
                 acc = acc + vij * (mj * laminar(p, r2, fw, rhoi, rhoj));
             // Fluid-fluid cohesion, Akinci et al. 2013, eq. (2): -gamma m_j C(r) r_ij / r

@@ -7,19 +7,22 @@
 //! `CHECK_EVERY` steps and at each output; output at each output time }; a last output at
 //! the end. Each output writes `particles_NNNNN.vtu`, rewrites `particles.pvd`, appends a
 //! row to `diagnostics.csv` and one to `clusters.csv` (the number of connected fluid
-//! clusters, `analysis::clusters`). Force monitors (`crate::monitor`) sample at t = 0 and
+//! clusters, `analysis::clusters`) and, in a scene with elastic bodies, a row per body to
+//! `bodies.csv` (centroid, velocity, angular velocity, size and spread against t = 0,
+//! `analysis::bodies`). Force monitors (`crate::monitor`) sample at t = 0 and
 //! every `interval` after it (a step boundary at or past the time) into `<name>.csv`.
 //! `summary.json` is written at the end, also after a blow-up, with the cluster count of
-//! the last output.
+//! the last output and each body's extremes.
 
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::analysis::bodies::BodyTracker;
 use crate::analysis::clusters;
 use crate::backend::{self, BackendChoice, BackendError};
 use crate::monitor::Monitors;
-use crate::output::{self, DiagnosticsCsv, PvdSeries, RunStatus, RunSummary};
+use crate::output::{self, BodiesCsv, DiagnosticsCsv, PvdSeries, RunStatus, RunSummary};
 use crate::particle::Particle;
 use crate::scene::{Counts, Overrides, Scene, SceneError};
 use crate::solver::{Diagnostics, Fault, Solver};
@@ -163,6 +166,8 @@ pub fn run_observed(
     let setup = scene.setup()?;
     let counts = Counts::of(&setup.particles);
     let with_stress = setup.has_solids();
+    let dim = scene.file.dimension;
+    let bodies = BodyTracker::new(&setup.particles, dim);
     let out_dir = options
         .out_dir
         .clone()
@@ -177,8 +182,17 @@ pub fn run_observed(
     let clusters_path = out_dir.join("clusters.csv");
     let mut clusters_csv = std::fs::File::create(&clusters_path).map_err(io_err(&clusters_path))?;
     writeln!(clusters_csv, "step,time,fluid_clusters").map_err(io_err(&clusters_path))?;
+    let bodies_path = out_dir.join("bodies.csv");
+    let bodies_csv = if bodies.is_empty() {
+        None
+    } else {
+        Some(BodiesCsv::create(&bodies_path).map_err(io_err(&bodies_path))?)
+    };
     let mut out = Writer {
         clusters_csv,
+        bodies,
+        bodies_csv,
+        dim,
         cluster_radius: clusters::DEFAULT_FACTOR * scene.file.discretisation.spacing as f32,
         last_clusters: None,
         dir: out_dir.clone(),
@@ -225,6 +239,7 @@ pub fn run_observed(
         status: RunStatus::Completed,
         fault: None,
         monitors: Vec::new(),
+        bodies: Vec::new(),
     };
 
     let mut gates = Gates::new(scene.gates());
@@ -308,6 +323,7 @@ pub fn run_observed(
     summary.final_diagnostics = Some(solver.diagnostics());
     summary.fluid_clusters = out.last_clusters;
     summary.monitors = monitors.summaries();
+    summary.bodies = out.bodies.summaries();
     let failure = match result {
         Ok(()) => None,
         Err(RunFailure::Fault(f)) => {
@@ -355,6 +371,10 @@ struct Writer {
     /// [L] link radius of the cluster count.
     cluster_radius: f32,
     last_clusters: Option<usize>,
+    /// The elastic bodies and `bodies.csv` (None in a scene without solids).
+    bodies: BodyTracker,
+    bodies_csv: Option<BodiesCsv>,
+    dim: u32,
     pvd: PvdSeries,
     csv: DiagnosticsCsv,
     frames: usize,
@@ -388,6 +408,11 @@ impl Writer {
         self.last_clusters = Some(n);
         writeln!(self.clusters_csv, "{},{},{n}", d.step, d.time)
             .map_err(io_err(&self.dir.join("clusters.csv")))?;
+        if let Some(csv) = self.bodies_csv.as_mut() {
+            let rows = self.bodies.sample(&particles, self.dim);
+            csv.write(d.step, d.time, &rows)
+                .map_err(io_err(&self.dir.join("bodies.csv")))?;
+        }
         observer(&Frame {
             index: self.frames,
             diagnostics: &d,

@@ -168,6 +168,7 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
         status: RunStatus::Completed,
         fault: None,
         monitors: Vec::new(),
+        bodies: Vec::new(),
     };
     let path = out.join("summary.json");
     std::fs::write(&path, serde_json::to_string_pretty(&summary)?)

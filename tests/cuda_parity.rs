@@ -570,6 +570,45 @@ fn stages_3d_driven_solid_cohesion_continuity_euler() {
     stages_on::<D3>("V_3D_B + driven sphere + cohesion", setup);
 }
 
+/// `scene(dim, v)` where elastic bodies touch each other and the wall: the disc / sphere
+/// split in two bodies at its centre plane (group 3 the +x half), and a layer of solid
+/// (group 4, with stress) on the wall under the left part of the fluid. With dynamic
+/// coupling the pairs across two objects take the pressure part of the stress only
+/// (`whole_stress_pair` in forces.rs / forces.cu).
+fn bodies_in_contact(dim: usize, v: Variant) -> Setup {
+    let mut setup = scene(dim, v);
+    let p = setup.params;
+    let xc = 0.5 * p.domain_max[0];
+    let vol = p.dx.powi(dim as i32);
+    for (k, q) in setup.particles.iter_mut().enumerate() {
+        if q.kind == Kind::Solid && q.position[0] > xc {
+            q.group = 3;
+        } else if q.kind == Kind::Fluid && q.position[1] < 1.5 * p.dx && q.position[0] < xc {
+            q.kind = Kind::Solid;
+            q.group = 4;
+            q.density = p.solid_rho0;
+            q.mass = p.solid_rho0 * vol;
+            for c in 0..6 {
+                q.stress[c] = 0.1 * ((k * 7 + c * 3) % 11) as f32 - 0.5;
+            }
+        }
+    }
+    setup
+}
+
+#[test]
+fn stages_2d_bodies_in_contact_dynamic_walls() {
+    stages_on::<D2>("V_2D_A + bodies in contact", bodies_in_contact(2, V_2D_A));
+}
+#[test]
+fn stages_3d_bodies_in_contact_dynamic_walls() {
+    stages_on::<D3>("V_3D_B + bodies in contact", bodies_in_contact(3, V_3D_B));
+}
+#[test]
+fn stages_2d_bodies_in_contact_lj_walls() {
+    stages_on::<D2>("V_2D_B + bodies in contact", bodies_in_contact(2, V_2D_B));
+}
+
 #[test]
 fn stages_2d_dynamic_walls_summation_euler() {
     stages::<D2>(2, V_2D_A);

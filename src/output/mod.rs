@@ -1,12 +1,14 @@
 //! Run output: VTK particle files with a `.pvd` series for ParaView (`vtk`), the
-//! diagnostics CSV (`diagnostics`), the force monitors' CSV (`forces_csv`) and the JSON run
-//! summary (`summary`).
+//! diagnostics CSV (`diagnostics`), the force monitors' CSV (`forces_csv`), the elastic
+//! bodies' CSV (`bodies_csv`) and the JSON run summary (`summary`).
+pub mod bodies_csv;
 pub mod diagnostics;
 pub mod forces_csv;
 pub mod particles_csv;
 pub mod summary;
 pub mod vtk;
 
+pub use bodies_csv::BodiesCsv;
 pub use diagnostics::DiagnosticsCsv;
 pub use forces_csv::ForcesCsv;
 pub use particles_csv::{read_particles_csv, write_particles_csv};

@@ -2,6 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::analysis::bodies::BodySummary;
 use crate::monitor::MonitorSummary;
 use crate::scene::Counts;
 use crate::solver::{Diagnostics, Fault};
@@ -45,6 +46,10 @@ pub struct RunSummary {
     /// The scene's force monitors: Strouhal number, mean Cd, rms Cl, blockage ratio.
     #[serde(default)]
     pub monitors: Vec<MonitorSummary>,
+    /// The elastic bodies (solid groups): largest |omega|, worst change of size (area or
+    /// volume) and of radius of gyration over the outputs (`analysis::bodies`).
+    #[serde(default)]
+    pub bodies: Vec<BodySummary>,
 }
 
 impl RunSummary {

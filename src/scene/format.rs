@@ -250,10 +250,12 @@ fn default_art_n() -> f64 {
 pub enum WallCoupling {
     /// Dynamic walls (Crespo, Gomez-Gesteira & Dalrymple 2007): wall particles take density
     /// and pressure like fluid but do not move; they enter the pressure and viscosity sums
-    /// (no leaks, no-slip), and the Lennard-Jones force acts as well.
+    /// (no leaks, no-slip), and the Lennard-Jones force acts as well. An elastic body meets
+    /// the fluid, walls and other bodies through pressure only (Antoci et al. 2007).
     #[default]
     Dynamic,
-    /// The paper's form: the Lennard-Jones force of eq. (17) only.
+    /// The paper's form: the Lennard-Jones force of eq. (17) only, and an elastic body's
+    /// whole stress across every pair, eq. (16).
     LennardJonesOnly,
 }
 

@@ -49,7 +49,11 @@
 //! p1 = 12                            # default 12
 //! p2 = 6                             # default 6
 //! attractive = false                 # default false
-//! wall_coupling = "dynamic"          # default | "lennard-jones-only" (the paper)
+//! wall_coupling = "dynamic"          # default | "lennard-jones-only" (the paper); "dynamic"
+//!                                    # also makes an elastic body meet the fluid, walls and
+//!                                    # other bodies through pressure only (the paper: its
+//!                                    # whole stress, eq. (16)); a scene without [boundary]
+//!                                    # is "dynamic"
 //!
 //! [[fluid_blocks]]
 //! min = [0.0, 0.0]

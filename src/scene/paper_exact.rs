@@ -1,7 +1,9 @@
 //! `--paper-exact`: a scene mapped to the paper's own scheme, for comparison with the
 //! original code. Only the paper's equations: summation density (eq. (8)), forward Euler
 //! at a fixed step (eq. (19)), artificial viscosity only (eq. (10)), XSPH (eq. (18)), walls
-//! by the Lennard-Jones force alone (eq. (17)), no artificial stress. The values the paper
+//! by the Lennard-Jones force alone (eq. (17)) and an elastic body's whole stress across
+//! every pair (eq. (16); both from `wall_coupling = "lennard-jones-only"`), no artificial
+//! stress. The values the paper
 //! leaves open (alpha, beta, the step, XSPH epsilon) come from the parameter study in
 //! `docs/paper-scenes.md` (section `--paper-exact`): forward Euler grows every undamped
 //! oscillation, so the paper's low-Mach advice (alpha = 0, 0 < beta < 1) blows a resting

@@ -190,20 +190,8 @@ impl HeadlessRenderer {
             gl.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
         }
         self.renderer.draw(gl, frame, opts);
-        let mut px = vec![0u8; (w * h * 4) as usize];
+        let img = Image::read_gl(gl, Some(fbo), glow::COLOR_ATTACHMENT0, w, h);
         unsafe {
-            gl.bind_framebuffer(glow::READ_FRAMEBUFFER, Some(fbo));
-            gl.read_buffer(glow::COLOR_ATTACHMENT0);
-            gl.pixel_store_i32(glow::PACK_ALIGNMENT, 1);
-            gl.read_pixels(
-                0,
-                0,
-                w as i32,
-                h as i32,
-                glow::RGBA,
-                glow::UNSIGNED_BYTE,
-                glow::PixelPackData::Slice(&mut px),
-            );
             gl.bind_framebuffer(glow::FRAMEBUFFER, None);
             let err = gl.get_error();
             if err != glow::NO_ERROR {
@@ -212,7 +200,7 @@ impl HeadlessRenderer {
                 )));
             }
         }
-        Ok(Image::from_gl_rows(w, h, &px))
+        Ok(img)
     }
 }
 

@@ -41,6 +41,36 @@ impl Image {
         }
     }
 
+    /// Reads a `width` x `height` RGBA image from `buffer` (`glow::BACK`,
+    /// `glow::COLOR_ATTACHMENT0`, ...) of `framebuffer` (`None`: the window's).
+    pub(crate) fn read_gl(
+        gl: &glow::Context,
+        framebuffer: Option<glow::Framebuffer>,
+        buffer: u32,
+        width: u32,
+        height: u32,
+    ) -> Image {
+        use glow::HasContext;
+        let mut px = vec![0u8; (width * height * 4) as usize];
+        // SAFETY: plain GL calls on the caller's current context; `px` holds exactly
+        // width x height RGBA bytes at pack alignment 1.
+        unsafe {
+            gl.bind_framebuffer(glow::READ_FRAMEBUFFER, framebuffer);
+            gl.read_buffer(buffer);
+            gl.pixel_store_i32(glow::PACK_ALIGNMENT, 1);
+            gl.read_pixels(
+                0,
+                0,
+                width as i32,
+                height as i32,
+                glow::RGBA,
+                glow::UNSIGNED_BYTE,
+                glow::PixelPackData::Slice(&mut px),
+            );
+        }
+        Image::from_gl_rows(width, height, &px)
+    }
+
     /// Writes the image as an RGBA PNG.
     pub fn save_png(&self, path: impl AsRef<Path>) -> Result<(), ViewerError> {
         let path = path.as_ref();

@@ -511,25 +511,11 @@ impl<'a> App<'a> {
 }
 
 fn read_back(gl: &glow::Context, w: u32, h: u32) -> Image {
-    let mut px = vec![0u8; (w * h * 4) as usize];
-    unsafe {
-        gl.bind_framebuffer(glow::READ_FRAMEBUFFER, None);
-        gl.read_buffer(glow::BACK);
-        gl.pixel_store_i32(glow::PACK_ALIGNMENT, 1);
-        gl.read_pixels(
-            0,
-            0,
-            w as i32,
-            h as i32,
-            glow::RGBA,
-            glow::UNSIGNED_BYTE,
-            glow::PixelPackData::Slice(&mut px),
-        );
-    }
-    for p in px.chunks_exact_mut(4) {
+    let mut img = Image::read_gl(gl, None, glow::BACK, w, h);
+    for p in img.rgba.chunks_exact_mut(4) {
         p[3] = 255;
     }
-    Image::from_gl_rows(w, h, &px)
+    img
 }
 
 impl ApplicationHandler for App<'_> {

@@ -71,6 +71,20 @@ pub fn cohesion_over_r(support: f32, rr: f32) -> f32 {
     32.0 / (std::f32::consts::PI * support * support * support) * c / rr
 }
 
+/// Whether a pair exchanges the whole stress sigma = -P I + S of eq. (16), or only its
+/// pressure part -P I. With dynamic coupling (`wall_pressure`, the default) only two
+/// particles of one body (or two fluid particles) do: an inviscid fluid carries no shear
+/// traction, so across a fluid-solid interface the fluid and the body meet through pressure
+/// alone (Antoci, Gallati & Sibilla 2007, Comput. Struct. 85, 879: the interface term is a
+/// surface integral of the fluid's pressure), and so do two bodies in contact or a body and
+/// a wall. Passing a body's deviatoric stress to the fluid (the paper's eq. (16) across
+/// every pair) tore an 8 x 8-particle square apart within 0.3 time units of the water's
+/// impact (docs/paper-scenes.md); the paper's own form stays with `lennard-jones-only`.
+#[inline]
+pub fn whole_stress_pair(p: &SphParams, same_body: bool) -> bool {
+    same_body || p.wall_pressure == 0
+}
+
 /// sigma_i / rho_i^2 + sigma_j / rho_j^2 of eqs. (7), (16) across a pair with a wall
 /// particle j. A wall pushes and never pulls: negative pressures (the tension of a thinning
 /// layer) are cut to zero across a fluid-wall pair, or water clings to the walls (a dam
@@ -107,6 +121,8 @@ pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
             // sigma_i / rho_i^2 with sigma = -P I + S, eq. (11); S = 0 for fluid.
             let si = stress.map_or(D::zero(), |st| st[i]);
             let sig_i = (si - D::identity() * pi) * (1.0 / (rhoi * rhoi));
+            // Its pressure part alone, for pairs across two objects (`whole_stress_pair`).
+            let sig_i_p = (D::zero() - D::identity() * pi) * (1.0 / (rhoi * rhoi));
             let mut acc = g;
             grid.for_each_neighbor::<D>(p, pos, xi, |j, r, r2| {
                 if j == i {
@@ -125,8 +141,15 @@ pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 let (vj, rhoj, kj32) = (vel[j], rho[j], kj as u32);
                 let vij = vi - vj;
                 let vr = D::dot(vij, r);
-                // Stress term, eq. (16) (eq. (7) when both are fluid: sigma = -P I).
-                let sj = stress.map_or(D::zero(), |st| st[j]);
+                let same_body = kj == ki && (ki as u32 == MF_KIND_FLUID || group[j] == group[i]);
+                // Stress term, eq. (16) (eq. (7) when both are fluid: sigma = -P I); across
+                // two objects the pressure part only (`whole_stress_pair`).
+                let whole = whole_stress_pair(p, same_body);
+                let sj = match stress {
+                    Some(st) if whole => st[j],
+                    _ => D::zero(),
+                };
+                let sig_i = if whole { sig_i } else { sig_i_p };
                 let sig_j = (sj - D::identity() * pr[j]) * (1.0 / (rhoj * rhoj));
                 if kj as u32 == MF_KIND_BOUNDARY {
                     let sig = wall_pair_stress::<D>(sig_i, sig_j, pi, pr[j], rhoi, rhoj);
@@ -139,7 +162,6 @@ pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 let rho_bar = 0.5 * (rhoi + rhoj);
                 let pi_ij = artificial_viscosity(p, vr, r2, c_bar, rho_bar);
                 acc -= grad_w * (mass[j] * pi_ij);
-                let same_body = kj == ki && (ki as u32 == MF_KIND_FLUID || group[j] == group[i]);
                 // Laminar viscosity wherever fluid meets fluid, a solid or a wall (no-slip).
                 if p.nu > 0.0 && (ki as u32 == MF_KIND_FLUID || kj32 == MF_KIND_FLUID) {
                     acc += vij * (mass[j] * laminar(p, r2, fw, rhoi, rhoj));
