@@ -31,6 +31,41 @@ template <int DIM> __device__ __forceinline__ void vstore(float* a, unsigned i, 
         reinterpret_cast<float4*>(a)[i] = make_float4(v.c[0], v.c[1], v.c[2], 0.0f);
     }
 }
+// 3D vectors carry per-particle scalars in their w slot (twin: `flat_v` in
+// src/backend/cuda/buffers.rs), so that the neighbour loops read a neighbour's mass, density
+// and (fluid-only scenes) kind from the two vectors they load anyway instead of three more
+// arrays: pos.w = mass m (constant: written at upload, kept by the drift and the grid's
+// reorder); vel.w = rho, negated on boundary particles (written by the density pass and at
+// upload, kept by the kick). The separate arrays stay the reference; 2D (float2) has no
+// spare slot and reads them.
+template <int DIM> struct Packed { static constexpr bool W = DIM == 3; };
+// vel.w of a particle of kind k and density rho.
+__device__ __forceinline__ float vel_w(unsigned char k, float rho) { return k == MF_KIND_BOUNDARY ? -rho : rho; }
+// Whether vel.w marks a boundary particle (the sign bit: -0.0 counts).
+__device__ __forceinline__ bool vel_w_boundary(float w) { return (__float_as_uint(w) >> 31) != 0; }
+// Store the DIM components of v, keeping the w slot of a 3D vector.
+template <int DIM> __device__ __forceinline__ void vstore_keep_w(float* a, unsigned i, Vec<DIM> v) {
+    if constexpr (DIM == 2) {
+        vstore<DIM>(a, i, v);
+    } else {
+        float4* q = reinterpret_cast<float4*>(a);
+        q[i] = make_float4(v.c[0], v.c[1], v.c[2], q[i].w);
+    }
+}
+// Load the DIM components and the w slot (0 in 2D).
+template <int DIM> __device__ __forceinline__ Vec<DIM> vload_w(const float* a, unsigned i, float& w) {
+    if constexpr (DIM == 2) {
+        w = 0.0f;
+        return vload<DIM>(a, i);
+    } else {
+        const float4 t = reinterpret_cast<const float4*>(a)[i];
+        w = t.w;
+        Vec<DIM> v;
+        v.c[0] = t.x; v.c[1] = t.y; v.c[2] = t.z;
+        return v;
+    }
+}
+
 template <int DIM> __device__ __forceinline__ Vec<DIM> vzero() {
     Vec<DIM> v;
 #pragma unroll
@@ -244,23 +279,28 @@ __device__ __forceinline__ void rows(const SphParams& p, Vec<DIM> xi, R&& row) {
     }
 }
 
-// Lanes per particle in the density and forces kernels: each particle's candidate ranges
-// are split over LANES consecutive threads (lane l takes every LANES-th candidate, so a
-// warp's loads are contiguous), then the partial sums are combined by shuffles in a fixed
-// order. Deterministic; the summation order differs from the CPU's only in this split.
-template <int DIM> struct Lanes { static constexpr int L = DIM == 3 ? 8 : 4; };
+// Lanes per particle in the neighbour kernels (density, forces, rates): each particle's
+// candidate ranges are split over L consecutive threads (lane l takes every L-th candidate,
+// so a warp's loads are contiguous), then the partial sums are combined by shuffles in a
+// fixed order. Deterministic; the summation order differs from the CPU's only in this
+// split. Every kernel has one entry per L in MF_LANES_EACH (`name_L_2d`, `name_L_3d`); the
+// launcher (src/backend/cuda/launch.rs) picks L by system size.
+#define MF_LANES_EACH(X) X(1) X(2) X(4) X(8)
 
-// Candidates per batch in the neighbour loop (see for_each_neighbor_split).
+// Candidates per batch in the neighbour loop (see for_each_neighbor_split): 8 for the
+// one-lane fluid-only forces and rates (large systems; measured on the H100 against 4 and 2,
+// docs/performance.md, Session 3), MF_NB_BATCH for the others.
 #ifndef MF_NB_BATCH
 #define MF_NB_BATCH 4
 #endif
-template <int DIM, int L> struct Batch { static constexpr int B = MF_NB_BATCH; };
+template <int L, bool SOLIDS> struct Batch { static constexpr int B = L == 1 && !SOLIDS ? 8 : MF_NB_BATCH; };
 
-// Calls f(j, r_ij, r_ij^2) for every j (i included) within the support of xi, the
+// Calls f(j, r_ij, r_ij^2, w_j) for every j (i included) within the support of xi (w_j: the
+// w slot of j's stored position, its mass in 3D; 0 in 2D), the
 // candidates of `rows` split over L lanes (lane l takes every L-th). A row that does not
 // wrap around a periodic x axis is one contiguous range of storage (cells are x-fastest and
 // the storage is sorted by cell); a wrapping row is taken cell by cell, in the same order.
-template <int DIM, int L, class F>
+template <int DIM, int L, int B = MF_NB_BATCH, class F>
 __device__ __forceinline__ void for_each_neighbor_split(const SphParams& p, const unsigned* __restrict__ cell_start,
                                                         const float* __restrict__ pos, Vec<DIM> xi, int lane,
                                                         F&& f) {
@@ -280,10 +320,10 @@ __device__ __forceinline__ void for_each_neighbor_split(const SphParams& p, cons
             }
             // Batches of B candidates: B independent position loads in flight, then the
             // accepted ones in candidate order (same calls, same order as one by one).
-            for (unsigned base = s + lane; base < e; base += Batch<DIM, L>::B * L) {
+            for (unsigned base = s + lane; base < e; base += B * L) {
                 unsigned mask = 0;
 #pragma unroll
-                for (int k = 0; k < Batch<DIM, L>::B; ++k) {
+                for (int k = 0; k < B; ++k) {
                     const unsigned j = base + k * L;
                     const Vec<DIM> r = separation<DIM>(p, xi, vload<DIM>(pos, min(j, e - 1)));
                     if (j < e && dot(r, r) < p.support2) mask |= 1u << k;
@@ -292,8 +332,9 @@ __device__ __forceinline__ void for_each_neighbor_split(const SphParams& p, cons
                     const int k = __ffs(mask) - 1;
                     mask &= mask - 1;
                     const unsigned j = base + k * L;
-                    const Vec<DIM> r = separation<DIM>(p, xi, vload<DIM>(pos, j));
-                    f(j, r, dot(r, r));
+                    float wj;
+                    const Vec<DIM> r = separation<DIM>(p, xi, vload_w<DIM>(pos, j, wj));
+                    f(j, r, dot(r, r), wj);
                 }
             }
         }

@@ -74,8 +74,9 @@ __device__ Mat<DIM> artificial_stress(const SphParams& p, const Mat<DIM>& si, fl
 // stress and art: null without solids / without artificial stress (both or art alone).
 template <int DIM, int L>
 __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __restrict__ cell_start,
-                             const float* __restrict__ pos, const unsigned char* __restrict__ kind,
-                             const float* __restrict__ mass, float* __restrict__ rho, float* __restrict__ pr,
+                             const float* __restrict__ pos, float* __restrict__ vel,
+                             const unsigned char* __restrict__ kind, const float* __restrict__ mass,
+                             float* __restrict__ rho, float* __restrict__ pr,
                              const float* __restrict__ stress, float* __restrict__ art) {
     const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
     const unsigned i = t / L;
@@ -88,7 +89,7 @@ __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __re
         float sum_w = 0.0f;
         if (active)
             for_each_neighbor_split<DIM, L>(p, cell_start, pos, vload<DIM>(pos, i), lane,
-                                            [&](unsigned j, Vec<DIM>, float r2) {
+                                            [&](unsigned j, Vec<DIM>, float r2, float) {
                                                 if (couples(p, kind[j])) sum_w += kernel_w(p, sqrtf(r2));
                                             });
         sum_w = lane_sum<L>(sum_w);  // every lane of the warp takes part
@@ -105,6 +106,8 @@ __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __re
         pi = pressure(p, ki, r);  // eq. (9)
         pr[i] = pi;
     }
+    // The density in the velocity's w slot (3D; see Packed in common.cuh), every particle.
+    if constexpr (Packed<DIM>::W) reinterpret_cast<float4*>(vel)[i].w = vel_w(ki, active ? r : rho[i]);
     if (art) {
         if (ki == MF_KIND_SOLID) {
             sstore<DIM>(art, i, n, artificial_stress<DIM>(p, sload<DIM>(stress, i, n), pi, r));
@@ -113,25 +116,20 @@ __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __re
         }
     }
 }
-// Split lanes (small systems: shorter serial loops) and one lane per particle (large
-// systems: more particles in flight; the CPU's exact summation order). The launcher picks.
-template <int DIM>
-__device__ void sph_density_body(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos,
-                                 const unsigned char* kind, const float* mass, float* rho, float* pr,
-                                 const float* stress, float* art) {
-    density_impl<DIM, Lanes<DIM>::L>(p, n, cell_start, pos, kind, mass, rho, pr, stress, art);
-}
-template <int DIM>
-__device__ void sph_density_1_body(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos,
-                                   const unsigned char* kind, const float* mass, float* rho, float* pr,
-                                   const float* stress, float* art) {
-    density_impl<DIM, 1>(p, n, cell_start, pos, kind, mass, rho, pr, stress, art);
-}
-MF_ENTRY2(sph_density,
-          (const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const unsigned char* kind,
-           const float* mass, float* rho, float* pr, const float* stress, float* art),
-          (p, n, cell_start, pos, kind, mass, rho, pr, stress, art))
-MF_ENTRY2(sph_density_1,
-          (const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const unsigned char* kind,
-           const float* mass, float* rho, float* pr, const float* stress, float* art),
-          (p, n, cell_start, pos, kind, mass, rho, pr, stress, art))
+// One entry per lane count (MF_LANES_EACH): several lanes for small systems (shorter serial
+// loops), fewer for large ones (more particles in flight; L = 1 is the CPU's exact summation
+// order). The launcher picks.
+#define MF_DENSITY_ENTRY(L)                                                                                      \
+    template <int DIM>                                                                                         \
+    __device__ void sph_density_##L##_body(const SphParams p, unsigned n, const unsigned* cell_start,          \
+                                           const float* pos, float* vel, const unsigned char* kind,            \
+                                           const float* mass, float* rho, float* pr, const float* stress,      \
+                                           float* art) {                                                       \
+        density_impl<DIM, L>(p, n, cell_start, pos, vel, kind, mass, rho, pr, stress, art);                     \
+    }                                                                                                          \
+    MF_ENTRY2(sph_density_##L,                                                                                 \
+              (const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, float* vel,        \
+               const unsigned char* kind, const float* mass, float* rho, float* pr, const float* stress,       \
+               float* art),                                                                                    \
+              (p, n, cell_start, pos, vel, kind, mass, rho, pr, stress, art))
+MF_LANES_EACH(MF_DENSITY_ENTRY)

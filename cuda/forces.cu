@@ -43,7 +43,7 @@ __device__ __forceinline__ bool whole_stress_pair(const SphParams& p, bool same_
     return same_body || p.interface_stress != 0;
 }
 
-template <int DIM, bool SOLIDS, int L>
+template <int DIM, bool SOLIDS, int L, int B = Batch<L, SOLIDS>::B>
 __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
                             const float* __restrict__ pos, const float* __restrict__ vel,
                             const float* __restrict__ rho, const float* __restrict__ pr,
@@ -81,21 +81,28 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
 #pragma unroll
             for (int a = 0; a < DIM; ++a) acc.c[a] = p.gravity[a];
         }
-        for_each_neighbor_split<DIM, L>(p, cell_start, pos, xi, lane, [&](unsigned j, Vec<DIM> r, float r2) {
+        for_each_neighbor_split<DIM, L, B>(p, cell_start, pos, xi, lane, [&](unsigned j, Vec<DIM> r, float r2,
+                                                                         float pw) {
             if (j == i) return;
-            const unsigned char kj = kind[j];
+            // v_j, and in 3D m_j, rho_j and (fluid-only scenes) the kind from the w slots.
+            float vw;
+            const Vec<DIM> vj = vload_w<DIM>(vel, j, vw);
+            unsigned char kj;
+            if constexpr (Packed<DIM>::W && !SOLIDS)
+                kj = vel_w_boundary(vw) ? (unsigned char)MF_KIND_BOUNDARY : (unsigned char)MF_KIND_FLUID;
+            else
+                kj = kind[j];
             const float rr = sqrtf(r2);
             const float fw = kernel_f(p, rr);
             const Vec<DIM> gw = r * fw;  // grad_i W_ij
-            const float mj = mass[j];
+            const float mj = Packed<DIM>::W ? pw : mass[j];
             if (kj == MF_KIND_BOUNDARY) {
                 acc = acc + lennard_jones<DIM>(p, r, rr);  // eq. (17)
                 // Dynamic walls: then like any other neighbour (own P_j, rho_j, v_j = 0,
                 // stress 0, sound speed c0).
                 if (!couples(p, kj)) return;
             }
-            const Vec<DIM> vj = vload<DIM>(vel, j);
-            const float rhoj = rho[j];
+            const float rhoj = Packed<DIM>::W ? fabsf(vw) : rho[j];
             const Vec<DIM> vij = vi - vj;
             const float vr = dot(vij, r);
             const float inv_r2j = 1.0f / (rhoj * rhoj);
@@ -171,8 +178,9 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
     if (threadIdx.x == 0) atomicMax(&red[2], __float_as_uint(cmax));
 }
 
-// Two entry points per dimension: with solids (stress, artificial stress) and fluid only
-// (no tensor registers), picked by the launcher.
+// Per dimension and lane count (MF_LANES_EACH): with solids (stress, artificial stress) and
+// fluid only (no tensor registers), picked by the launcher. The fluid-only variants are
+// bounded to 4 blocks of 256 per SM (64 registers), the solid ones to 3.
 #define MF_FORCES_ENTRY(name, DIM, SOLIDS, L)                                                                        \
     extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 3 : 4)                                         \
         name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel,      \
@@ -180,11 +188,10 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
              const unsigned* group, const float* stress, const float* art, float* acc, unsigned* red) {           \
         forces_impl<DIM, SOLIDS, L>(p, n, cell_start, pos, vel, rho, pr, mass, kind, group, stress, art, acc, red); \
     }
-MF_FORCES_ENTRY(sph_forces_2d, 2, true, Lanes<2>::L)
-MF_FORCES_ENTRY(sph_forces_3d, 3, true, Lanes<3>::L)
-MF_FORCES_ENTRY(sph_forces_fluid_2d, 2, false, Lanes<2>::L)
-MF_FORCES_ENTRY(sph_forces_fluid_3d, 3, false, Lanes<3>::L)
-MF_FORCES_ENTRY(sph_forces_1_2d, 2, true, 1)
-MF_FORCES_ENTRY(sph_forces_1_3d, 3, true, 1)
-MF_FORCES_ENTRY(sph_forces_fluid_1_2d, 2, false, 1)
-MF_FORCES_ENTRY(sph_forces_fluid_1_3d, 3, false, 1)
+#define MF_FORCES_LANES(L)                                \
+    MF_FORCES_ENTRY(sph_forces_##L##_2d, 2, true, L)       \
+    MF_FORCES_ENTRY(sph_forces_##L##_3d, 3, true, L)       \
+    MF_FORCES_ENTRY(sph_forces_fluid_##L##_2d, 2, false, L) \
+    MF_FORCES_ENTRY(sph_forces_fluid_##L##_3d, 3, false, L)
+MF_LANES_EACH(MF_FORCES_LANES)
+

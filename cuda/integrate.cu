@@ -26,7 +26,7 @@ __device__ void sph_kick_body(const SphParams p, unsigned n, const float* __rest
             Vec<DIM> v;
 #pragma unroll
             for (int d = 0; d < DIM; ++d) v.c[d] = p.inflow_velocity[d];
-            vstore<DIM>(vel, i, v);
+            vstore_keep_w<DIM>(vel, i, v);
             return;
         }
     }
@@ -35,12 +35,12 @@ __device__ void sph_kick_body(const SphParams p, unsigned n, const float* __rest
         Vec<DIM> u;
 #pragma unroll
         for (int d = 0; d < DIM; ++d) u.c[d] = p.driven_velocity[d];
-        vstore<DIM>(vel, i, u);
+        vstore_keep_w<DIM>(vel, i, u);
         return;
     }
     if (kind[i] == MF_KIND_BOUNDARY) return;
     const float dt = *dt_dev;
-    vstore<DIM>(vel, i, vload<DIM>(vel, i) + vload<DIM>(acc, i) * dt);
+    vstore_keep_w<DIM>(vel, i, vload<DIM>(vel, i) + vload<DIM>(acc, i) * dt);  // w: rho (common.cuh)
 }
 MF_ENTRY2(sph_kick,
           (const SphParams p, unsigned n, const float* dt_dev, const unsigned char* kind, const unsigned* group,
@@ -82,7 +82,7 @@ __device__ void sph_drift_body(const SphParams p, unsigned n, const float* __res
             else if (x.c[d] >= hi) x.c[d] -= hi - lo;
         }
     }
-    vstore<DIM>(pos, i, x);
+    vstore_keep_w<DIM>(pos, i, x);  // w: the mass (Packed in common.cuh)
     if (stress && k == MF_KIND_SOLID) {
 #pragma unroll
         for (int c = 0; c < Sym<DIM>::N; ++c) stress[c * n + i] += rate[c * n + i] * dt;

@@ -37,7 +37,7 @@ template <int DIM> __device__ __forceinline__ Mat<DIM> inverse(const Mat<DIM>& a
 }
 
 // drho: null without the continuity density; stress, rate: null without solids.
-template <int DIM, bool SOLIDS, int L>
+template <int DIM, bool SOLIDS, int L, int B = Batch<L, SOLIDS>::B>
 __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
                            const float* __restrict__ pos, const float* __restrict__ vel,
                            const float* __restrict__ rho, const float* __restrict__ mass,
@@ -64,26 +64,36 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
         const Vec<DIM> vi = vload<DIM>(vel, i);
         const float rhoi = rho[i];
         const unsigned gi = group[i];
-        for_each_neighbor_split<DIM, L>(p, cell_start, pos, vload<DIM>(pos, i), lane,
-                                        [&](unsigned j, Vec<DIM> r, float r2) {
-            const unsigned char kj = kind[j];
-            if (j == i || !couples(p, kj)) return;
+        for_each_neighbor_split<DIM, L, B>(p, cell_start, pos, vload<DIM>(pos, i), lane,
+                                        [&](unsigned j, Vec<DIM> r, float r2, float pw) {
+            if (j == i) return;
+            // v_j, and in 3D m_j, rho_j and (fluid-only scenes) the kind from the w slots
+            // (Packed in common.cuh).
+            float vw;
+            const Vec<DIM> vj = vload_w<DIM>(vel, j, vw);
+            unsigned char kj;
+            if constexpr (Packed<DIM>::W && !SOLIDS)
+                kj = vel_w_boundary(vw) ? (unsigned char)MF_KIND_BOUNDARY : (unsigned char)MF_KIND_FLUID;
+            else
+                kj = kind[j];
+            if (!couples(p, kj)) return;
+            const float rhoj = Packed<DIM>::W ? fabsf(vw) : rho[j];
             const float rr = sqrtf(r2);
             const Vec<DIM> gw = r * kernel_f(p, rr);  // grad_i W_ij
-            const Vec<DIM> vij = vi - vload<DIM>(vel, j);  // v = 0 on boundary particles
-            const float mj = mass[j];
+            const Vec<DIM> vij = vi - vj;  // v = 0 on boundary particles
+            const float mj = Packed<DIM>::W ? pw : mass[j];
             // Continuity, volume form: d rho_i/dt = rho_i sum_j m_j / rho_j v_ij . grad W
             // (the factor rho_i is applied after the sum, as in cpu/rates.rs).
-            drho += mj / rho[j] * dot(vij, gw);
+            drho += mj / rhoj * dot(vij, gw);
             if (diffuse && kj == MF_KIND_FLUID && r2 > 0.0f) {
                 // Molteni & Colagrossi 2009 (Comput. Phys. Commun. 180, 861), diffusive term:
                 // sum_j psi_ij . grad_i W_ij V_j, psi_ij = 2 (rho_j - rho_i) r_ji / |r_ji|^2 with
                 // r_ji = r_j - r_i = -r (diffusive sign, see cpu/rates.rs): 2 (rho_i - rho_j) r . gw / r^2.
-                diffusion += 2.0f * (rhoi - rho[j]) * dot(r, gw) / r2 * (mj / rho[j]);
+                diffusion += 2.0f * (rhoi - rhoj) * dot(r, gw) / r2 * (mj / rhoj);
             }
             const bool same_body = kj == ki && (ki == MF_KIND_FLUID || group[j] == gi);
             if (!same_body || ki == MF_KIND_BOUNDARY) return;
-            const float s = mj / (0.5f * (rhoi + rho[j]));
+            const float s = mj / (0.5f * (rhoi + rhoj));
             // XSPH, eq. (18), within one material (one body for solids).
             xs = xs - vij * (p.xsph_eps * s * kernel_w(p, rr));
             if constexpr (SOLIDS) {
@@ -172,20 +182,20 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
     }
 }
 
-// Four entry points per dimension, as for forces: with / without solids, split lanes / one
-// thread per particle; same signature, picked by the launcher.
+// Per dimension and lane count (MF_LANES_EACH), as for forces: with / without solids; same
+// signature, picked by the launcher. The fluid-only variants are bounded to 4 blocks of 256
+// per SM (64 registers; unbounded they take 78-79 in 3D: 3 blocks).
 #define MF_RATES_ENTRY(name, DIM, SOLIDS, L)                                                                   \
-    extern "C" __global__ void __launch_bounds__(MF_BLOCK)                                                   \
+    extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 1 : 4)                                   \
         name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel, \
              const float* rho, const float* mass, const unsigned char* kind, const unsigned* group,          \
              const float* stress, float* drho, float* xsph, float* rate) {                                    \
         rates_impl<DIM, SOLIDS, L>(p, n, cell_start, pos, vel, rho, mass, kind, group, stress, drho, xsph, rate); \
     }
-MF_RATES_ENTRY(sph_rates_2d, 2, true, Lanes<2>::L)
-MF_RATES_ENTRY(sph_rates_3d, 3, true, Lanes<3>::L)
-MF_RATES_ENTRY(sph_rates_fluid_2d, 2, false, Lanes<2>::L)
-MF_RATES_ENTRY(sph_rates_fluid_3d, 3, false, Lanes<3>::L)
-MF_RATES_ENTRY(sph_rates_1_2d, 2, true, 1)
-MF_RATES_ENTRY(sph_rates_1_3d, 3, true, 1)
-MF_RATES_ENTRY(sph_rates_fluid_1_2d, 2, false, 1)
-MF_RATES_ENTRY(sph_rates_fluid_1_3d, 3, false, 1)
+#define MF_RATES_LANES(L)                                \
+    MF_RATES_ENTRY(sph_rates_##L##_2d, 2, true, L)        \
+    MF_RATES_ENTRY(sph_rates_##L##_3d, 3, true, L)        \
+    MF_RATES_ENTRY(sph_rates_fluid_##L##_2d, 2, false, L) \
+    MF_RATES_ENTRY(sph_rates_fluid_##L##_3d, 3, false, L)
+MF_LANES_EACH(MF_RATES_LANES)
+

@@ -381,6 +381,23 @@ fn with_inflow_band(dim: usize, v: Variant) -> Setup {
     setup
 }
 
+/// `scene(dim, v)` with the solid body turned into fluid (rest density, no stress): the only
+/// scenes that take the fluid-only entries of forces and rates (`sph_forces_fluid_*`,
+/// `sph_rates_fluid_*`: batches of 8 candidates at one lane, and in 3D the neighbour's kind
+/// read from the sign of its vel.w, `Packed` in cuda/common.cuh).
+fn fluid_only(dim: usize, v: Variant) -> Setup {
+    let mut setup = scene(dim, v);
+    let (rho0, dx) = (setup.params.rho0, setup.params.dx);
+    for q in setup.particles.iter_mut().filter(|q| q.kind == Kind::Solid) {
+        q.kind = Kind::Fluid;
+        q.group = 1;
+        q.density = rho0;
+        q.mass = rho0 * dx.powi(dim as i32);
+        q.stress = Default::default();
+    }
+    setup
+}
+
 /// The stage comparison on any parity scene (`what` names it in the log).
 fn stages_on<D: Dim>(what: &str, setup: Setup) {
     let dim = setup.params.dim;
@@ -400,11 +417,12 @@ fn stages_on<D: Dim>(what: &str, setup: Setup) {
         g.info().device
     );
     let euler = p.integrator as u32 == MF_INTEGRATOR_EULER;
-    for round in 0..2 {
-        // Round 0: neighbour loops split over several lanes (small systems); round 1: one
-        // thread per particle (large systems), the CPU's exact order.
-        g.set_lane_split(Some(round == 0));
-        eprintln!(" round {round} (lane split {})", round == 0);
+    for lanes in [8, 4, 2, 1] {
+        // Each entry of the neighbour kernels: loops split over 8, 4 or 2 lanes per particle
+        // (small systems use 4 in 2D and 8 in 3D; large ones fewer), and one thread per
+        // particle, the CPU's exact order.
+        g.set_lanes(Some(lanes));
+        eprintln!(" round with {lanes} lanes per particle");
         // Grid: the (cell, id) order must be identical.
         c.build_grid();
         g.build_grid();
@@ -622,6 +640,18 @@ fn stages_2d_inflow_band_symplectic() {
 #[test]
 fn stages_3d_inflow_band_euler() {
     stages_on::<D3>("V_3D_B + inflow band", with_inflow_band(3, V_3D_B));
+}
+#[test]
+fn stages_2d_fluid_only_dynamic_walls_summation_euler() {
+    stages_on::<D2>("V_2D_A fluid only", fluid_only(2, V_2D_A));
+}
+#[test]
+fn stages_3d_fluid_only_lj_walls_continuity_symplectic() {
+    stages_on::<D3>("V_3D_A fluid only", fluid_only(3, V_3D_A));
+}
+#[test]
+fn stages_3d_fluid_only_dynamic_walls_continuity_euler() {
+    stages_on::<D3>("V_3D_B fluid only", fluid_only(3, V_3D_B));
 }
 #[test]
 fn stages_2d_density_diffusion() {

@@ -1,6 +1,7 @@
 //! Device arrays and the conversion between `State<D>` (host, glam vectors, full tensors)
 
-//! and the kernels' layout: vectors as float2 (2D) / float4 (3D, w unused; glam's `Vec3A`),
+//! and the kernels' layout: vectors as float2 (2D) / float4 (3D; position w = mass, velocity
+//! w = density negated on walls, `Packed` in `cuda/common.cuh`; others w = 0),
 //! symmetric tensors as 3 (2D: xx, yy, xy) or 6 (3D: xx, yy, zz, xy, xz, yz) planes.
 
 use std::sync::Arc;
@@ -8,6 +9,7 @@ use std::sync::Arc;
 use cudarc::driver::{CudaSlice, CudaStream, DeviceRepr, DriverError, ValidAsZeroBits};
 
 use crate::dim::Dim;
+use crate::params::MF_KIND_BOUNDARY;
 use crate::state::{SolidState, State};
 
 /// Floats per stored vector.
@@ -188,12 +190,16 @@ impl Buffers {
         s.memcpy_htod(&st.kind, &mut c.kind)?;
         s.memcpy_htod(&st.group, &mut c.group)?;
         s.memcpy_htod(&st.mass, &mut c.mass)?;
-        s.memcpy_htod(&flat_v::<D>(&st.pos), &mut c.pos)?;
-        s.memcpy_htod(&flat_v::<D>(&st.vel), &mut c.vel)?;
+        // 3D: mass and density (negated on walls) in the w slots (`Packed` in cuda/common.cuh).
+        let wall = |i: usize| st.kind[i] as u32 == MF_KIND_BOUNDARY;
+        let pos = flat_v::<D>(&st.pos, |i| st.mass[i]);
+        let vel = flat_v::<D>(&st.vel, |i| if wall(i) { -st.rho[i] } else { st.rho[i] });
+        s.memcpy_htod(&pos, &mut c.pos)?;
+        s.memcpy_htod(&vel, &mut c.vel)?;
         s.memcpy_htod(&st.rho, &mut c.rho)?;
         s.memcpy_htod(&st.p, &mut c.p)?;
-        s.memcpy_htod(&flat_v::<D>(&st.acc), &mut self.acc)?;
-        s.memcpy_htod(&flat_v::<D>(&st.xsph), &mut self.xsph)?;
+        s.memcpy_htod(&flat_v::<D>(&st.acc, |_| 0.0), &mut self.acc)?;
+        s.memcpy_htod(&flat_v::<D>(&st.xsph, |_| 0.0), &mut self.xsph)?;
         if let (Some(h), Some(d)) = (&st.drho, &mut self.drho) {
             s.memcpy_htod(h, d)?;
         }
@@ -259,12 +265,16 @@ impl Buffers {
     }
 }
 
-fn flat_v<D: Dim>(v: &[D::V]) -> Vec<f32> {
+/// Vectors -> float2 (2D) or float4 (3D) with `w(i)` in the w slot.
+fn flat_v<D: Dim>(v: &[D::V], w: impl Fn(usize) -> f32) -> Vec<f32> {
     let vs = vstride::<D>();
     let mut out = vec![0.0f32; v.len() * vs];
     for (i, x) in v.iter().enumerate() {
         let a = D::to3(*x);
         out[i * vs..i * vs + D::D].copy_from_slice(&a[..D::D]);
+        if vs == 4 {
+            out[i * vs + 3] = w(i);
+        }
     }
     out
 }

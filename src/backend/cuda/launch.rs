@@ -56,6 +56,32 @@ impl Kernel {
     }
 }
 
+/// Lane counts with kernel entries (`MF_LANES_EACH` in `cuda/common.cuh`), in index order.
+pub const LANE_COUNTS: [usize; 4] = [1, 2, 4, 8];
+
+/// The neighbour kernels of one family, one per lane count of `LANE_COUNTS`.
+pub struct PerLanes([Kernel; 4]);
+
+impl PerLanes {
+    fn load(
+        dev: &Device,
+        module: &'static str,
+        name: &str,
+        dim: usize,
+    ) -> Result<Self, BackendError> {
+        let k = |l: usize| Kernel::load(dev, module, format!("{name}_{l}_{dim}d"));
+        Ok(PerLanes([k(1)?, k(2)?, k(4)?, k(8)?]))
+    }
+    /// The entry for `lanes` (one of `LANE_COUNTS`).
+    fn get(&self, lanes: usize) -> &Kernel {
+        let i = LANE_COUNTS
+            .iter()
+            .position(|&l| l == lanes)
+            .unwrap_or_else(|| panic!("no kernel entry for {lanes} lanes (have {LANE_COUNTS:?})"));
+        &self.0[i]
+    }
+}
+
 /// All kernels of one dimension.
 pub struct Kernels {
     hist: Kernel,
@@ -64,21 +90,14 @@ pub struct Kernels {
     scatter: Kernel,
     segsort: Kernel,
     gather: Kernel,
-    density: Kernel,
-    density_1: Kernel,
-    forces: Kernel,
-    forces_fluid: Kernel,
-    forces_1: Kernel,
-    forces_fluid_1: Kernel,
-    rates: Kernel,
-    rates_fluid: Kernel,
-    rates_1: Kernel,
-    rates_fluid_1: Kernel,
-    /// Split each particle's neighbour loop over `lanes` threads (set by the solver: on
-    /// for small systems, where serial loop latency dominates).
-    pub split: bool,
-    /// Threads per particle in density and forces (`Lanes<DIM>::L` in `cuda/common.cuh`).
-    lanes: usize,
+    density: PerLanes,
+    forces: PerLanes,
+    forces_fluid: PerLanes,
+    rates: PerLanes,
+    rates_fluid: PerLanes,
+    /// Threads per particle in the neighbour kernels (density, forces, rates), one of
+    /// `LANE_COUNTS`; set by the solver from the system size.
+    pub lanes: usize,
     step_size: Kernel,
     kick: Kernel,
     drift: Kernel,
@@ -98,18 +117,12 @@ impl Kernels {
             scatter: Kernel::load(dev, "grid", plain("sph_grid_scatter"))?,
             segsort: Kernel::load(dev, "grid", plain("sph_grid_segsort"))?,
             gather: Kernel::load(dev, "grid", d("sph_grid_gather"))?,
-            density: Kernel::load(dev, "density", d("sph_density"))?,
-            density_1: Kernel::load(dev, "density", d("sph_density_1"))?,
-            forces: Kernel::load(dev, "forces", d("sph_forces"))?,
-            forces_fluid: Kernel::load(dev, "forces", d("sph_forces_fluid"))?,
-            forces_1: Kernel::load(dev, "forces", d("sph_forces_1"))?,
-            forces_fluid_1: Kernel::load(dev, "forces", d("sph_forces_fluid_1"))?,
-            rates: Kernel::load(dev, "rates", d("sph_rates"))?,
-            rates_fluid: Kernel::load(dev, "rates", d("sph_rates_fluid"))?,
-            rates_1: Kernel::load(dev, "rates", d("sph_rates_1"))?,
-            rates_fluid_1: Kernel::load(dev, "rates", d("sph_rates_fluid_1"))?,
-            split: true,
-            lanes: if dim == 3 { 8 } else { 4 },
+            density: PerLanes::load(dev, "density", "sph_density", dim)?,
+            forces: PerLanes::load(dev, "forces", "sph_forces", dim)?,
+            forces_fluid: PerLanes::load(dev, "forces", "sph_forces_fluid", dim)?,
+            rates: PerLanes::load(dev, "rates", "sph_rates", dim)?,
+            rates_fluid: PerLanes::load(dev, "rates", "sph_rates_fluid", dim)?,
+            lanes: 1,
             step_size: Kernel::load(dev, "reduce", plain("sph_step_size"))?,
             kick: Kernel::load(dev, "integrate", d("sph_kick"))?,
             drift: Kernel::load(dev, "integrate", d("sph_drift"))?,
@@ -253,20 +266,18 @@ pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers)
     }
     let n = b.n as u32;
     let c = &mut b.cur;
-    let (kd, lanes) = if k.split {
-        (&k.density, k.lanes)
-    } else {
-        (&k.density_1, 1)
-    };
-    // SAFETY: sph_density[_1]_{2,3}d(const SphParams p, unsigned n, const unsigned* cell_start,
-    // const float* pos, const unsigned char* kind, const float* mass, float* rho, float* pr,
-    // const float* stress, float* art); art null without artificial stress (then stress is
-    // not read), else both hold n_sym planes of n.
+    let (kd, lanes) = (k.density.get(k.lanes), k.lanes);
+    // SAFETY: sph_density_{1,2,4,8}_{2,3}d(const SphParams p, unsigned n, const unsigned* cell_start,
+    // const float* pos, float* vel, const unsigned char* kind, const float* mass, float* rho,
+    // float* pr, const float* stress, float* art); vel is written only in its w slots (3D);
+    // art null without artificial stress (then stress is not read), else both hold n_sym
+    // planes of n.
     let mut l = s.launch_builder(&kd.f);
     l.arg(p)
         .arg(&n)
         .arg(&b.cell_start)
         .arg(&c.pos)
+        .arg(&mut c.vel)
         .arg(&c.kind)
         .arg(&c.mass)
         .arg(&mut c.rho)
@@ -283,13 +294,13 @@ pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     }
     let n = b.n as u32;
     let c = &b.cur;
-    let (kr, lanes) = match (c.stress.is_some(), k.split) {
-        (true, true) => (&k.rates, k.lanes),
-        (false, true) => (&k.rates_fluid, k.lanes),
-        (true, false) => (&k.rates_1, 1),
-        (false, false) => (&k.rates_fluid_1, 1),
+    let lanes = k.lanes;
+    let kr = if c.stress.is_some() {
+        k.rates.get(lanes)
+    } else {
+        k.rates_fluid.get(lanes)
     };
-    // SAFETY: sph_rates[_fluid][_1]_{2,3}d(const SphParams p, unsigned n, const unsigned*
+    // SAFETY: sph_rates[_fluid]_{1,2,4,8}_{2,3}d(const SphParams p, unsigned n, const unsigned*
     // cell_start, const float* pos, const float* vel, const float* rho, const float* mass,
     // const unsigned char* kind, const unsigned* group, const float* stress, float* drho,
     // float* xsph, float* rate); drho null without the continuity density; stress and rate
@@ -318,13 +329,13 @@ pub fn forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) 
     let n = b.n as u32;
     let c = &b.cur;
     // Fluid-only scenes take the variant without tensor terms (same signature).
-    let (kf, lanes) = match (c.stress.is_some(), k.split) {
-        (true, true) => (&k.forces, k.lanes),
-        (false, true) => (&k.forces_fluid, k.lanes),
-        (true, false) => (&k.forces_1, 1),
-        (false, false) => (&k.forces_fluid_1, 1),
+    let lanes = k.lanes;
+    let kf = if c.stress.is_some() {
+        k.forces.get(lanes)
+    } else {
+        k.forces_fluid.get(lanes)
     };
-    // SAFETY: sph_forces[_fluid][_1]_{2,3}d(const SphParams p, unsigned n, const unsigned* cell_start,
+    // SAFETY: sph_forces[_fluid]_{1,2,4,8}_{2,3}d(const SphParams p, unsigned n, const unsigned* cell_start,
     // const float* pos, const float* vel, const float* rho, const float* pr, const float* mass,
     // const unsigned char* kind, const unsigned* group, const float* stress, const float* art,
     // float* acc, unsigned* red); stress, art may be null; red holds 3 words.

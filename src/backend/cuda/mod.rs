@@ -34,17 +34,32 @@ pub fn available() -> Result<String, BackendError> {
     Device::open().map(|d| d.name)
 }
 
-/// Below this many particles the density and forces kernels split each particle's
-/// neighbour loop over several threads (measured on an H200: faster up to ~10^5 particles,
-/// slower at 3 x 10^5 and beyond; docs/performance.md).
+/// Below this many particles the neighbour kernels split each particle's loop over
+/// `SPLIT_LANES` threads (measured on an H200: faster up to ~10^5 particles, slower at
+/// 3 x 10^5 and beyond; docs/performance.md); at and above it they take `LARGE_LANES`.
 pub const SPLIT_BELOW: usize = 150_000;
 
-/// `SPLIT_BELOW`, or `MESHFREE_CUDA_SPLIT_BELOW` where set (for measurements).
-fn split_below() -> usize {
-    std::env::var("MESHFREE_CUDA_SPLIT_BELOW")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(SPLIT_BELOW)
+/// Threads per particle below `SPLIT_BELOW`, for 2D and 3D.
+pub const SPLIT_LANES: [usize; 2] = [4, 8];
+
+/// Threads per particle at and above `SPLIT_BELOW`, for 2D and 3D (1: the CPU's exact
+/// summation order; 2, 4 and 8 were slower at 4M particles on an H100, docs/performance.md).
+pub const LARGE_LANES: [usize; 2] = [1, 1];
+
+/// Lanes per particle for a system of `n` particles in `dim` dimensions: the size rule,
+/// or `MESHFREE_CUDA_LANES` (one of 1, 2, 4, 8) at every size where set, and the threshold
+/// `MESHFREE_CUDA_SPLIT_BELOW` where set (both for measurements).
+pub fn lanes_for(dim: usize, n: usize) -> usize {
+    let env = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<usize>().ok());
+    if let Some(l) = env("MESHFREE_CUDA_LANES").filter(|l| launch::LANE_COUNTS.contains(l)) {
+        return l;
+    }
+    let d = usize::from(dim == 3);
+    if n < env("MESHFREE_CUDA_SPLIT_BELOW").unwrap_or(SPLIT_BELOW) {
+        SPLIT_LANES[d]
+    } else {
+        LARGE_LANES[d]
+    }
 }
 
 /// The solver with its state in GPU memory.
@@ -86,7 +101,7 @@ impl<D: Dim> CudaSolver<D> {
         let n = state.len();
         let buf =
             Buffers::new(&dev.stream, &state, p.n_cells.max(1) as usize).map_err(|e| oom(n, e))?;
-        k.split = n < split_below();
+        k.lanes = lanes_for(D::D, n);
         Ok(CudaSolver {
             dev,
             k,
@@ -130,11 +145,22 @@ impl<D: Dim> CudaSolver<D> {
             .unwrap_or_else(|e| self.sync_err("reading dt", e))[0]
     }
 
-    /// Force (`Some`) or reset to the size rule (`None`) the split of each particle's
-    /// neighbour loop over several threads. For tests and benchmarks.
-    pub fn set_lane_split(&mut self, split: Option<bool>) {
-        self.k.split = split.unwrap_or(self.buf.n < split_below());
+    /// Force (`Some(lanes)`, one of 1, 2, 4, 8) or reset to the size rule (`None`) the
+    /// threads per particle of the neighbour kernels. For tests and benchmarks.
+    pub fn set_lanes(&mut self, lanes: Option<usize>) {
+        let l = lanes.unwrap_or_else(|| lanes_for(D::D, self.buf.n));
+        assert!(
+            launch::LANE_COUNTS.contains(&l),
+            "set_lanes: {l} lanes has no kernel entry (have {:?})",
+            launch::LANE_COUNTS
+        );
+        self.k.lanes = l;
         self.graph = None;
+    }
+
+    /// Threads per particle of the neighbour kernels now.
+    pub fn lanes(&self) -> usize {
+        self.k.lanes
     }
 
     /// Record two calls of the trait's `step` as a CUDA graph (nothing runs while it is
