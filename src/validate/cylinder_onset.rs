@@ -6,9 +6,10 @@
 //! The `cylinder` case's channel (blockage 0.083) at D / dx = 10, started with the same
 //! antisymmetric kick (`cylinder::kick`), at Re 35, 45, 55 and 70. Per run: the lift's
 //! late amplitude (sqrt 2 x rms Cl over the last quarter, t U / D >= 90) and the linear
-//! growth rate sigma of its envelope (`growth_rate`: the least-squares slope of ln|Cl| at
-//! the half-cycle peaks, from t U / D = 20, after the start-up, until the envelope first
-//! reaches half its largest value). As in the Stuart-Landau model of Provansal et al.,
+//! growth rate sigma of its envelope (`growth_rate`: the least-squares slope of ln of the
+//! amplitude over windows of one expected shedding period, `window_amplitudes`, from
+//! t U / D = 20, after the start-up, until the envelope first reaches half its largest
+//! value). As in the Stuart-Landau model of Provansal et al.,
 //! sigma D^2 / nu = sigma D / U x Re is taken linear in Re; the line's zero is Re_c.
 //!
 //! The lift is smoothed first (`cylinder::smooth`, 1.125 D / U) to take out the SPH force
@@ -42,29 +43,42 @@ const LATE_FROM_UD: f64 = 90.0;
 const SHEDDING_MIN: f64 = 0.05;
 const STEADY_RATIO_MAX: f64 = 0.5;
 
-/// The half-cycle peaks of `x(t)` about zero: between consecutive sign changes, the sample
-/// with the largest |x|, as (t, |x|).
-pub fn half_cycle_peaks(t: &[f64], x: &[f64]) -> Vec<(f64, f64)> {
-    let mut peaks = Vec::new();
-    let mut best: Option<(f64, f64)> = None;
-    for k in 0..t.len().min(x.len()) {
-        if k > 0 && (x[k] > 0.0) != (x[k - 1] > 0.0) {
-            peaks.extend(best.take());
-        }
-        if best.is_none_or(|b| x[k].abs() > b.1) {
-            best = Some((t[k], x[k].abs()));
-        }
+/// The envelope of `x(t)`: over consecutive windows of length `width` from t[0], the
+/// amplitude sqrt 2 x rms about the window's mean, as (window centre, amplitude); windows
+/// with fewer than 4 samples are left out. With `width` one period of the oscillation the
+/// amplitude of a sinusoid comes out whatever its phase; SPH force noise that crosses zero
+/// many times a period (which defeats peak picking at D / dx = 5) only adds to it.
+pub fn window_amplitudes(t: &[f64], x: &[f64], width: f64) -> Vec<(f64, f64)> {
+    let n = t.len().min(x.len());
+    if n == 0 || width <= 0.0 {
+        return Vec::new();
     }
-    // The last run is cut off by the record's end: not a whole half cycle.
-    peaks
+    let mut out = Vec::new();
+    let mut start = 0;
+    while start < n {
+        let t_hi = t[start] + width;
+        let end = (start..n).find(|&k| t[k] >= t_hi).unwrap_or(n);
+        let w = &x[start..end];
+        if w.len() >= 4 {
+            let m = w.iter().sum::<f64>() / w.len() as f64;
+            let rms = (w.iter().map(|v| (v - m).powi(2)).sum::<f64>() / w.len() as f64).sqrt();
+            out.push((0.5 * (t[start] + t_hi), std::f64::consts::SQRT_2 * rms));
+        }
+        if end == n || t_hi > t[n - 1] {
+            break;
+        }
+        start = end;
+    }
+    out
 }
 
-/// The envelope's growth rate [1/T]: the least-squares slope of ln(peak) over the peaks
-/// from `t_from` until the first that reaches half the largest peak after `t_from` (the
-/// linear stage, before saturation); with fewer than 4 peaks there (the envelope only
-/// decays, or saturated early), over all peaks from `t_from`. None with fewer than 3.
-pub fn growth_rate(peaks: &[(f64, f64)], t_from: f64) -> Option<f64> {
-    let late: Vec<(f64, f64)> = peaks
+/// The envelope's growth rate [1/T]: the least-squares slope of ln(amplitude) over the
+/// envelope points (t, amplitude) from `t_from` until the first that reaches half the
+/// largest after `t_from` (the linear stage, before saturation); with fewer than 4 points
+/// there (the envelope only decays, or saturated early), over all points from `t_from`.
+/// None with fewer than 3.
+pub fn growth_rate(envelope: &[(f64, f64)], t_from: f64) -> Option<f64> {
+    let late: Vec<(f64, f64)> = envelope
         .iter()
         .filter(|p| p.0 >= t_from && p.1 > 0.0)
         .copied()
@@ -139,8 +153,10 @@ fn measure(ctx: &Ctx, re: f64) -> anyhow::Result<Onset> {
         .collect();
     let c0 = after.iter().sum::<f64>() / after.len().max(1) as f64;
     let centred: Vec<f64> = cl.iter().map(|c| c - c0).collect();
-    let peaks = half_cycle_peaks(&t, &centred);
-    let sigma = growth_rate(&peaks, FIT_FROM_UD);
+    // One expected period per window: Williamson's St at Re (at 50 below his range).
+    let period = 1.0 / cylinder::strouhal_fits((re.max(50.0) / 5.0).round() as u32 * 5).1;
+    let envelope = window_amplitudes(&t, &centred, period);
+    let sigma = growth_rate(&envelope, FIT_FROM_UD);
     ctx.log(&format!(
         "Re {re}: late Cl amplitude {:.4}, sigma D / U {:?}",
         std::f64::consts::SQRT_2 * rms,
