@@ -180,7 +180,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
     plot(
         &ctx.out_dir.join(png),
         &Figure {
-            title: "Onset of shedding: lift against time",
+            title: "Onset of shedding: smoothed lift, t U / D >= 5",
             x_label: "t U / D",
             y_label: "Cl",
             log_x: false,
@@ -189,9 +189,18 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
         &runs
             .iter()
             .map(|o| {
+                let cl = smooth(
+                    &o.samples.iter().map(|s| s.cl).collect::<Vec<_>>(),
+                    cylinder::SMOOTH_HALF,
+                );
                 Series::line(
                     format!("Re {}", o.re),
-                    o.samples.iter().map(|s| (s.t * U / D, s.cl)).collect(),
+                    o.samples
+                        .iter()
+                        .zip(cl)
+                        .filter(|(s, _)| s.t * U / D >= 5.0)
+                        .map(|(s, c)| (s.t * U / D, c))
+                        .collect(),
                 )
             })
             .collect::<Vec<_>>(),
