@@ -187,29 +187,24 @@ pub fn summary(samples: &[ForceSample]) -> MonitorSummary {
 }
 
 /// Cd and Cl against t U / D for t U / D >= `from_ud`, one pair of series per labelled
-/// run; the lift smoothed by `smooth` with half-width `half` (0: raw).
+/// run, both smoothed by `smooth` with half-width `half` (0: raw).
 pub fn force_series(runs: &[(String, &[ForceSample])], from_ud: f64, half: usize) -> Vec<Series> {
+    let suffix = if half > 0 { " (smoothed)" } else { "" };
     let mut out = Vec::new();
     for (label, samples) in runs {
-        let cl = smooth(&samples.iter().map(|x| x.cl).collect::<Vec<_>>(), half);
-        let keep = |x: &&ForceSample| x.t * U / D >= from_ud;
-        out.push(Series::line(
-            format!("Cd {label}"),
-            samples
-                .iter()
-                .filter(keep)
-                .map(|x| (x.t * U / D, x.cd))
-                .collect(),
-        ));
-        out.push(Series::line(
-            format!("Cl {label}{}", if half > 0 { " (smoothed)" } else { "" }),
-            samples
-                .iter()
-                .zip(cl)
-                .filter(|(x, _)| keep(x))
-                .map(|(x, c)| (x.t * U / D, c))
-                .collect(),
-        ));
+        let cd: Vec<f64> = samples.iter().map(|x| x.cd).collect();
+        let cl: Vec<f64> = samples.iter().map(|x| x.cl).collect();
+        for (name, y) in [("Cd", smooth(&cd, half)), ("Cl", smooth(&cl, half))] {
+            out.push(Series::line(
+                format!("{name} {label}{suffix}"),
+                samples
+                    .iter()
+                    .zip(y)
+                    .filter(|(x, _)| x.t * U / D >= from_ud)
+                    .map(|(x, y)| (x.t * U / D, y))
+                    .collect(),
+            ));
+        }
     }
     out
 }
@@ -269,7 +264,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
     plot(
         &ctx.out_dir.join(png),
         &Figure {
-            title: "Flow past a cylinder, Re = 100: drag and smoothed lift, t U / D >= 5",
+            title: "Flow past a cylinder, Re = 100: smoothed drag and lift, t U / D >= 5",
             x_label: "t U / D",
             y_label: "Cd, Cl",
             log_x: false,
