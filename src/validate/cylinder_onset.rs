@@ -13,9 +13,9 @@
 //! sigma D^2 / nu = sigma D / U x Re is taken linear in Re; the line's zero is Re_c.
 //!
 //! The lift is smoothed first (`cylinder::smooth`, 1.125 D / U) to take out the SPH force
-//! noise. Checks: shedding at Re 70 (late amplitude > 0.05; the unconfined Cl amplitude
-//! there is ~0.2), none sustained at Re 35 (its late amplitude at most half Re 70's), and
-//! Re_c reported against 46-49. Full tier only (about 5e9 particle-steps: seconds on
+//! noise. Checks: shedding at Re 70 (late amplitude > 0.05, the unconfined Cl amplitude
+//! there being ~0.2, at Williamson's St within 15 %), none sustained at Re 35 (its late
+//! amplitude at most half Re 70's), and Re_c reported against 46-49. Full tier only (about 5e9 particle-steps: seconds on
 //! the GPU, an hour on two CPU cores); the quick tier skips it (`Case::quick`).
 
 use super::cylinder::{self, smooth, D, SAMPLE_UD, U};
@@ -117,6 +117,8 @@ struct Onset {
     late_amplitude: f64,
     /// [U / D] the envelope's growth rate.
     sigma: Option<f64>,
+    /// The DFT peak of the smoothed lift over the second half (`cylinder::summary`).
+    strouhal: Option<f64>,
     run: RunInfo,
 }
 
@@ -164,9 +166,10 @@ fn measure(ctx: &Ctx, re: f64) -> anyhow::Result<Onset> {
     ));
     Ok(Onset {
         re,
-        samples,
         late_amplitude: std::f64::consts::SQRT_2 * rms,
         sigma,
+        strouhal: cylinder::summary(&samples).strouhal,
+        samples,
         run,
     })
 }
@@ -248,6 +251,28 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
         .must_exceed()
         .with_plot(png)
         .with_note("sqrt 2 x rms of the smoothed Cl must exceed the threshold"),
+    );
+    // Shedding is periodic at the Strouhal frequency; force noise is not. At D / dx = 5 this
+    // told Re 70 (St 0.150) from Re 35 where the amplitudes could not (docs/accuracy.md).
+    let (_, st_w) = cylinder::strouhal_fits(high.re.round() as u32);
+    let st = high.strouhal.unwrap_or(f64::NAN);
+    rows.push(
+        Check::within(
+            NAME,
+            &format!(
+                "Strouhal number at Re {} (DFT of the smoothed lift, second half): |St / St_Williamson - 1|",
+                high.re
+            ),
+            "Williamson 1988 fit (refdata/cylinder_strouhal_vs_Re.csv)",
+            Some(st_w),
+            st,
+            (st / st_w - 1.0).abs(),
+            0.15,
+            "literature",
+            &high.run,
+        )
+        .with_plot(png)
+        .with_note("15 %: blockage 0.083 and D / dx = 10; the shedding frequency, not the noise's"),
     );
     for o in &runs {
         let s = o.sigma.unwrap_or(f64::NAN);
