@@ -58,8 +58,8 @@ pub enum Command {
     /// columns): per-field error norms and the worst particles.
     Compare(CompareArgs),
     /// Accuracy cases against published references (hydrostatic tank, dam break, Poiseuille,
-    /// Taylor-Green, cylinder): plots, report.md and report.json; exits non-zero when a check
-    /// fails.
+    /// Taylor-Green, cylinder, onset of shedding): plots, report.md and report.json; exits
+    /// non-zero when a check fails.
     Validate(ValidateArgs),
     /// Stability maps: sweep the Courant number, alpha, density form, integrator,
     /// Lennard-Jones strength, density diffusion and artificial stress; each run stable,
@@ -500,7 +500,7 @@ pub struct ValidateArgs {
     #[arg(long, value_name = "DIR", default_value = "out/validate")]
     pub out: PathBuf,
     /// Run only this case (repeatable): hydrostatic-tank, dam-break, poiseuille, taylor-green,
-    /// cylinder.
+    /// cylinder, cylinder-onset (full tier only: the quick tier skips it).
     #[arg(long, value_name = "NAME")]
     pub case: Vec<String>,
 }
@@ -582,7 +582,8 @@ fn stability(a: StabilityArgs) -> anyhow::Result<()> {
 #[derive(Debug, clap::Args)]
 pub struct ChartArgs {
     /// The quick tier: two coarse resolutions and one variant per case (seconds).
-    /// Without it: four resolutions and six variants per case (minutes in a release build).
+    /// Without it: four resolutions and six variants per case (minutes in a release build),
+    /// and the cylinder at Re 100 (three resolutions, six variants: for the GPU).
     #[arg(long)]
     pub quick: bool,
     /// Where to run (repeatable: `--backend cpu --backend cuda` puts both on the charts).

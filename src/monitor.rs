@@ -17,17 +17,52 @@ use crate::backend::cpu::{
 use crate::dim::{Dim, D2, D3};
 use crate::kernel;
 use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID};
-use crate::particle::Particle;
+use crate::particle::{Kind, Particle};
 use crate::state::State;
 
 /// The force [M L T^-2] that fluid and solid particles exert on the boundary particles of
 /// scene group `group`, as three numbers (z = 0 in 2D).
 pub fn wall_force(p: &SphParams, particles: &[Particle], group: u32) -> [f64; 3] {
+    let near = near_wall(p, particles, group);
+    let particles = near.as_deref().unwrap_or(particles);
     if p.dim == 2 {
         wall_force_d::<D2>(p, particles, group)
     } else {
         wall_force_d::<D3>(p, particles, group)
     }
+}
+
+/// The particles within one support radius of the wall group's bounding box: the only
+/// ones that interact with it (the force is the same, the grid and sums far smaller in a
+/// large domain). None (take all) when the widened box crosses a periodic boundary.
+fn near_wall(p: &SphParams, particles: &[Particle], group: u32) -> Option<Vec<Particle>> {
+    let d = p.dim as usize;
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for q in particles
+        .iter()
+        .filter(|q| q.kind == Kind::Boundary && q.group == group)
+    {
+        for a in 0..d {
+            lo[a] = lo[a].min(q.position[a]);
+            hi[a] = hi[a].max(q.position[a]);
+        }
+    }
+    for a in 0..d {
+        lo[a] -= p.support;
+        hi[a] += p.support;
+        if lo[a] > hi[a]
+            || (p.periodic[a] != 0 && (lo[a] < p.domain_min[a] || hi[a] > p.domain_max[a]))
+        {
+            return None;
+        }
+    }
+    Some(
+        particles
+            .iter()
+            .filter(|q| (0..d).all(|a| q.position[a] >= lo[a] && q.position[a] <= hi[a]))
+            .copied()
+            .collect(),
+    )
 }
 
 fn wall_force_d<D: Dim>(p: &SphParams, particles: &[Particle], group: u32) -> [f64; 3] {

@@ -5,8 +5,12 @@
 //! `chart.csv` and `chart.json`.
 //!
 //! Cases: the square-column dam break (max relative surge-front error vs Martin & Moyce
-//! 1952 for 0.8 <= T <= 2.5, measured by `stability::cases::measure`) and the Taylor-Green
-//! vortex (|decay rate of E_k / exact - 1|, `taylor_green::decay_rate_error`).
+//! 1952 for 0.8 <= T <= 2.5, measured by `stability::cases::measure`), the Taylor-Green
+//! vortex (|decay rate of E_k / exact - 1|, `taylor_green::decay_rate_error`) and, in the
+//! full tier only, the cylinder at Re 100 (|St / St_Williamson - 1| over t U / D = 40-80 of
+//! a kicked start, `cylinder::strouhal_error`; D / dx = 5, 8, 10, the variants at 5).
+//! Every point carries its backend and device (labels, CSV, JSON); one front per case over
+//! all backends asked for.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -15,12 +19,16 @@ use anyhow::Context;
 use serde::{Deserialize, Serialize};
 
 use super::plot::{plot, Figure, Series};
-use super::{taylor_green, Ctx, Tier};
+use super::{cylinder, taylor_green, Ctx, Tier};
 use crate::backend::BackendChoice;
 use crate::scene::format::{DensityForm, IntegratorChoice, KernelChoice};
 use crate::scene::Scene;
 use crate::stability::cases;
 use crate::stability::sweep::Base;
+
+/// The cylinder's run length in D / U: the kicked wake sheds from t U / D ~ 30; the
+/// Strouhal number comes from the second half.
+const CYLINDER_T_END_UD: f64 = 80.0;
 
 /// What `run` does.
 #[derive(Clone, Debug)]
@@ -132,7 +140,12 @@ pub fn run(options: &Options) -> anyhow::Result<Vec<Point>> {
     std::fs::create_dir_all(&options.out_dir)
         .with_context(|| format!("creating {}", options.out_dir.display()))?;
     let mut all = Vec::new();
-    for case in ["dam-break", "taylor-green"] {
+    let cases: &[&str] = if quick {
+        &["dam-break", "taylor-green"]
+    } else {
+        &["dam-break", "taylor-green", "cylinder"]
+    };
+    for &case in cases {
         let mut points = Vec::new();
         for &backend in &options.backends {
             let ctx = Ctx {
@@ -145,6 +158,7 @@ pub fn run(options: &Options) -> anyhow::Result<Vec<Point>> {
             let (resolutions, middle): (Vec<f64>, f64) = match (case, quick) {
                 ("dam-break", true) => (vec![0.1, 0.05], 0.1),
                 ("dam-break", false) => (vec![0.1, 0.05, 0.04, 0.025], 0.05),
+                ("cylinder", _) => (vec![5.0, 8.0, 10.0], 5.0),
                 (_, true) => (vec![16.0, 24.0], 16.0),
                 (_, false) => (vec![20.0, 30.0, 40.0, 60.0], 30.0),
             };
@@ -188,8 +202,19 @@ pub fn run(options: &Options) -> anyhow::Result<Vec<Point>> {
                         pareto: false,
                     }
                 } else {
-                    let n = r as usize;
-                    match taylor_green::decay_rate_error(&ctx, n, &|s| (v.edit)(s)) {
+                    let (measured, label) = if case == "cylinder" {
+                        (
+                            cylinder::strouhal_error(&ctx, r, CYLINDER_T_END_UD, &|s| (v.edit)(s)),
+                            format!("D / dx = {r}"),
+                        )
+                    } else {
+                        let n = r as usize;
+                        (
+                            taylor_green::decay_rate_error(&ctx, n, &|s| (v.edit)(s)),
+                            format!("{n} x {n}"),
+                        )
+                    };
+                    match measured {
                         Ok((e, run)) => Point {
                             case: case.into(),
                             variant: v.name.into(),
@@ -205,7 +230,7 @@ pub fn run(options: &Options) -> anyhow::Result<Vec<Point>> {
                         Err(e) => Point {
                             case: case.into(),
                             variant: v.name.into(),
-                            resolution: format!("{n} x {n}"),
+                            resolution: label,
                             backend: format!("{backend:?}").to_lowercase(),
                             device: String::new(),
                             particles: 0,
@@ -291,10 +316,10 @@ fn draw(options: &Options, case: &str, points: &[Point]) -> anyhow::Result<()> {
         &Figure {
             title: &title,
             x_label: "wall time [s]",
-            y_label: if case == "dam-break" {
-                "max relative surge-front error"
-            } else {
-                "|E_k decay rate / exact - 1|"
+            y_label: match case {
+                "dam-break" => "max relative surge-front error",
+                "cylinder" => "|St / St_Williamson - 1|",
+                _ => "|E_k decay rate / exact - 1|",
             },
             log_y: true,
             log_x: true,

@@ -9,12 +9,15 @@
 //! Two tiers: `Quick` runs each case once at a coarse resolution with robust checks (the test
 //! suite runs it, `tests/validate.rs`); `Full` runs three resolutions, checks the finest
 //! against tolerances from the literature and reports the observed order of convergence.
+//! A case that cannot say anything in seconds (`Case::quick` false: `cylinder-onset`, a
+//! sweep of Reynolds numbers to t U / D = 120) runs in the full tier only.
 //! Every row says its `basis`: "literature" (tolerance from the publications or the
 //! reference file's recommendation), "regression" (a looser quick-tier bound that catches
 //! breakage, not a claim of accuracy) or "convergence" (observed order, must be positive).
 
 pub mod chart;
 pub mod cylinder;
+pub mod cylinder_onset;
 pub mod dam_break;
 pub mod hydrostatic;
 pub mod plot;
@@ -74,6 +77,8 @@ pub struct Case {
     pub name: &'static str,
     pub description: &'static str,
     pub run: fn(&Ctx) -> anyhow::Result<Vec<Check>>,
+    /// false: full tier only (the quick tier skips it, e.g. a run that needs t U / D ~ 100).
+    pub quick: bool,
 }
 
 /// The registry, in report order.
@@ -82,26 +87,37 @@ pub const CASES: &[Case] = &[
         name: hydrostatic::NAME,
         description: hydrostatic::DESCRIPTION,
         run: hydrostatic::run,
+        quick: true,
     },
     Case {
         name: dam_break::NAME,
         description: dam_break::DESCRIPTION,
         run: dam_break::run,
+        quick: true,
     },
     Case {
         name: poiseuille::NAME,
         description: poiseuille::DESCRIPTION,
         run: poiseuille::run,
+        quick: true,
     },
     Case {
         name: taylor_green::NAME,
         description: taylor_green::DESCRIPTION,
         run: taylor_green::run,
+        quick: true,
     },
     Case {
         name: cylinder::NAME,
         description: cylinder::DESCRIPTION,
         run: cylinder::run,
+        quick: true,
+    },
+    Case {
+        name: cylinder_onset::NAME,
+        description: cylinder_onset::DESCRIPTION,
+        run: cylinder_onset::run,
+        quick: false,
     },
 ];
 
@@ -189,10 +205,28 @@ impl Check {
         self
     }
 
+    /// Passes when `error > tolerance` instead (e.g. a quantity that must exceed a threshold).
+    pub fn must_exceed(mut self) -> Check {
+        self.comparison = "error > tolerance".into();
+        self.pass = self.error.is_finite() && self.error > self.tolerance;
+        self
+    }
+
     pub fn with_note(mut self, note: impl Into<String>) -> Check {
         self.note = note.into();
         self
     }
+}
+
+/// The least-squares line y = slope x + intercept through `pts`: (slope, intercept), None
+/// with fewer than two distinct x.
+pub fn line_fit(pts: &[(f64, f64)]) -> Option<(f64, f64)> {
+    let n = pts.len() as f64;
+    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
+    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    (pts.len() >= 2 && sxx > 0.0).then(|| (sxy / sxx, my - sxy / sxx * mx))
 }
 
 /// The observed order of convergence: the least-squares slope of log(error) against
@@ -210,16 +244,7 @@ pub fn convergence(
         .filter(|(_, e)| **e > 0.0 && e.is_finite())
         .map(|(d, e)| (d.ln(), e.ln()))
         .collect();
-    let order = if pts.len() >= 2 {
-        let n = pts.len() as f64;
-        let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
-        let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
-        let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-        let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-        sxy / sxx
-    } else {
-        f64::NAN
-    };
+    let order = line_fit(&pts).map_or(f64::NAN, |(slope, _)| slope);
     let last = runs.last().expect("at least one run");
     let resolution = dx
         .iter()
@@ -381,6 +406,12 @@ pub fn run(options: &Options) -> anyhow::Result<Report> {
     let mut checks = Vec::new();
     for case in CASES {
         if !options.cases.is_empty() && !options.cases.iter().any(|c| c == case.name) {
+            continue;
+        }
+        if options.tier == Tier::Quick && !case.quick {
+            if options.verbose {
+                eprintln!("validate: {} skipped (full tier only)", case.name);
+            }
             continue;
         }
         if options.verbose {

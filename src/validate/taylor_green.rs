@@ -118,11 +118,7 @@ fn simulate_edited(
         .filter(|s| s.0 >= fit_from - 1e-9)
         .map(|s| (s.0, s.1.ln()))
         .collect();
-    let m = pts.len() as f64;
-    let mx = pts.iter().map(|p| p.0).sum::<f64>() / m;
-    let my = pts.iter().map(|p| p.1).sum::<f64>() / m;
-    let rate = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>()
-        / pts.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>();
+    let rate = super::line_fit(&pts).map_or(f64::NAN, |(slope, _)| slope);
     Ok(Outcome {
         n,
         samples,
