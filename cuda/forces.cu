@@ -115,7 +115,7 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
             const float rho_bar = 0.5f * (rhoi + rhoj);
             const float pij = artificial_viscosity(p, vr, r2, c_bar, rho_bar);
             acc = acc - gw * (mj * pij);
-            bool same_body = kj == ki && (ki == MF_KIND_FLUID || group[j] == gi);
+            const bool bonded = same_body(p, ki, kj, gi, group[j]);
             if (p.nu > 0.0f && (ki == MF_KIND_FLUID || kj == MF_KIND_FLUID))
                 acc = acc + vij * (mj * laminar(p, r2, fw, rhoi, rhoj));
             // Fluid-fluid cohesion, Akinci et al. 2013, eq. (2): -gamma m_j C(r) r_ij / r
@@ -123,7 +123,7 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
             if (p.cohesion != 0.0f && ki == MF_KIND_FLUID && kj == MF_KIND_FLUID)
                 acc = acc - r * (p.cohesion * mj * cohesion_over_r(p.support, rr));
             if constexpr (SOLIDS) {
-                if (art && same_body && ki == MF_KIND_SOLID) {
+                if (art && bonded && ki == MF_KIND_SOLID) {
                     // Gray, Monaghan & Swift 2001: f_ij^n (R_i + R_j) . grad W.
                     float fij = powf(kernel_w(p, rr) * p.inv_w_dx, p.art_stress_n);
                     Mat<DIM> ra = sload<DIM>(art, i, n), rb = sload<DIM>(art, j, n);

@@ -3,7 +3,7 @@
 
 use rayon::prelude::*;
 
-use super::density::couples;
+use super::density::{couples, same_body};
 use super::grid::Grid;
 use crate::dim::Dim;
 use crate::kernel;
@@ -139,7 +139,7 @@ pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 let rho_bar = 0.5 * (rhoi + rhoj);
                 let pi_ij = artificial_viscosity(p, vr, r2, c_bar, rho_bar);
                 acc -= grad_w * (mass[j] * pi_ij);
-                let same_body = kj == ki && (ki as u32 == MF_KIND_FLUID || group[j] == group[i]);
+                let bonded = same_body(p, ki, kj, group[i], group[j]);
                 // Laminar viscosity wherever fluid meets fluid, a solid or a wall (no-slip).
                 if p.nu > 0.0 && (ki as u32 == MF_KIND_FLUID || kj32 == MF_KIND_FLUID) {
                     acc += vij * (mass[j] * laminar(p, r2, fw, rhoi, rhoj));
@@ -150,7 +150,7 @@ pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                     acc -= r * (p.cohesion * mass[j] * cohesion_over_r(p.support, rr));
                 }
                 if let Some(r_art) = art {
-                    if same_body && ki as u32 == MF_KIND_SOLID {
+                    if bonded && ki as u32 == MF_KIND_SOLID {
                         // Gray, Monaghan & Swift 2001: f_ij^n (R_i + R_j) . grad W.
                         let fij = (kernel::w(p, rr) * p.inv_w_dx).powf(p.art_stress_n);
                         acc += D::mat_vec(r_art[i] + r_art[j], grad_w) * (mass[j] * fij);
