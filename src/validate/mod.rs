@@ -17,6 +17,7 @@ pub mod chart;
 pub mod cylinder;
 pub mod dam_break;
 pub mod hydrostatic;
+pub mod plate;
 pub mod plot;
 pub mod poiseuille;
 pub mod taylor_green;
@@ -102,6 +103,11 @@ pub const CASES: &[Case] = &[
         name: cylinder::NAME,
         description: cylinder::DESCRIPTION,
         run: cylinder::run,
+    },
+    Case {
+        name: plate::NAME,
+        description: plate::DESCRIPTION,
+        run: plate::run,
     },
 ];
 
@@ -313,6 +319,15 @@ pub fn refdata(name: &str) -> &'static str {
         }
         "analytic_taylor_green_decay.csv" => {
             include_str!("../../refdata/analytic_taylor_green_decay.csv")
+        }
+        "elastic_gray2001_oscillating_plate.json" => {
+            include_str!("../../refdata/elastic_gray2001_oscillating_plate.json")
+        }
+        "fsi_antoci2007_elastic_gate.json" => {
+            include_str!("../../refdata/fsi_antoci2007_elastic_gate.json")
+        }
+        "fsi_antoci2007_elastic_gate.csv" => {
+            include_str!("../../refdata/fsi_antoci2007_elastic_gate.csv")
         }
         _ => panic!("unknown refdata file {name}"),
     }
