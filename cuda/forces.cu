@@ -93,14 +93,21 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
             const float inv_r2j = 1.0f / (rhoj * rhoj);
             // Stress term, eq. (16); eq. (7) when both are fluid (sigma = -P I).
             if constexpr (SOLIDS) {
-                Mat<DIM> sj = sload<DIM>(stress, j, n);
-                const float pj = pr[j];
+                if (kj != ki && kj != MF_KIND_BOUNDARY) {
+                    // Fluid-solid pair: the fluid particle's pressure on both sides; the
+                    // solid's own stress is no traction on the fluid (twin: cpu/forces.rs).
+                    const float pf = ki == MF_KIND_FLUID ? pi : pr[j];
+                    acc = acc - gw * (mj * (pf * (inv_r2i + inv_r2j)));
+                } else {
+                    Mat<DIM> sj = sload<DIM>(stress, j, n);
+                    const float pj = pr[j];
 #pragma unroll
-                for (int a = 0; a < DIM; ++a)
+                    for (int a = 0; a < DIM; ++a)
 #pragma unroll
-                    for (int b = 0; b < DIM; ++b)
-                        sj.m[a][b] = sig_i.m[a][b] + (sj.m[a][b] - (a == b ? pj : 0.0f)) * inv_r2j;
-                acc = acc + mat_vec<DIM>(sj, gw) * mj;
+                        for (int b = 0; b < DIM; ++b)
+                            sj.m[a][b] = sig_i.m[a][b] + (sj.m[a][b] - (a == b ? pj : 0.0f)) * inv_r2j;
+                    acc = acc + mat_vec<DIM>(sj, gw) * mj;
+                }
             } else {
                 acc = acc + (gw * (psi + -pr[j] * inv_r2j)) * mj;
             }

@@ -74,7 +74,8 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
             const float mj = mass[j];
             // Continuity, volume form: d rho_i/dt = rho_i sum_j m_j / rho_j v_ij . grad W
             // (the factor rho_i is applied after the sum, as in cpu/rates.rs).
-            drho += mj / rho[j] * dot(vij, gw);
+            // A solid's density from solid neighbours only (twin: cpu/rates.rs).
+            if (!solid_i || kj == MF_KIND_SOLID) drho += mj / rho[j] * dot(vij, gw);
             if (diffuse && kj == MF_KIND_FLUID && r2 > 0.0f) {
                 // Molteni & Colagrossi 2009 (Comput. Phys. Commun. 180, 861), diffusive term:
                 // sum_j psi_ij . grad_i W_ij V_j, psi_ij = 2 (rho_j - rho_i) r_ji / |r_ji|^2 with

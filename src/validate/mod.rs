@@ -16,6 +16,7 @@
 pub mod chart;
 pub mod cylinder;
 pub mod dam_break;
+pub mod gate;
 pub mod hydrostatic;
 pub mod plate;
 pub mod plot;
@@ -108,6 +109,11 @@ pub const CASES: &[Case] = &[
         name: plate::NAME,
         description: plate::DESCRIPTION,
         run: plate::run,
+    },
+    Case {
+        name: gate::NAME,
+        description: gate::DESCRIPTION,
+        run: gate::run,
     },
 ];
 

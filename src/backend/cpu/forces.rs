@@ -131,6 +131,18 @@ pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 if kj as u32 == MF_KIND_BOUNDARY {
                     let sig = wall_pair_stress::<D>(sig_i, sig_j, pi, pr[j], rhoi, rhoj);
                     acc += D::mat_vec(sig, grad_w) * mass[j];
+                } else if kj != ki {
+                    // Fluid-solid pair: eq. (7) with the fluid particle's pressure on both
+                    // sides, the fluid's load on the solid and the solid's reaction (equal and
+                    // opposite). The solid's own stress is no traction on the fluid: through
+                    // sigma_j / rho_j^2 a bent elastic gate's fibre stress (100 times the
+                    // water pressure) kicked the water off it within 2 ms.
+                    let pf = if ki as u32 == MF_KIND_FLUID {
+                        pi
+                    } else {
+                        pr[j]
+                    };
+                    acc -= grad_w * (mass[j] * (pf * (1.0 / (rhoi * rhoi) + 1.0 / (rhoj * rhoj))));
                 } else {
                     acc += D::mat_vec(sig_i + sig_j, grad_w) * mass[j];
                 }

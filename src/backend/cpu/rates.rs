@@ -58,7 +58,12 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 // volume form (Colagrossi & Landrini 2003): a fluid neighbour of mass 1.0 dx^d
                 // must not compress a solid of density 0.6 as if it were its own kind.
                 // (The sum of m_j / rho_j v_ij . grad W here, times rho_i after the loop.)
-                o.drho += mass[j] / rho[j] * D::dot(vij, grad_w);
+                // A solid's density (its pressure P = c_s^2 (rho - rho0)) follows its own
+                // volumetric strain: solid neighbours only. Water sliding along an elastic
+                // gate otherwise changed the gate's surface density by 4 % (kink, blow-up).
+                if !solid_i || kj as u32 == MF_KIND_SOLID {
+                    o.drho += mass[j] / rho[j] * D::dot(vij, grad_w);
+                }
                 if diffuse && kj as u32 == MF_KIND_FLUID && r2 > 0.0 {
                     // Molteni & Colagrossi 2009 (Comput. Phys. Commun. 180, 861), the diffusive term
                     // sum_j psi_ij . grad_i W_ij V_j, psi_ij = 2 (rho_j - rho_i) r_ji / |r_ji|^2 with
