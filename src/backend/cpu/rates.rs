@@ -55,8 +55,8 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                                                    // v = 0 on boundary particles.
                 let vij = vi - vel[j];
                 // Continuity: d rho_i/dt = rho_i sum_j m_j / rho_j v_ij . grad W, the
-                // volume form (Colagrossi & Landrini 2003): a fluid neighbour of mass 1.0 dx^d
-                // must not compress a solid of density 0.6 as if it were its own kind.
+                // volume form (Colagrossi & Landrini 2003): a solid neighbour of density 0.6
+                // must not compress the fluid as if it were its own kind.
                 // (The sum of m_j / rho_j v_ij . grad W here, times rho_i after the loop.)
                 // A solid's density (its pressure P = c_s^2 (rho - rho0)) follows its own
                 // volumetric strain: solid neighbours only. Water sliding along an elastic
