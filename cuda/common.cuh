@@ -198,6 +198,21 @@ __device__ __forceinline__ bool couples(const SphParams& p, unsigned char kj) {
     return kj != MF_KIND_BOUNDARY || p.wall_pressure != 0;
 }
 
+// The driven group (a piston, a clamp; any kind): moves at driven_velocity whatever the
+// forces (twin: `driven_velocity` in cpu/integrate.rs).
+__device__ __forceinline__ bool is_driven(const SphParams& p, unsigned group) {
+    return p.driven != 0 && group == (unsigned)p.driven_group;
+}
+// Whether i and j count as one body for XSPH (eq. 18), the velocity gradient (eq. 15) and
+// the artificial stress: all fluid; one solid group; and a driven solid (a clamp) bonded to
+// every solid it neighbours, so the held part passes stress into the body it holds
+// (twin: `same_body` in cpu/density.rs).
+__device__ __forceinline__ bool same_body(const SphParams& p, unsigned char ki, unsigned char kj, unsigned gi,
+                                          unsigned gj) {
+    return kj == ki &&
+           (ki == MF_KIND_FLUID || gi == gj || (ki == MF_KIND_SOLID && (is_driven(p, gi) || is_driven(p, gj))));
+}
+
 // ---- grid: twin of src/backend/cpu/grid.rs ----
 template <int DIM> __device__ __forceinline__ void cell_coords(const SphParams& p, Vec<DIM> x, int c[3]) {
     c[0] = c[1] = c[2] = 0;

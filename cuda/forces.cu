@@ -106,11 +106,11 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
             const Vec<DIM> vij = vi - vj;
             const float vr = dot(vij, r);
             const float inv_r2j = 1.0f / (rhoj * rhoj);
-            const bool same_body = kj == ki && (ki == MF_KIND_FLUID || group[j] == gi);
+            const bool bonded = SOLIDS && same_body(p, ki, kj, gi, group[j]);
             // Stress term, eq. (16); eq. (7) when both are fluid (sigma = -P I); across two
             // objects the pressure part only (whole_stress_pair).
             if constexpr (SOLIDS) {
-                const bool whole = whole_stress_pair(p, same_body);
+                const bool whole = whole_stress_pair(p, bonded);
                 Mat<DIM> sj = whole ? sload<DIM>(stress, j, n) : mzero<DIM>();
                 const float pj = pr[j];
 #pragma unroll
@@ -143,7 +143,7 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
             if (p.cohesion != 0.0f && ki == MF_KIND_FLUID && kj == MF_KIND_FLUID)
                 acc = acc - r * (p.cohesion * mj * cohesion_over_r(p.support, rr));
             if constexpr (SOLIDS) {
-                if (art && same_body && ki == MF_KIND_SOLID) {
+                if (art && bonded && ki == MF_KIND_SOLID) {
                     // Gray, Monaghan & Swift 2001: f_ij^n (R_i + R_j) . grad W.
                     float fij = powf(kernel_w(p, rr) * p.inv_w_dx, p.art_stress_n);
                     Mat<DIM> ra = sload<DIM>(art, i, n), rb = sload<DIM>(art, j, n);

@@ -5,11 +5,7 @@
 // Twin: src/backend/cpu/integrate.rs; parity test: tests/cuda_parity.rs.
 #include "common.cuh"
 
-// The driven group (a piston, a clamp; any kind): its prescribed velocity (twin:
-// `driven_velocity` in integrate.rs).
-__device__ __forceinline__ bool is_driven(const SphParams& p, unsigned group) {
-    return p.driven != 0 && group == (unsigned)p.driven_group;
-}
+// The driven group: `is_driven` in common.cuh.
 
 // Inflow band (`p.inflow`): fluid particles with inflow_lo <= x[inflow_axis] < inflow_hi
 // get their velocity set to inflow_velocity instead of integrated (twin: `in_inflow_band`).

@@ -91,8 +91,7 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
                 // r_ji = r_j - r_i = -r (diffusive sign, see cpu/rates.rs): 2 (rho_i - rho_j) r . gw / r^2.
                 diffusion += 2.0f * (rhoi - rhoj) * dot(r, gw) / r2 * (mj / rhoj);
             }
-            const bool same_body = kj == ki && (ki == MF_KIND_FLUID || group[j] == gi);
-            if (!same_body || ki == MF_KIND_BOUNDARY) return;
+            if (!same_body(p, ki, kj, gi, group[j]) || ki == MF_KIND_BOUNDARY) return;
             const float s = mj / (0.5f * (rhoi + rhoj));
             // XSPH, eq. (18), within one material (one body for solids).
             xs = xs - vij * (p.xsph_eps * s * kernel_w(p, rr));

@@ -58,8 +58,8 @@ pub enum Command {
     /// columns): per-field error norms and the worst particles.
     Compare(CompareArgs),
     /// Accuracy cases against published references (hydrostatic tank, dam break, Poiseuille,
-    /// Taylor-Green, cylinder, onset of shedding): plots, report.md and report.json; exits
-    /// non-zero when a check fails.
+    /// Taylor-Green, cylinder, onset of shedding, oscillating plate, elastic gate): plots,
+    /// report.md and report.json; exits non-zero when a check fails.
     Validate(ValidateArgs),
     /// Stability maps: sweep the Courant number, alpha, density form, integrator,
     /// Lennard-Jones strength, density diffusion and artificial stress; each run stable,
@@ -500,7 +500,7 @@ pub struct ValidateArgs {
     #[arg(long, value_name = "DIR", default_value = "out/validate")]
     pub out: PathBuf,
     /// Run only this case (repeatable): hydrostatic-tank, dam-break, poiseuille, taylor-green,
-    /// cylinder, cylinder-onset (full tier only: the quick tier skips it).
+    /// cylinder, cylinder-onset (full tier only: the quick tier skips it), plate, gate.
     #[arg(long, value_name = "NAME")]
     pub case: Vec<String>,
 }

@@ -597,6 +597,29 @@ fn bodies_in_contact(dim: usize, v: Variant, whole: bool) -> Setup {
     setup
 }
 
+/// `scene(dim, v)` with its elastic body cut in two across x at its centre: the half with
+/// x below the mean a clamp (group 2, driven, held fixed), the rest a free body (group 3)
+/// bonded to it (`same_body`): XSPH, the velocity gradient and the artificial stress cross
+/// the cut.
+fn clamped_body(dim: usize, v: Variant) -> Setup {
+    let mut setup = scene(dim, v);
+    let solid: Vec<f32> = (setup.particles.iter())
+        .filter(|q| q.kind == Kind::Solid)
+        .map(|q| q.position[0])
+        .collect();
+    let mid = solid.iter().sum::<f32>() / solid.len() as f32;
+    for q in setup.particles.iter_mut() {
+        if q.kind == Kind::Solid && q.position[0] >= mid {
+            q.group = 3;
+        }
+    }
+    let p = &mut setup.params;
+    p.driven = 1;
+    p.driven_group = 2;
+    p.driven_velocity = [0.0; 3];
+    setup
+}
+
 #[test]
 fn stages_2d_bodies_in_contact_dynamic_walls() {
     stages_on::<D2>(
@@ -615,6 +638,20 @@ fn stages_3d_bodies_in_contact_dynamic_walls() {
 fn stages_2d_bodies_in_contact_lj_walls_whole_stress() {
     let setup = bodies_in_contact(2, V_2D_B, true);
     stages_on::<D2>("V_2D_B + bodies in contact, whole stress", setup);
+}
+#[test]
+fn stages_2d_clamp_bonded_to_its_body() {
+    stages_on::<D2>(
+        "V_2D_A + clamp holding half the disc",
+        clamped_body(2, V_2D_A),
+    );
+}
+#[test]
+fn stages_3d_clamp_bonded_to_its_body() {
+    stages_on::<D3>(
+        "V_3D_B + clamp holding half the sphere",
+        clamped_body(3, V_3D_B),
+    );
 }
 
 #[test]

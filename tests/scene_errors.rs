@@ -346,6 +346,22 @@ fn driven_solid_with_velocity_too() {
 }
 
 #[test]
+fn clamp_off_the_lattice_of_the_solid_it_holds() {
+    // The clamp's min corner is 0.03 from the plate's: not a whole number of spacings 0.05.
+    let solids = "\n[solid]\ndensity = 500.0\nsound_speed = 30.0\nshear_modulus = 1e4\n\n\
+         [[solids]]\nshape = \"box\"\nmin = [0.57, 0.6]\nmax = [0.7, 0.7]\nmotion = [0.0, 0.0]\n\n\
+         [[solids]]\nshape = \"box\"\nmin = [0.6, 0.6]\nmax = [0.9, 0.7]\n";
+    expect_error(
+        &format!("{BASE}{solids}"),
+        "solids[0].min",
+        "must sit on its particle lattice: min[0] differs by -0.03",
+    );
+    // On the lattice (0.55 = 0.6 - 1 dx) it is accepted.
+    let ok = format!("{BASE}{}", solids.replace("0.57", "0.55"));
+    Scene::from_toml(&ok, "clamp-ok").expect("a clamp on the plate's lattice");
+}
+
+#[test]
 fn negative_cohesion() {
     expect_error(
         &with("alpha = 0.02", "alpha = 0.02\ncohesion = -1.0"),

@@ -68,6 +68,9 @@ fn quick_validation_passes_and_writes_reports() {
         "dam-break-height.png",
         "poiseuille.png",
         "taylor-green.png",
+        "plate-tip.png",
+        "gate-x.png",
+        "gate-y.png",
     ] {
         let bytes = std::fs::read(dir.path().join(png)).unwrap_or_else(|e| panic!("{png}: {e}"));
         assert!(bytes.starts_with(b"\x89PNG"), "{png} is not a PNG");

@@ -65,7 +65,10 @@
 //! center = [2.0, 1.5]
 //! radius = 0.2
 //! velocity = [0.0, 0.0]              # default zero
-//! # motion = [0.0, 0.0]              # optional: driven (a clamp), moves at this velocity
+//! # motion = [0.0, 0.0]              # optional: driven, moves at this velocity: a clamp,
+//! #                                  # bonded to every solid it touches (stress passes into
+//! #                                  # the body it holds; a box clamp must sit on the
+//! #                                  # lattice of a box it touches: min differs by k dx)
 //!
 //! [[walls]]
 //! shape = "box-container"            # | "box" {min, max} | "cylinder" {center, radius, layers}

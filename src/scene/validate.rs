@@ -419,6 +419,7 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
             ),
         ));
     }
+    clamp_lattice(&c, s)?;
     if let Some(b) = &s.inflow {
         let a = b.axis.index();
         if a >= dim {
@@ -488,6 +489,47 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
             "fluid_blocks",
             "the scene has no objects (fluid_blocks, solids or walls)",
         ));
+    }
+    Ok(())
+}
+
+/// A clamp (a driven solid box) bonded to a solid box it touches must share that box's
+/// particle lattice (`min + (i + 0.5) dx`): off it, the rows at the joint are dropped or
+/// crowded (`generate.rs` keeps particles 0.5 dx apart) and the bond has a gap or a seam.
+fn clamp_lattice(c: &Ctx, s: &SceneFile) -> R {
+    let dx = s.discretisation.spacing;
+    let boxes = |driven: bool| {
+        (s.solids.iter().enumerate()).filter_map(move |(i, o)| match o {
+            SolidObject::Box { min, max, .. } if o.motion().is_some() == driven => {
+                Some((i, min, max))
+            }
+            _ => None,
+        })
+    };
+    for (ci, cmin, cmax) in boxes(true) {
+        for (oi, omin, omax) in boxes(false) {
+            // Touching: the boxes overlap or meet within one spacing on every axis.
+            let touch = (0..c.dim).all(|a| cmin[a] <= omax[a] + dx && omin[a] <= cmax[a] + dx);
+            if !touch {
+                continue;
+            }
+            for a in 0..c.dim {
+                let k = (cmin[a] - omin[a]) / dx;
+                if (k - k.round()).abs() > 1e-6 {
+                    return Err(c.err(
+                        format!("solids[{ci}].min"),
+                        format!(
+                            "a clamp (a solid with motion) is bonded to the solid it touches, \
+                             solids[{oi}], and must sit on its particle lattice: min[{a}] differs \
+                             by {}, not a whole number of spacings ({}), so the joint would have \
+                             a gap or a seam",
+                            fmt(cmin[a] - omin[a]),
+                            fmt(dx)
+                        ),
+                    ));
+                }
+            }
+        }
     }
     Ok(())
 }

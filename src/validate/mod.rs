@@ -19,7 +19,9 @@ pub mod chart;
 pub mod cylinder;
 pub mod cylinder_onset;
 pub mod dam_break;
+pub mod gate;
 pub mod hydrostatic;
+pub mod plate;
 pub mod plot;
 pub mod poiseuille;
 pub mod taylor_green;
@@ -118,6 +120,18 @@ pub const CASES: &[Case] = &[
         description: cylinder_onset::DESCRIPTION,
         run: cylinder_onset::run,
         quick: false,
+    },
+    Case {
+        name: plate::NAME,
+        description: plate::DESCRIPTION,
+        run: plate::run,
+        quick: true,
+    },
+    Case {
+        name: gate::NAME,
+        description: gate::DESCRIPTION,
+        run: gate::run,
+        quick: true,
     },
 ];
 
@@ -338,6 +352,15 @@ pub fn refdata(name: &str) -> &'static str {
         }
         "analytic_taylor_green_decay.csv" => {
             include_str!("../../refdata/analytic_taylor_green_decay.csv")
+        }
+        "elastic_gray2001_oscillating_plate.json" => {
+            include_str!("../../refdata/elastic_gray2001_oscillating_plate.json")
+        }
+        "fsi_antoci2007_elastic_gate.json" => {
+            include_str!("../../refdata/fsi_antoci2007_elastic_gate.json")
+        }
+        "fsi_antoci2007_elastic_gate.csv" => {
+            include_str!("../../refdata/fsi_antoci2007_elastic_gate.csv")
         }
         _ => panic!("unknown refdata file {name}"),
     }

@@ -19,6 +19,22 @@ pub fn couples(p: &SphParams, kj: u8) -> bool {
     kj as u32 != MF_KIND_BOUNDARY || p.wall_pressure != 0
 }
 
+/// Whether particles i (kind `ki`, scene group `gi`) and j count as one body for the terms
+/// that act only within a body: XSPH, eq. (18), the velocity gradient of eq. (15) (so the
+/// Jaumann stress rate, eq. (12)) and the artificial stress. All fluid is one body; a solid
+/// is its own scene group; and a driven solid (a clamp: the `driven_group`, held by its
+/// `motion`) is bonded to every solid particle it neighbours, so the held part takes up
+/// strain and passes stress into the body it holds (a cantilever's root). Twin:
+/// `same_body` in `cuda/common.cuh`.
+#[inline]
+pub fn same_body(p: &SphParams, ki: u8, kj: u8, gi: u32, gj: u32) -> bool {
+    let clamp = |g: u32| p.driven != 0 && g == p.driven_group as u32;
+    ki == kj
+        && (ki as u32 == MF_KIND_FLUID
+            || gi == gj
+            || (ki as u32 == MF_KIND_SOLID && (clamp(gi) || clamp(gj))))
+}
+
 /// Pressure from density: Tait eq. (9) for fluid and dynamic wall particles,
 /// P = c_s^2 (rho - rho0_s) for solids (Gray & Monaghan 2001). [M L^-d L^2 T^-2]
 #[inline]

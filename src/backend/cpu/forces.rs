@@ -3,7 +3,7 @@
 
 use rayon::prelude::*;
 
-use super::density::couples;
+use super::density::{couples, same_body};
 use super::grid::Grid;
 use crate::dim::Dim;
 use crate::kernel;
@@ -141,10 +141,10 @@ pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 let (vj, rhoj, kj32) = (vel[j], rho[j], kj as u32);
                 let vij = vi - vj;
                 let vr = D::dot(vij, r);
-                let same_body = kj == ki && (ki as u32 == MF_KIND_FLUID || group[j] == group[i]);
+                let bonded = same_body(p, ki, kj, group[i], group[j]);
                 // Stress term, eq. (16) (eq. (7) when both are fluid: sigma = -P I); across
                 // two objects the pressure part only (`whole_stress_pair`).
-                let whole = whole_stress_pair(p, same_body);
+                let whole = whole_stress_pair(p, bonded);
                 let sj = match stress {
                     Some(st) if whole => st[j],
                     _ => D::zero(),
@@ -172,7 +172,7 @@ pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                     acc -= r * (p.cohesion * mass[j] * cohesion_over_r(p.support, rr));
                 }
                 if let Some(r_art) = art {
-                    if same_body && ki as u32 == MF_KIND_SOLID {
+                    if bonded && ki as u32 == MF_KIND_SOLID {
                         // Gray, Monaghan & Swift 2001: f_ij^n (R_i + R_j) . grad W.
                         let fij = (kernel::w(p, rr) * p.inv_w_dx).powf(p.art_stress_n);
                         acc += D::mat_vec(r_art[i] + r_art[j], grad_w) * (mass[j] * fij);

@@ -7,7 +7,7 @@
 
 use rayon::prelude::*;
 
-use super::density::couples;
+use super::density::{couples, same_body};
 use super::grid::Grid;
 use crate::dim::Dim;
 use crate::kernel;
@@ -68,8 +68,8 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                     diffusion +=
                         2.0 * (rhoi - rho[j]) * D::dot(r, grad_w) / r2 * (mass[j] / rho[j]);
                 }
-                let same_body = kj == ki && (ki as u32 == MF_KIND_FLUID || group[j] == group[i]);
-                if !same_body || ki as u32 == MF_KIND_BOUNDARY {
+                // One body: a solid's own group, or a clamp and the solid it holds.
+                if !same_body(p, ki, kj, group[i], group[j]) || ki as u32 == MF_KIND_BOUNDARY {
                     return;
                 }
                 let rho_bar = 0.5 * (rhoi + rho[j]);
