@@ -83,9 +83,8 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
             const Vec<DIM> vij = vi - vj;  // v = 0 on boundary particles
             const float mj = Packed<DIM>::W ? pw : mass[j];
             // Continuity, volume form: d rho_i/dt = rho_i sum_j m_j / rho_j v_ij . grad W
-            // (the factor rho_i is applied after the sum, as in cpu/rates.rs); a solid's
-            // without its wall neighbours (cpu/rates.rs says why).
-            if (!(solid_i && kj == MF_KIND_BOUNDARY)) drho += mj / rhoj * dot(vij, gw);
+            // (the factor rho_i is applied after the sum, as in cpu/rates.rs).
+            drho += mj / rhoj * dot(vij, gw);
             if (diffuse && kj == MF_KIND_FLUID && r2 > 0.0f) {
                 // Molteni & Colagrossi 2009 (Comput. Phys. Commun. 180, 861), diffusive term:
                 // sum_j psi_ij . grad_i W_ij V_j, psi_ij = 2 (rho_j - rho_i) r_ji / |r_ji|^2 with

@@ -639,22 +639,6 @@ fn stages_2d_bodies_in_contact_lj_walls_whole_stress() {
     let setup = bodies_in_contact(2, V_2D_B, true);
     stages_on::<D2>("V_2D_B + bodies in contact, whole stress", setup);
 }
-/// 2D: the elastic gate's scheme (issue #6): dynamic walls, continuity (a solid's sum
-/// leaves out its wall neighbours, rates.rs / rates.cu), symplectic Euler, artificial
-/// stress, density diffusion.
-const V_2D_GATE: Variant = Variant {
-    continuity: true,
-    symplectic: true,
-    delta_sph: true,
-    ..V_2D_A
-};
-#[test]
-fn stages_2d_solid_on_dynamic_walls_continuity_symplectic() {
-    stages_on::<D2>(
-        "V_2D_GATE + bodies in contact (a solid layer on the wall)",
-        bodies_in_contact(2, V_2D_GATE, false),
-    );
-}
 #[test]
 fn stages_2d_clamp_bonded_to_its_body() {
     stages_on::<D2>(

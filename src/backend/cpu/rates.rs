@@ -58,17 +58,7 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 // volume form (Colagrossi & Landrini 2003): a fluid neighbour of mass 1.0 dx^d
                 // must not compress a solid of density 0.6 as if it were its own kind.
                 // (The sum of m_j / rho_j v_ij . grad W here, times rho_i after the loop.)
-                // A solid's sum leaves out wall particles: they stand for the wall, not for
-                // the body's own material, and a body's edge lifting off (or sliding along)
-                // the floor is no dilatation of the body. Counted, the gate's row on the floor
-                // (issue #6, 4 across) lost 1.4 % of its density as it rose 0.1 dx
-                // (-2.7e5 Pa with c_s = 135 m/s), and its corner on the dry side ran away
-                // (0.3 to 4.6 m/s over 4 ms) until the run stopped at t = 0.016 s. The wall
-                // still meets the body through its own density (it counts the body),
-                // pressure and the Lennard-Jones force, eq. (17).
-                if !(solid_i && kj as u32 == MF_KIND_BOUNDARY) {
-                    o.drho += mass[j] / rho[j] * D::dot(vij, grad_w);
-                }
+                o.drho += mass[j] / rho[j] * D::dot(vij, grad_w);
                 if diffuse && kj as u32 == MF_KIND_FLUID && r2 > 0.0 {
                     // Molteni & Colagrossi 2009 (Comput. Phys. Commun. 180, 861), the diffusive term
                     // sum_j psi_ij . grad_i W_ij V_j, psi_ij = 2 (rho_j - rho_i) r_ji / |r_ji|^2 with
