@@ -166,8 +166,7 @@ pub fn run_observed(
     let setup = scene.setup()?;
     let counts = Counts::of(&setup.particles);
     let with_stress = setup.has_solids();
-    let dim = scene.file.dimension;
-    let bodies = BodyTracker::new(&setup.particles, dim);
+    let bodies = BodyTracker::new(&setup.particles, scene.file.dimension);
     let out_dir = options
         .out_dir
         .clone()
@@ -192,7 +191,6 @@ pub fn run_observed(
         clusters_csv,
         bodies,
         bodies_csv,
-        dim,
         cluster_radius: clusters::DEFAULT_FACTOR * scene.file.discretisation.spacing as f32,
         last_clusters: None,
         dir: out_dir.clone(),
@@ -374,7 +372,6 @@ struct Writer {
     /// The elastic bodies and `bodies.csv` (None in a scene without solids).
     bodies: BodyTracker,
     bodies_csv: Option<BodiesCsv>,
-    dim: u32,
     pvd: PvdSeries,
     csv: DiagnosticsCsv,
     frames: usize,
@@ -409,7 +406,7 @@ impl Writer {
         writeln!(self.clusters_csv, "{},{},{n}", d.step, d.time)
             .map_err(io_err(&self.dir.join("clusters.csv")))?;
         if let Some(csv) = self.bodies_csv.as_mut() {
-            let rows = self.bodies.sample(&particles, self.dim);
+            let rows = self.bodies.sample(&particles);
             csv.write(d.step, d.time, &rows)
                 .map_err(io_err(&self.dir.join("bodies.csv")))?;
         }

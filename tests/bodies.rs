@@ -94,7 +94,7 @@ fn tracker_reports_spread_and_size_against_the_start() {
             ..*p
         })
         .collect();
-    let rows = tr.sample(&apart, 2);
+    let rows = tr.sample(&apart);
     assert_eq!(rows.len(), 1);
     assert!((rows[0].rg_ratio - 2.0).abs() < 1e-5);
     assert!((rows[0].size_ratio - 1.0 / 0.9).abs() < 1e-5);

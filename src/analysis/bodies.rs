@@ -108,6 +108,7 @@ pub struct BodySummary {
 /// Bodies followed over a run: the measures at t = 0 and the running extremes.
 #[derive(Clone, Debug, Default)]
 pub struct BodyTracker {
+    dim: u32,
     start: Vec<Body>,
     summary: Vec<BodySummary>,
 }
@@ -139,7 +140,11 @@ impl BodyTracker {
                 worst_rg_change: 0.0,
             })
             .collect();
-        BodyTracker { start, summary }
+        BodyTracker {
+            dim,
+            start,
+            summary,
+        }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -148,10 +153,10 @@ impl BodyTracker {
 
     /// The rows of one output, updating the extremes. A body whose particles are all gone
     /// has no row.
-    pub fn sample(&mut self, particles: &[Particle], dim: u32) -> Vec<BodyRow> {
+    pub fn sample(&mut self, particles: &[Particle]) -> Vec<BodyRow> {
         let mut rows = Vec::new();
         for (b0, s) in self.start.iter().zip(self.summary.iter_mut()) {
-            let Some(b) = body(particles, b0.group, dim) else {
+            let Some(b) = body(particles, b0.group, self.dim) else {
                 continue;
             };
             let size_ratio = b.size / b0.size;
