@@ -1,5 +1,6 @@
 // Rates from the current velocities: d rho/dt (continuity form, with the density diffusion of
-// Molteni & Colagrossi 2009 where delta_sph > 0), the XSPH velocity of eq. (18), and for
+// Molteni & Colagrossi 2009 where delta_sph > 0), the XSPH velocity of eq. (18) with the particle
+// shifting velocity where shifting > 0 (Lind et al. 2012, Sun et al. 2017), and for
 // solids the velocity gradient eq. (15) with the kernel-gradient correction, strain and
 // rotation rates eqs. (13)-(14) and the Jaumann rate eq. (12).
 // Twin: src/backend/cpu/rates.rs; parity test: tests/cuda_parity.rs.
@@ -36,6 +37,11 @@ template <int DIM> __device__ __forceinline__ Mat<DIM> inverse(const Mat<DIM>& a
     return r;
 }
 
+// R of the anti-clumping factor 1 + R (W_ij / W(dx))^4 of the shifting sum, and the margin of
+// its free-surface test (twins of SHIFT_ANTI_CLUMP and SHIFT_SURFACE_MARGIN in cpu/rates.rs).
+#define MF_SHIFT_ANTI_CLUMP 0.2f
+#define MF_SHIFT_SURFACE_MARGIN 0.5f
+
 // drho: null without the continuity density; stress, rate: null without solids.
 template <int DIM, bool SOLIDS, int L, int B = Batch<L, SOLIDS>::B>
 __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
@@ -55,6 +61,10 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
     // Density diffusion (delta-SPH) between fluid particles only, as in cpu/rates.rs.
     const bool diffuse = p.delta_sph > 0.0f && i < n && ki == MF_KIND_FLUID;
     float diffusion = 0.0f;
+    // Particle shifting of fluid particles: grad C and the position divergence (cpu/rates.rs).
+    const bool shift = p.shifting > 0.0f && i < n && ki == MF_KIND_FLUID;
+    Vec<DIM> grad_c = vzero<DIM>();
+    float div_r = 0.0f;
     Mat<DIM> gv, mo;
     if constexpr (SOLIDS) {
         gv = mzero<DIM>();
@@ -91,6 +101,13 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
                 // r_ji = r_j - r_i = -r (diffusive sign, see cpu/rates.rs): 2 (rho_i - rho_j) r . gw / r^2.
                 diffusion += 2.0f * (rhoi - rhoj) * dot(r, gw) / r2 * (mj / rhoj);
             }
+            if (shift) {
+                // Every neighbour that couples fills the support (not shifted into a wall).
+                const float vjv = mj / rhoj;
+                const float f = kernel_w(p, rr) * p.inv_w_dx;
+                grad_c = grad_c + gw * (vjv * (1.0f + MF_SHIFT_ANTI_CLUMP * (f * f) * (f * f)));
+                div_r -= vjv * dot(r, gw);
+            }
             if (!same_body(p, ki, kj, gi, group[j]) || ki == MF_KIND_BOUNDARY) return;
             const float s = mj / (0.5f * (rhoi + rhoj));
             // XSPH, eq. (18), within one material (one body for solids).
@@ -113,6 +130,14 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
 #pragma unroll
     for (int a = 0; a < DIM; ++a) xs.c[a] = lane_sum<L>(xs.c[a]);
     drho = lane_sum<L>(drho);
+    if (p.shifting > 0.0f) {  // uniform branch: every lane of the warp sums
+#pragma unroll
+        for (int a = 0; a < DIM; ++a) grad_c.c[a] = lane_sum<L>(grad_c.c[a]);
+        div_r = lane_sum<L>(div_r);
+        // Lind et al. 2012 / Sun et al. 2017: dv = -C h c0 grad C, none at a free surface
+        // (position divergence below d - margin); twin of shift_velocity in cpu/rates.rs.
+        if (shift && div_r >= (float)DIM - MF_SHIFT_SURFACE_MARGIN) xs = xs - grad_c * (p.shifting * p.h * p.c0);
+    }
     diffusion = lane_sum<L>(diffusion);
     if (active) drho *= rho[i];
     if (active && diffuse) drho += p.delta_sph * p.h * p.c0 * diffusion;

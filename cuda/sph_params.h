@@ -105,6 +105,11 @@ typedef struct SphParams {
                               Akinci, Akinci & Teschner 2013 (droplets); 0 = off */
     float delta_sph;       /* [-] delta of the density-diffusion term of Molteni & Colagrossi
                               2009 in the continuity equation; 0 = off (the paper) */
+    float shifting;        /* [-] C of the particle shifting velocity
+                              dv_i = -C h c0 sum_j V_j (1 + 0.2 (W_ij / W(dx))^4) grad_i W_ij
+                              of fluid particles (Lind et al. 2012, with the anti-clumping term of
+                              Sun et al. 2017), added to the XSPH velocity of the drift; none at a
+                              free surface; 0 = off (the paper) */
 
     /* ---- body force and time step ---- */
     float gravity[3];      /* [L/T^2] */

@@ -793,3 +793,18 @@ fn graph_replay_matches_single_steps_2d() {
 fn graph_replay_matches_single_steps_3d() {
     graph_replay::<D3>(3, V_3D_B);
 }
+
+/// `setup` with particle shifting (`shifting` = 0.2): the shift velocity joins the XSPH
+/// velocity in rates and moves the particles in the drift.
+fn shifted(mut setup: Setup) -> Setup {
+    setup.params.shifting = 0.2;
+    setup
+}
+#[test]
+fn stages_2d_shifting_with_a_body() {
+    stages_on::<D2>("V_2D_B shifting", shifted(scene(2, V_2D_B)));
+}
+#[test]
+fn stages_3d_fluid_only_shifting_dynamic_walls() {
+    stages_on::<D3>("V_3D_B fluid only shifting", shifted(fluid_only(3, V_3D_B)));
+}

@@ -107,6 +107,8 @@ pub struct SphParams {
     pub cohesion: f32,
     #[doc = " [-] delta of the density-diffusion term of Molteni & Colagrossi\n2009 in the continuity equation; 0 = off (the paper)"]
     pub delta_sph: f32,
+    #[doc = " [-] C of the particle shifting velocity\ndv_i = -C h c0 sum_j V_j (1 + 0.2 (W_ij / W(dx))^4) grad_i W_ij\nof fluid particles (Lind et al. 2012, with the anti-clumping term of\nSun et al. 2017), added to the XSPH velocity of the drift; none at a\nfree surface; 0 = off (the paper)"]
+    pub shifting: f32,
     #[doc = " [L/T^2]"]
     pub gravity: [f32; 3usize],
     #[doc = " MF_INTEGRATOR_*"]

@@ -218,6 +218,11 @@ pub struct FluidMaterial {
     /// only, fluid-fluid pairs), usually 0.1. Default 0 = off (the paper).
     #[serde(default)]
     pub density_diffusion: f64,
+    /// [-] C of the particle shifting of Lind et al. 2012 with Sun et al. 2017's
+    /// anti-clumping term (fluid particles, none at a free surface), usually 0.2: keeps the
+    /// particles evenly spaced where the flow stretches them. Default 0 = off (the paper).
+    #[serde(default)]
+    pub shifting: f64,
 }
 
 fn default_gamma() -> f64 {

@@ -2,7 +2,8 @@
 //! original code. Only the paper's equations: summation density (eq. (8)), forward Euler
 //! at a fixed step (eq. (19)), artificial viscosity only (eq. (10)), XSPH (eq. (18)), walls
 //! by the Lennard-Jones force alone (eq. (17)), an elastic body's whole stress across
-//! every pair (eq. (16), `interface = "stress"`), no artificial stress. The values the paper
+//! every pair (eq. (16), `interface = "stress"`), no artificial stress, no density
+//! diffusion and no particle shifting. The values the paper
 //! leaves open (alpha, beta, the step, XSPH epsilon) come from the parameter study in
 //! `docs/paper-scenes.md` (section `--paper-exact`): forward Euler grows every undamped
 //! oscillation, so the paper's low-Mach advice (alpha = 0, 0 < beta < 1) blows a resting
@@ -51,6 +52,8 @@ impl Scene {
         f.fluid.beta = BETA;
         f.fluid.viscosity = 0.0;
         f.fluid.xsph = XSPH;
+        f.fluid.density_diffusion = 0.0;
+        f.fluid.shifting = 0.0;
         if let Some(m) = f.solid.as_mut() {
             m.artificial_stress = 0.0;
             m.interface = SolidInterface::Stress;

@@ -230,6 +230,16 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
                 .to_string(),
         ));
     }
+    c.non_negative("fluid.shifting", f.shifting)?;
+    if f.shifting > 1.0 {
+        return Err(c.err(
+            "fluid.shifting",
+            format!(
+                "must lie in [0, 1] (0.2 is the usual value; larger moves particles by more than the flow does), found {}",
+                f.shifting
+            ),
+        ));
+    }
     if let Some(m) = &s.solid {
         c.positive("solid.density", m.density)?;
         c.positive("solid.sound_speed", m.sound_speed)?;

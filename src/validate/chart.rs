@@ -86,6 +86,10 @@ fn variants(quick: bool) -> Vec<Variant> {
             edit: |s| s.file.fluid.density_diffusion = 0.1,
         },
         Variant {
+            name: "shifting 0.2",
+            edit: |s| s.file.fluid.shifting = 0.2,
+        },
+        Variant {
             name: "Courant 0.4",
             edit: |s| s.file.time.courant = 0.4,
         },

@@ -12,6 +12,7 @@ mod stress;
 pub use density::{couples, pressure};
 pub use forces::{artificial_viscosity, cohesion_over_r, laminar, lennard_jones, wall_pair_stress};
 pub use grid::{cell_coords, cell_index, separation, Grid};
+pub use rates::shift_velocity;
 pub use reduce::step_size;
 pub use stress::{artificial_stress, jacobi_eigen};
 

@@ -1,6 +1,7 @@
 //! Rates from the current velocities: d rho/dt (continuity form, with the density diffusion
 //! of Molteni & Colagrossi 2009 where `delta_sph` > 0), the XSPH velocity of
-//! eq. (18), and the Jaumann stress rate of solids, eqs. (12)-(15). Taken after the kick
+//! eq. (18) with the particle shifting velocity where `shifting` > 0 (`shift_velocity`), and
+//! the Jaumann stress rate of solids, eqs. (12)-(15). Taken after the kick
 //! in the symplectic integrator, so that density and stress see the new velocity (without
 //! that, the elastic and acoustic modes grow like forward Euler on an oscillator).
 //! Twin: `cuda/rates.cu`; parity test `tests/cuda_parity.rs`.
@@ -13,6 +14,27 @@ use crate::dim::Dim;
 use crate::kernel;
 use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID};
 use crate::state::State;
+
+/// R of the anti-clumping factor 1 + R (W_ij / W(dx))^4 in the shifting sum (Sun et al. 2017).
+const SHIFT_ANTI_CLUMP: f32 = 0.2;
+
+/// The free-surface test of the shifting: a fluid particle whose position divergence
+/// -sum_j V_j r_ij . grad_i W_ij (d inside the fluid, about half of it at a free surface) is
+/// below d - 0.5 is not shifted (Lind, Xu, Stansby & Rogers 2012 take 1.5 in 2D).
+const SHIFT_SURFACE_MARGIN: f32 = 0.5;
+
+/// The particle shifting velocity [L/T] of a fluid particle, added to its XSPH velocity so
+/// that the drift moves it by dt dv (Lind et al. 2012, J. Comput. Phys. 231, 1499; the
+/// anti-clumping factor of Sun, Colagrossi, Marrone & Zhang 2017, the delta+-SPH):
+/// dv_i = -C h c0 grad C_i with grad C_i = sum_j V_j (1 + R (W_ij / W(dx))^4) grad_i W_ij,
+/// so that dt dv ~ C Courant h^2 grad C; `grad_c` is that sum and `div_r` the position
+/// divergence; zero at a free surface, where the sum points out of the fluid.
+pub fn shift_velocity<D: Dim>(p: &SphParams, grad_c: D::V, div_r: f32) -> D::V {
+    if div_r < D::D as f32 - SHIFT_SURFACE_MARGIN {
+        return D::V::default();
+    }
+    grad_c * (-p.shifting * p.h * p.c0)
+}
 
 #[derive(Clone, Copy)]
 struct Rates<V, M> {
@@ -45,6 +67,8 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
             // towards the wrong one.
             let diffuse = p.delta_sph > 0.0 && ki as u32 == MF_KIND_FLUID;
             let mut diffusion = 0.0f32;
+            let shift = p.shifting > 0.0 && ki as u32 == MF_KIND_FLUID;
+            let (mut grad_c, mut div_r) = (D::V::default(), 0.0f32);
             grid.for_each_neighbor::<D>(p, pos, pos[i], |j, r, r2| {
                 let kj = kind[j];
                 if j == i || !couples(p, kj) {
@@ -59,6 +83,14 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 // must not compress a solid of density 0.6 as if it were its own kind.
                 // (The sum of m_j / rho_j v_ij . grad W here, times rho_i after the loop.)
                 o.drho += mass[j] / rho[j] * D::dot(vij, grad_w);
+                if shift {
+                    // Every neighbour that couples (fluid, solid, dynamic wall) fills the
+                    // support, so a fluid particle is not shifted into a wall or a body.
+                    let vj = mass[j] / rho[j];
+                    let f = kernel::w(p, rr) * p.inv_w_dx;
+                    grad_c += grad_w * (vj * (1.0 + SHIFT_ANTI_CLUMP * (f * f) * (f * f)));
+                    div_r -= vj * D::dot(r, grad_w);
+                }
                 if diffuse && kj as u32 == MF_KIND_FLUID && r2 > 0.0 {
                     // Molteni & Colagrossi 2009 (Comput. Phys. Commun. 180, 861), the diffusive term
                     // sum_j psi_ij . grad_i W_ij V_j, psi_ij = 2 (rho_j - rho_i) r_ji / |r_ji|^2 with
@@ -83,6 +115,9 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 }
             });
             o.drho *= rhoi;
+            if shift {
+                o.xsph += shift_velocity::<D>(p, grad_c, div_r);
+            }
             if diffuse {
                 // + delta h c0 sum_j ... [M L^-d T^-1] (Molteni & Colagrossi 2009).
                 o.drho += p.delta_sph * p.h * p.c0 * diffusion;
