@@ -58,6 +58,11 @@ typedef struct SphParams {
     float c0;              /* [L/T] fluid speed of sound */
     float tait_gamma;      /* [-] Tait exponent, 7, eq. (9) */
     float tait_b;          /* derived: [M L^-d L^2/T^2] rho0 c0^2 / gamma, eq. (9) */
+    float p_background;    /* [M L^-d L^2/T^2] background pressure added to eq. (9) for fluid and
+                              dynamic wall particles: keeps a confined flow's pressure positive
+                              where it dips (a wake, a vortex core), so the fluid does not tear
+                              there (tensile instability); 0 = off (the paper); not for a free
+                              surface, where the pressure must fall to zero */
     float alpha;           /* [-] artificial viscosity, linear term, eq. (10) */
     float beta;            /* [-] artificial viscosity, quadratic term, eq. (10) */
     float av_eta2;         /* derived: [L^2] 0.001 h^2, singularity guard in mu_ij, eq. (10) */

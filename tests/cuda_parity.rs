@@ -808,3 +808,9 @@ fn stages_2d_shifting_with_a_body() {
 fn stages_3d_fluid_only_shifting_dynamic_walls() {
     stages_on::<D3>("V_3D_B fluid only shifting", shifted(fluid_only(3, V_3D_B)));
 }
+#[test]
+fn stages_2d_background_pressure_dynamic_walls() {
+    let mut setup = scene(2, V_2D_A);
+    setup.params.p_background = 2.0;
+    stages_on::<D2>("V_2D_A background pressure", setup);
+}

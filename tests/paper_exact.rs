@@ -28,6 +28,7 @@ fn the_transform_sets_exactly_the_paper_options() {
         want.fluid.xsph = XSPH;
         want.fluid.density_diffusion = 0.0;
         want.fluid.shifting = 0.0;
+        want.fluid.background_pressure = 0.0;
         if let Some(m) = want.solid.as_mut() {
             m.artificial_stress = 0.0;
             m.interface = SolidInterface::Stress;

@@ -192,6 +192,25 @@ fn density_diffusion_out_of_range_or_with_summation() {
 }
 
 #[test]
+fn shifting_and_background_pressure_out_of_range() {
+    expect_error(
+        &with("alpha = 0.02", "alpha = 0.02\nshifting = 1.5"),
+        "fluid.shifting",
+        "must lie in [0, 1]",
+    );
+    expect_error(
+        &with("alpha = 0.02", "alpha = 0.02\nbackground_pressure = -1.0"),
+        "fluid.background_pressure",
+        "",
+    );
+    expect_error(
+        &with("alpha = 0.02", "alpha = 0.02\nbackground_pressure = 1e12"),
+        "fluid.background_pressure",
+        "must not exceed the Tait stiffness",
+    );
+}
+
+#[test]
 fn object_outside_domain() {
     expect_error(
         &with("max = [0.5, 0.5]", "max = [1.5, 0.5]"),

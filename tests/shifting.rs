@@ -140,3 +140,27 @@ fn a_free_surface_particle_is_not_shifted() {
     );
     assert_eq!(surface, glam::Vec2::ZERO);
 }
+
+/// `[fluid] background_pressure` adds to eq. (9) for fluid and dynamic wall particles, not
+/// for Lennard-Jones-only walls or solids.
+#[test]
+fn a_background_pressure_adds_to_the_equation_of_state() {
+    use meshfree::backend::cpu::pressure;
+    use meshfree::params::{MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID};
+    let mut scene = periodic_box(0.0);
+    scene.file.fluid.background_pressure = 3.0;
+    scene.revalidate().unwrap();
+    let mut p = scene.setup().unwrap().params;
+    let (fluid, wall) = (MF_KIND_FLUID as u8, MF_KIND_BOUNDARY as u8);
+    assert_eq!(pressure(&p, fluid, p.rho0), 3.0);
+    let rho = 1.01 * p.rho0;
+    let tait = p.tait_b * (1.01f32.powf(p.tait_gamma) - 1.0);
+    assert!((pressure(&p, fluid, rho) - (tait + 3.0)).abs() < 1e-5);
+    p.wall_pressure = 1;
+    assert_eq!(pressure(&p, wall, p.rho0), 3.0);
+    p.wall_pressure = 0;
+    assert_eq!(pressure(&p, wall, p.rho0), 0.0);
+    p.solid_rho0 = 2.0;
+    p.solid_c0 = 1.0;
+    assert_eq!(pressure(&p, MF_KIND_SOLID as u8, 2.0), 0.0);
+}

@@ -49,6 +49,8 @@ pub struct SphParams {
     pub tait_gamma: f32,
     #[doc = " derived: [M L^-d L^2/T^2] rho0 c0^2 / gamma, eq. (9)"]
     pub tait_b: f32,
+    #[doc = " [M L^-d L^2/T^2] background pressure added to eq. (9) for fluid and\ndynamic wall particles: keeps a confined flow's pressure positive\nwhere it dips (a wake, a vortex core), so the fluid does not tear\nthere (tensile instability); 0 = off (the paper); not for a free\nsurface, where the pressure must fall to zero"]
+    pub p_background: f32,
     #[doc = " [-] artificial viscosity, linear term, eq. (10)"]
     pub alpha: f32,
     #[doc = " [-] artificial viscosity, quadratic term, eq. (10)"]

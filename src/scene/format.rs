@@ -223,6 +223,11 @@ pub struct FluidMaterial {
     /// particles evenly spaced where the flow stretches them. Default 0 = off (the paper).
     #[serde(default)]
     pub shifting: f64,
+    /// [M L^-d L^2/T^2] background pressure added to the equation of state (fluid and dynamic
+    /// walls), for confined flows whose pressure dips below zero (wakes, vortex cores), where
+    /// the fluid would otherwise tear; not for a free surface. Default 0 = off (the paper).
+    #[serde(default)]
+    pub background_pressure: f64,
 }
 
 fn default_gamma() -> f64 {

@@ -36,6 +36,7 @@
 //! cohesion = 0.0                     # gamma, default 0 = off: Akinci et al. 2013 fluid cohesion
 //! density_diffusion = 0.1            # default 0 = off; delta-SPH (Molteni & Colagrossi 2009), continuity only
 //! shifting = 0.2                     # default 0 = off; particle shifting (Lind et al. 2012, Sun et al. 2017)
+//! background_pressure = 0.0          # default 0 = off; added to eq. (9): confined flows only, no free surface
 //!
 //! [solid]                            # only with solid objects
 //! density = 600.0
@@ -429,6 +430,7 @@ fn scene_params(s: &SceneFile) -> SphParams {
     p.cohesion = f.cohesion as f32;
     p.delta_sph = f.density_diffusion as f32;
     p.shifting = f.shifting as f32;
+    p.p_background = f.background_pressure as f32;
 
     // Without solids the solid fields mirror the fluid's, so nothing divides by zero.
     match &s.solid {

@@ -3,7 +3,7 @@
 //! at a fixed step (eq. (19)), artificial viscosity only (eq. (10)), XSPH (eq. (18)), walls
 //! by the Lennard-Jones force alone (eq. (17)), an elastic body's whole stress across
 //! every pair (eq. (16), `interface = "stress"`), no artificial stress, no density
-//! diffusion and no particle shifting. The values the paper
+//! diffusion, no particle shifting and no background pressure. The values the paper
 //! leaves open (alpha, beta, the step, XSPH epsilon) come from the parameter study in
 //! `docs/paper-scenes.md` (section `--paper-exact`): forward Euler grows every undamped
 //! oscillation, so the paper's low-Mach advice (alpha = 0, 0 < beta < 1) blows a resting
@@ -54,6 +54,7 @@ impl Scene {
         f.fluid.xsph = XSPH;
         f.fluid.density_diffusion = 0.0;
         f.fluid.shifting = 0.0;
+        f.fluid.background_pressure = 0.0;
         if let Some(m) = f.solid.as_mut() {
             m.artificial_stress = 0.0;
             m.interface = SolidInterface::Stress;

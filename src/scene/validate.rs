@@ -240,6 +240,17 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
             ),
         ));
     }
+    c.non_negative("fluid.background_pressure", f.background_pressure)?;
+    let b = f.density * f.sound_speed * f.sound_speed / f.gamma;
+    if f.background_pressure > b {
+        return Err(c.err(
+            "fluid.background_pressure",
+            format!(
+                "must not exceed the Tait stiffness rho0 c0^2 / gamma = {b} (a few rho0 U^2 is enough), found {}",
+                f.background_pressure
+            ),
+        ));
+    }
     if let Some(m) = &s.solid {
         c.positive("solid.density", m.density)?;
         c.positive("solid.sound_speed", m.sound_speed)?;

@@ -35,14 +35,17 @@ pub fn same_body(p: &SphParams, ki: u8, kj: u8, gi: u32, gj: u32) -> bool {
             || (ki as u32 == MF_KIND_SOLID && (clamp(gi) || clamp(gj))))
 }
 
-/// Pressure from density: Tait eq. (9) for fluid and dynamic wall particles,
-/// P = c_s^2 (rho - rho0_s) for solids (Gray & Monaghan 2001). [M L^-d L^2 T^-2]
+/// Pressure from density: Tait eq. (9) plus the background pressure `p_background` for
+/// fluid and dynamic wall particles, P = c_s^2 (rho - rho0_s) for solids (Gray & Monaghan
+/// 2001). [M L^-d L^2 T^-2]
 #[inline]
 pub fn pressure(p: &SphParams, kind: u8, rho: f32) -> f32 {
     match kind as u32 {
-        MF_KIND_FLUID => p.tait_b * ((rho / p.rho0).powf(p.tait_gamma) - 1.0),
         MF_KIND_SOLID => p.solid_c0 * p.solid_c0 * (rho - p.solid_rho0),
-        _ if p.wall_pressure != 0 => p.tait_b * ((rho / p.rho0).powf(p.tait_gamma) - 1.0),
+        MF_KIND_FLUID => p.tait_b * ((rho / p.rho0).powf(p.tait_gamma) - 1.0) + p.p_background,
+        _ if p.wall_pressure != 0 => {
+            p.tait_b * ((rho / p.rho0).powf(p.tait_gamma) - 1.0) + p.p_background
+        }
         _ => 0.0,
     }
 }
