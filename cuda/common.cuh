@@ -183,6 +183,48 @@ __device__ __forceinline__ float kernel_f(const SphParams& p, float r) {
     return p.kernel_norm / (p.h * p.h) * shape_f(p.kernel, r / p.h);
 }
 
+// The neighbour's kind: in 3D fluid-only scenes from the sign of its vel.w (Packed), else
+// from the kind array.
+template <int DIM, bool SOLIDS>
+__device__ __forceinline__ unsigned char neighbour_kind(const unsigned char* __restrict__ kind, unsigned j, float vw) {
+    if constexpr (Packed<DIM>::W && !SOLIDS)
+        return vel_w_boundary(vw) ? (unsigned char)MF_KIND_BOUNDARY : (unsigned char)MF_KIND_FLUID;
+    else
+        return kind[j];
+}
+
+// A neighbour j of particle i as the pair sums (ForceSum in forces.cuh, RateSum in
+// rates.cuh) take it: loaded and its kernel gradient computed once, whichever sums run.
+template <int DIM> struct Neighbour {
+    unsigned j;
+    unsigned char kind;
+    Vec<DIM> r;    // x_i - x_j (minimum image) [L]
+    float r2, rr;  // |r|^2 [L^2], |r| [L]
+    float fw;      // kernel_f(|r|): grad_i W_ij = fw r [L^-(d+2)]
+    Vec<DIM> v;    // v_j [L/T]
+    float m, rho;  // m_j [M], rho_j [M L^-d]
+};
+// j at r = x_i - x_j (r2 = |r|^2), pw the w slot of its stored position: v_j, and in 3D
+// m_j, rho_j and (fluid-only scenes) the kind from the w slots (Packed), else the arrays.
+template <int DIM, bool SOLIDS>
+__device__ __forceinline__ Neighbour<DIM> neighbour(const SphParams& p, unsigned j, Vec<DIM> r, float r2, float pw,
+                                                    const float* __restrict__ vel, const float* __restrict__ rho,
+                                                    const float* __restrict__ mass,
+                                                    const unsigned char* __restrict__ kind) {
+    Neighbour<DIM> nb;
+    float vw;
+    nb.j = j;
+    nb.r = r;
+    nb.r2 = r2;
+    nb.v = vload_w<DIM>(vel, j, vw);
+    nb.kind = neighbour_kind<DIM, SOLIDS>(kind, j, vw);
+    nb.rr = sqrtf(r2);
+    nb.fw = kernel_f(p, nb.rr);
+    nb.m = Packed<DIM>::W ? pw : mass[j];
+    nb.rho = Packed<DIM>::W ? fabsf(vw) : rho[j];
+    return nb;
+}
+
 __device__ __forceinline__ float sound_speed(const SphParams& p, unsigned char kind) {
     if (kind == MF_KIND_SOLID)
         return sqrtf(p.solid_c0 * p.solid_c0 +
