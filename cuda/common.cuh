@@ -143,6 +143,16 @@ template <int DIM> __device__ __forceinline__ Vec<DIM> mat_vec(const Mat<DIM>& m
     return r;
 }
 
+// a / b to within 2 ulp (__fdividef: one reciprocal and one product, without the IEEE
+// division's correction steps and slow-path branch), for the divisors of the per-pair
+// sums: h, q in [1, 2), densities and r^2 + eta^2, all far inside the range where it is
+// accurate (|b| < 2^126). The CPU twins divide exactly; the parity tolerances (>= 2e-5
+// relative) are 100x its error.
+__device__ __forceinline__ float fast_div(float a, float b) { return __fdividef(a, b); }
+// |r| from r^2 to within 3 ulp (a reciprocal square root and a product; 0 at 0), for the
+// per-pair sums; the CPU twins take the exact root.
+__device__ __forceinline__ float fast_norm(float r2) { return r2 > 0.0f ? r2 * rsqrtf(r2) : 0.0f; }
+
 // ---- kernels: twin of src/kernel.rs ----
 __device__ __forceinline__ float shape_w(int kernel, float q) {
     if (kernel == MF_KERNEL_WENDLAND_C2) {
@@ -170,17 +180,17 @@ __device__ __forceinline__ float shape_f(int kernel, float q) {
     if (q < 1.0f) return -3.0f + 2.25f * q;
     if (q < 2.0f) {
         float t = 2.0f - q;
-        return -0.75f * t * t / q;
+        return fast_div(-0.75f * t * t, q);
     }
     return 0.0f;
 }
 // W(r, h) [L^-d], eqs. (1)-(4).
 __device__ __forceinline__ float kernel_w(const SphParams& p, float r) {
-    return p.kernel_norm * shape_w(p.kernel, r / p.h);
+    return p.kernel_norm * shape_w(p.kernel, fast_div(r, p.h));
 }
 // (dW/dr) / r [L^-(d+2)]: grad_i W_ij = kernel_f(r) r_ij.
 __device__ __forceinline__ float kernel_f(const SphParams& p, float r) {
-    return p.kernel_norm / (p.h * p.h) * shape_f(p.kernel, r / p.h);
+    return p.kernel_norm / (p.h * p.h) * shape_f(p.kernel, fast_div(r, p.h));
 }
 
 // The neighbour's kind: in 3D fluid-only scenes from the sign of its vel.w (Packed), else
@@ -218,7 +228,7 @@ __device__ __forceinline__ Neighbour<DIM> neighbour(const SphParams& p, unsigned
     nb.r2 = r2;
     nb.v = vload_w<DIM>(vel, j, vw);
     nb.kind = neighbour_kind<DIM, SOLIDS>(kind, j, vw);
-    nb.rr = sqrtf(r2);
+    nb.rr = fast_norm(r2);
     nb.fw = kernel_f(p, nb.rr);
     nb.m = Packed<DIM>::W ? pw : mass[j];
     nb.rho = Packed<DIM>::W ? fabsf(vw) : rho[j];

@@ -17,8 +17,8 @@ template <int DIM> __device__ __forceinline__ Vec<DIM> lennard_jones(const SphPa
 __device__ __forceinline__ float artificial_viscosity(const SphParams& p, float vr, float r2, float c_bar,
                                                       float rho_bar) {
     if (vr >= 0.0f) return 0.0f;
-    float mu = p.h * vr / (r2 + p.av_eta2);
-    return (-p.alpha * c_bar * mu + p.beta * mu * mu) / rho_bar;
+    float mu = fast_div(p.h * vr, r2 + p.av_eta2);
+    return fast_div(-p.alpha * c_bar * mu + p.beta * mu * mu, rho_bar);
 }
 // Laminar viscosity factor (Morris, Fox & Zhu 1997).
 __device__ __forceinline__ float laminar(const SphParams& p, float r2, float f, float rho_i, float rho_j) {
@@ -108,7 +108,7 @@ template <int DIM, bool SOLIDS> struct ForceSum {
         const Vec<DIM> vj = nb.v;
         const Vec<DIM> vij = vi - vj;
         const float vr = dot(vij, r);
-        const float inv_r2j = 1.0f / (rhoj * rhoj);
+        const float inv_r2j = fast_div(1.0f, rhoj * rhoj);
         const bool bonded = SOLIDS && same_body(p, ki, kj, gi, group[j]);
         // Stress term, eq. (16); eq. (7) when both are fluid (sigma = -P I); across two
         // objects the pressure part only (whole_stress_pair).

@@ -85,7 +85,7 @@ template <int DIM, bool SOLIDS> struct RateSum {
         const Vec<DIM> vij = vi - nb.v;  // v = 0 on boundary particles
         // Continuity, volume form: d rho_i/dt = rho_i sum_j m_j / rho_j v_ij . grad W
         // (the factor rho_i is applied after the sum, as in cpu/rates.rs).
-        drho += mj / rhoj * dot(vij, gw);
+        drho += fast_div(mj, rhoj) * dot(vij, gw);
         if (diffuse && kj == MF_KIND_FLUID && r2 > 0.0f) {
             // Molteni & Colagrossi 2009 (Comput. Phys. Commun. 180, 861), diffusive term:
             // sum_j psi_ij . grad_i W_ij V_j, psi_ij = 2 (rho_j - rho_i) r_ji / |r_ji|^2 with
@@ -93,7 +93,7 @@ template <int DIM, bool SOLIDS> struct RateSum {
             diffusion += 2.0f * (rhoi - rhoj) * dot(r, gw) / r2 * (mj / rhoj);
         }
         if (!same_body(p, ki, kj, gi, group[nb.j]) || ki == MF_KIND_BOUNDARY) return;
-        const float s = mj / (0.5f * (rhoi + rhoj));
+        const float s = fast_div(mj, 0.5f * (rhoi + rhoj));
         // XSPH, eq. (18), within one material (one body for solids).
         xs = xs - vij * (p.xsph_eps * s * kernel_w(p, rr));
         if constexpr (SOLIDS) {
