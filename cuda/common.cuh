@@ -1,6 +1,7 @@
 // Shared device code: kernels W and F (twin of src/kernel.rs), vectors and tensors for
 // DIM = 2/3, the neighbour rows and loop (twin of src/backend/cpu/grid.rs), min-image
-// separation.
+// separation, the `Neighbour` record the pair sums of forces and rates take, and the fast
+// division and norm of the pair terms.
 // Parity test: tests/cuda_parity.rs.
 #pragma once
 #include "sph_params.h"
