@@ -1,6 +1,7 @@
 // Shared device code: kernels W and F (twin of src/kernel.rs), vectors and tensors for
 // DIM = 2/3, the neighbour rows and loop (twin of src/backend/cpu/grid.rs), min-image
-// separation.
+// separation, the `Neighbour` record the pair sums of forces and rates take, and the fast
+// division and norm of the pair terms.
 // Parity test: tests/cuda_parity.rs.
 #pragma once
 #include "sph_params.h"
@@ -143,6 +144,16 @@ template <int DIM> __device__ __forceinline__ Vec<DIM> mat_vec(const Mat<DIM>& m
     return r;
 }
 
+// a / b to within 2 ulp (__fdividef: one reciprocal and one product, without the IEEE
+// division's correction steps and slow-path branch), for the divisors of the per-pair
+// sums: h, q in [1, 2), densities and r^2 + eta^2, all far inside the range where it is
+// accurate (|b| < 2^126). The CPU twins divide exactly; the parity tolerances (>= 2e-5
+// relative) are 100x its error.
+__device__ __forceinline__ float fast_div(float a, float b) { return __fdividef(a, b); }
+// |r| from r^2 to within 3 ulp (a reciprocal square root and a product; 0 at 0), for the
+// per-pair sums; the CPU twins take the exact root.
+__device__ __forceinline__ float fast_norm(float r2) { return r2 > 0.0f ? r2 * rsqrtf(r2) : 0.0f; }
+
 // ---- kernels: twin of src/kernel.rs ----
 __device__ __forceinline__ float shape_w(int kernel, float q) {
     if (kernel == MF_KERNEL_WENDLAND_C2) {
@@ -170,17 +181,59 @@ __device__ __forceinline__ float shape_f(int kernel, float q) {
     if (q < 1.0f) return -3.0f + 2.25f * q;
     if (q < 2.0f) {
         float t = 2.0f - q;
-        return -0.75f * t * t / q;
+        return fast_div(-0.75f * t * t, q);
     }
     return 0.0f;
 }
 // W(r, h) [L^-d], eqs. (1)-(4).
 __device__ __forceinline__ float kernel_w(const SphParams& p, float r) {
-    return p.kernel_norm * shape_w(p.kernel, r / p.h);
+    return p.kernel_norm * shape_w(p.kernel, fast_div(r, p.h));
 }
 // (dW/dr) / r [L^-(d+2)]: grad_i W_ij = kernel_f(r) r_ij.
 __device__ __forceinline__ float kernel_f(const SphParams& p, float r) {
-    return p.kernel_norm / (p.h * p.h) * shape_f(p.kernel, r / p.h);
+    return p.kernel_norm / (p.h * p.h) * shape_f(p.kernel, fast_div(r, p.h));
+}
+
+// The neighbour's kind: in 3D fluid-only scenes from the sign of its vel.w (Packed), else
+// from the kind array.
+template <int DIM, bool SOLIDS>
+__device__ __forceinline__ unsigned char neighbour_kind(const unsigned char* __restrict__ kind, unsigned j, float vw) {
+    if constexpr (Packed<DIM>::W && !SOLIDS)
+        return vel_w_boundary(vw) ? (unsigned char)MF_KIND_BOUNDARY : (unsigned char)MF_KIND_FLUID;
+    else
+        return kind[j];
+}
+
+// A neighbour j of particle i as the pair sums (ForceSum in forces.cuh, RateSum in
+// rates.cuh) take it: loaded and its kernel gradient computed once, whichever sums run.
+template <int DIM> struct Neighbour {
+    unsigned j;
+    unsigned char kind;
+    Vec<DIM> r;    // x_i - x_j (minimum image) [L]
+    float r2, rr;  // |r|^2 [L^2], |r| [L]
+    float fw;      // kernel_f(|r|): grad_i W_ij = fw r [L^-(d+2)]
+    Vec<DIM> v;    // v_j [L/T]
+    float m, rho;  // m_j [M], rho_j [M L^-d]
+};
+// j at r = x_i - x_j (r2 = |r|^2), pw the w slot of its stored position: v_j, and in 3D
+// m_j, rho_j and (fluid-only scenes) the kind from the w slots (Packed), else the arrays.
+template <int DIM, bool SOLIDS>
+__device__ __forceinline__ Neighbour<DIM> neighbour(const SphParams& p, unsigned j, Vec<DIM> r, float r2, float pw,
+                                                    const float* __restrict__ vel, const float* __restrict__ rho,
+                                                    const float* __restrict__ mass,
+                                                    const unsigned char* __restrict__ kind) {
+    Neighbour<DIM> nb;
+    float vw;
+    nb.j = j;
+    nb.r = r;
+    nb.r2 = r2;
+    nb.v = vload_w<DIM>(vel, j, vw);
+    nb.kind = neighbour_kind<DIM, SOLIDS>(kind, j, vw);
+    nb.rr = fast_norm(r2);
+    nb.fw = kernel_f(p, nb.rr);
+    nb.m = Packed<DIM>::W ? pw : mass[j];
+    nb.rho = Packed<DIM>::W ? fabsf(vw) : rho[j];
+    return nb;
 }
 
 __device__ __forceinline__ float sound_speed(const SphParams& p, unsigned char kind) {

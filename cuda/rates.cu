@@ -1,46 +1,6 @@
-// Rates from the current velocities: d rho/dt (continuity form, with the density diffusion of
-// Molteni & Colagrossi 2009 where delta_sph > 0), the XSPH velocity of eq. (18) with the particle
-// shifting velocity where shifting > 0 (Lind et al. 2012, Sun et al. 2017), and for
-// solids the velocity gradient eq. (15) with the kernel-gradient correction, strain and
-// rotation rates eqs. (13)-(14) and the Jaumann rate eq. (12).
-// Twin: src/backend/cpu/rates.rs; parity test: tests/cuda_parity.rs.
-#include "common.cuh"
-
-template <int DIM> __device__ __forceinline__ float det(const Mat<DIM>& a) {
-    if constexpr (DIM == 2) {
-        return a.m[0][0] * a.m[1][1] - a.m[0][1] * a.m[1][0];
-    } else {
-        return a.m[0][0] * (a.m[1][1] * a.m[2][2] - a.m[1][2] * a.m[2][1]) -
-               a.m[0][1] * (a.m[1][0] * a.m[2][2] - a.m[1][2] * a.m[2][0]) +
-               a.m[0][2] * (a.m[1][0] * a.m[2][1] - a.m[1][1] * a.m[2][0]);
-    }
-}
-// Inverse by the adjugate (the caller has checked |det| > 1e-3).
-template <int DIM> __device__ __forceinline__ Mat<DIM> inverse(const Mat<DIM>& a, float d) {
-    Mat<DIM> r;
-    const float s = 1.0f / d;
-    if constexpr (DIM == 2) {
-        r.m[0][0] = a.m[1][1] * s;
-        r.m[0][1] = -a.m[0][1] * s;
-        r.m[1][0] = -a.m[1][0] * s;
-        r.m[1][1] = a.m[0][0] * s;
-    } else {
-#pragma unroll
-        for (int i = 0; i < 3; ++i)
-#pragma unroll
-            for (int j = 0; j < 3; ++j) {
-                // cofactor C_ji, i.e. adj(a)_ij
-                const int r0 = (j + 1) % 3, r1 = (j + 2) % 3, c0 = (i + 1) % 3, c1 = (i + 2) % 3;
-                r.m[i][j] = (a.m[r0][c0] * a.m[r1][c1] - a.m[r0][c1] * a.m[r1][c0]) * s;
-            }
-    }
-    return r;
-}
-
-// R of the anti-clumping factor 1 + R (W_ij / W(dx))^4 of the shifting sum, and the margin of
-// its free-surface test (twins of SHIFT_ANTI_CLUMP and SHIFT_SURFACE_MARGIN in cpu/rates.rs).
-#define MF_SHIFT_ANTI_CLUMP 0.2f
-#define MF_SHIFT_SURFACE_MARGIN 0.5f
+// Rates from the current velocities (RateSum in rates.cuh): d rho/dt, XSPH and, with solids,
+// the Jaumann stress rate. Twin: src/backend/cpu/rates.rs; parity test: tests/cuda_parity.rs.
+#include "rates.cuh"
 
 // drho: null without the continuity density; stress, rate: null without solids.
 template <int DIM, bool SOLIDS, int L, int B = Batch<L, SOLIDS>::B>
@@ -53,157 +13,16 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
     const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
     const unsigned i = t / L;
     const int lane = (int)(t % L);
-    const unsigned char ki = i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY;
-    const bool active = i < n && (ki != MF_KIND_BOUNDARY || p.wall_pressure != 0);
-    const bool solid_i = i < n && ki == MF_KIND_SOLID;
-    Vec<DIM> xs = vzero<DIM>();
-    float drho = 0.0f;
-    // Density diffusion (delta-SPH) between fluid particles only, as in cpu/rates.rs.
-    const bool diffuse = p.delta_sph > 0.0f && i < n && ki == MF_KIND_FLUID;
-    float diffusion = 0.0f;
-    // Particle shifting of fluid particles: grad C and the position divergence (cpu/rates.rs).
-    const bool shift = p.shifting > 0.0f && i < n && ki == MF_KIND_FLUID;
-    Vec<DIM> grad_c = vzero<DIM>();
-    float div_r = 0.0f;
-    Mat<DIM> gv, mo;
-    if constexpr (SOLIDS) {
-        gv = mzero<DIM>();
-        mo = mzero<DIM>();
-    }
-    if (active) {
-        const Vec<DIM> vi = vload<DIM>(vel, i);
-        const float rhoi = rho[i];
-        const unsigned gi = group[i];
+    RateSum<DIM, SOLIDS> r;
+    r.begin(p, i, n, i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY, vel, rho, group);
+    if (r.on) {
         for_each_neighbor_split<DIM, L, B>(p, cell_start, pos, vload<DIM>(pos, i), lane,
-                                        [&](unsigned j, Vec<DIM> r, float r2, float pw) {
+                                           [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
             if (j == i) return;
-            // v_j, and in 3D m_j, rho_j and (fluid-only scenes) the kind from the w slots
-            // (Packed in common.cuh).
-            float vw;
-            const Vec<DIM> vj = vload_w<DIM>(vel, j, vw);
-            unsigned char kj;
-            if constexpr (Packed<DIM>::W && !SOLIDS)
-                kj = vel_w_boundary(vw) ? (unsigned char)MF_KIND_BOUNDARY : (unsigned char)MF_KIND_FLUID;
-            else
-                kj = kind[j];
-            if (!couples(p, kj)) return;
-            const float rhoj = Packed<DIM>::W ? fabsf(vw) : rho[j];
-            const float rr = sqrtf(r2);
-            const Vec<DIM> gw = r * kernel_f(p, rr);  // grad_i W_ij
-            const Vec<DIM> vij = vi - vj;  // v = 0 on boundary particles
-            const float mj = Packed<DIM>::W ? pw : mass[j];
-            // Continuity, volume form: d rho_i/dt = rho_i sum_j m_j / rho_j v_ij . grad W
-            // (the factor rho_i is applied after the sum, as in cpu/rates.rs).
-            drho += mj / rhoj * dot(vij, gw);
-            if (diffuse && kj == MF_KIND_FLUID && r2 > 0.0f) {
-                // Molteni & Colagrossi 2009 (Comput. Phys. Commun. 180, 861), diffusive term:
-                // sum_j psi_ij . grad_i W_ij V_j, psi_ij = 2 (rho_j - rho_i) r_ji / |r_ji|^2 with
-                // r_ji = r_j - r_i = -r (diffusive sign, see cpu/rates.rs): 2 (rho_i - rho_j) r . gw / r^2.
-                diffusion += 2.0f * (rhoi - rhoj) * dot(r, gw) / r2 * (mj / rhoj);
-            }
-            if (shift) {
-                // Every neighbour that couples fills the support (not shifted into a wall).
-                const float vjv = mj / rhoj;
-                const float f = kernel_w(p, rr) * p.inv_w_dx;
-                grad_c = grad_c + gw * (vjv * (1.0f + MF_SHIFT_ANTI_CLUMP * (f * f) * (f * f)));
-                div_r -= vjv * dot(r, gw);
-            }
-            if (!same_body(p, ki, kj, gi, group[j]) || ki == MF_KIND_BOUNDARY) return;
-            const float s = mj / (0.5f * (rhoi + rhoj));
-            // XSPH, eq. (18), within one material (one body for solids).
-            xs = xs - vij * (p.xsph_eps * s * kernel_w(p, rr));
-            if constexpr (SOLIDS) {
-                if (solid_i) {
-                    // Velocity gradient, eq. (15), and the moment A = sum V_j (x_j - x_i) (x) grad W.
-#pragma unroll
-                    for (int a = 0; a < DIM; ++a)
-#pragma unroll
-                        for (int b = 0; b < DIM; ++b) {
-                            gv.m[a][b] += (-vij.c[a] * gw.c[b]) * s;
-                            mo.m[a][b] += (-r.c[a] * gw.c[b]) * s;
-                        }
-                }
-            }
+            r.add(p, neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, rho, mass, kind), group);
         });
     }
-    // Combine the lanes of each particle (every lane of the warp takes part).
-#pragma unroll
-    for (int a = 0; a < DIM; ++a) xs.c[a] = lane_sum<L>(xs.c[a]);
-    drho = lane_sum<L>(drho);
-    if (p.shifting > 0.0f) {  // uniform branch: every lane of the warp sums
-#pragma unroll
-        for (int a = 0; a < DIM; ++a) grad_c.c[a] = lane_sum<L>(grad_c.c[a]);
-        div_r = lane_sum<L>(div_r);
-        // Lind et al. 2012 / Sun et al. 2017: dv = -C h c0 grad C, none at a free surface
-        // (position divergence below d - margin); twin of shift_velocity in cpu/rates.rs.
-        if (shift && div_r >= (float)DIM - MF_SHIFT_SURFACE_MARGIN) xs = xs - grad_c * (p.shifting * p.h * p.c0);
-    }
-    diffusion = lane_sum<L>(diffusion);
-    if (active) drho *= rho[i];
-    if (active && diffuse) drho += p.delta_sph * p.h * p.c0 * diffusion;
-    if constexpr (SOLIDS) {
-#pragma unroll
-        for (int a = 0; a < DIM; ++a)
-#pragma unroll
-            for (int b = 0; b < DIM; ++b) {
-                gv.m[a][b] = lane_sum<L>(gv.m[a][b]);
-                mo.m[a][b] = lane_sum<L>(mo.m[a][b]);
-            }
-    }
-    if (i >= n || lane != 0) return;
-    vstore<DIM>(xsph_out, i, xs);
-    if (drho_out) drho_out[i] = drho;
-    if constexpr (SOLIDS) {
-        if (!solid_i) {
-            sstore<DIM>(rate_out, i, n, mzero<DIM>());
-            return;
-        }
-        // Kernel-gradient correction (Randles & Libersky 1996; Bonet & Lok 1999): G = G_raw A^-1,
-        // skipped where A is singular.
-        const float d = det<DIM>(mo);
-        if (fabsf(d) > 1e-3f) {
-            const Mat<DIM> inv = inverse<DIM>(mo, d);
-            Mat<DIM> g2;
-#pragma unroll
-            for (int a = 0; a < DIM; ++a)
-#pragma unroll
-                for (int b = 0; b < DIM; ++b) {
-                    float s = gv.m[a][0] * inv.m[0][b];
-#pragma unroll
-                    for (int c = 1; c < DIM; ++c) s += gv.m[a][c] * inv.m[c][b];
-                    g2.m[a][b] = s;
-                }
-            gv = g2;
-        }
-        Mat<DIM> eps, om;
-#pragma unroll
-        for (int a = 0; a < DIM; ++a)
-#pragma unroll
-            for (int b = 0; b < DIM; ++b) {
-                eps.m[a][b] = (gv.m[a][b] + gv.m[b][a]) * 0.5f;  // eq. (13)
-                om.m[a][b] = (gv.m[a][b] - gv.m[b][a]) * 0.5f;   // eq. (14)
-            }
-        float tr = eps.m[0][0];
-#pragma unroll
-        for (int a = 1; a < DIM; ++a) tr += eps.m[a][a];
-        const Mat<DIM> si = sload<DIM>(stress, i, n);
-        // Jaumann rate, eq. (12): 2 mu (eps^ab - delta^ab eps^cc / 3) + S^ac Om^bc + Om^ac S^cb.
-        Mat<DIM> out;
-#pragma unroll
-        for (int a = 0; a < DIM; ++a)
-#pragma unroll
-            for (int b = 0; b < DIM; ++b) {
-                float dev = eps.m[a][b] - (a == b ? tr / 3.0f : 0.0f);
-                float s1 = si.m[a][0] * om.m[b][0], s2 = om.m[a][0] * si.m[0][b];
-#pragma unroll
-                for (int c = 1; c < DIM; ++c) {
-                    s1 += si.m[a][c] * om.m[b][c];
-                    s2 += om.m[a][c] * si.m[c][b];
-                }
-                out.m[a][b] = dev * (2.0f * p.shear_modulus) + s1 + s2;
-            }
-        sstore<DIM>(rate_out, i, n, out);
-    }
+    r.template finish<L>(p, i, n, lane, stress, drho_out, xsph_out, rate_out);
 }
 
 // Per dimension and lane count (MF_LANES_EACH), as for forces: with / without solids; same

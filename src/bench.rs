@@ -1,6 +1,7 @@
 //! `meshfree bench`: time the step of dam-break-like blocks (a fluid block in a walled box,
 //! open at the top) in 2D and 3D at several sizes on the chosen backend. Cubic spline,
-//! support 2h, h = 1.3 dx, f32, summation density. Nothing is read back inside the timed
+//! support 2h, h = 1.3 dx, f32, continuity density, dynamic walls; symplectic Euler or the
+//! paper's forward Euler (`BenchOptions::integrator`; every row names its scheme). Nothing is read back inside the timed
 //! steps; each repeat ends with one read-back of the simulated time (a synchronisation).
 //! Results: `docs/performance.md`.
 
@@ -13,9 +14,11 @@ use crate::backend::cpu::{CpuSolver, Grid};
 use crate::backend::{BackendChoice, BackendError};
 use crate::dim::{Dim, D2, D3};
 use crate::params::{
-    self, SphParams, MF_DENSITY_CONTINUITY, MF_INTEGRATOR_SYMPLECTIC_EULER, MF_KIND_BOUNDARY,
+    self, SphParams, MF_DENSITY_CONTINUITY, MF_INTEGRATOR_EULER, MF_INTEGRATOR_SYMPLECTIC_EULER,
+    MF_KIND_BOUNDARY,
 };
 use crate::particle::{Kind, Particle};
+use crate::scene::format::IntegratorChoice;
 use crate::solver::{Setup, Solver};
 use crate::state::State;
 
@@ -35,6 +38,9 @@ pub struct BenchOptions {
     pub repeats: usize,
     /// Count neighbours (a CPU pass over a read-back; slow for many millions).
     pub count_neighbours: bool,
+    /// The time integrator of every run (default symplectic Euler).
+    #[serde(default)]
+    pub integrator: IntegratorChoice,
 }
 
 impl Default for BenchOptions {
@@ -47,6 +53,7 @@ impl Default for BenchOptions {
             warmup: 10,
             repeats: 3,
             count_neighbours: true,
+            integrator: IntegratorChoice::SymplecticEuler,
         }
     }
 }
@@ -71,6 +78,21 @@ pub struct BenchRow {
     pub bytes_per_particle: f64,
     /// Device bytes per fluid particle.
     pub bytes_per_fluid_particle: f64,
+    /// The scheme: "symplectic-euler" or "euler".
+    #[serde(default)]
+    pub integrator: String,
+    /// "continuity" or "summation".
+    #[serde(default)]
+    pub density: String,
+}
+
+/// The name of the integrator in `p` (the scene files' spelling).
+fn integrator_name(p: &SphParams) -> &'static str {
+    if p.integrator as u32 == MF_INTEGRATOR_EULER {
+        "euler"
+    } else {
+        "symplectic-euler"
+    }
 }
 
 /// The dam-break-like block: about `n_fluid` fluid particles, a 2:1 (height:width) column
@@ -206,7 +228,11 @@ fn make<D: Dim>(
 }
 
 fn run_one<D: Dim>(o: &BenchOptions, dim: u32, n: usize) -> Result<BenchRow, BackendError> {
-    let setup = dam_break(dim, n);
+    let mut setup = dam_break(dim, n);
+    setup.params.integrator = match o.integrator {
+        IntegratorChoice::SymplecticEuler => MF_INTEGRATOR_SYMPLECTIC_EULER,
+        IntegratorChoice::Euler => MF_INTEGRATOR_EULER,
+    } as i32;
     let p = setup.params;
     let total = setup.particles.len();
     let fluid = setup
@@ -247,6 +273,13 @@ fn run_one<D: Dim>(o: &BenchOptions, dim: u32, n: usize) -> Result<BenchRow, Bac
         neighbours,
         bytes_per_particle: bytes as f64 / total as f64,
         bytes_per_fluid_particle: bytes as f64 / fluid.max(1) as f64,
+        integrator: integrator_name(&p).into(),
+        density: if p.density_mode as u32 == MF_DENSITY_CONTINUITY {
+            "continuity"
+        } else {
+            "summation"
+        }
+        .into(),
     })
 }
 
@@ -263,7 +296,7 @@ pub fn bench(o: &BenchOptions, out_dir: Option<&Path>) -> Result<Vec<BenchRow>, 
             };
             println!(
                 "{}D {:>9} particles ({:>9} fluid): {:>9.4} ms/step, {:.3e} particle-steps/s, {:.1} neighbours, \
-                 {:.0} B/particle ({:.0} B/fluid particle) [{} {}]",
+                 {:.0} B/particle ({:.0} B/fluid particle) [{} {}; {}, {} density]",
                 r.dim,
                 r.particles,
                 r.fluid,
@@ -273,7 +306,9 @@ pub fn bench(o: &BenchOptions, out_dir: Option<&Path>) -> Result<Vec<BenchRow>, 
                 r.bytes_per_particle,
                 r.bytes_per_fluid_particle,
                 r.backend,
-                r.device
+                r.device,
+                r.integrator,
+                r.density
             );
             rows.push(r);
         }
@@ -281,11 +316,11 @@ pub fn bench(o: &BenchOptions, out_dir: Option<&Path>) -> Result<Vec<BenchRow>, 
     if let Some(dir) = out_dir {
         let _ = std::fs::create_dir_all(dir);
         let mut csv = String::from(
-            "backend,device,dim,particles,fluid,steps,ms_per_step,particle_steps_per_s,neighbours,bytes_per_particle,bytes_per_fluid_particle\n",
+            "backend,device,dim,particles,fluid,steps,ms_per_step,particle_steps_per_s,neighbours,bytes_per_particle,bytes_per_fluid_particle,integrator,density\n",
         );
         for r in &rows {
             csv += &format!(
-                "{},{},{},{},{},{},{:.6},{:.6e},{:.2},{:.1},{:.1}\n",
+                "{},{},{},{},{},{},{:.6},{:.6e},{:.2},{:.1},{:.1},{},{}\n",
                 r.backend,
                 r.device.replace(',', " "),
                 r.dim,
@@ -296,7 +331,9 @@ pub fn bench(o: &BenchOptions, out_dir: Option<&Path>) -> Result<Vec<BenchRow>, 
                 r.particle_steps_per_s,
                 r.neighbours,
                 r.bytes_per_particle,
-                r.bytes_per_fluid_particle
+                r.bytes_per_fluid_particle,
+                r.integrator,
+                r.density
             );
         }
         let _ = std::fs::write(dir.join("bench.csv"), csv);

@@ -113,6 +113,11 @@ pub struct BenchArgs {
     /// Skip counting neighbours (a CPU pass over a read-back, slow at many millions).
     #[arg(long)]
     pub no_neighbours: bool,
+    /// Time integrator: `symplectic-euler` (the scenes' default) or `euler`, the paper's
+    /// forward Euler (forces and rates from one state: one neighbour pass on the GPU).
+    /// Every result line names the scheme it ran.
+    #[arg(long, value_enum, default_value = "symplectic-euler")]
+    pub integrator: crate::scene::format::IntegratorChoice,
     /// Output directory for bench.csv and bench.json.
     #[arg(long, value_name = "DIR", default_value = "out/bench")]
     pub out: PathBuf,
@@ -420,6 +425,7 @@ fn bench(a: BenchArgs) -> anyhow::Result<()> {
         steps: a.steps,
         repeats: a.repeats,
         count_neighbours: !a.no_neighbours,
+        integrator: a.integrator,
         ..Default::default()
     };
     if !a.sizes.is_empty() {

@@ -121,6 +121,13 @@ pub trait Solver: Send {
     /// eq. (18), and, with solids, the velocity gradient eq. (15), strain and rotation
     /// rates eqs. (13)-(14) and the Jaumann stress rate eq. (12).
     fn rates(&mut self);
+    /// `forces` and `rates` of one state, as the paper's forward Euler takes them (both from
+    /// the old velocities; neither reads what the other writes). A backend may compute both
+    /// in one neighbour pass (the CUDA backend does); the default runs the two stages.
+    fn forces_and_rates(&mut self) {
+        self.rates();
+        self.forces();
+    }
     /// The step size: fixed, or the CFL eq. (19) with the force and viscous limits.
     fn time_step(&mut self);
     /// v += dt a.
@@ -135,8 +142,7 @@ pub trait Solver: Send {
         self.build_grid();
         self.density();
         if self.params().integrator as u32 == MF_INTEGRATOR_EULER {
-            self.rates();
-            self.forces();
+            self.forces_and_rates();
             self.time_step();
             self.drift();
             self.kick();

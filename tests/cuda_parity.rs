@@ -3,7 +3,9 @@
 //! walls / Lennard-Jones-only walls, summation / continuity density, forward / symplectic
 //! Euler, with / without artificial stress, with / without density diffusion; two also
 //! with an inflow band); the stages run in the order of `Solver::step` for the variant's
-//! integrator. Then diagnostics after 200 steps; and the `SphParams` layout as nvcc sees it.
+//! integrator (forward Euler: the GPU's fused `forces_and_rates` pass against the CPU's two
+//! stages). Then diagnostics after 200 steps; the fused pass against the GPU's two separate
+//! passes, bit for bit; and the `SphParams` layout as nvcc sees it.
 //!
 //! Without a usable GPU each test prints why and passes; with `MESHFREE_REQUIRE_CUDA=1` it
 //! fails instead.
@@ -315,9 +317,7 @@ fn cmp_density<D: Dim>(c: &CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u32], p: 
     g.upload_state(c.state());
 }
 
-fn cmp_rates<D: Dim>(c: &CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u32]) {
-    let gs = g.download_state();
-    let cs = c.state();
+fn check_rates<D: Dim>(cs: &State<D>, gs: &State<D>, ids: &[u32]) {
     close_v::<D>("rates xsph", ids, &cs.xsph, &gs.xsph, 1e-4, 0.0);
     if let (Some(a), Some(b)) = (&cs.drho, &gs.drho) {
         close("rates drho/dt", ids, 1, a, b, 1e-4, 1e-4 * max_abs(a));
@@ -325,12 +325,27 @@ fn cmp_rates<D: Dim>(c: &CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u32]) {
     if let (Some(a), Some(b)) = (&cs.solid, &gs.solid) {
         close_m::<D>("rates dS/dt", ids, &a.stress_rate, &b.stress_rate, 2e-4);
     }
+}
+
+fn check_forces<D: Dim>(cs: &State<D>, gs: &State<D>, ids: &[u32]) {
+    close_v::<D>("forces acc", ids, &cs.acc, &gs.acc, 1e-4, 0.0);
+}
+
+fn cmp_rates<D: Dim>(c: &CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u32]) {
+    check_rates(c.state(), &g.download_state(), ids);
     g.upload_state(c.state());
 }
 
 fn cmp_forces<D: Dim>(c: &CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u32]) {
+    check_forces(c.state(), &g.download_state(), ids);
+    g.upload_state(c.state());
+}
+
+/// After `forces_and_rates` (one download: the upload would overwrite both outputs).
+fn cmp_forces_and_rates<D: Dim>(c: &CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u32]) {
     let gs = g.download_state();
-    close_v::<D>("forces acc", ids, &c.state().acc, &gs.acc, 1e-4, 0.0);
+    check_rates(c.state(), &gs, ids);
+    check_forces(c.state(), &gs, ids);
     g.upload_state(c.state());
 }
 
@@ -386,13 +401,18 @@ fn with_inflow_band(dim: usize, v: Variant) -> Setup {
 /// `sph_rates_fluid_*`: batches of 8 candidates at one lane, and in 3D the neighbour's kind
 /// read from the sign of its vel.w, `Packed` in cuda/common.cuh).
 fn fluid_only(dim: usize, v: Variant) -> Setup {
-    let mut setup = scene(dim, v);
+    fluid_only_of(scene(dim, v))
+}
+
+/// `setup` with its solid body turned into fluid.
+fn fluid_only_of(mut setup: Setup) -> Setup {
+    let dim = setup.params.dim;
     let (rho0, dx) = (setup.params.rho0, setup.params.dx);
     for q in setup.particles.iter_mut().filter(|q| q.kind == Kind::Solid) {
         q.kind = Kind::Fluid;
         q.group = 1;
         q.density = rho0;
-        q.mass = rho0 * dx.powi(dim as i32);
+        q.mass = rho0 * dx.powi(dim);
         q.stress = Default::default();
     }
     setup
@@ -443,12 +463,11 @@ fn stages_on<D: Dim>(what: &str, setup: Setup) {
         cmp_density(&c, &mut g, &ids, &p);
         // The order of `Solver::step`.
         if euler {
-            c.rates();
-            g.rates();
-            cmp_rates(&c, &mut g, &ids);
-            c.forces();
-            g.forces();
-            cmp_forces(&c, &mut g, &ids);
+            // The CPU runs rates then forces (the trait's default); the GPU one fused pass
+            // (cuda/forces_rates.cu).
+            c.forces_and_rates();
+            g.forces_and_rates();
+            cmp_forces_and_rates(&c, &mut g, &ids);
             cmp_time_step(&mut c, &mut g);
             c.drift();
             g.drift();
@@ -488,7 +507,12 @@ fn stages_on<D: Dim>(what: &str, setup: Setup) {
 /// start than the stage tests (velocity amplitude 0.05 instead of 0.3): the stage tests'
 /// violent start splashes and the runs diverge chaotically from f32 rounding alone.
 fn long_run<D: Dim>(dim: usize, v: Variant, steps: usize) {
-    let setup = scene_with(dim, v, 0.05);
+    long_run_on::<D>(&format!("{v:?}"), scene_with(dim, v, 0.05), steps);
+}
+
+/// `long_run` on any scene (`what` names it in the log).
+fn long_run_on<D: Dim>(what: &str, setup: Setup, steps: usize) {
+    let dim = setup.params.dim;
     let Some(mut g) = gpu::<D>(&setup) else {
         return;
     };
@@ -505,7 +529,7 @@ fn long_run<D: Dim>(dim: usize, v: Variant, steps: usize) {
     let tt = g.time();
     let tg = t0.elapsed();
     let (dc, dg) = (c.diagnostics(), g.diagnostics());
-    eprintln!("{dim}D {v:?} after {steps} steps (cpu {tc:?}, gpu {tg:?}, t = {tt:.5}):\n  cpu {dc:?}\n  gpu {dg:?}");
+    eprintln!("{dim}D {what} after {steps} steps (cpu {tc:?}, gpu {tg:?}, t = {tt:.5}):\n  cpu {dc:?}\n  gpu {dg:?}");
     assert!(
         c.check().is_ok() && g.check().is_ok(),
         "a blow-up in the {steps}-step run"
@@ -717,6 +741,74 @@ fn diagnostics_after_200_steps_3d_lj_walls_symplectic() {
 #[test]
 fn diagnostics_after_200_steps_3d_dynamic_walls_euler() {
     long_run::<D3>(3, V_3D_B, 200);
+}
+
+#[test]
+fn diagnostics_after_200_steps_2d_fluid_only_euler() {
+    // Forward Euler without solids: every step through the fused fluid-only kernel.
+    let setup = fluid_only_of(scene_with(2, V_2D_A, 0.05));
+    long_run_on::<D2>("V_2D_A fluid only", setup, 200);
+}
+#[test]
+fn diagnostics_after_200_steps_3d_fluid_only_euler() {
+    let setup = fluid_only_of(scene_with(3, V_3D_B, 0.05));
+    long_run_on::<D3>("V_3D_B fluid only", setup, 200);
+}
+
+/// The fused `forces_and_rates` pass against `rates` then `forces` on the GPU, from one
+/// state, at every lane count: each sum runs over the same neighbours in the same order, so
+/// accelerations, rates and the step size agree bit for bit.
+fn fused_equals_two_passes<D: Dim>(what: &str, setup: Setup) {
+    let Some(mut g) = gpu::<D>(&setup) else {
+        return;
+    };
+    g.build_grid();
+    g.density();
+    let start = g.download_state();
+    for lanes in [8, 4, 2, 1] {
+        g.set_lanes(Some(lanes));
+        g.upload_state(&start);
+        g.rates();
+        g.forces();
+        g.time_step();
+        let (two, dt2) = (g.download_state(), g.dt());
+        g.upload_state(&start);
+        g.forces_and_rates();
+        g.time_step();
+        let (one, dt1) = (g.download_state(), g.dt());
+        assert_eq!(
+            flat_v::<D>(&two.acc),
+            flat_v::<D>(&one.acc),
+            "{what}, {lanes} lanes: acc"
+        );
+        assert_eq!(
+            flat_v::<D>(&two.xsph),
+            flat_v::<D>(&one.xsph),
+            "{what}, {lanes} lanes: xsph"
+        );
+        assert_eq!(two.drho, one.drho, "{what}, {lanes} lanes: drho");
+        if let (Some(a), Some(b)) = (&two.solid, &one.solid) {
+            assert_eq!(
+                flat_m::<D>(&a.stress_rate),
+                flat_m::<D>(&b.stress_rate),
+                "{what}, {lanes} lanes: stress rate"
+            );
+        }
+        assert_eq!(dt2, dt1, "{what}, {lanes} lanes: dt");
+    }
+    eprintln!("{what}: fused pass = rates + forces, bit for bit, at 8, 4, 2 and 1 lanes");
+}
+
+#[test]
+fn fused_pass_equals_two_passes_2d() {
+    fused_equals_two_passes::<D2>("2D V_2D_A", scene(2, V_2D_A));
+    fused_equals_two_passes::<D2>("2D V_2D_DELTA fluid only", fluid_only(2, V_2D_DELTA));
+}
+#[test]
+fn fused_pass_equals_two_passes_3d() {
+    fused_equals_two_passes::<D3>("3D V_3D_B", scene(3, V_3D_B));
+    fused_equals_two_passes::<D3>("3D V_3D_B fluid only", fluid_only(3, V_3D_B));
+    fused_equals_two_passes::<D3>("3D V_3D_A fluid only", fluid_only(3, V_3D_A));
 }
 
 #[test]

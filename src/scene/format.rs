@@ -139,7 +139,7 @@ fn default_h_factor() -> f64 {
     1.3
 }
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum IntegratorChoice {
     /// Semi-implicit Euler: v first, then x with the new v. The default.

@@ -95,6 +95,8 @@ pub struct Kernels {
     forces_fluid: PerLanes,
     rates: PerLanes,
     rates_fluid: PerLanes,
+    forces_rates: PerLanes,
+    forces_rates_fluid: PerLanes,
     /// Threads per particle in the neighbour kernels (density, forces, rates), one of
     /// `LANE_COUNTS`; set by the solver from the system size.
     pub lanes: usize,
@@ -122,6 +124,8 @@ impl Kernels {
             forces_fluid: PerLanes::load(dev, "forces", "sph_forces_fluid", dim)?,
             rates: PerLanes::load(dev, "rates", "sph_rates", dim)?,
             rates_fluid: PerLanes::load(dev, "rates", "sph_rates_fluid", dim)?,
+            forces_rates: PerLanes::load(dev, "forces_rates", "sph_forces_rates", dim)?,
+            forces_rates_fluid: PerLanes::load(dev, "forces_rates", "sph_forces_rates_fluid", dim)?,
             lanes: 1,
             step_size: Kernel::load(dev, "reduce", plain("sph_step_size"))?,
             kick: Kernel::load(dev, "integrate", d("sph_kick"))?,
@@ -352,6 +356,44 @@ pub fn forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) 
     opt!(l, &c.stress);
     opt!(l, &b.art);
     l.arg(&mut b.acc).arg(&mut b.red);
+    kf.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
+}
+
+/// `forces` and `rates` of one state in one neighbour pass (the forward Euler's order).
+pub fn forces_rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    if b.n == 0 {
+        return;
+    }
+    let n = b.n as u32;
+    let c = &b.cur;
+    let lanes = k.lanes;
+    let kf = if c.stress.is_some() {
+        k.forces_rates.get(lanes)
+    } else {
+        k.forces_rates_fluid.get(lanes)
+    };
+    // SAFETY: sph_forces_rates[_fluid]_{1,2,4,8}_{2,3}d(const SphParams p, unsigned n,
+    // const unsigned* cell_start, const float* pos, const float* vel, const float* rho,
+    // const float* pr, const float* mass, const unsigned char* kind, const unsigned* group,
+    // const float* stress, const float* art, float* acc, unsigned* red, float* drho,
+    // float* xsph, float* rate): forces' arguments, then rates' outputs; stress, art, drho
+    // and rate may be null (as for the two kernels); red holds 3 words.
+    let mut l = s.launch_builder(&kf.f);
+    l.arg(p)
+        .arg(&n)
+        .arg(&b.cell_start)
+        .arg(&c.pos)
+        .arg(&c.vel)
+        .arg(&c.rho)
+        .arg(&c.p)
+        .arg(&c.mass);
+    l.arg(&c.kind).arg(&c.group);
+    opt!(l, &c.stress);
+    opt!(l, &b.art);
+    l.arg(&mut b.acc).arg(&mut b.red);
+    opt!(l, &mut b.drho);
+    l.arg(&mut b.xsph);
+    opt!(l, &mut b.stress_rate);
     kf.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
 }
 

@@ -79,6 +79,9 @@ pub struct CudaSolver<D: Dim> {
     /// Whether `advance` may capture and replay graphs: `MESHFREE_CUDA_GRAPHS=0` turns them
     /// off (for measurements); a failed capture turns them off for this solver.
     graphs: bool,
+    /// Whether `forces_and_rates` runs the fused kernel: `MESHFREE_CUDA_FUSED=0` runs the two
+    /// passes instead (for measurements).
+    fused: bool,
     _d: PhantomData<D>,
 }
 
@@ -112,6 +115,7 @@ impl<D: Dim> CudaSolver<D> {
             host_vel: Vec::new(),
             graph: None,
             graphs: std::env::var("MESHFREE_CUDA_GRAPHS").map_or(true, |v| v != "0"),
+            fused: std::env::var("MESHFREE_CUDA_FUSED").map_or(true, |v| v != "0"),
             _d: PhantomData,
         })
     }
@@ -243,6 +247,15 @@ impl<D: Dim> Solver for CudaSolver<D> {
     }
     fn forces(&mut self) {
         launch::forces(&self.k, &self.dev.stream, &self.params, &mut self.buf);
+    }
+    /// One neighbour pass for both (`cuda/forces_rates.cu`), unless `MESHFREE_CUDA_FUSED=0`.
+    fn forces_and_rates(&mut self) {
+        if self.fused {
+            launch::forces_rates(&self.k, &self.dev.stream, &self.params, &mut self.buf);
+        } else {
+            self.rates();
+            self.forces();
+        }
     }
     fn time_step(&mut self) {
         launch::step_size(&self.k, &self.dev.stream, &self.params, &mut self.buf);

@@ -1,0 +1,60 @@
+// Forces and rates of one state in one neighbour pass, for the paper's forward Euler
+// (`Solver::forces_and_rates`): the accelerations (ForceSum, forces.cuh) with the step
+// size's maxima, and d rho/dt, XSPH and, with solids, the Jaumann rate (RateSum, rates.cuh),
+// each summed over the neighbours in the same order as by the separate kernels (forces.cu,
+// rates.cu), so the results are theirs; every candidate, its velocity and kind are loaded
+// once instead of twice. Twin: src/backend/cpu/forces.rs and rates.rs (the trait's default
+// runs them one after the other); parity test: tests/cuda_parity.rs.
+#include "forces.cuh"
+#include "rates.cuh"
+
+template <int DIM, bool SOLIDS, int L, int B = Batch<L, SOLIDS>::B>
+__device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
+                                  const float* __restrict__ pos, const float* __restrict__ vel,
+                                  const float* __restrict__ rho, const float* __restrict__ pr,
+                                  const float* __restrict__ mass, const unsigned char* __restrict__ kind,
+                                  const unsigned* __restrict__ group, const float* __restrict__ stress,
+                                  const float* __restrict__ art, float* __restrict__ acc_out,
+                                  unsigned* __restrict__ red, float* __restrict__ drho_out,
+                                  float* __restrict__ xsph_out, float* __restrict__ rate_out) {
+    __shared__ float sh[MF_BLOCK / 32];
+    const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
+    const unsigned i = t / L;
+    const int lane = (int)(t % L);
+    const unsigned char ki = i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY;
+    ForceSum<DIM, SOLIDS> f;
+    RateSum<DIM, SOLIDS> r;
+    f.begin(p, i, n, ki, lane, vel, rho, pr, group, stress);
+    r.begin(p, i, n, ki, vel, rho, group);
+    // Every particle with forces has rates (dynamic walls have rates only).
+    if (r.on) {
+        for_each_neighbor_split<DIM, L, B>(p, cell_start, pos, vload<DIM>(pos, i), lane,
+                                           [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
+            if (j == i) return;
+            const Neighbour<DIM> nb = neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, rho, mass, kind);
+            if (f.on) f.add(p, i, n, nb, pr, group, stress, art);
+            r.add(p, nb, group);
+        });
+    }
+    f.template finish<L>(p, i, n, lane, acc_out, red, sh);
+    r.template finish<L>(p, i, n, lane, stress, drho_out, xsph_out, rate_out);
+}
+
+// Per dimension and lane count (MF_LANES_EACH), with and without solids, as for forces and
+// rates; the arguments are those of forces, then those that rates writes. Bounds: as the
+// separate kernels (fluid-only 4 blocks of 256 per SM, with solids 1).
+#define MF_FORCES_RATES_ENTRY(name, DIM, SOLIDS, L)                                                                 \
+    extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 1 : 4)                                        \
+        name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel,      \
+             const float* rho, const float* pr, const float* mass, const unsigned char* kind,                    \
+             const unsigned* group, const float* stress, const float* art, float* acc, unsigned* red,            \
+             float* drho, float* xsph, float* rate) {                                                            \
+        forces_rates_impl<DIM, SOLIDS, L>(p, n, cell_start, pos, vel, rho, pr, mass, kind, group, stress, art, acc, \
+                                          red, drho, xsph, rate);                                                \
+    }
+#define MF_FORCES_RATES_LANES(L)                                      \
+    MF_FORCES_RATES_ENTRY(sph_forces_rates_##L##_2d, 2, true, L)       \
+    MF_FORCES_RATES_ENTRY(sph_forces_rates_##L##_3d, 3, true, L)       \
+    MF_FORCES_RATES_ENTRY(sph_forces_rates_fluid_##L##_2d, 2, false, L) \
+    MF_FORCES_RATES_ENTRY(sph_forces_rates_fluid_##L##_3d, 3, false, L)
+MF_LANES_EACH(MF_FORCES_RATES_LANES)

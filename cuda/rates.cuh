@@ -1,0 +1,219 @@
+// Rates from the current velocities: d rho/dt (continuity form, with the density diffusion of
+// Molteni & Colagrossi 2009 where delta_sph > 0), the XSPH velocity of eq. (18) with the particle
+// shifting velocity where shifting > 0 (Lind et al. 2012, Sun et al. 2017), and for
+// solids the velocity gradient eq. (15) with the kernel-gradient correction, strain and
+// rotation rates eqs. (13)-(14) and the Jaumann rate eq. (12), as a per-particle sum
+// (`RateSum`) that the rates kernel (rates.cu) and the fused forces-and-rates kernel
+// (forces_rates.cu) run in their neighbour loops.
+// Twin: src/backend/cpu/rates.rs; parity test: tests/cuda_parity.rs.
+#pragma once
+#include "common.cuh"
+
+template <int DIM> __device__ __forceinline__ float det(const Mat<DIM>& a) {
+    if constexpr (DIM == 2) {
+        return a.m[0][0] * a.m[1][1] - a.m[0][1] * a.m[1][0];
+    } else {
+        return a.m[0][0] * (a.m[1][1] * a.m[2][2] - a.m[1][2] * a.m[2][1]) -
+               a.m[0][1] * (a.m[1][0] * a.m[2][2] - a.m[1][2] * a.m[2][0]) +
+               a.m[0][2] * (a.m[1][0] * a.m[2][1] - a.m[1][1] * a.m[2][0]);
+    }
+}
+// Inverse by the adjugate (the caller has checked |det| > 1e-3).
+template <int DIM> __device__ __forceinline__ Mat<DIM> inverse(const Mat<DIM>& a, float d) {
+    Mat<DIM> r;
+    const float s = 1.0f / d;
+    if constexpr (DIM == 2) {
+        r.m[0][0] = a.m[1][1] * s;
+        r.m[0][1] = -a.m[0][1] * s;
+        r.m[1][0] = -a.m[1][0] * s;
+        r.m[1][1] = a.m[0][0] * s;
+    } else {
+#pragma unroll
+        for (int i = 0; i < 3; ++i)
+#pragma unroll
+            for (int j = 0; j < 3; ++j) {
+                // cofactor C_ji, i.e. adj(a)_ij
+                const int r0 = (j + 1) % 3, r1 = (j + 2) % 3, c0 = (i + 1) % 3, c1 = (i + 2) % 3;
+                r.m[i][j] = (a.m[r0][c0] * a.m[r1][c1] - a.m[r0][c1] * a.m[r1][c0]) * s;
+            }
+    }
+    return r;
+}
+
+// R of the anti-clumping factor 1 + R (W_ij / W(dx))^4 of the shifting sum, and the margin of
+// its free-surface test (twins of SHIFT_ANTI_CLUMP and SHIFT_SURFACE_MARGIN in cpu/rates.rs).
+#define MF_SHIFT_ANTI_CLUMP 0.2f
+#define MF_SHIFT_SURFACE_MARGIN 0.5f
+
+// The rates of particle i, summed over its neighbours: `begin`, then `add` for every
+// neighbour j != i (in the neighbour loop's order), then `finish` (all lanes of the warp).
+template <int DIM, bool SOLIDS> struct RateSum {
+    bool on;  // i < n and i is no wall, or a dynamic wall (its d rho/dt)
+    bool solid_i, diffuse, shift;
+    unsigned char ki;
+    unsigned gi;
+    Vec<DIM> vi;
+    float rhoi;
+    Vec<DIM> xs;
+    float drho, diffusion;
+    Vec<DIM> grad_c;  // shifting: sum_j V_j (1 + R f^4) grad_i W_ij
+    float div_r;      // shifting: the position divergence -sum_j V_j r_ij . grad_i W_ij
+    Mat<DIM> gv, mo;  // solids: velocity gradient and moment, eq. (15)
+
+    // Particle i of kind k (a wall for i >= n).
+    __device__ __forceinline__ void begin(const SphParams& p, unsigned i, unsigned n, unsigned char k,
+                                          const float* __restrict__ vel, const float* __restrict__ rho,
+                                          const unsigned* __restrict__ group) {
+        ki = k;
+        on = i < n && (ki != MF_KIND_BOUNDARY || p.wall_pressure != 0);
+        solid_i = i < n && ki == MF_KIND_SOLID;
+        xs = vzero<DIM>();
+        drho = 0.0f;
+        // Density diffusion (delta-SPH) between fluid particles only, as in cpu/rates.rs.
+        diffuse = p.delta_sph > 0.0f && i < n && ki == MF_KIND_FLUID;
+        diffusion = 0.0f;
+        // Particle shifting of fluid particles (cpu/rates.rs `shift_velocity`).
+        shift = p.shifting > 0.0f && i < n && ki == MF_KIND_FLUID;
+        grad_c = vzero<DIM>();
+        div_r = 0.0f;
+        if constexpr (SOLIDS) {
+            gv = mzero<DIM>();
+            mo = mzero<DIM>();
+        }
+        if (!on) return;
+        vi = vload<DIM>(vel, i);
+        rhoi = rho[i];
+        gi = group[i];
+    }
+
+    // Neighbour nb (j != i).
+    __device__ __forceinline__ void add(const SphParams& p, const Neighbour<DIM>& nb,
+                                        const unsigned* __restrict__ group) {
+        const unsigned char kj = nb.kind;
+        if (!couples(p, kj)) return;
+        const Vec<DIM> r = nb.r;
+        const float r2 = nb.r2, rr = nb.rr, rhoj = nb.rho, mj = nb.m;
+        const Vec<DIM> gw = r * nb.fw;  // grad_i W_ij
+        const Vec<DIM> vij = vi - nb.v;  // v = 0 on boundary particles
+        // Continuity, volume form: d rho_i/dt = rho_i sum_j m_j / rho_j v_ij . grad W
+        // (the factor rho_i is applied after the sum, as in cpu/rates.rs).
+        drho += fast_div(mj, rhoj) * dot(vij, gw);
+        if (diffuse && kj == MF_KIND_FLUID && r2 > 0.0f) {
+            // Molteni & Colagrossi 2009 (Comput. Phys. Commun. 180, 861), diffusive term:
+            // sum_j psi_ij . grad_i W_ij V_j, psi_ij = 2 (rho_j - rho_i) r_ji / |r_ji|^2 with
+            // r_ji = r_j - r_i = -r (diffusive sign, see cpu/rates.rs): 2 (rho_i - rho_j) r . gw / r^2.
+            diffusion += 2.0f * (rhoi - rhoj) * dot(r, gw) / r2 * (mj / rhoj);
+        }
+        if (shift) {
+            // Every neighbour that couples fills the support (not shifted into a wall).
+            const float vjv = fast_div(mj, rhoj);
+            const float f = kernel_w(p, rr) * p.inv_w_dx;
+            grad_c = grad_c + gw * (vjv * (1.0f + MF_SHIFT_ANTI_CLUMP * (f * f) * (f * f)));
+            div_r -= vjv * dot(r, gw);
+        }
+        if (!same_body(p, ki, kj, gi, group[nb.j]) || ki == MF_KIND_BOUNDARY) return;
+        const float s = fast_div(mj, 0.5f * (rhoi + rhoj));
+        // XSPH, eq. (18), within one material (one body for solids).
+        xs = xs - vij * (p.xsph_eps * s * kernel_w(p, rr));
+        if constexpr (SOLIDS) {
+            if (solid_i) {
+                // Velocity gradient, eq. (15), and the moment A = sum V_j (x_j - x_i) (x) grad W.
+#pragma unroll
+                for (int a = 0; a < DIM; ++a)
+#pragma unroll
+                    for (int b = 0; b < DIM; ++b) {
+                        gv.m[a][b] += (-vij.c[a] * gw.c[b]) * s;
+                        mo.m[a][b] += (-r.c[a] * gw.c[b]) * s;
+                    }
+            }
+        }
+    }
+
+    // Combine the L lanes of each particle and store d rho/dt (drho_out null without the
+    // continuity density), the XSPH velocity and, with solids, the Jaumann rate (every lane
+    // of the warp calls).
+    template <int L>
+    __device__ __forceinline__ void finish(const SphParams& p, unsigned i, unsigned n, int lane,
+                                           const float* __restrict__ stress,
+                                           float* __restrict__ drho_out, float* __restrict__ xsph_out,
+                                           float* __restrict__ rate_out) {
+#pragma unroll
+        for (int a = 0; a < DIM; ++a) xs.c[a] = lane_sum<L>(xs.c[a]);
+        drho = lane_sum<L>(drho);
+        diffusion = lane_sum<L>(diffusion);
+        if (p.shifting > 0.0f) {  // uniform branch: every lane of the warp sums
+#pragma unroll
+            for (int a = 0; a < DIM; ++a) grad_c.c[a] = lane_sum<L>(grad_c.c[a]);
+            div_r = lane_sum<L>(div_r);
+            // Lind et al. 2012 / Sun et al. 2017: dv = -C h c0 grad C, none at a free surface
+            // (position divergence below d - margin); twin of shift_velocity in cpu/rates.rs.
+            if (shift && div_r >= (float)DIM - MF_SHIFT_SURFACE_MARGIN)
+                xs = xs - grad_c * (p.shifting * p.h * p.c0);
+        }
+        if (on) drho *= rhoi;
+        if (on && diffuse) drho += p.delta_sph * p.h * p.c0 * diffusion;
+        if constexpr (SOLIDS) {
+#pragma unroll
+            for (int a = 0; a < DIM; ++a)
+#pragma unroll
+                for (int b = 0; b < DIM; ++b) {
+                    gv.m[a][b] = lane_sum<L>(gv.m[a][b]);
+                    mo.m[a][b] = lane_sum<L>(mo.m[a][b]);
+                }
+        }
+        if (i >= n || lane != 0) return;
+        vstore<DIM>(xsph_out, i, xs);
+        if (drho_out) drho_out[i] = drho;
+        if constexpr (SOLIDS) {
+            if (!solid_i) {
+                sstore<DIM>(rate_out, i, n, mzero<DIM>());
+                return;
+            }
+            // Kernel-gradient correction (Randles & Libersky 1996; Bonet & Lok 1999): G = G_raw A^-1,
+            // skipped where A is singular.
+            const float d = det<DIM>(mo);
+            if (fabsf(d) > 1e-3f) {
+                const Mat<DIM> inv = inverse<DIM>(mo, d);
+                Mat<DIM> g2;
+#pragma unroll
+                for (int a = 0; a < DIM; ++a)
+#pragma unroll
+                    for (int b = 0; b < DIM; ++b) {
+                        float s = gv.m[a][0] * inv.m[0][b];
+#pragma unroll
+                        for (int c = 1; c < DIM; ++c) s += gv.m[a][c] * inv.m[c][b];
+                        g2.m[a][b] = s;
+                    }
+                gv = g2;
+            }
+            Mat<DIM> eps, om;
+#pragma unroll
+            for (int a = 0; a < DIM; ++a)
+#pragma unroll
+                for (int b = 0; b < DIM; ++b) {
+                    eps.m[a][b] = (gv.m[a][b] + gv.m[b][a]) * 0.5f;  // eq. (13)
+                    om.m[a][b] = (gv.m[a][b] - gv.m[b][a]) * 0.5f;   // eq. (14)
+                }
+            float tr = eps.m[0][0];
+#pragma unroll
+            for (int a = 1; a < DIM; ++a) tr += eps.m[a][a];
+            const Mat<DIM> si = sload<DIM>(stress, i, n);
+            // Jaumann rate, eq. (12): 2 mu (eps^ab - delta^ab eps^cc / 3) + S^ac Om^bc + Om^ac S^cb.
+            Mat<DIM> out;
+#pragma unroll
+            for (int a = 0; a < DIM; ++a)
+#pragma unroll
+                for (int b = 0; b < DIM; ++b) {
+                    float dev = eps.m[a][b] - (a == b ? tr / 3.0f : 0.0f);
+                    float s1 = si.m[a][0] * om.m[b][0], s2 = om.m[a][0] * si.m[0][b];
+#pragma unroll
+                    for (int c = 1; c < DIM; ++c) {
+                        s1 += si.m[a][c] * om.m[b][c];
+                        s2 += om.m[a][c] * si.m[c][b];
+                    }
+                    out.m[a][b] = dev * (2.0f * p.shear_modulus) + s1 + s2;
+                }
+            sstore<DIM>(rate_out, i, n, out);
+        }
+    }
+};
