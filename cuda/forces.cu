@@ -97,6 +97,10 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
             const Vec<DIM> gw = r * fw;  // grad_i W_ij
             const float mj = Packed<DIM>::W ? pw : mass[j];
             if (kj == MF_KIND_BOUNDARY) {
+                // A body that skips walls (`meets`) feels nothing of them.
+                if constexpr (SOLIDS) {
+                    if (!meets(p, ki, kj)) return;
+                }
                 acc = acc + lennard_jones<DIM>(p, r, rr);  // eq. (17)
                 // Dynamic walls: then like any other neighbour (own P_j, rho_j, v_j = 0,
                 // stress 0, sound speed c0).

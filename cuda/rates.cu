@@ -77,6 +77,9 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
             else
                 kj = kind[j];
             if (!couples(p, kj)) return;
+            if constexpr (SOLIDS) {
+                if (!meets(p, ki, kj)) return;  // a body that skips walls, both ways
+            }
             const float rhoj = Packed<DIM>::W ? fabsf(vw) : rho[j];
             const float rr = sqrtf(r2);
             const Vec<DIM> gw = r * kernel_f(p, rr);  // grad_i W_ij
