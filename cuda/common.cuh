@@ -250,6 +250,13 @@ __device__ __forceinline__ float rest_density(const SphParams& p, unsigned char 
 __device__ __forceinline__ bool couples(const SphParams& p, unsigned char kj) {
     return kj != MF_KIND_BOUNDARY || p.wall_pressure != 0;
 }
+// Whether particles of kinds ki and kj meet at all: a solid and a wall particle skip each
+// other, both ways, where the scene says so (solid_skips_walls): no Lennard-Jones force, no
+// wall pressure, no density sum over the other (twin: `meets` in cpu/density.rs).
+__device__ __forceinline__ bool meets(const SphParams& p, unsigned char ki, unsigned char kj) {
+    return p.solid_skips_walls == 0 || !((ki == MF_KIND_SOLID && kj == MF_KIND_BOUNDARY) ||
+                                         (ki == MF_KIND_BOUNDARY && kj == MF_KIND_SOLID));
+}
 
 // The driven group (a piston, a clamp; any kind): moves at driven_velocity whatever the
 // forces (twin: `driven_velocity` in cpu/integrate.rs).

@@ -92,7 +92,8 @@ __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __re
         if (active)
             for_each_neighbor_split<DIM, L>(p, cell_start, pos, vload<DIM>(pos, i), lane,
                                             [&](unsigned j, Vec<DIM>, float r2, float) {
-                                                if (couples(p, kind[j])) sum_w += kernel_w(p, sqrtf(r2));
+                                                if (couples(p, kind[j]) && meets(p, ki, kind[j]))
+                                                    sum_w += kernel_w(p, sqrtf(r2));
                                             });
         sum_w = lane_sum<L>(sum_w);  // every lane of the warp takes part
         if (active && lane == 0) {

@@ -99,6 +99,10 @@ template <int DIM, bool SOLIDS> struct ForceSum {
         const float r2 = nb.r2, rr = nb.rr, fw = nb.fw, mj = nb.m;
         const Vec<DIM> gw = r * fw;  // grad_i W_ij
         if (kj == MF_KIND_BOUNDARY) {
+            // A body that skips walls (`meets`) feels nothing of them.
+            if constexpr (SOLIDS) {
+                if (!meets(p, ki, kj)) return;
+            }
             acc = acc + lennard_jones<DIM>(p, r, rr);  // eq. (17)
             // Dynamic walls: then like any other neighbour (own P_j, rho_j, v_j = 0,
             // stress 0, sound speed c0).

@@ -91,6 +91,9 @@ template <int DIM, bool SOLIDS> struct RateSum {
                                         const unsigned* __restrict__ group) {
         const unsigned char kj = nb.kind;
         if (!couples(p, kj)) return;
+        if constexpr (SOLIDS) {
+            if (!meets(p, ki, kj)) return;  // a body that skips walls, both ways
+        }
         const Vec<DIM> r = nb.r;
         const float r2 = nb.r2, rr = nb.rr, rhoj = nb.rho, mj = nb.m;
         const Vec<DIM> gw = r * nb.fw;  // grad_i W_ij

@@ -81,6 +81,12 @@ typedef struct SphParams {
                                  and a wall) exchanges the whole stress -P I + S, the paper's
                                  eq. (16); 0: its pressure part only (Antoci, Gallati &
                                  Sibilla 2007), the default */
+    int32_t solid_skips_walls; /* 1: solid and wall particles skip each other, both ways: no
+                                  Lennard-Jones force, eq. (17), no wall pressure, no wall
+                                  neighbour in a solid's density or a solid in a wall's (a
+                                  body that meets only the fluid and other bodies, e.g. the
+                                  free end of a gate on the tank floor); 0: they meet, the
+                                  default */
 
     /* ---- boundary particles: eq. (17) ---- */
     float lj_c0;           /* [L/T^2] C0, strength of the Lennard-Jones force */

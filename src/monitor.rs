@@ -12,7 +12,7 @@
 //! would take them.
 
 use crate::backend::cpu::{
-    artificial_viscosity, couples, laminar, lennard_jones, pressure, wall_pair_stress, Grid,
+    artificial_viscosity, couples, laminar, lennard_jones, meets, pressure, wall_pair_stress, Grid,
 };
 use crate::dim::{Dim, D2, D3};
 use crate::kernel;
@@ -83,7 +83,7 @@ fn wall_force_d<D: Dim>(p: &SphParams, particles: &[Particle], group: u32) -> [f
             (stress.map_or(D::zero(), |st| st[j]) - D::identity() * pj) * (1.0 / (rhoj * rhoj));
         grid.for_each_neighbor::<D>(p, &s.pos, s.pos[j], |i, r_ji, r2| {
             let ki = s.kind[i];
-            if ki as u32 == MF_KIND_BOUNDARY {
+            if ki as u32 == MF_KIND_BOUNDARY || !meets(p, ki, kj) {
                 return;
             }
             // The same pair terms, in the same order, as forces.rs adds for a wall j.

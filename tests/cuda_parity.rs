@@ -663,6 +663,25 @@ fn stages_2d_bodies_in_contact_lj_walls_whole_stress() {
     let setup = bodies_in_contact(2, V_2D_B, true);
     stages_on::<D2>("V_2D_B + bodies in contact, whole stress", setup);
 }
+/// `bodies_in_contact` where bodies and walls skip each other (`[solid] wall_contact =
+/// false`, `solid_skips_walls`; `meets` in cpu/density.rs / common.cuh): the solid layer on
+/// the wall feels no Lennard-Jones force or wall pressure, and neither enters the other's
+/// density (summation in V_2D_A, the walls' continuity in V_3D_B).
+fn bodies_skipping_walls(dim: usize, v: Variant) -> Setup {
+    let mut setup = bodies_in_contact(dim, v, false);
+    setup.params.solid_skips_walls = 1;
+    setup
+}
+#[test]
+fn stages_2d_bodies_skipping_walls_summation() {
+    let setup = bodies_skipping_walls(2, V_2D_A);
+    stages_on::<D2>("V_2D_A + bodies in contact, skipping the walls", setup);
+}
+#[test]
+fn stages_3d_bodies_skipping_walls_continuity() {
+    let setup = bodies_skipping_walls(3, V_3D_B);
+    stages_on::<D3>("V_3D_B + bodies in contact, skipping the walls", setup);
+}
 #[test]
 fn stages_2d_clamp_bonded_to_its_body() {
     stages_on::<D2>(

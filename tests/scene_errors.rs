@@ -242,6 +242,35 @@ fn sphere_in_2d() {
 }
 
 #[test]
+fn wall_contact_is_checked() {
+    let solid = "\n[solid]\ndensity = 600.0\nsound_speed = 30.0\nshear_modulus = 1e4\n";
+    let body = "\n[[solids]]\nshape = \"disc\"\ncenter = [0.7, 0.7]\nradius = 0.1\n";
+    let t = format!("{BASE}{solid}wall_contact = \"no\"\n{body}");
+    expect_error(&t, "solid.wall_contact", "invalid type");
+    // Without walls there is nothing to skip.
+    let walls = BASE.find("[[walls]]").unwrap();
+    let t = format!("{}{solid}wall_contact = false\n{body}", &BASE[..walls]);
+    expect_error(&t, "solid.wall_contact", "the scene has no [[walls]]");
+    // With walls it is accepted and reaches the parameters.
+    let t = format!("{BASE}{solid}wall_contact = false\n{body}");
+    assert_eq!(
+        Scene::from_toml(&t, "ok")
+            .unwrap()
+            .params()
+            .solid_skips_walls,
+        1
+    );
+    let t = format!("{BASE}{solid}{body}");
+    assert_eq!(
+        Scene::from_toml(&t, "ok")
+            .unwrap()
+            .params()
+            .solid_skips_walls,
+        0
+    );
+}
+
+#[test]
 fn periodic_axis_too_short() {
     let t = with(
         "max = [1.2, 1.2]",

@@ -77,6 +77,8 @@ pub struct SphParams {
     pub inv_w_dx: f32,
     #[doc = " 1: a pair across two objects (fluid-solid, two bodies, a body\nand a wall) exchanges the whole stress -P I + S, the paper's\neq. (16); 0: its pressure part only (Antoci, Gallati &\nSibilla 2007), the default"]
     pub interface_stress: i32,
+    #[doc = " 1: solid and wall particles skip each other, both ways: no\nLennard-Jones force, eq. (17), no wall pressure, no wall\nneighbour in a solid's density or a solid in a wall's (a\nbody that meets only the fluid and other bodies, e.g. the\nfree end of a gate on the tank floor); 0: they meet, the\ndefault"]
+    pub solid_skips_walls: i32,
     #[doc = " [L/T^2] C0, strength of the Lennard-Jones force"]
     pub lj_c0: f32,
     #[doc = " [L] r0, the initial particle spacing"]

@@ -252,6 +252,11 @@ pub struct SolidMaterial {
     /// What a body exchanges with the fluid, walls and other bodies. Default `pressure`.
     #[serde(default)]
     pub interface: SolidInterface,
+    /// Whether bodies and walls meet (the Lennard-Jones force, eq. (17), the dynamic walls'
+    /// pressure and density sums). Default true; false: they skip each other, both ways,
+    /// and a body meets only the fluid and other bodies (a gate's free end on the floor).
+    #[serde(default = "default_true")]
+    pub wall_contact: bool,
 }
 
 /// What a pair across two objects (fluid and body, two bodies, a body and a wall) exchanges

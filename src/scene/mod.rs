@@ -47,6 +47,10 @@
 //! interface = "pressure"             # default: the body meets fluid, walls and other
 //!                                    # bodies through pressure only (Antoci et al. 2007) |
 //!                                    # "stress": its whole stress, the paper's eq. (16)
+//! wall_contact = true                # default: bodies and walls meet (eq. (17), the
+//!                                    # dynamic walls' pressure and density) | false: they
+//!                                    # skip each other, both ways; a body meets only the
+//!                                    # fluid and other bodies (a gate's free end on the floor)
 //!
 //! [boundary]                         # only with walls; eq. (17)
 //! strength = 2500.0                  # C0
@@ -441,6 +445,7 @@ fn scene_params(s: &SceneFile) -> SphParams {
             p.art_stress_eps = m.artificial_stress as f32;
             p.art_stress_n = m.artificial_stress_exponent as f32;
             p.interface_stress = (m.interface == SolidInterface::Stress) as i32;
+            p.solid_skips_walls = (!m.wall_contact) as i32;
         }
         None => {
             p.solid_rho0 = p.rho0;
@@ -449,6 +454,7 @@ fn scene_params(s: &SceneFile) -> SphParams {
             p.art_stress_eps = 0.0;
             p.art_stress_n = 4.0;
             p.interface_stress = 0;
+            p.solid_skips_walls = 0;
         }
     }
 

@@ -260,6 +260,13 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
             "solid.artificial_stress_exponent",
             m.artificial_stress_exponent,
         )?;
+        if !m.wall_contact && s.walls.is_empty() {
+            return Err(c.err(
+                "solid.wall_contact",
+                "false has no effect: the scene has no [[walls]] for its bodies to skip"
+                    .to_string(),
+            ));
+        }
     }
     if let Some(b) = &s.boundary {
         c.non_negative("boundary.strength", b.strength)?;

@@ -19,6 +19,20 @@ pub fn couples(p: &SphParams, kj: u8) -> bool {
     kj as u32 != MF_KIND_BOUNDARY || p.wall_pressure != 0
 }
 
+/// Whether particles of kinds `ki` and `kj` meet at all: a solid and a wall particle skip
+/// each other, both ways, where the scene says so (`[solid] wall_contact = false`,
+/// `solid_skips_walls`): no Lennard-Jones force, eq. (17), no wall pressure, and neither
+/// enters the other's density (continuity or summation). A body that meets only the fluid
+/// and other bodies: the free end of a gate standing on the tank floor, whose continuity
+/// density read the foot leaving the floor's wall particles as a dilatation
+/// (docs/accuracy.md, elastic gate). Twin: `meets` in `cuda/common.cuh`.
+#[inline]
+pub fn meets(p: &SphParams, ki: u8, kj: u8) -> bool {
+    let (s, b) = (MF_KIND_SOLID, MF_KIND_BOUNDARY);
+    let (ki, kj) = (ki as u32, kj as u32);
+    p.solid_skips_walls == 0 || !((ki == s && kj == b) || (ki == b && kj == s))
+}
+
 /// Whether particles i (kind `ki`, scene group `gi`) and j count as one body for the terms
 /// that act only within a body: XSPH, eq. (18), the velocity gradient of eq. (15) (so the
 /// Jaumann stress rate, eq. (12)) and the artificial stress. All fluid is one body; a solid
@@ -69,7 +83,7 @@ pub fn density<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
             if summation {
                 let mut sum_w = 0.0f32;
                 grid.for_each_neighbor::<D>(p, pos, pos[i], |j, _r, r2| {
-                    if couples(p, kind[j]) {
+                    if couples(p, kind[j]) && meets(p, kind[i], kind[j]) {
                         sum_w += kernel::w(p, r2.sqrt());
                     }
                 });

@@ -3,7 +3,7 @@
 
 use rayon::prelude::*;
 
-use super::density::{couples, same_body};
+use super::density::{couples, meets, same_body};
 use super::grid::Grid;
 use crate::dim::Dim;
 use crate::kernel;
@@ -133,6 +133,10 @@ pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 let fw = kernel::f(p, rr);
                 let grad_w = r * fw; // grad_i W_ij
                 if kj as u32 == MF_KIND_BOUNDARY {
+                    // A body that skips walls (`meets`) feels nothing of them.
+                    if !meets(p, ki, kj) {
+                        return;
+                    }
                     acc += lennard_jones::<D>(p, r, rr); // eq. (17)
                     if !couples(p, kj) {
                         return;

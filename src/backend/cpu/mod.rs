@@ -9,7 +9,7 @@ mod rates;
 mod reduce;
 mod stress;
 
-pub use density::{couples, pressure};
+pub use density::{couples, meets, pressure};
 pub use forces::{artificial_viscosity, cohesion_over_r, laminar, lennard_jones, wall_pair_stress};
 pub use grid::{cell_coords, cell_index, separation, Grid};
 pub use rates::shift_velocity;

@@ -8,7 +8,7 @@
 
 use rayon::prelude::*;
 
-use super::density::{couples, same_body};
+use super::density::{couples, meets, same_body};
 use super::grid::Grid;
 use crate::dim::Dim;
 use crate::kernel;
@@ -71,7 +71,7 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
             let (mut grad_c, mut div_r) = (D::V::default(), 0.0f32);
             grid.for_each_neighbor::<D>(p, pos, pos[i], |j, r, r2| {
                 let kj = kind[j];
-                if j == i || !couples(p, kj) {
+                if j == i || !couples(p, kj) || !meets(p, ki, kj) {
                     return;
                 }
                 let rr = r2.sqrt();
