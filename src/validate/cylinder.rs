@@ -10,6 +10,13 @@
 //! starts within t U / D ~ 30 instead of growing from round-off; St and Cd at every
 //! resolution, the finest against the literature, and the observed order of convergence
 //! of both (`super::convergence`). `cylinder_onset.rs` reuses `simulate` at other Re.
+//!
+//! Both cases run the confined-flow options (`confined`): particle shifting 0.2 and a
+//! background pressure of 6 q. Without them the near wake tears where its pressure goes
+//! negative and the disordered particles dissipate like a fluid of about twice the
+//! viscosity: at D / dx = 20 the lift was a fifth of the expected one and the onset sweep
+//! could not tell Re 35 from Re 70 (docs/accuracy.md, session 4). The speed-vs-accuracy
+//! chart keeps the solver's defaults.
 
 use super::plot::{plot, Figure, Series};
 use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
@@ -20,7 +27,7 @@ use crate::scene::Scene;
 pub const NAME: &str = "cylinder";
 pub const DESCRIPTION: &str = "Flow past a cylinder, Re = 100, D = 2, U = 1, rho0 = 1, c0 = 10, periodic \
 40 x 24 channel (blockage 0.083) held at U by an inflow band, laminar viscosity nu = U D / Re, no artificial \
-viscosity, summation density: Strouhal number and mean drag against Roshko / Williamson and published Re 100 \
+viscosity, summation density, particle shifting 0.2 and background pressure 6 q (confined flow): Strouhal number and mean drag against Roshko / Williamson and published Re 100 \
 values; full tier at D / dx = 5, 10, 20 with the observed order of convergence.";
 
 const RE: f64 = 100.0;
@@ -39,6 +46,19 @@ const FULL_T_END_UD: f64 = 120.0;
 pub const SAMPLE_UD: f64 = 0.125;
 /// Full tier: the kick's peak cross-flow speed, as a fraction of U.
 pub const KICK: f64 = 0.2;
+/// [-] The particle shifting coefficient of the cylinder cases (`[fluid] shifting`).
+pub const SHIFTING: f64 = 0.2;
+/// [rho0 U^2 / 2] The background pressure of the cylinder cases (`[fluid]
+/// background_pressure`): above the wake's lowest pressure (Cp ~ -1.5 behind the cylinder,
+/// lower in the shed vortices' cores).
+pub const BACKGROUND_PRESSURE_Q: f64 = 6.0;
+
+/// The confined-flow options the cylinder cases run with: particle shifting and a
+/// background pressure (no free surface here).
+pub fn confined(s: &mut Scene) {
+    s.file.fluid.shifting = SHIFTING;
+    s.file.fluid.background_pressure = BACKGROUND_PRESSURE_Q * 0.5 * s.file.fluid.density * U * U;
+}
 
 /// The scene at spacing `dx` (40 and 24 must be multiples of it) and Reynolds number `re`.
 pub fn scene_text(dx: f64, t_end: f64, re: f64) -> String {
@@ -250,7 +270,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
     let mut rows = Vec::new();
     let mut all: Vec<(Vec<ForceSample>, RunInfo, MonitorSummary)> = Vec::new();
     for &n in &FULL_D_OVER_DX {
-        let (samples, run) = simulate(ctx, n, RE, FULL_T_END_UD, SAMPLE_UD, KICK, &|_| {})?;
+        let (samples, run) = simulate(ctx, n, RE, FULL_T_END_UD, SAMPLE_UD, KICK, &confined)?;
         let s = summary(&samples);
         ctx.log(&format!("{s}"));
         all.push((samples, run, s));
@@ -354,7 +374,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
 
 /// D / dx = 5 to t U / D = 3, no kick: the start-up drag, a regression bound.
 fn quick(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
-    let (samples, run) = simulate(ctx, 5.0, RE, 3.0, 0.05, 0.0, &|_| {})?;
+    let (samples, run) = simulate(ctx, 5.0, RE, 3.0, 0.05, 0.0, &confined)?;
     let s = MonitorSummary::of(NAME, 0, &samples, U, D, D / H);
     ctx.log(&format!("{s}, {:.1} s", run.wall_seconds));
     let png = "cylinder.png";

@@ -3,7 +3,8 @@
 //! (Provansal, Mathis & Boyer 1987; Williamson 1996; Jackson 1987's linear stability gives
 //! 46.2; refdata/cylinder_flow_reference.json, `Re_c_onset_of_shedding`).
 //!
-//! The `cylinder` case's channel (blockage 0.083) at D / dx = 10, started with the same
+//! The `cylinder` case's channel (blockage 0.083) and scheme (`cylinder::confined`: particle
+//! shifting and a background pressure) at D / dx = 10, started with the same
 //! antisymmetric kick (`cylinder::kick`), at Re 35, 45, 55 and 70. Per run: the lift's
 //! late amplitude (sqrt 2 x rms Cl over the last quarter, t U / D >= 90) and the linear
 //! growth rate sigma of its envelope (`growth_rate`: the least-squares slope of ln of the
@@ -24,7 +25,7 @@ use super::{line_fit, Check, Ctx, RunInfo};
 use crate::monitor::ForceSample;
 
 pub const NAME: &str = "cylinder-onset";
-pub const DESCRIPTION: &str = "Onset of shedding: the cylinder case's channel (blockage 0.083) at D / dx = 10, \
+pub const DESCRIPTION: &str = "Onset of shedding: the cylinder case's channel (blockage 0.083) and scheme (shifting, background pressure) at D / dx = 10, \
 Re 35, 45, 55, 70, kicked antisymmetrically at t = 0; late lift amplitude below and above Re_c and the \
 envelope growth rate sigma, fitted linearly in Re (sigma D^2 / nu, Provansal et al. 1987) for the critical Re.";
 
@@ -130,7 +131,7 @@ fn measure(ctx: &Ctx, re: f64) -> anyhow::Result<Onset> {
         T_END_UD,
         SAMPLE_UD,
         cylinder::KICK,
-        &|_| {},
+        &cylinder::confined,
     )?;
     let t: Vec<f64> = samples.iter().map(|s| s.t * U / D).collect();
     let cl = smooth(
