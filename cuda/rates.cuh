@@ -81,7 +81,7 @@ template <int DIM, bool SOLIDS> struct RateSum {
             mo = mzero<DIM>();
         }
         if (!on) return;
-        vi = vload<DIM>(vel, i);
+        vi = vel_load<DIM>(vel, i);
         rhoi = rho[i];
         gi = group[i];
     }
