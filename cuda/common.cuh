@@ -32,19 +32,19 @@ template <int DIM> __device__ __forceinline__ void vstore(float* a, unsigned i, 
         reinterpret_cast<float4*>(a)[i] = make_float4(v.c[0], v.c[1], v.c[2], 0.0f);
     }
 }
-// 3D vectors carry per-particle scalars in their w slot (twin: `flat_v` in
-// src/backend/cuda/buffers.rs), so that the neighbour loops read a neighbour's mass, density
-// and (fluid-only scenes) kind from the two vectors they load anyway instead of three more
-// arrays: pos.w = mass m (constant: written at upload, kept by the drift and the grid's
-// reorder); vel.w = rho, negated on boundary particles (written by the density pass and at
-// upload, kept by the kick). The separate arrays stay the reference; 2D (float2) has no
-// spare slot and reads them.
-template <int DIM> struct Packed { static constexpr bool W = DIM == 3; };
+// Velocities are float4 in both dimensions and carry per-particle scalars in their spare
+// slots (twin: `flat_vel` in src/backend/cuda/buffers.rs), so that the neighbour loops read a
+// neighbour's mass, density and (fluid-only scenes) kind from the vectors they load anyway
+// instead of three more arrays: vel.w = rho, negated on boundary particles (written by the
+// density pass and at upload, kept by the kick); the mass m (constant: written at upload,
+// kept by the kick, the drift and the grid's reorder) is pos.w in 3D and vel.z in 2D (whose
+// positions stay float2: the candidate test loads them, most candidates are rejected). The
+// separate arrays stay the reference.
 // vel.w of a particle of kind k and density rho.
 __device__ __forceinline__ float vel_w(unsigned char k, float rho) { return k == MF_KIND_BOUNDARY ? -rho : rho; }
 // Whether vel.w marks a boundary particle (the sign bit: -0.0 counts).
 __device__ __forceinline__ bool vel_w_boundary(float w) { return (__float_as_uint(w) >> 31) != 0; }
-// Store the DIM components of v, keeping the w slot of a 3D vector.
+// Store the DIM components of v, keeping the w slot of a 3D vector (positions).
 template <int DIM> __device__ __forceinline__ void vstore_keep_w(float* a, unsigned i, Vec<DIM> v) {
     if constexpr (DIM == 2) {
         vstore<DIM>(a, i, v);
@@ -53,7 +53,7 @@ template <int DIM> __device__ __forceinline__ void vstore_keep_w(float* a, unsig
         q[i] = make_float4(v.c[0], v.c[1], v.c[2], q[i].w);
     }
 }
-// Load the DIM components and the w slot (0 in 2D).
+// Load the DIM components and the w slot (0 in 2D) of a position.
 template <int DIM> __device__ __forceinline__ Vec<DIM> vload_w(const float* a, unsigned i, float& w) {
     if constexpr (DIM == 2) {
         w = 0.0f;
@@ -64,6 +64,28 @@ template <int DIM> __device__ __forceinline__ Vec<DIM> vload_w(const float* a, u
         Vec<DIM> v;
         v.c[0] = t.x; v.c[1] = t.y; v.c[2] = t.z;
         return v;
+    }
+}
+// Velocity i (float4 in both dimensions), its w slot in w and, in 2D, the mass (vel.z) in m.
+template <int DIM> __device__ __forceinline__ Vec<DIM> vel_load(const float* v, unsigned i, float& m, float& w) {
+    const float4 t = reinterpret_cast<const float4*>(v)[i];
+    Vec<DIM> r;
+    r.c[0] = t.x; r.c[1] = t.y;
+    if constexpr (DIM == 3) r.c[2] = t.z;
+    m = t.z;  // the mass in 2D only
+    w = t.w;
+    return r;
+}
+template <int DIM> __device__ __forceinline__ Vec<DIM> vel_load(const float* v, unsigned i) {
+    float m, w;
+    return vel_load<DIM>(v, i, m, w);
+}
+// Store velocity i, keeping the scalars in its spare slots (2D: only the first half is written).
+template <int DIM> __device__ __forceinline__ void vel_store(float* v, unsigned i, Vec<DIM> u) {
+    if constexpr (DIM == 2) {
+        reinterpret_cast<float2*>(v)[2 * i] = make_float2(u.c[0], u.c[1]);
+    } else {
+        vstore_keep_w<DIM>(v, i, u);
     }
 }
 
@@ -194,11 +216,11 @@ __device__ __forceinline__ float kernel_f(const SphParams& p, float r) {
     return p.kernel_norm / (p.h * p.h) * shape_f(p.kernel, fast_div(r, p.h));
 }
 
-// The neighbour's kind: in 3D fluid-only scenes from the sign of its vel.w (Packed), else
-// from the kind array.
+// The neighbour's kind: in fluid-only scenes from the sign of its vel.w, else from the kind
+// array.
 template <int DIM, bool SOLIDS>
 __device__ __forceinline__ unsigned char neighbour_kind(const unsigned char* __restrict__ kind, unsigned j, float vw) {
-    if constexpr (Packed<DIM>::W && !SOLIDS)
+    if constexpr (!SOLIDS)
         return vel_w_boundary(vw) ? (unsigned char)MF_KIND_BOUNDARY : (unsigned char)MF_KIND_FLUID;
     else
         return kind[j];
@@ -215,24 +237,24 @@ template <int DIM> struct Neighbour {
     Vec<DIM> v;    // v_j [L/T]
     float m, rho;  // m_j [M], rho_j [M L^-d]
 };
-// j at r = x_i - x_j (r2 = |r|^2), pw the w slot of its stored position: v_j, and in 3D
-// m_j, rho_j and (fluid-only scenes) the kind from the w slots (Packed), else the arrays.
+// j at r = x_i - x_j (r2 = |r|^2), pw the w slot of its stored position (3D: m_j): v_j,
+// m_j, rho_j and (fluid-only scenes) the kind from the spare slots of its position and
+// velocity (see vel_load), else the kind array.
 template <int DIM, bool SOLIDS>
 __device__ __forceinline__ Neighbour<DIM> neighbour(const SphParams& p, unsigned j, Vec<DIM> r, float r2, float pw,
-                                                    const float* __restrict__ vel, const float* __restrict__ rho,
-                                                    const float* __restrict__ mass,
+                                                    const float* __restrict__ vel,
                                                     const unsigned char* __restrict__ kind) {
     Neighbour<DIM> nb;
-    float vw;
+    float vm, vw;
     nb.j = j;
     nb.r = r;
     nb.r2 = r2;
-    nb.v = vload_w<DIM>(vel, j, vw);
+    nb.v = vel_load<DIM>(vel, j, vm, vw);
     nb.kind = neighbour_kind<DIM, SOLIDS>(kind, j, vw);
     nb.rr = fast_norm(r2);
     nb.fw = kernel_f(p, nb.rr);
-    nb.m = Packed<DIM>::W ? pw : mass[j];
-    nb.rho = Packed<DIM>::W ? fabsf(vw) : rho[j];
+    nb.m = DIM == 3 ? pw : vm;
+    nb.rho = fabsf(vw);
     return nb;
 }
 

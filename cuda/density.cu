@@ -109,8 +109,8 @@ __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __re
         pi = pressure(p, ki, r);  // eq. (9)
         pr[i] = pi;
     }
-    // The density in the velocity's w slot (3D; see Packed in common.cuh), every particle.
-    if constexpr (Packed<DIM>::W) reinterpret_cast<float4*>(vel)[i].w = vel_w(ki, active ? r : rho[i]);
+    // The density in the velocity's w slot (see vel_load in common.cuh), every particle.
+    reinterpret_cast<float4*>(vel)[i].w = vel_w(ki, active ? r : rho[i]);
     if (art) {
         if (ki == MF_KIND_SOLID) {
             sstore<DIM>(art, i, n, artificial_stress<DIM>(p, sload<DIM>(stress, i, n), pi, r));

@@ -21,7 +21,7 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
         for_each_neighbor_split<DIM, L, B>(p, cell_start, pos, vload<DIM>(pos, i), lane,
                                            [&](unsigned j, Vec<DIM> r, float r2, float pw) {
             if (j == i) return;
-            f.add(p, i, n, neighbour<DIM, SOLIDS>(p, j, r, r2, pw, vel, rho, mass, kind), pr, group, stress, art);
+            f.add(p, i, n, neighbour<DIM, SOLIDS>(p, j, r, r2, pw, vel, kind), pr, group, stress, art);
         });
     }
     f.template finish<L>(p, i, n, lane, acc_out, red, sh);

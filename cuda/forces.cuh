@@ -67,7 +67,7 @@ template <int DIM, bool SOLIDS> struct ForceSum {
         acc = vzero<DIM>();
         psi = 0.0f;
         if (!on) return;
-        vi = vload<DIM>(vel, i);
+        vi = vel_load<DIM>(vel, i);
         rhoi = rho[i];
         pi = pr[i];
         ci = sound_speed(p, ki);

@@ -31,7 +31,7 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
         for_each_neighbor_split<DIM, L, B>(p, cell_start, pos, vload<DIM>(pos, i), lane,
                                            [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
             if (j == i) return;
-            const Neighbour<DIM> nb = neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, rho, mass, kind);
+            const Neighbour<DIM> nb = neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, kind);
             if (f.on) f.add(p, i, n, nb, pr, group, stress, art);
             r.add(p, nb, group);
         });

@@ -145,11 +145,10 @@ __device__ void sph_grid_gather_body(unsigned n, const unsigned* __restrict__ or
     mass2[k] = mass[o];
     if constexpr (DIM == 2) {
         reinterpret_cast<float2*>(pos2)[k] = reinterpret_cast<const float2*>(pos)[o];
-        reinterpret_cast<float2*>(vel2)[k] = reinterpret_cast<const float2*>(vel)[o];
     } else {
         reinterpret_cast<float4*>(pos2)[k] = reinterpret_cast<const float4*>(pos)[o];
-        reinterpret_cast<float4*>(vel2)[k] = reinterpret_cast<const float4*>(vel)[o];
     }
+    reinterpret_cast<float4*>(vel2)[k] = reinterpret_cast<const float4*>(vel)[o];  // float4 in 2D too
     rho2[k] = rho[o];
     pr2[k] = pr[o];
     if (stress) {

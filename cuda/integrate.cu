@@ -22,7 +22,7 @@ __device__ void sph_kick_body(const SphParams p, unsigned n, const float* __rest
             Vec<DIM> v;
 #pragma unroll
             for (int d = 0; d < DIM; ++d) v.c[d] = p.inflow_velocity[d];
-            vstore_keep_w<DIM>(vel, i, v);
+            vel_store<DIM>(vel, i, v);
             return;
         }
     }
@@ -31,12 +31,12 @@ __device__ void sph_kick_body(const SphParams p, unsigned n, const float* __rest
         Vec<DIM> u;
 #pragma unroll
         for (int d = 0; d < DIM; ++d) u.c[d] = p.driven_velocity[d];
-        vstore_keep_w<DIM>(vel, i, u);
+        vel_store<DIM>(vel, i, u);
         return;
     }
     if (kind[i] == MF_KIND_BOUNDARY) return;
     const float dt = *dt_dev;
-    vstore_keep_w<DIM>(vel, i, vload<DIM>(vel, i) + vload<DIM>(acc, i) * dt);  // w: rho (common.cuh)
+    vel_store<DIM>(vel, i, vel_load<DIM>(vel, i) + vload<DIM>(acc, i) * dt);  // keeps rho, m (common.cuh)
 }
 MF_ENTRY2(sph_kick,
           (const SphParams p, unsigned n, const float* dt_dev, const unsigned char* kind, const unsigned* group,
@@ -68,7 +68,7 @@ __device__ void sph_drift_body(const SphParams p, unsigned n, const float* __res
         for (int d = 0; d < DIM; ++d) u.c[d] = p.driven_velocity[d];
         x = vload<DIM>(pos, i) + u * dt;
     } else {
-        x = vload<DIM>(pos, i) + (vload<DIM>(vel, i) + vload<DIM>(xsph, i)) * dt;
+        x = vload<DIM>(pos, i) + (vel_load<DIM>(vel, i) + vload<DIM>(xsph, i)) * dt;
     }
 #pragma unroll
     for (int d = 0; d < DIM; ++d) {  // wrap on periodic axes
@@ -78,7 +78,7 @@ __device__ void sph_drift_body(const SphParams p, unsigned n, const float* __res
             else if (x.c[d] >= hi) x.c[d] -= hi - lo;
         }
     }
-    vstore_keep_w<DIM>(pos, i, x);  // w: the mass (Packed in common.cuh)
+    vstore_keep_w<DIM>(pos, i, x);  // w: the mass in 3D (vel_load in common.cuh)
     if (stress && k == MF_KIND_SOLID) {
 #pragma unroll
         for (int c = 0; c < Sym<DIM>::N; ++c) stress[c * n + i] += rate[c * n + i] * dt;

@@ -19,7 +19,7 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
         for_each_neighbor_split<DIM, L, B>(p, cell_start, pos, vload<DIM>(pos, i), lane,
                                            [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
             if (j == i) return;
-            r.add(p, neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, rho, mass, kind), group);
+            r.add(p, neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, kind), group);
         });
     }
     r.template finish<L>(p, i, n, lane, stress, drho_out, xsph_out, rate_out);

@@ -81,7 +81,7 @@ template <int DIM, bool SOLIDS> struct RateSum {
             mo = mzero<DIM>();
         }
         if (!on) return;
-        vi = vload<DIM>(vel, i);
+        vi = vel_load<DIM>(vel, i);
         rhoi = rho[i];
         gi = group[i];
     }
@@ -114,7 +114,10 @@ template <int DIM, bool SOLIDS> struct RateSum {
             grad_c = grad_c + gw * (vjv * (1.0f + MF_SHIFT_ANTI_CLUMP * (f * f) * (f * f)));
             div_r -= vjv * dot(r, gw);
         }
-        if (!same_body(p, ki, kj, gi, group[nb.j]) || ki == MF_KIND_BOUNDARY) return;
+        // Without solids every particle is fluid or a wall, and same_body is kj == ki (walls
+        // return here anyway): no load of the neighbour's group.
+        const bool one_body = SOLIDS ? same_body(p, ki, kj, gi, group[nb.j]) : kj == ki;
+        if (!one_body || ki == MF_KIND_BOUNDARY) return;
         const float s = fast_div(mj, 0.5f * (rhoi + rhoj));
         // XSPH, eq. (18), within one material (one body for solids).
         xs = xs - vij * (p.xsph_eps * s * kernel_w(p, rr));

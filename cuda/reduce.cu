@@ -34,7 +34,7 @@ __device__ void sph_diagnostics_body(const SphParams p, unsigned n, const unsign
     float vmax = 0.0f, derr = 0.0f;
     unsigned char k = i < n ? kind[i] : (unsigned char)255;
     if (i < n && k != MF_KIND_BOUNDARY) {
-        Vec<DIM> v = vload<DIM>(vel, i);
+        Vec<DIM> v = vel_load<DIM>(vel, i);
         double m = (double)mass[i], v2 = 0.0;
         for (int a = 0; a < DIM; ++a) {
             v2 += (double)v.c[a] * (double)v.c[a];
@@ -79,7 +79,7 @@ __device__ void sph_check_body(const SphParams p, unsigned n, const unsigned cha
     if (i >= n) return;
     const unsigned char k = kind[i];
     if (k == MF_KIND_BOUNDARY) return;
-    const Vec<DIM> x = vload<DIM>(pos, i), v = vload<DIM>(vel, i);
+    const Vec<DIM> x = vload<DIM>(pos, i), v = vel_load<DIM>(vel, i);
     unsigned code = 0;
     for (int a = 0; a < DIM && !code; ++a)
         if (!isfinite(x.c[a])) code = 1;  // NON_FINITE_POSITION

@@ -398,8 +398,8 @@ fn with_inflow_band(dim: usize, v: Variant) -> Setup {
 
 /// `scene(dim, v)` with the solid body turned into fluid (rest density, no stress): the only
 /// scenes that take the fluid-only entries of forces and rates (`sph_forces_fluid_*`,
-/// `sph_rates_fluid_*`: batches of 8 candidates at one lane, and in 3D the neighbour's kind
-/// read from the sign of its vel.w, `Packed` in cuda/common.cuh).
+/// `sph_rates_fluid_*`: batches of 8 candidates at one lane, and the neighbour's kind read
+/// from the sign of its vel.w, `vel_load` in cuda/common.cuh).
 fn fluid_only(dim: usize, v: Variant) -> Setup {
     fluid_only_of(scene(dim, v))
 }

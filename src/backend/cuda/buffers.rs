@@ -1,8 +1,9 @@
 //! Device arrays and the conversion between `State<D>` (host, glam vectors, full tensors)
 
-//! and the kernels' layout: vectors as float2 (2D) / float4 (3D; position w = mass, velocity
-//! w = density negated on walls, `Packed` in `cuda/common.cuh`; others w = 0),
-//! symmetric tensors as 3 (2D: xx, yy, xy) or 6 (3D: xx, yy, zz, xy, xz, yz) planes.
+//! and the kernels' layout: vectors as float2 (2D) / float4 (3D; position w = mass, others
+//! w = 0), except velocities, float4 in both (w = density negated on walls; 2D z = mass;
+//! `vel_load` in `cuda/common.cuh`), symmetric tensors as 3 (2D: xx, yy, xy) or 6 (3D: xx,
+//! yy, zz, xy, xz, yz) planes.
 
 use std::sync::Arc;
 
@@ -20,6 +21,8 @@ pub fn vstride<D: Dim>() -> usize {
         4
     }
 }
+/// Floats per stored velocity (float4 in both dimensions: `vel_load` in `cuda/common.cuh`).
+pub const VEL_STRIDE: usize = 4;
 /// Stored components of a symmetric tensor.
 pub fn nsym<D: Dim>() -> usize {
     if D::D == 2 {
@@ -120,7 +123,7 @@ impl Buffers {
                 group: a.z(n)?,
                 mass: a.z(n)?,
                 pos: a.z(n * vs)?,
-                vel: a.z(n * vs)?,
+                vel: a.z(n * VEL_STRIDE)?,
                 rho: a.z(n)?,
                 p: a.z(n)?,
                 stress: if solids { Some(a.z(n * ns)?) } else { None },
@@ -190,10 +193,16 @@ impl Buffers {
         s.memcpy_htod(&st.kind, &mut c.kind)?;
         s.memcpy_htod(&st.group, &mut c.group)?;
         s.memcpy_htod(&st.mass, &mut c.mass)?;
-        // 3D: mass and density (negated on walls) in the w slots (`Packed` in cuda/common.cuh).
+        // Mass and density (negated on walls) in the spare slots (`vel_load` in cuda/common.cuh).
         let wall = |i: usize| st.kind[i] as u32 == MF_KIND_BOUNDARY;
         let pos = flat_v::<D>(&st.pos, |i| st.mass[i]);
-        let vel = flat_v::<D>(&st.vel, |i| if wall(i) { -st.rho[i] } else { st.rho[i] });
+        let vel = flat_vel::<D>(&st.vel, &st.mass, |i| {
+            if wall(i) {
+                -st.rho[i]
+            } else {
+                st.rho[i]
+            }
+        });
         s.memcpy_htod(&pos, &mut c.pos)?;
         s.memcpy_htod(&vel, &mut c.vel)?;
         s.memcpy_htod(&st.rho, &mut c.rho)?;
@@ -251,7 +260,7 @@ impl Buffers {
             group: trim(s.clone_dtoh(&c.group)?),
             mass: trimf(s.clone_dtoh(&c.mass)?),
             pos: unflat_v::<D>(&s.clone_dtoh(&c.pos)?, n),
-            vel: unflat_v::<D>(&s.clone_dtoh(&c.vel)?, n),
+            vel: unflat::<D>(&s.clone_dtoh(&c.vel)?, n, VEL_STRIDE),
             rho: trimf(s.clone_dtoh(&c.rho)?),
             p: trimf(s.clone_dtoh(&c.p)?),
             acc: unflat_v::<D>(&s.clone_dtoh(&self.acc)?, n),
@@ -278,8 +287,25 @@ fn flat_v<D: Dim>(v: &[D::V], w: impl Fn(usize) -> f32) -> Vec<f32> {
     }
     out
 }
+/// Velocities -> float4 (`vel_load` in cuda/common.cuh): w = `w(i)`, and in 2D z = the mass.
+fn flat_vel<D: Dim>(v: &[D::V], mass: &[f32], w: impl Fn(usize) -> f32) -> Vec<f32> {
+    let mut out = vec![0.0f32; v.len() * VEL_STRIDE];
+    for (i, x) in v.iter().enumerate() {
+        let a = D::to3(*x);
+        let o = &mut out[i * VEL_STRIDE..(i + 1) * VEL_STRIDE];
+        o[..D::D].copy_from_slice(&a[..D::D]);
+        if D::D == 2 {
+            o[2] = mass[i];
+        }
+        o[3] = w(i);
+    }
+    out
+}
 fn unflat_v<D: Dim>(f: &[f32], n: usize) -> Vec<D::V> {
-    let vs = vstride::<D>();
+    unflat::<D>(f, n, vstride::<D>())
+}
+/// The first D components of each of n vectors stored `vs` floats apart.
+fn unflat<D: Dim>(f: &[f32], n: usize, vs: usize) -> Vec<D::V> {
     (0..n)
         .map(|i| {
             let mut a = [0.0f32; 3];

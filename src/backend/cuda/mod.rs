@@ -378,7 +378,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
             s.memcpy_dtoh(&c.kind, &mut out.kinds)?;
             match shown {
                 Shown::Speed => {
-                    self.host_vel.resize(n * vs, 0.0);
+                    self.host_vel.resize(n * buffers::VEL_STRIDE, 0.0);
                     s.memcpy_dtoh(&c.vel, &mut self.host_vel)?;
                 }
                 Shown::Pressure => s.memcpy_dtoh(&c.p, &mut out.values)?,
@@ -398,7 +398,11 @@ impl<D: Dim> Solver for CudaSolver<D> {
         );
         match shown {
             Shown::Speed => {
-                for (v, x) in out.values.iter_mut().zip(self.host_vel.chunks_exact(vs)) {
+                for (v, x) in out
+                    .values
+                    .iter_mut()
+                    .zip(self.host_vel.chunks_exact(buffers::VEL_STRIDE))
+                {
                     *v = x.iter().take(D::D).map(|c| c * c).sum::<f32>().sqrt();
                 }
             }
