@@ -1,9 +1,9 @@
 //! `[solid] artificial_stress_from`: the artificial stress of Gray, Monaghan & Swift (2001)
 //! from the whole stress sigma = -P I + S (default) or from the deviatoric stress S alone
-//! (`art_stress_deviatoric`, `art_pressure` in cpu/stress.rs). With the whole stress, the
-//! pressure of the continuity density feeds R, and a particle-scale (odd-even) density mode
-//! grows from the start in a finely resolved bending plate (docs/accuracy.md, oscillating
-//! plate at H / dx = 32); from S alone it stays with the bending.
+//! (`art_stress_deviatoric`, `art_pressure` in cpu/stress.rs). With eps 0.3 of the whole
+//! stress a particle-scale (odd-even) pressure mode grows from the start in a finely
+//! resolved bending plate (docs/accuracy.md, oscillating plate at H / dx = 32); from S alone
+//! R is smaller and the mode stays with the bending.
 
 use meshfree::backend::cpu::CpuSolver;
 use meshfree::dim::D2;

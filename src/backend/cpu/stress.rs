@@ -32,10 +32,10 @@ pub fn update_artificial_stress<D: Dim>(p: &SphParams, s: &mut State<D>) {
 }
 
 /// The pressure [M L^-d L^2 T^-2] that enters the artificial stress's sigma: P, or 0 where the
-/// artificial stress is taken from the deviatoric stress alone. With P from the continuity
-/// density, its tension (P < 0) feeds R, and R's pair term, weighted by f_ij^n, weakens the
-/// pressure's restoring force between nearest neighbours: a particle-scale (odd-even)
-/// density mode then grew from the start in the plate at H / dx = 32 (docs/accuracy.md).
+/// artificial stress is taken from the deviatoric stress alone. In the plate at H / dx = 32,
+/// eps 0.3 of the whole stress drives a particle-scale (odd-even) pressure mode from the
+/// start; from S alone R is smaller and the mode stays down, but the plate is softer at
+/// 16 and 32 rows (docs/accuracy.md, oscillating plate).
 #[inline]
 pub fn art_pressure(p: &SphParams, pr: f32) -> f32 {
     if p.art_stress_deviatoric != 0 {
