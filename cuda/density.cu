@@ -54,11 +54,13 @@ __device__ void jacobi_eigen(float a[3][3], int d, float lambda[3], float v[3][3
     lambda[0] = a[0][0]; lambda[1] = a[1][1]; lambda[2] = a[2][2];
 }
 
-// Artificial stress R of a solid particle from sigma = -P I + S, eq. (11): in the principal
+// Artificial stress R of a solid particle from sigma = -P I + S, eq. (11), or from S alone
+// where art_stress_deviatoric is set (art_pressure in stress.rs): in the principal
 // frame R'^aa = -eps sigma'^aa / rho^2 where sigma'^aa > 0 (tension), else 0; rotated back.
 template <int DIM>
 __device__ Mat<DIM> artificial_stress(const SphParams& p, const Mat<DIM>& si, float pi, float rhoi) {
     float a3[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    if (p.art_stress_deviatoric != 0) pi = 0.0f;
     for (int r = 0; r < DIM; ++r)
         for (int c = 0; c < DIM; ++c) a3[r][c] = si.m[r][c] - (r == c ? pi : 0.0f);
     float lam[3], v[3][3];

@@ -87,6 +87,11 @@ typedef struct SphParams {
                                   body that meets only the fluid and other bodies, e.g. the
                                   free end of a gate on the tank floor); 0: they meet, the
                                   default */
+    int32_t art_stress_deviatoric; /* 1: the artificial stress is taken from the deviatoric
+                                      stress S alone, without the pressure of the continuity
+                                      density, whose part drove a particle-scale density mode
+                                      in a fine plate (docs/accuracy.md); 0: from the whole
+                                      sigma = -P I + S (Gray et al. 2001), the default */
 
     /* ---- boundary particles: eq. (17) ---- */
     float lj_c0;           /* [L/T^2] C0, strength of the Lennard-Jones force */

@@ -696,6 +696,15 @@ fn stages_3d_clamp_bonded_to_its_body() {
         clamped_body(3, V_3D_B),
     );
 }
+/// `clamped_body` with the artificial stress taken from the deviatoric stress alone
+/// (`[solid] artificial_stress_from = "deviatoric"`, `art_stress_deviatoric`; `art_pressure`
+/// in stress.rs, `artificial_stress` in density.cu).
+#[test]
+fn stages_2d_clamp_deviatoric_artificial_stress() {
+    let mut setup = clamped_body(2, V_2D_B);
+    setup.params.art_stress_deviatoric = 1;
+    stages_on::<D2>("V_2D_B + clamp, deviatoric artificial stress", setup);
+}
 
 #[test]
 fn stages_2d_dynamic_walls_summation_euler() {

@@ -79,6 +79,8 @@ pub struct SphParams {
     pub interface_stress: i32,
     #[doc = " 1: solid and wall particles skip each other, both ways: no\nLennard-Jones force, eq. (17), no wall pressure, no wall\nneighbour in a solid's density or a solid in a wall's (a\nbody that meets only the fluid and other bodies, e.g. the\nfree end of a gate on the tank floor); 0: they meet, the\ndefault"]
     pub solid_skips_walls: i32,
+    #[doc = " 1: the artificial stress is taken from the deviatoric\nstress S alone, without the pressure of the continuity\ndensity, whose part drove a particle-scale density mode\nin a fine plate (docs/accuracy.md); 0: from the whole\nsigma = -P I + S (Gray et al. 2001), the default"]
+    pub art_stress_deviatoric: i32,
     #[doc = " [L/T^2] C0, strength of the Lennard-Jones force"]
     pub lj_c0: f32,
     #[doc = " [L] r0, the initial particle spacing"]

@@ -257,6 +257,21 @@ pub struct SolidMaterial {
     /// and a body meets only the fluid and other bodies (a gate's free end on the floor).
     #[serde(default = "default_true")]
     pub wall_contact: bool,
+    /// The stress the artificial stress is taken from. Default `stress` (the whole sigma).
+    #[serde(default)]
+    pub artificial_stress_from: ArtStressFrom,
+}
+
+/// The stress whose principal tensions give the artificial stress R (Gray, Monaghan & Swift
+/// 2001).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ArtStressFrom {
+    /// The whole stress sigma = -P I + S, eq. (11): Gray et al. 2001.
+    #[default]
+    Stress,
+    /// The deviatoric stress S alone: the pressure of the continuity density left out.
+    Deviatoric,
 }
 
 /// What a pair across two objects (fluid and body, two bodies, a body and a wall) exchanges

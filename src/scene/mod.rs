@@ -51,6 +51,8 @@
 //!                                    # dynamic walls' pressure and density) | false: they
 //!                                    # skip each other, both ways; a body meets only the
 //!                                    # fluid and other bodies (a gate's free end on the floor)
+//! artificial_stress_from = "stress"  # default: R from sigma = -P I + S (Gray et al. 2001) |
+//!                                    # "deviatoric": from S alone (docs/accuracy.md, plate)
 //!
 //! [boundary]                         # only with walls; eq. (17)
 //! strength = 2500.0                  # C0
@@ -446,6 +448,8 @@ fn scene_params(s: &SceneFile) -> SphParams {
             p.art_stress_n = m.artificial_stress_exponent as f32;
             p.interface_stress = (m.interface == SolidInterface::Stress) as i32;
             p.solid_skips_walls = (!m.wall_contact) as i32;
+            p.art_stress_deviatoric =
+                (m.artificial_stress_from == ArtStressFrom::Deviatoric) as i32;
         }
         None => {
             p.solid_rho0 = p.rho0;

@@ -10,7 +10,9 @@ use crate::params::{SphParams, MF_KIND_SOLID};
 use crate::state::State;
 
 /// The artificial stress R of every solid particle (zero elsewhere), from sigma = -P I + S,
-/// eq. (11), at the current time level. Does nothing where it is switched off.
+/// eq. (11), at the current time level, or from S alone where the scene says so
+/// (`art_stress_deviatoric`, `[solid] artificial_stress_from = "deviatoric"`). Does nothing
+/// where it is switched off.
 pub fn update_artificial_stress<D: Dim>(p: &SphParams, s: &mut State<D>) {
     let (kind, rho, pr) = (&s.kind, &s.rho, &s.p);
     let Some(solid) = s.solid.as_mut() else {
@@ -20,12 +22,26 @@ pub fn update_artificial_stress<D: Dim>(p: &SphParams, s: &mut State<D>) {
     if let Some(art) = solid.art_stress.as_mut() {
         art.par_iter_mut().enumerate().for_each(|(i, r)| {
             *r = if kind[i] as u32 == MF_KIND_SOLID {
-                let sigma = stress[i] - D::identity() * pr[i];
+                let sigma = stress[i] - D::identity() * art_pressure(p, pr[i]);
                 artificial_stress::<D>(sigma, rho[i], p.art_stress_eps)
             } else {
                 D::zero()
             };
         });
+    }
+}
+
+/// The pressure [M L^-d L^2 T^-2] that enters the artificial stress's sigma: P, or 0 where the
+/// artificial stress is taken from the deviatoric stress alone. In the plate at H / dx = 32,
+/// eps 0.3 of the whole stress drives a particle-scale (odd-even) pressure mode from the
+/// start; from S alone R is smaller and the mode stays down, but the plate is softer at
+/// 16 and 32 rows (docs/accuracy.md, oscillating plate).
+#[inline]
+pub fn art_pressure(p: &SphParams, pr: f32) -> f32 {
+    if p.art_stress_deviatoric != 0 {
+        0.0
+    } else {
+        pr
     }
 }
 
