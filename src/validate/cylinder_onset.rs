@@ -4,11 +4,12 @@
 //! 46.2; refdata/cylinder_flow_reference.json, `Re_c_onset_of_shedding`).
 //!
 //! The `cylinder` case's channel (blockage 0.083) and scheme (`cylinder::confined`: particle
-//! shifting and a background pressure) at D / dx = 10, started with the same
-//! antisymmetric kick (`cylinder::kick`), at Re 35, 45, 55 and 70. Per run: the lift's
-//! late amplitude (sqrt 2 x rms Cl over the last quarter, t U / D >= 90) and the linear
-//! growth rate sigma of its envelope (`growth_rate`: the least-squares slope of ln of the
-//! amplitude over windows of one expected shedding period, `window_amplitudes`, from
+//! shifting and a background pressure) at D / dx = 20 (at 10 the lift's force noise is as
+//! large as Re 35's whole amplitude), started with the same antisymmetric kick
+//! (`cylinder::kick`), at Re 35, 45, 55 and 70. Per run: the lift's late amplitude
+//! (sqrt 2 x rms Cl over the last quarter, t U / D >= 90) and the linear growth rate
+//! sigma of its envelope (`growth_rate`: the least-squares slope of ln of the amplitude
+//! over windows of one expected shedding period, `window_amplitudes`, from
 //! t U / D = 20, after the start-up, until the envelope first reaches half its largest
 //! value). As in the Stuart-Landau model of Provansal et al.,
 //! sigma D^2 / nu = sigma D / U x Re is taken linear in Re; the line's zero is Re_c.
@@ -16,8 +17,8 @@
 //! The lift is smoothed first (`cylinder::smooth`, 1.125 D / U) to take out the SPH force
 //! noise. Checks: shedding at Re 70 (late amplitude > 0.05, the unconfined Cl amplitude
 //! there being ~0.2, at Williamson's St within 15 %), none sustained at Re 35 (its late
-//! amplitude at most half Re 70's), and Re_c reported against 46-49. Full tier only (about 5e9 particle-steps: seconds on
-//! the GPU, an hour on two CPU cores); the quick tier skips it (`Case::quick`).
+//! amplitude at most half Re 70's), and Re_c reported against 46-49. Full tier only (about 4e10 particle-steps: about 200 s
+//! on an H100, days on two CPU cores); the quick tier skips it (`Case::quick`).
 
 use super::cylinder::{self, smooth, D, SAMPLE_UD, U};
 use super::plot::{plot, Figure, Series};
@@ -25,13 +26,13 @@ use super::{line_fit, Check, Ctx, RunInfo};
 use crate::monitor::ForceSample;
 
 pub const NAME: &str = "cylinder-onset";
-pub const DESCRIPTION: &str = "Onset of shedding: the cylinder case's channel (blockage 0.083) and scheme (shifting, background pressure) at D / dx = 10, \
+pub const DESCRIPTION: &str = "Onset of shedding: the cylinder case's channel (blockage 0.083) and scheme (shifting, background pressure) at D / dx = 20, \
 Re 35, 45, 55, 70, kicked antisymmetrically at t = 0; late lift amplitude below and above Re_c and the \
 envelope growth rate sigma, fitted linearly in Re (sigma D^2 / nu, Provansal et al. 1987) for the critical Re.";
 
 /// The Reynolds numbers of the sweep, lowest below Re_c and highest above it.
 pub const SWEEP: [f64; 4] = [35.0, 45.0, 55.0, 70.0];
-const D_OVER_DX: f64 = 10.0;
+const D_OVER_DX: f64 = 20.0;
 const T_END_UD: f64 = 120.0;
 /// [D / U] the growth fit starts after the impulsive start's transient.
 const FIT_FROM_UD: f64 = 20.0;
@@ -273,7 +274,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
             &high.run,
         )
         .with_plot(png)
-        .with_note("15 %: blockage 0.083 and D / dx = 10; the shedding frequency, not the noise's"),
+        .with_note("15 %: blockage 0.083 and D / dx = 20; the shedding frequency, not the noise's"),
     );
     for o in &runs {
         let s = o.sigma.unwrap_or(f64::NAN);
@@ -315,7 +316,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
         &all[all.len() - 1],
     )
     .informational()
-    .with_note("the reference file suggests 45-50; reported only: at D / dx = 10 the scheme's numerical viscosity lowers the effective Re");
+    .with_note("the reference file suggests 45-50; reported only: at D / dx = 20 the scheme's numerical viscosity lowers the effective Re");
     row.resolution = format!("Re {re:?}, D / dx = {D_OVER_DX}");
     row.particles = all.iter().map(|r| r.particles).sum();
     row.wall_seconds = all.iter().map(|r| r.wall_seconds).sum();
