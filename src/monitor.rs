@@ -12,7 +12,8 @@
 //! would take them.
 
 use crate::backend::cpu::{
-    artificial_viscosity, couples, laminar, lennard_jones, meets, pressure, wall_pair_stress, Grid,
+    artificial_viscosity, couples, laminar, lennard_jones, meets, pressure, same_body,
+    wall_pair_stress, whole_stress_pair, Grid,
 };
 use crate::dim::{Dim, D2, D3};
 use crate::kernel;
@@ -79,8 +80,6 @@ fn wall_force_d<D: Dim>(p: &SphParams, particles: &[Particle], group: u32) -> [f
             continue;
         }
         let (kj, vj, rhoj, pj) = (s.kind[j], s.vel[j], s.rho[j], s.p[j]);
-        let sig_j =
-            (stress.map_or(D::zero(), |st| st[j]) - D::identity() * pj) * (1.0 / (rhoj * rhoj));
         grid.for_each_neighbor::<D>(p, &s.pos, s.pos[j], |i, r_ji, r2| {
             let ki = s.kind[i];
             if ki as u32 == MF_KIND_BOUNDARY || !meets(p, ki, kj) {
@@ -94,8 +93,15 @@ fn wall_force_d<D: Dim>(p: &SphParams, particles: &[Particle], group: u32) -> [f
             let grad_w = r * fw;
             let mut acc = lennard_jones::<D>(p, r, rr); // eq. (17)
             if couples(p, kj) {
-                let si = stress.map_or(D::zero(), |st| st[i]);
-                let sig_i = (si - D::identity() * pi) * (1.0 / (rhoi * rhoi));
+                // Across two objects (a body and this wall) the pressure part only, unless
+                // the scene passes the whole stress (`whole_stress_pair`, as forces.rs).
+                let whole = whole_stress_pair(p, same_body(p, ki, kj, s.group[i], s.group[j]));
+                let deviatoric = |k: usize| match stress {
+                    Some(st) if whole => st[k],
+                    _ => D::zero(),
+                };
+                let sig_i = (deviatoric(i) - D::identity() * pi) * (1.0 / (rhoi * rhoi));
+                let sig_j = (deviatoric(j) - D::identity() * pj) * (1.0 / (rhoj * rhoj));
                 let sig = wall_pair_stress::<D>(sig_i, sig_j, pi, pj, rhoi, rhoj);
                 acc += D::mat_vec(sig, grad_w) * s.mass[j]; // eqs. (7), (16)
                 let vij = vi - vj;

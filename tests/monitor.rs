@@ -165,3 +165,95 @@ fn wall_force_is_the_wall_part_of_the_force_stage() {
         );
     }
 }
+
+/// The same identity with an elastic block standing on the monitored floor: a body meets a
+/// wall through its pressure only (`[solid] interface = "pressure"`, `whole_stress_pair`),
+/// in the force stage and in the monitor alike; body-body and body-fluid pair terms cancel
+/// in sum m_i a_i as fluid-fluid ones do.
+#[test]
+fn wall_force_with_a_body_on_the_wall_is_the_wall_part_of_the_force_stage() {
+    let text = r#"dimension = 2
+name = "block-on-floor"
+gravity = [0.0, -9.81]
+
+[domain]
+min = [-0.2, -0.2]
+max = [1.2, 1.3]
+
+[discretisation]
+spacing = 0.05
+
+[time]
+end = 1.0
+output_interval = 0.1
+
+[fluid]
+density = 1000.0
+sound_speed = 45.0
+alpha = 0.02
+
+[solid]
+density = 1200.0
+sound_speed = 60.0
+shear_modulus = 2.0e5
+
+[boundary]
+strength = 1962.0
+wall_coupling = "dynamic"
+
+[[fluid_blocks]]
+min = [0.0, 0.0]
+max = [0.5, 0.5]
+hydrostatic = true
+
+[[solids]]
+shape = "box"
+min = [0.6, 0.0]
+max = [0.9, 0.3]
+
+[[walls]]
+shape = "box-container"
+min = [0.0, 0.0]
+max = [1.0, 1.2]
+layers = 3
+"#;
+    let scene = Scene::from_toml(text, "tests/monitor.rs").unwrap();
+    let setup = scene.setup().unwrap();
+    let p = setup.params;
+    let mut c = CpuSolver::<D2>::new(setup);
+    for _ in 0..200 {
+        c.step();
+    }
+    c.build_grid();
+    c.density();
+    c.forces();
+    let s = c.state();
+    assert!(
+        s.solid.as_ref().is_some_and(|so| so
+            .stress
+            .iter()
+            .any(|m| m.abs_diff_eq(Default::default(), 1.0) == false)),
+        "the block carries a deviatoric stress after 200 steps"
+    );
+    let g = D2::from3(p.gravity);
+    let mut expect = [0.0f64; 2];
+    for i in 0..s.len() {
+        if s.kind[i] != Kind::Boundary.code() {
+            let a = D2::to3(s.acc[i] - g);
+            for k in 0..2 {
+                expect[k] -= s.mass[i] as f64 * a[k] as f64;
+            }
+        }
+    }
+    let f = wall_force(&p, &c.particles(), scene.wall_group(0));
+    let scale = expect[1].abs();
+    eprintln!("monitor {f:?}, force stage {expect:?}");
+    for k in 0..2 {
+        assert!(
+            (f[k] - expect[k]).abs() < 1e-4 * scale,
+            "axis {k}: monitor {} vs force stage {}",
+            f[k],
+            expect[k]
+        );
+    }
+}

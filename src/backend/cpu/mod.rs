@@ -9,8 +9,11 @@ mod rates;
 mod reduce;
 mod stress;
 
-pub use density::{couples, meets, pressure};
-pub use forces::{artificial_viscosity, cohesion_over_r, laminar, lennard_jones, wall_pair_stress};
+pub use density::{couples, meets, pressure, same_body};
+pub use forces::{
+    artificial_viscosity, cohesion_over_r, laminar, lennard_jones, wall_pair_stress,
+    whole_stress_pair,
+};
 pub use grid::{cell_coords, cell_index, separation, Grid};
 pub use rates::shift_velocity;
 pub use reduce::step_size;
