@@ -232,7 +232,7 @@ layers = 3
         s.solid.as_ref().is_some_and(|so| so
             .stress
             .iter()
-            .any(|m| m.abs_diff_eq(Default::default(), 1.0) == false)),
+            .any(|m| !m.abs_diff_eq(Default::default(), 1.0))),
         "the block carries a deviatoric stress after 200 steps"
     );
     let g = D2::from3(p.gravity);
