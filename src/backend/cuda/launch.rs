@@ -327,22 +327,37 @@ pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
 }
 
 pub fn forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    launch_forces(k, s, p, b, false);
+}
+
+/// `forces` and `rates` of one state in one neighbour pass (the forward Euler's order).
+pub fn forces_rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    launch_forces(k, s, p, b, true);
+}
+
+/// The forces pass, alone or fused with the rates (`fused`): one argument list, to which the
+/// fused kernel appends the rates' outputs. Fluid-only scenes take the variants without
+/// tensor terms (same signatures).
+fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers, fused: bool) {
     if b.n == 0 {
         return;
     }
     let n = b.n as u32;
     let c = &b.cur;
-    // Fluid-only scenes take the variant without tensor terms (same signature).
     let lanes = k.lanes;
-    let kf = if c.stress.is_some() {
-        k.forces.get(lanes)
-    } else {
-        k.forces_fluid.get(lanes)
+    let kf = match (fused, c.stress.is_some()) {
+        (false, true) => k.forces.get(lanes),
+        (false, false) => k.forces_fluid.get(lanes),
+        (true, true) => k.forces_rates.get(lanes),
+        (true, false) => k.forces_rates_fluid.get(lanes),
     };
     // SAFETY: sph_forces[_fluid]_{1,2,4,8}_{2,3}d(const SphParams p, unsigned n, const unsigned* cell_start,
     // const float* pos, const float* vel, const float* rho, const float* pr, const float* mass,
     // const unsigned char* kind, const unsigned* group, const float* stress, const float* art,
     // float* acc, unsigned* red); stress, art may be null; red holds 3 words.
+    // sph_forces_rates[_fluid]_{1,2,4,8}_{2,3}d takes the same arguments followed by rates'
+    // outputs, float* drho, float* xsph, float* rate (drho and rate may be null, as for the
+    // rates kernel).
     let mut l = s.launch_builder(&kf.f);
     l.arg(p)
         .arg(&n)
@@ -356,44 +371,11 @@ pub fn forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) 
     opt!(l, &c.stress);
     opt!(l, &b.art);
     l.arg(&mut b.acc).arg(&mut b.red);
-    kf.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
-}
-
-/// `forces` and `rates` of one state in one neighbour pass (the forward Euler's order).
-pub fn forces_rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
-    if b.n == 0 {
-        return;
+    if fused {
+        opt!(l, &mut b.drho);
+        l.arg(&mut b.xsph);
+        opt!(l, &mut b.stress_rate);
     }
-    let n = b.n as u32;
-    let c = &b.cur;
-    let lanes = k.lanes;
-    let kf = if c.stress.is_some() {
-        k.forces_rates.get(lanes)
-    } else {
-        k.forces_rates_fluid.get(lanes)
-    };
-    // SAFETY: sph_forces_rates[_fluid]_{1,2,4,8}_{2,3}d(const SphParams p, unsigned n,
-    // const unsigned* cell_start, const float* pos, const float* vel, const float* rho,
-    // const float* pr, const float* mass, const unsigned char* kind, const unsigned* group,
-    // const float* stress, const float* art, float* acc, unsigned* red, float* drho,
-    // float* xsph, float* rate): forces' arguments, then rates' outputs; stress, art, drho
-    // and rate may be null (as for the two kernels); red holds 3 words.
-    let mut l = s.launch_builder(&kf.f);
-    l.arg(p)
-        .arg(&n)
-        .arg(&b.cell_start)
-        .arg(&c.pos)
-        .arg(&c.vel)
-        .arg(&c.rho)
-        .arg(&c.p)
-        .arg(&c.mass);
-    l.arg(&c.kind).arg(&c.group);
-    opt!(l, &c.stress);
-    opt!(l, &b.art);
-    l.arg(&mut b.acc).arg(&mut b.red);
-    opt!(l, &mut b.drho);
-    l.arg(&mut b.xsph);
-    opt!(l, &mut b.stress_rate);
     kf.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
 }
 
