@@ -29,6 +29,7 @@ fn main() {
         "PATH",
         "MESHFREE_REQUIRE_NVCC",
         "MESHFREE_CUDA_ARCH",
+        "MESHFREE_NVCC_FLAGS",
     ] {
         println!("cargo:rerun-if-env-changed={var}");
     }
@@ -138,6 +139,8 @@ fn ptx(out: &Path) {
         nvcc.display()
     );
     let arch = env::var("MESHFREE_CUDA_ARCH").unwrap_or_else(|_| "compute_75".into());
+    // Extra nvcc flags for experiments (e.g. `-DMF_NO_QUEUE` for an A/B measurement).
+    let extra = env::var("MESHFREE_NVCC_FLAGS").unwrap_or_default();
     let mut entries = String::from("pub const MODULES: &[(&str, &str)] = &[\n");
     for src in &sources {
         let stem = src.file_stem().unwrap().to_string_lossy().into_owned();
@@ -145,6 +148,7 @@ fn ptx(out: &Path) {
         let mut cmd = Command::new(&nvcc);
         cmd.args(["--ptx", "-std=c++17", "-O3", "-lineinfo", "-Icuda"])
             .arg(format!("-arch={arch}"))
+            .args(extra.split_whitespace())
             .arg(src)
             .arg("-o")
             .arg(&dst);

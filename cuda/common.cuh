@@ -307,9 +307,12 @@ template <int DIM> __device__ __forceinline__ void cell_coords(const SphParams& 
 __device__ __forceinline__ unsigned cell_index(const SphParams& p, const int c[3]) {
     return (unsigned)(c[0] + p.grid_dims[0] * (c[1] + p.grid_dims[1] * c[2]));
 }
-// Minimum-image r_i - r_j on periodic axes.
-template <int DIM> __device__ __forceinline__ Vec<DIM> separation(const SphParams& p, Vec<DIM> xi, Vec<DIM> xj) {
+// Minimum-image r_i - r_j on periodic axes; PERIODIC = false: the scene has none (the
+// neighbour loops test that once, not per candidate: see neighbour_loop).
+template <int DIM, bool PERIODIC = true>
+__device__ __forceinline__ Vec<DIM> separation(const SphParams& p, Vec<DIM> xi, Vec<DIM> xj) {
     Vec<DIM> r = xi - xj;
+    if constexpr (!PERIODIC) return r;
 #pragma unroll
     for (int a = 0; a < DIM; ++a) {
         if (p.periodic[a]) {
@@ -346,34 +349,88 @@ __device__ __forceinline__ void rows(const SphParams& p, Vec<DIM> xi, R&& row) {
     const int rz = DIM == 3 ? reach : 0;
     const int nx = p.grid_dims[0];
     const float r2max = p.support2;
-    for (int dz = -rz; dz <= rz; ++dz) {
+    // The row at offsets (dz, dy), if the support reaches it.
+    auto visit = [&](int dz, int dy) {
         int cz = ci[2] + dz;
         if (cz < 0 || cz >= p.grid_dims[2]) {
-            if (!p.periodic[2]) continue;
+            if (!p.periodic[2]) return;
             cz = (cz + p.grid_dims[2]) % p.grid_dims[2];
+        }
+        int cy = ci[1] + dy;
+        if (cy < 0 || cy >= p.grid_dims[1]) {
+            if (!p.periodic[1]) return;
+            cy = (cy + p.grid_dims[1]) % p.grid_dims[1];
         }
         float gz = 0.0f;
         if constexpr (DIM == 3) gz = slab_gap2(p, 2, ci[2] + dz, xi.c[2]);
+        const float d2 = gz + slab_gap2(p, 1, ci[1] + dy, xi.c[1]);
+        if (d2 > r2max * (1.0f + MF_PRUNE_SLACK)) return;
+        // Half-width of the support's cross-section at this row, then the x cells it spans.
+        const float w = sqrtf(fmaxf(r2max - d2, 0.0f)) + MF_PRUNE_SLACK * p.support;
+        int x0 = max(ci[0] - reach, (int)floorf((xi.c[0] - w - p.domain_min[0]) / p.cell_size[0]));
+        int x1 = min(ci[0] + reach, (int)floorf((xi.c[0] + w - p.domain_min[0]) / p.cell_size[0]));
+        if (!p.periodic[0]) {
+            x0 = max(x0, 0);
+            x1 = min(x1, nx - 1);
+        }
+        if (x0 > x1) return;
+        row((unsigned)(nx * (cy + p.grid_dims[1] * cz)), x0, x1);
+    };
+    for (int dz = -rz; dz <= rz; ++dz) {
         for (int dy = -reach; dy <= reach; ++dy) {
-            int cy = ci[1] + dy;
-            if (cy < 0 || cy >= p.grid_dims[1]) {
-                if (!p.periodic[1]) continue;
-                cy = (cy + p.grid_dims[1]) % p.grid_dims[1];
-            }
-            const float d2 = gz + slab_gap2(p, 1, ci[1] + dy, xi.c[1]);
-            if (d2 > r2max * (1.0f + MF_PRUNE_SLACK)) continue;
-            // Half-width of the support's cross-section at this row, then the x cells it spans.
-            const float w = sqrtf(fmaxf(r2max - d2, 0.0f)) + MF_PRUNE_SLACK * p.support;
-            int x0 = max(ci[0] - reach, (int)floorf((xi.c[0] - w - p.domain_min[0]) / p.cell_size[0]));
-            int x1 = min(ci[0] + reach, (int)floorf((xi.c[0] + w - p.domain_min[0]) / p.cell_size[0]));
-            if (!p.periodic[0]) {
-                x0 = max(x0, 0);
-                x1 = min(x1, nx - 1);
-            }
-            if (x0 > x1) continue;
-            row((unsigned)(nx * (cy + p.grid_dims[1] * cz)), x0, x1);
+            visit(dz, dy);
         }
     }
+}
+
+// The candidate ranges of one row (see `rows`): a row that does not wrap around a periodic x
+// axis is one contiguous range of storage (cells are x-fastest and the storage is sorted by
+// cell); a wrapping row is taken cell by cell, in the same order. Calls range(s, e) for each.
+template <class F>
+__device__ __forceinline__ void row_ranges(const SphParams& p, const unsigned* __restrict__ cell_start,
+                                           unsigned row, int x0, int x1, F&& range) {
+    const int nx = p.grid_dims[0];
+    if (x0 >= 0 && x1 < nx) {
+        range(cell_start[row + x0], cell_start[row + x1 + 1]);
+        return;
+    }
+    for (int cx = x0; cx <= x1; ++cx) {
+        const unsigned c = row + (unsigned)((cx + nx) % nx);
+        range(cell_start[c], cell_start[c + 1]);
+    }
+}
+
+// Candidates s + lane, s + lane + L, ... < e in batches of B: the B position loads issued
+// before any is used (in flight together), then accept(j) for the accepted ones
+// (|x_i - x_j| < support) in candidate order.
+template <int DIM, int L, int B, bool PERIODIC, class F>
+__device__ __forceinline__ void batch_accept(const SphParams& p, const float* __restrict__ pos, Vec<DIM> xi,
+                                             unsigned s, unsigned e, int lane, F&& accept) {
+    for (unsigned base = s + lane; base < e; base += B * L) {
+        Vec<DIM> xj[B];
+#pragma unroll
+        for (int k = 0; k < B; ++k) xj[k] = vload<DIM>(pos, min(base + k * L, e - 1));
+        unsigned mask = 0;
+#pragma unroll
+        for (int k = 0; k < B; ++k) {
+            const Vec<DIM> r = separation<DIM, PERIODIC>(p, xi, xj[k]);
+            if (base + k * L < e && dot(r, r) < p.support2) mask |= 1u << k;
+        }
+        while (mask) {
+            const int k = __ffs(mask) - 1;
+            mask &= mask - 1;
+            accept(base + k * L);
+        }
+    }
+}
+
+// f(j, r_ij, r_ij^2, w_j) for candidate j, which passed the support test.
+template <int DIM, bool PERIODIC, class F>
+__device__ __forceinline__ void call_neighbour(const SphParams& p, const float* __restrict__ pos, Vec<DIM> xi,
+                                               unsigned j, F&& f) {
+    float wj;
+    const Vec<DIM> r = separation<DIM, PERIODIC>(p, xi, vload_w<DIM>(pos, j, wj));
+    f(j, r, dot(r, r), wj);
 }
 
 // Lanes per particle in the neighbour kernels (density, forces, rates): each particle's
@@ -390,53 +447,45 @@ __device__ __forceinline__ void rows(const SphParams& p, Vec<DIM> xi, R&& row) {
 #ifndef MF_NB_BATCH
 #define MF_NB_BATCH 4
 #endif
-template <int L, bool SOLIDS> struct Batch { static constexpr int B = L == 1 && !SOLIDS ? 8 : MF_NB_BATCH; };
+// Blocks of MF_BLOCK per SM that the fluid-only forces, rates and fused kernels are bounded
+// to (4: 64 registers).
+#ifndef MF_FLUID_BLOCKS
+#define MF_FLUID_BLOCKS 4
+#endif
+#ifndef MF_NB_BATCH_FLUID
+#define MF_NB_BATCH_FLUID 8
+#endif
+template <int L, bool SOLIDS> struct Batch { static constexpr int B = L == 1 && !SOLIDS ? MF_NB_BATCH_FLUID : MF_NB_BATCH; };
 
 // Calls f(j, r_ij, r_ij^2, w_j) for every j (i included) within the support of xi (w_j: the
-// w slot of j's stored position, its mass in 3D; 0 in 2D), the
-// candidates of `rows` split over L lanes (lane l takes every L-th). A row that does not
-// wrap around a periodic x axis is one contiguous range of storage (cells are x-fastest and
-// the storage is sorted by cell); a wrapping row is taken cell by cell, in the same order.
-template <int DIM, int L, int B = MF_NB_BATCH, class F>
+// w slot of j's stored position, its mass in 3D; 0 in 2D), the candidates of `rows` split
+// over L lanes (lane l takes every L-th), in candidate order.
+template <int DIM, int L, int B = MF_NB_BATCH, bool PERIODIC = true, class F>
 __device__ __forceinline__ void for_each_neighbor_split(const SphParams& p, const unsigned* __restrict__ cell_start,
                                                         const float* __restrict__ pos, Vec<DIM> xi, int lane,
                                                         F&& f) {
-    const int nx = p.grid_dims[0];
     rows<DIM>(p, xi, [&](unsigned row, int x0, int x1) {
-        const bool contiguous = x0 >= 0 && x1 < nx;
-        const int ncell = contiguous ? 1 : x1 - x0 + 1;
-        for (int t = 0; t < ncell; ++t) {
-            unsigned s, e;
-            if (contiguous) {
-                s = cell_start[row + x0];
-                e = cell_start[row + x1 + 1];
-            } else {
-                const int cx = (x0 + t + nx) % nx;
-                s = cell_start[row + cx];
-                e = cell_start[row + cx + 1];
-            }
-            // Batches of B candidates: B independent position loads in flight, then the
-            // accepted ones in candidate order (same calls, same order as one by one).
-            for (unsigned base = s + lane; base < e; base += B * L) {
-                unsigned mask = 0;
-#pragma unroll
-                for (int k = 0; k < B; ++k) {
-                    const unsigned j = base + k * L;
-                    const Vec<DIM> r = separation<DIM>(p, xi, vload<DIM>(pos, min(j, e - 1)));
-                    if (j < e && dot(r, r) < p.support2) mask |= 1u << k;
-                }
-                while (mask) {
-                    const int k = __ffs(mask) - 1;
-                    mask &= mask - 1;
-                    const unsigned j = base + k * L;
-                    float wj;
-                    const Vec<DIM> r = separation<DIM>(p, xi, vload_w<DIM>(pos, j, wj));
-                    f(j, r, dot(r, r), wj);
-                }
-            }
-        }
+        row_ranges(p, cell_start, row, x0, x1, [&](unsigned s, unsigned e) {
+            batch_accept<DIM, L, B, PERIODIC>(p, pos, xi, s, e, lane,
+                                              [&](unsigned j) { call_neighbour<DIM, PERIODIC>(p, pos, xi, j, f); });
+        });
     });
 }
+
+// The neighbour loop of the forces and rates kernels (for_each_neighbor_split), with the
+// minimum image compiled in only where the scene has a periodic axis: tested once here, not
+// per candidate. on: whether this lane sums for particle i.
+template <int DIM, int L, int B, class F>
+__device__ __forceinline__ void neighbour_loop(const SphParams& p, const unsigned* __restrict__ cell_start,
+                                               const float* __restrict__ pos, unsigned i, bool on, int lane,
+                                               F&& f) {
+    if (!on) return;
+    if (p.periodic[0] || p.periodic[1] || p.periodic[2])
+        for_each_neighbor_split<DIM, L, B, true>(p, cell_start, pos, vload<DIM>(pos, i), lane, f);
+    else
+        for_each_neighbor_split<DIM, L, B, false>(p, cell_start, pos, vload<DIM>(pos, i), lane, f);
+}
+
 // Sum over the L lanes of a particle (all 32 lanes of the warp must call).
 template <int L> __device__ __forceinline__ float lane_sum(float v) {
 #pragma unroll

@@ -17,13 +17,11 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
     const int lane = (int)(t % L);
     ForceSum<DIM, SOLIDS> f;
     f.begin(p, i, n, i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY, lane, vel, rho, pr, group, stress);
-    if (f.on) {
-        for_each_neighbor_split<DIM, L, B>(p, cell_start, pos, vload<DIM>(pos, i), lane,
-                                           [&](unsigned j, Vec<DIM> r, float r2, float pw) {
-            if (j == i) return;
-            f.add(p, i, n, neighbour<DIM, SOLIDS>(p, j, r, r2, pw, vel, kind), pr, group, stress, art);
-        });
-    }
+    neighbour_loop<DIM, L, B>(p, cell_start, pos, i, f.on, lane,
+                              [&](unsigned j, Vec<DIM> r, float r2, float pw) {
+        if (j == i) return;
+        f.add(p, i, n, neighbour<DIM, SOLIDS>(p, j, r, r2, pw, vel, kind), pr, group, stress, art);
+    });
     f.template finish<L>(p, i, n, lane, acc_out, red, sh);
 }
 
@@ -31,7 +29,7 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
 // fluid only (no tensor registers), picked by the launcher. The fluid-only variants are
 // bounded to 4 blocks of 256 per SM (64 registers), the solid ones to 3.
 #define MF_FORCES_ENTRY(name, DIM, SOLIDS, L)                                                                        \
-    extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 3 : 4)                                         \
+    extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 3 : MF_FLUID_BLOCKS)                                         \
         name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel,      \
              const float* rho, const float* pr, const float* mass, const unsigned char* kind,                    \
              const unsigned* group, const float* stress, const float* art, float* acc, unsigned* red) {           \

@@ -27,15 +27,13 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
     f.begin(p, i, n, ki, lane, vel, rho, pr, group, stress);
     r.begin(p, i, n, ki, vel, rho, group);
     // Every particle with forces has rates (dynamic walls have rates only).
-    if (r.on) {
-        for_each_neighbor_split<DIM, L, B>(p, cell_start, pos, vload<DIM>(pos, i), lane,
-                                           [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
-            if (j == i) return;
-            const Neighbour<DIM> nb = neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, kind);
-            if (f.on) f.add(p, i, n, nb, pr, group, stress, art);
-            r.add(p, nb, group);
-        });
-    }
+    neighbour_loop<DIM, L, B>(p, cell_start, pos, i, r.on, lane,
+                              [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
+        if (j == i) return;
+        const Neighbour<DIM> nb = neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, kind);
+        if (f.on) f.add(p, i, n, nb, pr, group, stress, art);
+        r.add(p, nb, group);
+    });
     f.template finish<L>(p, i, n, lane, acc_out, red, sh);
     r.template finish<L>(p, i, n, lane, stress, drho_out, xsph_out, rate_out);
 }
@@ -44,7 +42,7 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
 // rates; the arguments are those of forces, then those that rates writes. Bounds: as the
 // separate kernels (fluid-only 4 blocks of 256 per SM, with solids 1).
 #define MF_FORCES_RATES_ENTRY(name, DIM, SOLIDS, L)                                                                 \
-    extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 1 : 4)                                        \
+    extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 1 : MF_FLUID_BLOCKS)                                        \
         name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel,      \
              const float* rho, const float* pr, const float* mass, const unsigned char* kind,                    \
              const unsigned* group, const float* stress, const float* art, float* acc, unsigned* red,            \

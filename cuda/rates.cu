@@ -15,13 +15,11 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
     const int lane = (int)(t % L);
     RateSum<DIM, SOLIDS> r;
     r.begin(p, i, n, i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY, vel, rho, group);
-    if (r.on) {
-        for_each_neighbor_split<DIM, L, B>(p, cell_start, pos, vload<DIM>(pos, i), lane,
-                                           [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
-            if (j == i) return;
-            r.add(p, neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, kind), group);
-        });
-    }
+    neighbour_loop<DIM, L, B>(p, cell_start, pos, i, r.on, lane,
+                              [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
+        if (j == i) return;
+        r.add(p, neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, kind), group);
+    });
     r.template finish<L>(p, i, n, lane, stress, drho_out, xsph_out, rate_out);
 }
 
@@ -29,7 +27,7 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
 // signature, picked by the launcher. The fluid-only variants are bounded to 4 blocks of 256
 // per SM (64 registers; unbounded they take 78-79 in 3D: 3 blocks).
 #define MF_RATES_ENTRY(name, DIM, SOLIDS, L)                                                                   \
-    extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 1 : 4)                                   \
+    extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 1 : MF_FLUID_BLOCKS)                                   \
         name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel, \
              const float* rho, const float* mass, const unsigned char* kind, const unsigned* group,          \
              const float* stress, float* drho, float* xsph, float* rate) {                                    \
