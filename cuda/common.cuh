@@ -312,14 +312,15 @@ __device__ __forceinline__ unsigned cell_index(const SphParams& p, const int c[3
 template <int DIM, bool PERIODIC = true>
 __device__ __forceinline__ Vec<DIM> separation(const SphParams& p, Vec<DIM> xi, Vec<DIM> xj) {
     Vec<DIM> r = xi - xj;
-    if constexpr (!PERIODIC) return r;
+    if constexpr (PERIODIC) {
 #pragma unroll
-    for (int a = 0; a < DIM; ++a) {
-        if (p.periodic[a]) {
-            float len = p.domain_max[a] - p.domain_min[a];
-            float d = r.c[a];
-            if (d > 0.5f * len) r.c[a] = d - len;
-            else if (d < -0.5f * len) r.c[a] = d + len;
+        for (int a = 0; a < DIM; ++a) {
+            if (p.periodic[a]) {
+                float len = p.domain_max[a] - p.domain_min[a];
+                float d = r.c[a];
+                if (d > 0.5f * len) r.c[a] = d - len;
+                else if (d < -0.5f * len) r.c[a] = d + len;
+            }
         }
     }
     return r;

@@ -10,7 +10,8 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
                             const float* __restrict__ rho, const float* __restrict__ pr,
                             const float* __restrict__ mass, const unsigned char* __restrict__ kind,
                             const unsigned* __restrict__ group, const float* __restrict__ stress,
-                            const float* __restrict__ art, float* __restrict__ acc_out, unsigned* __restrict__ red) {
+                            const float* __restrict__ art, const unsigned* __restrict__ id,
+                            const float* __restrict__ surf, float* __restrict__ acc_out, unsigned* __restrict__ red) {
     __shared__ float sh[MF_BLOCK / 32];
     const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
     const unsigned i = t / L;
@@ -20,7 +21,7 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
     neighbour_loop<DIM, L, B>(p, cell_start, pos, i, f.on, lane,
                               [&](unsigned j, Vec<DIM> r, float r2, float pw) {
         if (j == i) return;
-        f.add(p, i, n, neighbour<DIM, SOLIDS>(p, j, r, r2, pw, vel, kind), pr, group, stress, art);
+        f.add(p, i, n, neighbour<DIM, SOLIDS>(p, j, r, r2, pw, vel, kind), pr, group, stress, art, id, surf);
     });
     f.template finish<L>(p, i, n, lane, acc_out, red, sh);
 }
@@ -32,8 +33,9 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
     extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 3 : MF_FLUID_BLOCKS)                                         \
         name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel,      \
              const float* rho, const float* pr, const float* mass, const unsigned char* kind,                    \
-             const unsigned* group, const float* stress, const float* art, float* acc, unsigned* red) {           \
-        forces_impl<DIM, SOLIDS, L>(p, n, cell_start, pos, vel, rho, pr, mass, kind, group, stress, art, acc, red); \
+             const unsigned* group, const float* stress, const float* art, const unsigned* id,      \
+             const float* surf, float* acc, unsigned* red) {           \
+        forces_impl<DIM, SOLIDS, L>(p, n, cell_start, pos, vel, rho, pr, mass, kind, group, stress, art, id, surf, acc, red); \
     }
 #define MF_FORCES_LANES(L)                                \
     MF_FORCES_ENTRY(sph_forces_##L##_2d, 2, true, L)       \

@@ -25,6 +25,25 @@ __device__ __forceinline__ float laminar(const SphParams& p, float r2, float f, 
     return p.nu * (rho_i + rho_j) / (rho_i * rho_j) * (r2 * f) / (r2 + p.visc_eta2);
 }
 
+// The no-slip factor beta of Morris, Fox & Zhu 1997 (boundary conditions) for the laminar
+// term between fluid particle A and wall particle B at r = x_A - x_B [L]: B takes the
+// velocity v_w - (d_B / d_A) (v_A - v_w), so v_AB = beta (v_A - v_w),
+// beta = min(beta_max, 1 + d_B / d_A) [-]. surf = (n, d_B) per boundary particle
+// (Setup::wall_surface, at id - wall_first_id): n the unit normal into the fluid, d_B [L]
+// B's distance behind the surface; d_A = r . n - d_B [L]. Twin of `no_slip_factor` in
+// cpu/forces.rs.
+template <int DIM>
+__device__ __forceinline__ float no_slip_factor(const SphParams& p, Vec<DIM> r, const float* __restrict__ surf,
+                                                unsigned b) {
+    const float4 s = reinterpret_cast<const float4*>(surf)[b];
+    Vec<DIM> nrm;
+    nrm.c[0] = s.x;
+    nrm.c[1] = s.y;
+    if constexpr (DIM == 3) nrm.c[2] = s.z;
+    const float d_a = dot(r, nrm) - s.w;
+    return d_a > 0.0f ? fminf(1.0f + s.w / d_a, p.no_slip_beta_max) : p.no_slip_beta_max;
+}
+
 // Cohesion spline of Akinci, Akinci & Teschner 2013, eq. (2), over s = 2h, divided by r
 // (3D normalisation in 2D too); twin of `cohesion_over_r` in cpu/forces.rs. [L^-d-1]
 __device__ __forceinline__ float cohesion_over_r(float support, float rr) {
@@ -89,10 +108,12 @@ template <int DIM, bool SOLIDS> struct ForceSum {
         }
     }
 
-    // Neighbour nb (j != i).
+    // Neighbour nb (j != i). id and surf (null unless no_slip): the wall surface of Morris's
+    // no-slip walls (no_slip_factor).
     __device__ __forceinline__ void add(const SphParams& p, unsigned i, unsigned n, const Neighbour<DIM>& nb,
                                         const float* __restrict__ pr, const unsigned* __restrict__ group,
-                                        const float* __restrict__ stress, const float* __restrict__ art) {
+                                        const float* __restrict__ stress, const float* __restrict__ art,
+                                        const unsigned* __restrict__ id, const float* __restrict__ surf) {
         const unsigned j = nb.j;
         const unsigned char kj = nb.kind;
         const Vec<DIM> r = nb.r;
@@ -143,8 +164,14 @@ template <int DIM, bool SOLIDS> struct ForceSum {
         const float rho_bar = 0.5f * (rhoi + rhoj);
         const float pij = artificial_viscosity(p, vr, r2, c_bar, rho_bar);
         acc = acc - gw * (mj * pij);
-        if (p.nu > 0.0f && (ki == MF_KIND_FLUID || kj == MF_KIND_FLUID))
-            acc = acc + vij * (mj * laminar(p, r2, fw, rhoi, rhoj));
+        // Laminar viscosity (Morris et al. 1997); a wall's velocity extrapolated under
+        // no_slip (twin of `laminar_velocity` in cpu/forces.rs).
+        if (p.nu > 0.0f && (ki == MF_KIND_FLUID || kj == MF_KIND_FLUID)) {
+            Vec<DIM> v_visc = vij;
+            if (p.no_slip == MF_NO_SLIP_MORRIS && kj == MF_KIND_BOUNDARY)
+                v_visc = vij * no_slip_factor<DIM>(p, r, surf, id[j] - p.wall_first_id);
+            acc = acc + v_visc * (mj * laminar(p, r2, fw, rhoi, rhoj));
+        }
         // Fluid-fluid cohesion, Akinci et al. 2013, eq. (2): -gamma m_j C(r) r_ij / r
         // (uniform branch: nothing when gamma = 0).
         if (p.cohesion != 0.0f && ki == MF_KIND_FLUID && kj == MF_KIND_FLUID)

@@ -14,7 +14,8 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
                                   const float* __restrict__ rho, const float* __restrict__ pr,
                                   const float* __restrict__ mass, const unsigned char* __restrict__ kind,
                                   const unsigned* __restrict__ group, const float* __restrict__ stress,
-                                  const float* __restrict__ art, float* __restrict__ acc_out,
+                                  const float* __restrict__ art, const unsigned* __restrict__ id,
+                                  const float* __restrict__ surf, float* __restrict__ acc_out,
                                   unsigned* __restrict__ red, float* __restrict__ drho_out,
                                   float* __restrict__ xsph_out, float* __restrict__ rate_out) {
     __shared__ float sh[MF_BLOCK / 32];
@@ -31,7 +32,7 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
                               [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
         if (j == i) return;
         const Neighbour<DIM> nb = neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, kind);
-        if (f.on) f.add(p, i, n, nb, pr, group, stress, art);
+        if (f.on) f.add(p, i, n, nb, pr, group, stress, art, id, surf);
         r.add(p, nb, group);
     });
     f.template finish<L>(p, i, n, lane, acc_out, red, sh);
@@ -45,9 +46,10 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
     extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 1 : MF_FLUID_BLOCKS)                                        \
         name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel,      \
              const float* rho, const float* pr, const float* mass, const unsigned char* kind,                    \
-             const unsigned* group, const float* stress, const float* art, float* acc, unsigned* red,            \
+             const unsigned* group, const float* stress, const float* art, const unsigned* id,      \
+             const float* surf, float* acc, unsigned* red,            \
              float* drho, float* xsph, float* rate) {                                                            \
-        forces_rates_impl<DIM, SOLIDS, L>(p, n, cell_start, pos, vel, rho, pr, mass, kind, group, stress, art, acc, \
+        forces_rates_impl<DIM, SOLIDS, L>(p, n, cell_start, pos, vel, rho, pr, mass, kind, group, stress, art, id, surf, acc, \
                                           red, drho, xsph, rate);                                                \
     }
 #define MF_FORCES_RATES_LANES(L)                                      \

@@ -34,6 +34,12 @@
 #define MF_KIND_SOLID 1
 #define MF_KIND_BOUNDARY 2
 
+/* How dynamic walls enter the laminar viscosity (`no_slip`). */
+#define MF_NO_SLIP_WALL_VELOCITY 0 /* with the wall particles' own velocity (the default) */
+#define MF_NO_SLIP_MORRIS 1        /* Morris, Fox & Zhu 1997 (J. Comput. Phys. 136, 214),
+                                      boundary conditions: the wall particle's velocity
+                                      extrapolated across the wall surface */
+
 typedef struct SphParams {
     /* ---- geometry and neighbour grid ---- */
     int32_t dim;           /* 2 or 3 */
@@ -102,6 +108,18 @@ typedef struct SphParams {
     int32_t wall_pressure; /* 1: dynamic walls (Crespo 2007): boundary particles carry density
                               and Tait pressure, enter the pressure and viscosity sums (no
                               leaks, no-slip); 0: the paper's form, Lennard-Jones only */
+    int32_t no_slip;       /* MF_NO_SLIP_*: the laminar term between a fluid particle A and a
+                              dynamic wall particle B. MORRIS (Morris, Fox & Zhu 1997): B
+                              takes the velocity v_w - (d_B / d_A) (v_A - v_w), with d_A, d_B
+                              the distances of A and B from the wall surface and v_w the
+                              wall's velocity, so v_AB = beta (v_A - v_w),
+                              beta = min(no_slip_beta_max, 1 + d_B / d_A); needs
+                              Setup::wall_surface. The laminar term only: pressure, density
+                              and artificial viscosity see v_w */
+    float no_slip_beta_max; /* [-] cap of beta (Morris et al. 1997: 1.5), against the
+                               singular d_B / d_A of fluid next to the surface */
+    uint32_t wall_first_id; /* the smallest id of a boundary particle: Setup::wall_surface is
+                               indexed by id - wall_first_id (set with it by Scene::setup) */
 
     /* ---- prescribed motion: pistons, clamps, inflow bands ---- */
     int32_t driven;             /* 1: particles of scene group `driven_group` (any kind) move at

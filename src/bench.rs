@@ -181,6 +181,7 @@ pub fn dam_break(dim: u32, n_fluid: usize) -> Setup {
     Setup {
         params: p,
         particles: out,
+        wall_surface: Vec::new(),
     }
 }
 

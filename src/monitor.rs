@@ -12,8 +12,8 @@
 //! would take them.
 
 use crate::backend::cpu::{
-    artificial_viscosity, couples, laminar, lennard_jones, meets, pressure, same_body,
-    wall_pair_stress, whole_stress_pair, Grid,
+    artificial_viscosity, couples, laminar, laminar_velocity, lennard_jones, meets, pressure,
+    same_body, wall_pair_stress, whole_stress_pair, Grid,
 };
 use crate::dim::{Dim, D2, D3};
 use crate::kernel;
@@ -22,14 +22,20 @@ use crate::particle::{Kind, Particle};
 use crate::state::State;
 
 /// The force [M L T^-2] that fluid and solid particles exert on the boundary particles of
-/// scene group `group`, as three numbers (z = 0 in 2D).
-pub fn wall_force(p: &SphParams, particles: &[Particle], group: u32) -> [f64; 3] {
+/// scene group `group`, as three numbers (z = 0 in 2D). `surface`: the solver's
+/// `Setup::wall_surface` (`Solver::wall_surface`; empty unless `no_slip`).
+pub fn wall_force(
+    p: &SphParams,
+    particles: &[Particle],
+    surface: &[[f32; 4]],
+    group: u32,
+) -> [f64; 3] {
     let near = near_wall(p, particles, group);
     let particles = near.as_deref().unwrap_or(particles);
     if p.dim == 2 {
-        wall_force_d::<D2>(p, particles, group)
+        wall_force_d::<D2>(p, particles, surface, group)
     } else {
-        wall_force_d::<D3>(p, particles, group)
+        wall_force_d::<D3>(p, particles, surface, group)
     }
 }
 
@@ -66,7 +72,12 @@ fn near_wall(p: &SphParams, particles: &[Particle], group: u32) -> Option<Vec<Pa
     )
 }
 
-fn wall_force_d<D: Dim>(p: &SphParams, particles: &[Particle], group: u32) -> [f64; 3] {
+fn wall_force_d<D: Dim>(
+    p: &SphParams,
+    particles: &[Particle],
+    surface: &[[f32; 4]],
+    group: u32,
+) -> [f64; 3] {
     let mut s = State::<D>::from_particles(particles, false, false);
     for i in 0..s.len() {
         s.p[i] = pressure(p, s.kind[i], s.rho[i]); // eq. (9)
@@ -111,7 +122,8 @@ fn wall_force_d<D: Dim>(p: &SphParams, particles: &[Particle], group: u32) -> [f
                 let pi_ij = artificial_viscosity(p, vr, r2, c_bar, rho_bar); // eq. (10)
                 acc -= grad_w * (s.mass[j] * pi_ij);
                 if p.nu > 0.0 && ki as u32 == MF_KIND_FLUID {
-                    acc += vij * (s.mass[j] * laminar(p, r2, fw, rhoi, rhoj));
+                    let v_visc = laminar_velocity::<D>(p, surface, kj, s.id[j], r, vij);
+                    acc += v_visc * (s.mass[j] * laminar(p, r2, fw, rhoi, rhoj));
                 }
             }
             let a = D::to3(acc);
@@ -311,8 +323,9 @@ impl Monitors {
         }
         let particles = solver.particles();
         let p = *solver.params();
+        let surface = solver.wall_surface();
         for m in self.list.iter_mut().filter(|m| t + eps >= m.next) {
-            let force = wall_force(&p, &particles, m.group);
+            let force = wall_force(&p, &particles, surface, m.group);
             let (u, d) = (m.spec.reference_velocity, m.spec.reference_length);
             let q = 0.5 * self.rho0 * u * u * d.powi(self.dim - 1);
             let s = ForceSample {

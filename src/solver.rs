@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::params::{SphParams, MF_INTEGRATOR_EULER};
+use crate::params::{SphParams, MF_INTEGRATOR_EULER, MF_NO_SLIP_WALL_VELOCITY};
 use crate::particle::{Kind, Particle};
 
 /// Everything a backend needs to start: the derived parameters and the initial particles.
@@ -11,11 +11,37 @@ use crate::particle::{Kind, Particle};
 pub struct Setup {
     pub params: SphParams,
     pub particles: Vec<Particle>,
+    /// Per boundary particle, at index id - `params.wall_first_id`: the unit normal of the
+    /// nearest wall surface, pointing into the fluid (x, y, z; z = 0 in 2D) [-], and the
+    /// particle's distance behind that surface d_B [L]. Only for `params.no_slip` (Morris,
+    /// Fox & Zhu 1997); empty otherwise. One entry per boundary particle, none per fluid
+    /// particle.
+    pub wall_surface: Vec<[f32; 4]>,
 }
 
 impl Setup {
     pub fn has_solids(&self) -> bool {
         self.particles.iter().any(|p| p.kind == Kind::Solid)
+    }
+
+    /// Why `wall_surface` cannot serve `params.no_slip`: a boundary particle whose id falls
+    /// outside it. None when it can, or when no_slip is off.
+    pub fn wall_surface_error(&self) -> Option<String> {
+        if self.params.no_slip as u32 == MF_NO_SLIP_WALL_VELOCITY {
+            return None;
+        }
+        let (first, n) = (self.params.wall_first_id, self.wall_surface.len());
+        self.particles
+            .iter()
+            .find(|q| q.kind == Kind::Boundary && (q.id < first || (q.id - first) as usize >= n))
+            .map(|q| {
+                format!(
+                    "no_slip needs a wall surface entry for every boundary particle: particle {} \
+                     is outside ids {first}..{} of Setup::wall_surface",
+                    q.id,
+                    first as usize + n
+                )
+            })
     }
 }
 
@@ -191,4 +217,7 @@ pub trait Solver: Send {
     }
     /// Remove every particle of a scene group (opening a gate). Returns how many went.
     fn remove_group(&mut self, group: u32) -> usize;
+    /// `Setup::wall_surface` as the solver took it (empty unless `no_slip`), for the force
+    /// monitors, which repeat the wall pair terms of the force stage.
+    fn wall_surface(&self) -> &[[f32; 4]];
 }

@@ -81,6 +81,7 @@ fn drop(cohesion: f32, rim_speed: f32) -> meshfree::solver::Setup {
     meshfree::solver::Setup {
         params: p,
         particles,
+        wall_surface: Vec::new(),
     }
 }
 

@@ -46,6 +46,7 @@ fn momentum_is_conserved_without_walls_or_gravity() {
         let mut s = cpu_solver(Setup {
             params: p,
             particles: ps.clone(),
+            wall_surface: Vec::new(),
         });
         assert!(s.has_solids());
         let before = momentum(s.as_mut());
@@ -122,6 +123,7 @@ fn spinning_elastic_disc_in_free_fall_keeps_its_shape() {
     let mut s = cpu_solver(Setup {
         params: p,
         particles: ps,
+        wall_surface: Vec::new(),
     });
     while s.time() < 0.3 {
         s.step();

@@ -5,7 +5,8 @@
 //! with an inflow band); the stages run in the order of `Solver::step` for the variant's
 //! integrator (forward Euler: the GPU's fused `forces_and_rates` pass against the CPU's two
 //! stages). Then diagnostics after 200 steps; the fused pass against the GPU's two separate
-//! passes, bit for bit; and the `SphParams` layout as nvcc sees it.
+//! passes, bit for bit; and the `SphParams` layout as nvcc sees it. Morris's no-slip walls
+//! (`no_slip`) run in five stage scenes, a long run and the fused-pass check.
 //!
 //! Without a usable GPU each test prints why and passes; with `MESHFREE_REQUIRE_CUDA=1` it
 //! fails instead.
@@ -230,6 +231,7 @@ fn scene_with(dim: usize, v: Variant, vel_amp: f32) -> Setup {
     Setup {
         params: p,
         particles: out,
+        wall_surface: Vec::new(),
     }
 }
 
@@ -783,6 +785,74 @@ fn diagnostics_after_200_steps_3d_fluid_only_euler() {
     long_run_on::<D3>("V_3D_B fluid only", setup, 200);
 }
 
+/// `setup` with the no-slip walls of Morris, Fox & Zhu 1997 (`no_slip`, cap `beta_max`):
+/// the wall surface of the parity scenes is the fluid's box, y >= 0 (and 0 <= z <= lz in
+/// 3D), so each wall particle faces the nearest point of it (diagonally at the 3D edges).
+/// The parity scenes number walls among the fluid, so `wall_surface` spans the smallest to
+/// the largest wall id with unused entries between.
+fn with_no_slip(mut setup: Setup, beta_max: f32) -> Setup {
+    let p = &mut setup.params;
+    p.no_slip = params::MF_NO_SLIP_MORRIS as i32;
+    p.no_slip_beta_max = beta_max;
+    let d3 = p.dim == 3;
+    let lz = p.domain_max[2] - 3.0 * p.dx; // `scene_with`: the domain's z runs to lz + 3 dx
+    let lo = [f32::NEG_INFINITY, 0.0, 0.0];
+    let hi = [f32::INFINITY, f32::INFINITY, if d3 { lz } else { 0.0 }];
+    let walls = || setup.particles.iter().filter(|q| q.kind == Kind::Boundary);
+    let first = walls().map(|q| q.id).min().expect("walls");
+    let last = walls().map(|q| q.id).max().expect("walls");
+    let mut surface = vec![[0.0f32; 4]; (last - first) as usize + 1];
+    for q in walls() {
+        let x = q.position;
+        let v: [f32; 3] = std::array::from_fn(|a| x[a].clamp(lo[a], hi[a]) - x[a]);
+        let d = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        surface[(q.id - first) as usize] = [v[0] / d, v[1] / d, v[2] / d, d];
+    }
+    setup.params.wall_first_id = first;
+    setup.wall_surface = surface;
+    setup
+}
+
+/// Symplectic Euler (the separate forces kernel) with dynamic walls and laminar viscosity.
+const V_2D_SYMPLECTIC_LAMINAR: Variant = Variant {
+    dynamic_walls: true,
+    laminar: true,
+    ..V_2D_B
+};
+
+#[test]
+fn stages_2d_no_slip_walls_summation_euler() {
+    let setup = with_no_slip(scene(2, V_2D_A), 2.0);
+    stages_on::<D2>("V_2D_A + Morris no-slip walls", setup);
+}
+#[test]
+fn stages_2d_no_slip_driven_wall_symplectic() {
+    // A moving wall (v_w != 0) under the separate forces kernel.
+    let setup = driven_cohesive(2, V_2D_SYMPLECTIC_LAMINAR, 0, [0.5, 0.0, 0.0]);
+    let setup = with_no_slip(setup, 2.0);
+    stages_on::<D2>("2D symplectic + driven Morris no-slip wall", setup);
+}
+#[test]
+fn stages_3d_no_slip_walls_continuity_euler() {
+    let setup = with_no_slip(scene(3, V_3D_B), 2.0);
+    stages_on::<D3>("V_3D_B + Morris no-slip walls", setup);
+}
+#[test]
+fn stages_3d_fluid_only_no_slip_walls_continuity_euler() {
+    let setup = with_no_slip(fluid_only(3, V_3D_B), 2.0);
+    stages_on::<D3>("V_3D_B fluid only + Morris no-slip walls", setup);
+}
+#[test]
+fn stages_2d_fluid_only_no_slip_walls_symplectic() {
+    let setup = with_no_slip(fluid_only(2, V_2D_SYMPLECTIC_LAMINAR), 2.0);
+    stages_on::<D2>("2D symplectic fluid only + Morris no-slip walls", setup);
+}
+#[test]
+fn diagnostics_after_200_steps_2d_no_slip_walls_euler() {
+    let setup = with_no_slip(scene_with(2, V_2D_A, 0.05), 2.0);
+    long_run_on::<D2>("V_2D_A + Morris no-slip walls", setup, 200);
+}
+
 /// The fused `forces_and_rates` pass against `rates` then `forces` on the GPU, from one
 /// state, at every lane count: each sum runs over the same neighbours in the same order, so
 /// accelerations, rates and the step size agree bit for bit.
@@ -837,6 +907,12 @@ fn fused_pass_equals_two_passes_3d() {
     fused_equals_two_passes::<D3>("3D V_3D_B", scene(3, V_3D_B));
     fused_equals_two_passes::<D3>("3D V_3D_B fluid only", fluid_only(3, V_3D_B));
     fused_equals_two_passes::<D3>("3D V_3D_A fluid only", fluid_only(3, V_3D_A));
+}
+#[test]
+fn fused_pass_equals_two_passes_no_slip_walls() {
+    let (s2, s3) = (scene(2, V_2D_A), fluid_only(3, V_3D_B));
+    fused_equals_two_passes::<D2>("2D V_2D_A + no-slip walls", with_no_slip(s2, 2.0));
+    fused_equals_two_passes::<D3>("3D V_3D_B fluid only + no-slip", with_no_slip(s3, 2.0));
 }
 
 #[test]

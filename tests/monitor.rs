@@ -8,6 +8,7 @@ use meshfree::dim::{Dim, D2};
 use meshfree::monitor::{dominant_frequency, wall_force, ForceSample, MonitorSummary};
 use meshfree::particle::Kind;
 use meshfree::run::{self, Gates};
+use meshfree::scene::format::NoSlip;
 use meshfree::scene::Scene;
 use meshfree::solver::Solver;
 
@@ -104,7 +105,7 @@ fn resting_tank_wall_carries_the_fluid_weight() {
     let mut mean = [0.0f64; 3];
     for k in 1..=n {
         run::advance_to(s.as_mut(), &mut gates, 0.3 + 0.5 * k as f64 / n as f64).unwrap();
-        let f = wall_force(&p, &s.particles(), group);
+        let f = wall_force(&p, &s.particles(), s.wall_surface(), group);
         for a in 0..3 {
             mean[a] += f[a] / n as f64;
         }
@@ -146,7 +147,7 @@ fn check_monitor_against_force_stage(scene: &Scene) -> CpuSolver<D2> {
             }
         }
     }
-    let f = wall_force(&p, &c.particles(), scene.wall_group(0));
+    let f = wall_force(&p, &c.particles(), c.wall_surface(), scene.wall_group(0));
     let scale = expect[1].abs();
     eprintln!("monitor {f:?}, force stage {expect:?}");
     for k in 0..2 {
@@ -170,6 +171,20 @@ fn wall_force_is_the_wall_part_of_the_force_stage() {
         .with_spacing(0.05)
         .unwrap();
     scene.file.fluid.viscosity = 0.01;
+    scene.revalidate().unwrap();
+    check_monitor_against_force_stage(&scene);
+}
+
+/// The same with the no-slip walls of Morris et al. 1997 (`[boundary] no_slip = "morris"`):
+/// the monitor takes the wall particles' extrapolated velocity as the force stage does.
+#[test]
+fn wall_force_is_the_wall_part_of_the_force_stage_with_no_slip_walls() {
+    let mut scene = Scene::builtin("tank-2d")
+        .unwrap()
+        .with_spacing(0.05)
+        .unwrap();
+    scene.file.fluid.viscosity = 0.01;
+    scene.file.boundary.as_mut().unwrap().no_slip = NoSlip::Morris;
     scene.revalidate().unwrap();
     check_monitor_against_force_stage(&scene);
 }

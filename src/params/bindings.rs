@@ -10,6 +10,8 @@ pub const MF_CELL_REACH: u32 = 2;
 pub const MF_KIND_FLUID: u32 = 0;
 pub const MF_KIND_SOLID: u32 = 1;
 pub const MF_KIND_BOUNDARY: u32 = 2;
+pub const MF_NO_SLIP_WALL_VELOCITY: u32 = 0;
+pub const MF_NO_SLIP_MORRIS: u32 = 1;
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct SphParams {
@@ -93,6 +95,12 @@ pub struct SphParams {
     pub lj_attractive: i32,
     #[doc = " 1: dynamic walls (Crespo 2007): boundary particles carry density\nand Tait pressure, enter the pressure and viscosity sums (no\nleaks, no-slip); 0: the paper's form, Lennard-Jones only"]
     pub wall_pressure: i32,
+    #[doc = " MF_NO_SLIP_*: the laminar term between a fluid particle A and a\ndynamic wall particle B. MORRIS (Morris, Fox & Zhu 1997): B\ntakes the velocity v_w - (d_B / d_A) (v_A - v_w), with d_A, d_B\nthe distances of A and B from the wall surface and v_w the\nwall's velocity, so v_AB = beta (v_A - v_w),\nbeta = min(no_slip_beta_max, 1 + d_B / d_A); needs\nSetup::wall_surface. The laminar term only: pressure, density\nand artificial viscosity see v_w"]
+    pub no_slip: i32,
+    #[doc = " [-] cap of beta (Morris et al. 1997: 1.5), against the\nsingular d_B / d_A of fluid next to the surface"]
+    pub no_slip_beta_max: f32,
+    #[doc = " the smallest id of a boundary particle: Setup::wall_surface is\nindexed by id - wall_first_id (set with it by Scene::setup)"]
+    pub wall_first_id: u32,
     #[doc = " 1: particles of scene group `driven_group` (any kind) move at\n`driven_velocity`, whatever the forces (a piston, a clamp)"]
     pub driven: i32,
     #[doc = " the scene group id"]

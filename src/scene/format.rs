@@ -303,6 +303,25 @@ pub enum WallCoupling {
     LennardJonesOnly,
 }
 
+/// How dynamic walls enter the laminar viscosity (`[boundary] no_slip`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum NoSlip {
+    /// With the wall particles' own velocity (zero, or a driven wall's): the wall slips by
+    /// O(dx) (docs/accuracy.md, Poiseuille).
+    #[default]
+    WallVelocity,
+    /// Morris, Fox & Zhu 1997: for the viscous term only, wall particle B takes the velocity
+    /// v_w - (d_B / d_A) (v_A - v_w) extrapolated across the wall surface from fluid
+    /// particle A (d = distance from the surface), with beta = 1 + d_B / d_A capped at
+    /// `no_slip_beta_max`. Needs `fluid.viscosity` > 0 and dynamic walls.
+    Morris,
+}
+
+pub(crate) fn default_beta_max() -> f64 {
+    1.5
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BoundaryMaterial {
@@ -323,6 +342,15 @@ pub struct BoundaryMaterial {
     /// Default "dynamic".
     #[serde(default)]
     pub wall_coupling: WallCoupling,
+    /// Default "wall-velocity"; "morris": the extrapolated wall velocity of Morris, Fox &
+    /// Zhu 1997 in the laminar viscosity.
+    #[serde(default)]
+    pub no_slip: NoSlip,
+    /// [-] Cap of Morris's beta = 1 + d_B / d_A. Default 1.5 (Morris et al. 1997), which
+    /// binds on the first fluid row of a lattice (d_A = dx/2); 4 does not within the
+    /// support (docs/accuracy.md, Poiseuille). The viscous step limit does not count beta.
+    #[serde(default = "default_beta_max")]
+    pub no_slip_beta_max: f64,
 }
 
 fn default_p1() -> i32 {

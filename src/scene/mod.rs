@@ -61,6 +61,10 @@
 //! p2 = 6                             # default 6
 //! attractive = false                 # default false
 //! wall_coupling = "dynamic"          # default | "lennard-jones-only" (the paper)
+//! no_slip = "wall-velocity"          # default: walls enter the laminar viscosity with their
+//!                                    # own velocity | "morris": extrapolated across the wall
+//!                                    # surface (Morris, Fox & Zhu 1997; dynamic walls, nu > 0)
+//! no_slip_beta_max = 1.5             # default 1.5: cap of Morris's 1 + d_B / d_A
 //!
 //! [[fluid_blocks]]
 //! min = [0.0, 0.0]
@@ -349,9 +353,19 @@ impl Scene {
                 ),
             });
         }
+        let mut params = self.params();
+        // The wall surface for Morris et al.'s no-slip walls: per boundary particle only.
+        let wall_surface = if params.no_slip as u32 == params::MF_NO_SLIP_WALL_VELOCITY {
+            Vec::new()
+        } else {
+            let (first, surface) = generate::wall_surface(&self.file, &particles);
+            params.wall_first_id = first;
+            surface
+        };
         Ok(Setup {
-            params: self.params(),
+            params,
             particles,
+            wall_surface,
         })
     }
 
@@ -470,6 +484,11 @@ fn scene_params(s: &SceneFile) -> SphParams {
             p.lj_p2 = b.p2;
             p.lj_attractive = b.attractive as i32;
             p.wall_pressure = (b.wall_coupling == WallCoupling::Dynamic) as i32;
+            p.no_slip = match b.no_slip {
+                NoSlip::WallVelocity => params::MF_NO_SLIP_WALL_VELOCITY,
+                NoSlip::Morris => params::MF_NO_SLIP_MORRIS,
+            } as i32;
+            p.no_slip_beta_max = b.no_slip_beta_max as f32;
         }
         None => {
             p.lj_c0 = 0.0;
@@ -478,6 +497,8 @@ fn scene_params(s: &SceneFile) -> SphParams {
             p.lj_p2 = 6;
             p.lj_attractive = 0;
             p.wall_pressure = 1;
+            p.no_slip = params::MF_NO_SLIP_WALL_VELOCITY as i32;
+            p.no_slip_beta_max = default_beta_max() as f32;
         }
     }
 

@@ -1,7 +1,7 @@
 //! `--paper-exact`: a scene mapped to the paper's own scheme, for comparison with the
 //! original code. Only the paper's equations: summation density (eq. (8)), forward Euler
 //! at a fixed step (eq. (19)), artificial viscosity only (eq. (10)), XSPH (eq. (18)), walls
-//! by the Lennard-Jones force alone (eq. (17)), an elastic body's whole stress across
+//! by the Lennard-Jones force alone (eq. (17); no no-slip walls), an elastic body's whole stress across
 //! every pair (eq. (16), `interface = "stress"`), no artificial stress, no density
 //! diffusion, no particle shifting and no background pressure. The values the paper
 //! leaves open (alpha, beta, the step, XSPH epsilon) come from the parameter study in
@@ -9,7 +9,7 @@
 //! oscillation, so the paper's low-Mach advice (alpha = 0, 0 < beta < 1) blows a resting
 //! tank up, and alpha has a floor.
 
-use super::format::{DensityForm, IntegratorChoice, SolidInterface, WallCoupling};
+use super::format::{DensityForm, IntegratorChoice, NoSlip, SolidInterface, WallCoupling};
 use super::{Scene, SceneError};
 
 /// [-] Lowest linear artificial viscosity, eq. (10): forward Euler amplifies an undamped
@@ -61,6 +61,7 @@ impl Scene {
         }
         if let Some(b) = f.boundary.as_mut() {
             b.wall_coupling = WallCoupling::LennardJonesOnly;
+            b.no_slip = NoSlip::WallVelocity;
         }
         s.text = format!(
             "# {} in meshfree's --paper-exact form (written from the parsed scene)\n{}",

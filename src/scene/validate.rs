@@ -282,6 +282,25 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
                 ),
             ));
         }
+        if b.no_slip == NoSlip::Morris {
+            if b.wall_coupling != WallCoupling::Dynamic || s.fluid.viscosity <= 0.0 {
+                return Err(c.err(
+                    "boundary.no_slip",
+                    "\"morris\" acts on the laminar viscosity between fluid and dynamic wall \
+                     particles: it needs wall_coupling = \"dynamic\" and fluid.viscosity > 0"
+                        .to_string(),
+                ));
+            }
+            if b.no_slip_beta_max.is_nan() || b.no_slip_beta_max < 1.0 {
+                return Err(c.err(
+                    "boundary.no_slip_beta_max",
+                    format!(
+                        "the cap of beta = 1 + d_B / d_A must be >= 1, found {}",
+                        b.no_slip_beta_max
+                    ),
+                ));
+            }
+        }
     }
     c.opt_vec("gravity", &s.gravity)?;
 

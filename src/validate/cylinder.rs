@@ -158,7 +158,12 @@ pub fn simulate(
     let n = (t_end_ud / sample_ud).round() as usize;
     for k in 0..=n {
         sim.advance_to(k as f64 * sample_ud * D / U)?;
-        let f = wall_force(&p, &sim.solver.particles(), group);
+        let f = wall_force(
+            &p,
+            &sim.solver.particles(),
+            sim.solver.wall_surface(),
+            group,
+        );
         samples.push(ForceSample {
             t: sim.solver.time(),
             force: f,

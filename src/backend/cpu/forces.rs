@@ -7,7 +7,7 @@ use super::density::{couples, meets, same_body};
 use super::grid::Grid;
 use crate::dim::Dim;
 use crate::kernel;
-use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID};
+use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID, MF_NO_SLIP_MORRIS};
 use crate::state::State;
 
 /// Lennard-Jones boundary force per unit mass, eq. (17): C0 [(r0/r)^p1 - (r0/r)^p2] r_ij/r,
@@ -46,6 +46,45 @@ pub fn artificial_viscosity(p: &SphParams, vr: f32, r2: f32, c_bar: f32, rho_bar
 #[inline]
 pub fn laminar(p: &SphParams, r2: f32, f: f32, rho_i: f32, rho_j: f32) -> f32 {
     p.nu * (rho_i + rho_j) / (rho_i * rho_j) * (r2 * f) / (r2 + p.visc_eta2)
+}
+
+/// The no-slip factor beta of Morris, Fox & Zhu 1997 (J. Comput. Phys. 136, 214, boundary
+/// conditions) for the laminar term between fluid particle A and wall particle B at
+/// r = x_A - x_B [L] (`no_slip = MF_NO_SLIP_MORRIS`): B takes the artificial velocity
+/// v_w - (d_B / d_A) (v_A - v_w) for the viscous term, so v_AB = beta (v_A - v_w) with
+/// beta = min(beta_max, 1 + d_B / d_A) [-]. `surf` = (n, d_B), B's entry of
+/// `Setup::wall_surface`: n the unit normal of the wall surface into the fluid, d_B [L] B's
+/// distance behind it; d_A = r . n - d_B [L] is A's distance from the same (locally flat)
+/// surface. A at or behind the surface (d_A <= 0) takes beta_max.
+#[inline]
+pub fn no_slip_factor<D: Dim>(p: &SphParams, r: D::V, surf: [f32; 4]) -> f32 {
+    let n = D::from3([surf[0], surf[1], surf[2]]);
+    let d_b = surf[3];
+    let d_a = D::dot(r, n) - d_b;
+    if d_a > 0.0 {
+        (1.0 + d_b / d_a).min(p.no_slip_beta_max)
+    } else {
+        p.no_slip_beta_max
+    }
+}
+
+/// The velocity difference the laminar term of a fluid particle takes across a pair with
+/// neighbour j of kind kj and id `id_j` (r = x_i - x_j, vij = v_i - v_j) [L/T]: vij, or
+/// beta vij from a wall particle under `no_slip = MF_NO_SLIP_MORRIS` (`no_slip_factor`).
+#[inline]
+pub fn laminar_velocity<D: Dim>(
+    p: &SphParams,
+    surface: &[[f32; 4]],
+    kj: u8,
+    id_j: u32,
+    r: D::V,
+    vij: D::V,
+) -> D::V {
+    if p.no_slip as u32 == MF_NO_SLIP_MORRIS && kj as u32 == MF_KIND_BOUNDARY {
+        vij * no_slip_factor::<D>(p, r, surface[(id_j - p.wall_first_id) as usize])
+    } else {
+        vij
+    }
 }
 
 /// Cohesion spline of Akinci, Akinci & Teschner 2013 ("Versatile surface tension and
@@ -103,10 +142,12 @@ pub fn wall_pair_stress<D: Dim>(
     sig_i + sig_j - D::identity() * (neg_i + neg_j)
 }
 
-pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
+/// `surface`: `Setup::wall_surface` (empty unless `no_slip`).
+pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, surface: &[[f32; 4]], s: &mut State<D>) {
     let g = D::from3(p.gravity);
-    let (pos, vel, rho, pr, mass, kind, group) =
-        (&s.pos, &s.vel, &s.rho, &s.p, &s.mass, &s.kind, &s.group);
+    let (pos, vel, rho, pr, mass, kind, group, id) = (
+        &s.pos, &s.vel, &s.rho, &s.p, &s.mass, &s.kind, &s.group, &s.id,
+    );
     let stress = s.solid.as_ref().map(|so| &so.stress);
     let art = s.solid.as_ref().and_then(|so| so.art_stress.as_ref());
     let acc: Vec<D::V> = (0..s.len())
@@ -166,9 +207,11 @@ pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 let rho_bar = 0.5 * (rhoi + rhoj);
                 let pi_ij = artificial_viscosity(p, vr, r2, c_bar, rho_bar);
                 acc -= grad_w * (mass[j] * pi_ij);
-                // Laminar viscosity wherever fluid meets fluid, a solid or a wall (no-slip).
+                // Laminar viscosity wherever fluid meets fluid, a solid or a wall (no-slip; a
+                // wall's velocity extrapolated under `no_slip`, Morris et al. 1997).
                 if p.nu > 0.0 && (ki as u32 == MF_KIND_FLUID || kj32 == MF_KIND_FLUID) {
-                    acc += vij * (mass[j] * laminar(p, r2, fw, rhoi, rhoj));
+                    let v_visc = laminar_velocity::<D>(p, surface, kj, id[j], r, vij);
+                    acc += v_visc * (mass[j] * laminar(p, r2, fw, rhoi, rhoj));
                 }
                 // Cohesion between fluid particles, Akinci et al. 2013, eq. (2) (no curvature
                 // term): -gamma m_j C(r) r_ij / r. A uniform branch: nothing when gamma = 0.

@@ -11,8 +11,8 @@ mod stress;
 
 pub use density::{couples, meets, pressure, same_body};
 pub use forces::{
-    artificial_viscosity, cohesion_over_r, laminar, lennard_jones, wall_pair_stress,
-    whole_stress_pair,
+    artificial_viscosity, cohesion_over_r, laminar, laminar_velocity, lennard_jones,
+    no_slip_factor, wall_pair_stress, whole_stress_pair,
 };
 pub use grid::{cell_coords, cell_index, separation, Grid};
 pub use rates::shift_velocity;
@@ -30,13 +30,20 @@ pub struct CpuSolver<D: Dim> {
     params: SphParams,
     state: State<D>,
     grid: Grid,
+    /// `Setup::wall_surface` (empty unless `no_slip`).
+    wall_surface: Vec<[f32; 4]>,
     time: f64,
     steps: u64,
     dt: f32,
 }
 
 impl<D: Dim> CpuSolver<D> {
+    /// Panics where `no_slip` is on and `setup.wall_surface` misses a boundary particle
+    /// (`Setup::wall_surface_error`).
     pub fn new(setup: Setup) -> Self {
+        if let Some(e) = setup.wall_surface_error() {
+            panic!("{e}");
+        }
         let p = setup.params;
         let state = State::from_particles(
             &setup.particles,
@@ -47,6 +54,7 @@ impl<D: Dim> CpuSolver<D> {
             params: p,
             state,
             grid: Grid::default(),
+            wall_surface: setup.wall_surface,
             time: 0.0,
             steps: 0,
             dt: 0.0,
@@ -95,7 +103,12 @@ impl<D: Dim> Solver for CpuSolver<D> {
         rates::rates(&self.params, &self.grid, &mut self.state);
     }
     fn forces(&mut self) {
-        forces::forces(&self.params, &self.grid, &mut self.state);
+        forces::forces(
+            &self.params,
+            &self.grid,
+            &self.wall_surface,
+            &mut self.state,
+        );
     }
     fn time_step(&mut self) {
         let (v, a, c) = reduce::extremes(&self.params, &self.state);
@@ -136,6 +149,9 @@ impl<D: Dim> Solver for CpuSolver<D> {
     }
     fn particles(&mut self) -> Vec<Particle> {
         self.state.to_particles()
+    }
+    fn wall_surface(&self) -> &[[f32; 4]] {
+        &self.wall_surface
     }
     fn remove_group(&mut self, group: u32) -> usize {
         let before = self.state.len();

@@ -64,6 +64,9 @@ pub struct Buffers {
     pub drho: Option<CudaSlice<f32>>,
     pub stress_rate: Option<CudaSlice<f32>>,
     pub art: Option<CudaSlice<f32>>,
+    /// `Setup::wall_surface` as float4 per boundary particle (by id - wall_first_id; not
+    /// reordered by the grid); only with `no_slip`.
+    pub wall_surface: Option<CudaSlice<f32>>,
     // grid
     pub cell: CudaSlice<u32>,
     pub rank: CudaSlice<u32>,
@@ -105,11 +108,13 @@ impl Alloc<'_> {
 pub const SCAN_BLOCK: usize = 1024;
 
 impl Buffers {
-    /// Allocate for `state` and a grid of `n_cells`, then upload `state`.
+    /// Allocate for `state`, a grid of `n_cells` and the wall surface `surface`
+    /// (`Setup::wall_surface`; none where empty), then upload `state` and `surface`.
     pub fn new<D: Dim>(
         s: &Arc<CudaStream>,
         state: &State<D>,
         n_cells: usize,
+        surface: &[[f32; 4]],
     ) -> Result<Buffers, DriverError> {
         let n = state.len();
         let vs = vstride::<D>();
@@ -154,6 +159,11 @@ impl Buffers {
             } else {
                 None
             },
+            wall_surface: if surface.is_empty() {
+                None
+            } else {
+                Some(a.z(surface.len() * 4)?)
+            },
             cell: a.z(n)?,
             rank: a.z(n)?,
             order: a.z(n)?,
@@ -174,6 +184,9 @@ impl Buffers {
         };
         b.bytes = a.bytes;
         b.write_state(s, state)?;
+        if let Some(d) = &mut b.wall_surface {
+            s.memcpy_htod(surface.as_flattened(), d)?;
+        }
         Ok(b)
     }
 

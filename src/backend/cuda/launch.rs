@@ -354,7 +354,9 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     // SAFETY: sph_forces[_fluid]_{1,2,4,8}_{2,3}d(const SphParams p, unsigned n, const unsigned* cell_start,
     // const float* pos, const float* vel, const float* rho, const float* pr, const float* mass,
     // const unsigned char* kind, const unsigned* group, const float* stress, const float* art,
-    // float* acc, unsigned* red); stress, art may be null; red holds 3 words.
+    // const unsigned* id, const float* surf, float* acc, unsigned* red); stress, art, surf may
+    // be null (surf is read only under no_slip, when Buffers holds it: float4 per boundary
+    // particle by id - wall_first_id); red holds 3 words.
     // sph_forces_rates[_fluid]_{1,2,4,8}_{2,3}d takes the same arguments followed by rates'
     // outputs, float* drho, float* xsph, float* rate (drho and rate may be null, as for the
     // rates kernel).
@@ -370,6 +372,8 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     l.arg(&c.kind).arg(&c.group);
     opt!(l, &c.stress);
     opt!(l, &b.art);
+    l.arg(&c.id);
+    opt!(l, &b.wall_surface);
     l.arg(&mut b.acc).arg(&mut b.red);
     if fused {
         opt!(l, &mut b.drho);

@@ -68,6 +68,8 @@ pub struct CudaSolver<D: Dim> {
     k: Kernels,
     params: SphParams,
     buf: Buffers,
+    /// `Setup::wall_surface` (empty unless `no_slip`); on the device in `buf`.
+    wall_surface: Vec<[f32; 4]>,
     steps: u64,
     /// Host buffers of `snapshot`, kept between frames.
     host_pos: Vec<f32>,
@@ -93,6 +95,9 @@ fn oom(n: usize, e: cudarc::driver::DriverError) -> BackendError {
 
 impl<D: Dim> CudaSolver<D> {
     pub fn new(setup: Setup) -> Result<Self, BackendError> {
+        if let Some(e) = setup.wall_surface_error() {
+            return Err(BackendError::Cuda(e));
+        }
         let dev = Device::open()?;
         let mut k = Kernels::load(&dev, D::D)?;
         let p = setup.params;
@@ -102,14 +107,20 @@ impl<D: Dim> CudaSolver<D> {
             p.art_stress_eps > 0.0,
         );
         let n = state.len();
-        let buf =
-            Buffers::new(&dev.stream, &state, p.n_cells.max(1) as usize).map_err(|e| oom(n, e))?;
+        let buf = Buffers::new(
+            &dev.stream,
+            &state,
+            p.n_cells.max(1) as usize,
+            &setup.wall_surface,
+        )
+        .map_err(|e| oom(n, e))?;
         k.lanes = lanes_for(D::D, n);
         Ok(CudaSolver {
             dev,
             k,
             params: p,
             buf,
+            wall_surface: setup.wall_surface,
             steps: 0,
             host_pos: Vec::new(),
             host_vel: Vec::new(),
@@ -414,6 +425,9 @@ impl<D: Dim> Solver for CudaSolver<D> {
             Shown::Pressure | Shown::Density => {}
         }
     }
+    fn wall_surface(&self) -> &[[f32; 4]] {
+        &self.wall_surface
+    }
     fn remove_group(&mut self, group: u32) -> usize {
         let mut st = self.download_state();
         let before = st.len();
@@ -424,7 +438,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
             let time = self.time();
             let dt = self.dt();
             let n = st.len();
-            let mut buf = Buffers::new(&self.dev.stream, &st, self.buf.n_cells)
+            let mut buf = Buffers::new(&self.dev.stream, &st, self.buf.n_cells, &self.wall_surface)
                 .unwrap_or_else(|e| panic!("{}", oom(n, e)));
             let s = &self.dev.stream;
             let r = s
