@@ -744,6 +744,30 @@ fn stages_3d_fluid_only_lj_walls_continuity_symplectic() {
 fn stages_3d_fluid_only_dynamic_walls_continuity_euler() {
     stages_on::<D3>("V_3D_B fluid only", fluid_only(3, V_3D_B));
 }
+/// `setup` with no periodic axis: the neighbour loops' other specialisation (the minimum
+/// image compiled out, cuda/common.cuh `neighbour_loop`). Particles at the open x ends just
+/// have fewer neighbours.
+fn not_periodic(mut setup: Setup) -> Setup {
+    setup.params.periodic = [0; 3];
+    params::derive(&mut setup.params);
+    setup
+}
+#[test]
+fn stages_2d_no_periodic_axis_with_a_body_symplectic() {
+    stages_on::<D2>("V_2D_B, no periodic axis", not_periodic(scene(2, V_2D_B)));
+}
+#[test]
+fn stages_3d_fluid_only_no_periodic_axis_euler() {
+    stages_on::<D3>("V_3D_B fluid only, no periodic axis", not_periodic(fluid_only(3, V_3D_B)));
+}
+#[test]
+fn stages_2d_fluid_only_no_periodic_axis_symplectic() {
+    stages_on::<D2>("V_2D_B fluid only, no periodic axis", not_periodic(fluid_only(2, V_2D_B)));
+}
+#[test]
+fn stages_3d_fluid_only_no_periodic_axis_symplectic() {
+    stages_on::<D3>("V_3D_A fluid only, no periodic axis", not_periodic(fluid_only(3, V_3D_A)));
+}
 #[test]
 fn stages_2d_density_diffusion() {
     stages::<D2>(2, V_2D_DELTA);
