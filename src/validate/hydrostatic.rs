@@ -5,7 +5,7 @@
 //! within 2 % of rho0 g H, one kernel radius away from walls and the free surface.
 //!
 //! Two schemes run at every resolution: the checked one, with the density diffusion of
-//! Molteni & Colagrossi 2009 (delta = 0.1, as DualSPHysics runs still water), and the
+//! Molteni & Colagrossi 2009 (delta = 0.1, the value DualSPHysics takes by default), and the
 //! paper's (no density diffusion), whose rows are informational: without diffusion the
 //! continuity density carries particle-scale noise that does not shrink with dx
 //! (docs/accuracy.md, "Hydrostatic tank: the diagnosis").
@@ -32,7 +32,7 @@ pub struct Scheme {
 }
 
 /// The checked scheme: delta-SPH, delta = 0.1 (Molteni & Colagrossi 2009; the value
-/// DualSPHysics uses for still water).
+/// DualSPHysics takes by default).
 pub const CHECKED: Scheme = Scheme {
     label: "delta-SPH 0.1",
     density_diffusion: 0.1,
