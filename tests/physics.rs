@@ -115,6 +115,51 @@ fn resting_tank_stays_at_rest_with_hydrostatic_pressure() {
     assert!(n > 50, "too few interior particles checked: {n}");
 }
 
+/// A column started hydrostatic sits on dynamic walls that start hydrostatic too
+/// (`scene::generate`, `wall_hydrostatic`): the wall particles within a kernel support of the
+/// water carry rho0 g depth at their own depth, and the tank starts without the transient
+/// of a floor at p = 0, onto which the column fell (max speed 0.13 m/s within 0.2 s at
+/// dx = 0.05, against 0.007 m/s with the walls started hydrostatic).
+#[test]
+fn resting_tank_starts_in_equilibrium_with_its_walls() {
+    let scene = coarsened("tank-2d", 0.05);
+    let setup = scene.setup().unwrap();
+    let p = setup.params;
+    let (g, rho0) = (-p.gravity[1], p.rho0);
+    let top = 1.0f32; // the fluid block's top in tank-2d
+    let mut checked = 0;
+    for q in setup.particles.iter().filter(|q| q.kind == Kind::Boundary) {
+        let [x, y, _] = q.position;
+        // The floor's first row under the water, and the side walls' first column.
+        let under = y < 0.0 && y > -p.dx && x > 0.0 && x < 1.0;
+        let beside = (x < 0.0 && x > -p.dx || x > 1.0 && x < 1.0 + p.dx) && y > 0.0 && y < top;
+        if !(under || beside) {
+            continue;
+        }
+        let want = rho0 * g * (top - y);
+        assert!(
+            (q.pressure - want).abs() < 1e-3 * want,
+            "wall particle {} at ({x}, {y}): p = {}, rho0 g depth = {want}",
+            q.id,
+            q.pressure
+        );
+        assert!(q.density > rho0, "wall particle {} not compressed", q.id);
+        checked += 1;
+    }
+    assert!(checked > 50, "only {checked} wall particles checked");
+    let mut s = cpu_solver(setup);
+    let mut worst = 0.0f32;
+    for k in 1..=10 {
+        advance_to(s.as_mut(), &scene, 0.02 * k as f64);
+        worst = worst.max(s.diagnostics().max_speed);
+    }
+    // Regression bound: 0.02 m/s = 0.0064 sqrt(g H), three times the 0.007 m/s measured.
+    assert!(
+        worst < 0.02,
+        "max speed {worst} m/s within t = 0.2 (tolerance 0.02; 0.13 with the walls at p = 0)"
+    );
+}
+
 /// Martin & Moyce (1952) square column (n^2 = 1): (T = t sqrt(g/a), value / a) of
 /// `surge_front` or `residual_height_at_wall`.
 fn martin_moyce(quantity: &str) -> Vec<(f64, f64)> {

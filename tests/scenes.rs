@@ -104,8 +104,35 @@ fn tank_2d_particles() {
         let rho = 1000.0 * (1.0 + expect / b).powf(1.0 / 7.0);
         assert!((q.density - rho).abs() < 1e-3, "rho {} vs {rho}", q.density);
     }
+    let fluid: Vec<[f32; 3]> = setup
+        .particles
+        .iter()
+        .filter(|q| q.kind == Kind::Fluid)
+        .map(|q| q.position)
+        .collect();
     for q in setup.particles.iter().filter(|q| q.kind == Kind::Boundary) {
-        assert_eq!((q.density, q.pressure), (1000.0, 0.0));
+        // Dynamic walls within a support (2h) of the hydrostatic column start at its
+        // pressure at their own depth (not below 0); the others at rho0, p = 0.
+        let near = fluid.iter().any(|f| {
+            let (ddx, ddy) = (f[0] - q.position[0], f[1] - q.position[1]);
+            (ddx * ddx + ddy * ddy).sqrt() < p.support
+        });
+        if near {
+            let expect = (1000.0 * 9.81 * (1.0 - q.position[1])).max(0.0);
+            assert!(
+                (q.pressure - expect).abs() < 1e-2 * expect.max(1.0),
+                "wall p {} vs {expect}",
+                q.pressure
+            );
+            let rho = 1000.0 * (1.0 + expect / b).powf(1.0 / 7.0);
+            assert!(
+                (q.density - rho).abs() < 1e-3,
+                "wall rho {} vs {rho}",
+                q.density
+            );
+        } else {
+            assert_eq!((q.density, q.pressure), (1000.0, 0.0));
+        }
         // Just outside the tank [0, 1] x [0, 1.2], open at the top.
         let [x, y, _] = q.position;
         assert!(

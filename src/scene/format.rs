@@ -370,7 +370,9 @@ pub struct FluidBlock {
     #[serde(default)]
     pub velocity: Option<Vec<f64>>,
     /// Initial pressure and density from the Tait EOS with a hydrostatic column measured
-    /// from the block's top (along -gravity), eq. (9). Default false.
+    /// from the block's top (along -gravity), eq. (9); dynamic wall particles within a
+    /// kernel support (2h) of the block start at the same column's pressure at their own
+    /// depth. Default false.
     #[serde(default)]
     pub hydrostatic: bool,
 }

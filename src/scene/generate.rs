@@ -18,6 +18,9 @@
 //!   list is ordered by group, then generation order; `id` = index in that list.
 //! * Mass = reference density * dx^dim (boundary particles take the fluid's rho0).
 //! * A driven object (`motion`) starts at its prescribed velocity.
+//! * A `hydrostatic` fluid block starts at p = rho0 g depth (eq. (9) gives its density), and
+//!   so does every dynamic wall particle within a kernel support (2h) of one of its fluid
+//!   particles, at the wall particle's own depth below the block's top (`wall_hydrostatic`).
 
 use std::collections::HashMap;
 
@@ -264,6 +267,31 @@ fn hydrostatic_pressure(block: &FluidBlock, g: &P3, rho0: f64, p: &P3, dim: usiz
     rho0 * (here - top)
 }
 
+/// A hydrostatic fluid block and its kept particles (hashed at the kernel support), for
+/// the initial pressure of the dynamic walls that hold it.
+struct Column<'a> {
+    block: &'a FluidBlock,
+    near: Grid,
+    support: f64,
+    g: P3,
+    rho0: f64,
+    dim: usize,
+}
+
+/// The initial pressure [M L^-d L^2 T^-2] of a dynamic wall particle at `p`: the
+/// hydrostatic pressure rho0 g depth at its own depth below the top of the first
+/// hydrostatic block with a fluid particle within a kernel support (2h) of it, not below
+/// zero; None where no such block is near. A dynamic wall's pressure is its fluid
+/// neighbours' pressure extrapolated along gravity (Adami, Hu & Adams 2012, eq. (27), at
+/// rest); a wall left at p = 0 under a column pulls the fluid onto it at the start (the
+/// column falls until the continuity density of the wall has risen: an acoustic transient).
+fn wall_hydrostatic(columns: &[Column], p: &P3) -> Option<f64> {
+    columns
+        .iter()
+        .find(|c| c.near.near(p, c.support))
+        .map(|c| hydrostatic_pressure(c.block, &c.g, c.rho0, p, c.dim).max(0.0))
+}
+
 fn vec3(v: Option<&Vec<f64>>) -> P3 {
     let mut out = [0.0; 3];
     if let Some(v) = v {
@@ -402,6 +430,36 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
 
     let g = vec3(s.gravity.as_ref());
     let f = &s.fluid;
+    // The hydrostatic blocks' kept particles, for the dynamic walls that hold them.
+    let dynamic_walls = s
+        .boundary
+        .as_ref()
+        .is_none_or(|b| b.wall_coupling == WallCoupling::Dynamic);
+    let support = 2.0 * s.discretisation.h_factor * dx;
+    let columns: Vec<Column> = if dynamic_walls {
+        (0..n_fluid as usize)
+            .filter(|&i| s.fluid_blocks[i].hydrostatic)
+            .map(|i| {
+                let mut near = Grid {
+                    dx: support,
+                    cells: HashMap::new(),
+                };
+                for p in &kept[i] {
+                    near.insert(*p);
+                }
+                Column {
+                    block: &s.fluid_blocks[i],
+                    near,
+                    support,
+                    g,
+                    rho0: f.density,
+                    dim,
+                }
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
     let tait_b = f.density * f.sound_speed * f.sound_speed / f.gamma;
     let dxd = dx.powi(dim as i32);
     let mut out = Vec::new();
@@ -426,6 +484,13 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
             if obj.kind == Kind::Fluid && s.fluid_blocks[i].hydrostatic {
                 pressure = hydrostatic_pressure(&s.fluid_blocks[i], &g, f.density, p, dim);
                 density = f.density * (1.0 + pressure / tait_b).powf(1.0 / f.gamma);
+            }
+            if obj.kind == Kind::Boundary {
+                if let Some(ph) = wall_hydrostatic(&columns, p) {
+                    // Tait eq. (9) inverted: rho = rho0 (1 + p / B)^(1/gamma) [M L^-d].
+                    pressure = ph;
+                    density = f.density * (1.0 + pressure / tait_b).powf(1.0 / f.gamma);
+                }
             }
             out.push(Particle {
                 id: out.len() as u32,
