@@ -758,15 +758,24 @@ fn stages_2d_no_periodic_axis_with_a_body_symplectic() {
 }
 #[test]
 fn stages_3d_fluid_only_no_periodic_axis_euler() {
-    stages_on::<D3>("V_3D_B fluid only, no periodic axis", not_periodic(fluid_only(3, V_3D_B)));
+    stages_on::<D3>(
+        "V_3D_B fluid only, no periodic axis",
+        not_periodic(fluid_only(3, V_3D_B)),
+    );
 }
 #[test]
 fn stages_2d_fluid_only_no_periodic_axis_symplectic() {
-    stages_on::<D2>("V_2D_B fluid only, no periodic axis", not_periodic(fluid_only(2, V_2D_B)));
+    stages_on::<D2>(
+        "V_2D_B fluid only, no periodic axis",
+        not_periodic(fluid_only(2, V_2D_B)),
+    );
 }
 #[test]
 fn stages_3d_fluid_only_no_periodic_axis_symplectic() {
-    stages_on::<D3>("V_3D_A fluid only, no periodic axis", not_periodic(fluid_only(3, V_3D_A)));
+    stages_on::<D3>(
+        "V_3D_A fluid only, no periodic axis",
+        not_periodic(fluid_only(3, V_3D_A)),
+    );
 }
 #[test]
 fn stages_2d_density_diffusion() {
