@@ -2,13 +2,14 @@
 //! end-of-run statistics, the wall force against the CPU force stage, and on a resting tank
 //! (the fluid's weight).
 
+mod common;
+
 use meshfree::backend::cpu::CpuSolver;
 use meshfree::backend::cpu_solver;
 use meshfree::dim::{Dim, D2};
 use meshfree::monitor::{dominant_frequency, wall_force, ForceSample, MonitorSummary};
 use meshfree::particle::Kind;
 use meshfree::run::{self, Gates};
-use meshfree::scene::format::NoSlip;
 use meshfree::scene::Scene;
 use meshfree::solver::Solver;
 
@@ -179,13 +180,7 @@ fn wall_force_is_the_wall_part_of_the_force_stage() {
 /// the monitor takes the wall particles' extrapolated velocity as the force stage does.
 #[test]
 fn wall_force_is_the_wall_part_of_the_force_stage_with_no_slip_walls() {
-    let mut scene = Scene::builtin("tank-2d")
-        .unwrap()
-        .with_spacing(0.05)
-        .unwrap();
-    scene.file.fluid.viscosity = 0.01;
-    scene.file.boundary.as_mut().unwrap().no_slip = NoSlip::Morris;
-    scene.revalidate().unwrap();
+    let scene = common::tank_2d_morris(0.05);
     check_monitor_against_force_stage(&scene);
 }
 

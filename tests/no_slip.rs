@@ -2,6 +2,8 @@
 //! surface the scene generator hands the solver (`Setup::wall_surface`), the scene checks,
 //! and the slip of a Poiseuille channel at the plates with and without the option (CPU).
 
+mod common;
+
 use meshfree::backend::cpu_solver;
 use meshfree::particle::Kind;
 use meshfree::run::{self, Gates};
@@ -53,13 +55,7 @@ fn plates_know_their_surface() {
 /// distance to it), its side rows the box.
 #[test]
 fn container_corners_face_the_corner() {
-    let mut scene = Scene::builtin("tank-2d")
-        .unwrap()
-        .with_spacing(0.05)
-        .unwrap();
-    scene.file.fluid.viscosity = 0.01;
-    scene.file.boundary.as_mut().unwrap().no_slip = NoSlip::Morris;
-    scene.revalidate().unwrap();
+    let scene = common::tank_2d_morris(0.05);
     let setup = scene.setup().unwrap();
     let first = setup.params.wall_first_id;
     // tank-2d: the box [0, 1] x [0, 1.2], three rows outside it.

@@ -3,6 +3,8 @@
 
 use meshfree::params::{self, SphParams, MF_DENSITY_CONTINUITY, MF_INTEGRATOR_SYMPLECTIC_EULER};
 use meshfree::particle::{Kind, Particle};
+use meshfree::scene::format::NoSlip;
+use meshfree::scene::Scene;
 
 /// Parameters for spacing `dx` in `dim` dimensions over the box [lo, hi].
 pub fn params(dim: i32, dx: f32, lo: [f32; 3], hi: [f32; 3], periodic: [i32; 3]) -> SphParams {
@@ -93,4 +95,14 @@ pub fn rand01(state: &mut u64) -> f32 {
     *state ^= *state >> 7;
     *state ^= *state << 17;
     (*state >> 40) as f32 / (1u64 << 24) as f32
+}
+
+/// The built-in `tank-2d` at spacing `dx` [L] with laminar viscosity nu = 0.01 [L^2/T] and
+/// the no-slip walls of Morris, Fox & Zhu 1997 (`[boundary] no_slip = "morris"`).
+pub fn tank_2d_morris(dx: f64) -> Scene {
+    let mut scene = Scene::builtin("tank-2d").unwrap().with_spacing(dx).unwrap();
+    scene.file.fluid.viscosity = 0.01;
+    scene.file.boundary.as_mut().unwrap().no_slip = NoSlip::Morris;
+    scene.revalidate().unwrap();
+    scene
 }
