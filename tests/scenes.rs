@@ -70,6 +70,28 @@ fn min_distance(ps: &[Particle]) -> f32 {
     best
 }
 
+/// `[boundary] hydrostatic_walls` is off by default: the dam break's walls start at rho0,
+/// p = 0 under its hydrostatic column (with it, the walls the water leaves keep the column's
+/// pressure: docs/accuracy.md); the still tank opts in (`tank_2d_particles`).
+#[test]
+fn dam_break_walls_start_at_rest() {
+    let setup = Scene::builtin("dam-break-2d").unwrap().setup().unwrap();
+    let walls: Vec<&Particle> = setup
+        .particles
+        .iter()
+        .filter(|q| q.kind == Kind::Boundary)
+        .collect();
+    assert!(!walls.is_empty());
+    for q in walls {
+        assert_eq!(
+            (q.density, q.pressure),
+            (setup.params.rho0, 0.0),
+            "wall particle {}",
+            q.id
+        );
+    }
+}
+
 #[test]
 fn tank_2d_particles() {
     let s = Scene::builtin("tank-2d").unwrap();

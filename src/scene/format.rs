@@ -351,6 +351,14 @@ pub struct BoundaryMaterial {
     /// support (docs/accuracy.md, Poiseuille). The viscous step limit does not count beta.
     #[serde(default = "default_beta_max")]
     pub no_slip_beta_max: f64,
+    /// true: dynamic wall particles within a kernel support (2h) of a `hydrostatic` fluid
+    /// block start at its column's pressure at their own depth (eq. (9) for their density),
+    /// so still water starts in equilibrium with its walls. For water that stays; where the
+    /// water leaves a wall (a dam break) the wall keeps that pressure, since the continuity
+    /// density of a wall changes only with the fluid's motion (the dam break's full tier blew
+    /// up at dx = 0.01 with it, docs/accuracy.md). Default false: walls start at rho0, p = 0.
+    #[serde(default)]
+    pub hydrostatic_walls: bool,
 }
 
 fn default_p1() -> i32 {
@@ -370,9 +378,8 @@ pub struct FluidBlock {
     #[serde(default)]
     pub velocity: Option<Vec<f64>>,
     /// Initial pressure and density from the Tait EOS with a hydrostatic column measured
-    /// from the block's top (along -gravity), eq. (9); dynamic wall particles within a
-    /// kernel support (2h) of the block start at the same column's pressure at their own
-    /// depth. Default false.
+    /// from the block's top (along -gravity), eq. (9); with `[boundary] hydrostatic_walls`
+    /// the dynamic walls that hold it too. Default false.
     #[serde(default)]
     pub hydrostatic: bool,
 }

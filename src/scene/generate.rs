@@ -18,9 +18,10 @@
 //!   list is ordered by group, then generation order; `id` = index in that list.
 //! * Mass = reference density * dx^dim (boundary particles take the fluid's rho0).
 //! * A driven object (`motion`) starts at its prescribed velocity.
-//! * A `hydrostatic` fluid block starts at p = rho0 g depth (eq. (9) gives its density), and
-//!   so does every dynamic wall particle within a kernel support (2h) of one of its fluid
-//!   particles, at the wall particle's own depth below the block's top (`wall_hydrostatic`).
+//! * A `hydrostatic` fluid block starts at p = rho0 g depth (eq. (9) gives its density), and,
+//!   with `[boundary] hydrostatic_walls`, so does every dynamic wall particle within a kernel
+//!   support (2h) of one of its fluid particles, at the wall particle's own depth below the
+//!   block's top (`wall_hydrostatic`).
 
 use std::collections::HashMap;
 
@@ -431,12 +432,12 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
     let g = vec3(s.gravity.as_ref());
     let f = &s.fluid;
     // The hydrostatic blocks' kept particles, for the dynamic walls that hold them.
-    let dynamic_walls = s
+    let hydrostatic_walls = s
         .boundary
         .as_ref()
-        .is_none_or(|b| b.wall_coupling == WallCoupling::Dynamic);
+        .is_some_and(|b| b.wall_coupling == WallCoupling::Dynamic && b.hydrostatic_walls);
     let support = 2.0 * s.discretisation.h_factor * dx;
-    let columns: Vec<Column> = if dynamic_walls {
+    let columns: Vec<Column> = if hydrostatic_walls {
         (0..n_fluid as usize)
             .filter(|&i| s.fluid_blocks[i].hydrostatic)
             .map(|i| {

@@ -76,6 +76,7 @@ density_diffusion = {delta}
 [boundary]
 strength = {strength}
 wall_coupling = "dynamic"
+hydrostatic_walls = true
 
 [[fluid_blocks]]
 min = [0.0, 0.0]
