@@ -215,6 +215,29 @@ __device__ __forceinline__ float kernel_w(const SphParams& p, float r) {
 __device__ __forceinline__ float kernel_f(const SphParams& p, float r) {
     return p.kernel_norm / (p.h * p.h) * shape_f(p.kernel, fast_div(r, p.h));
 }
+// Both at one r, under one branch on the kernel and on q (the pair sums need W for XSPH and
+// shifting beside the gradient): the same expressions as shape_w and shape_f, so the same
+// values as kernel_w and kernel_f. w [L^-d], f [L^-(d+2)].
+__device__ __forceinline__ void kernel_wf(const SphParams& p, float r, float& w, float& f) {
+    const float q = fast_div(r, p.h);
+    float sw = 0.0f, sf = 0.0f;
+    if (p.kernel == MF_KERNEL_WENDLAND_C2) {
+        if (q < 2.0f) {
+            float t = 1.0f - 0.5f * q;
+            sw = t * t * t * t * (2.0f * q + 1.0f);
+            sf = -5.0f * t * t * t;
+        }
+    } else if (q < 1.0f) {
+        sw = 1.0f - 1.5f * q * q + 0.75f * q * q * q;
+        sf = -3.0f + 2.25f * q;
+    } else if (q < 2.0f) {
+        float t = 2.0f - q;
+        sw = 0.25f * t * t * t;
+        sf = fast_div(-0.75f * t * t, q);
+    }
+    w = p.kernel_norm * sw;
+    f = p.kernel_norm / (p.h * p.h) * sf;
+}
 
 // The neighbour's kind: in fluid-only scenes from the sign of its vel.w, else from the kind
 // array.
@@ -234,6 +257,7 @@ template <int DIM> struct Neighbour {
     Vec<DIM> r;    // x_i - x_j (minimum image) [L]
     float r2, rr;  // |r|^2 [L^2], |r| [L]
     float fw;      // kernel_f(|r|): grad_i W_ij = fw r [L^-(d+2)]
+    float w;       // kernel_w(|r|) = W_ij [L^-d]
     Vec<DIM> v;    // v_j [L/T]
     float m, rho;  // m_j [M], rho_j [M L^-d]
 };
@@ -252,7 +276,7 @@ __device__ __forceinline__ Neighbour<DIM> neighbour(const SphParams& p, unsigned
     nb.v = vel_load<DIM>(vel, j, vm, vw);
     nb.kind = neighbour_kind<DIM, SOLIDS>(kind, j, vw);
     nb.rr = fast_norm(r2);
-    nb.fw = kernel_f(p, nb.rr);
+    kernel_wf(p, nb.rr, nb.w, nb.fw);
     nb.m = DIM == 3 ? pw : vm;
     nb.rho = fabsf(vw);
     return nb;

@@ -4,7 +4,7 @@
 // tests/cuda_parity.rs.
 #include "forces.cuh"
 
-template <int DIM, bool SOLIDS, int L, int B = Batch<L, SOLIDS>::B>
+template <int DIM, bool SOLIDS, bool EXTRAS, int L, int B = Batch<L, SOLIDS>::B>
 __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
                             const float* __restrict__ pos, const float* __restrict__ vel,
                             const float* __restrict__ rho, const float* __restrict__ pr,
@@ -16,7 +16,7 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
     const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
     const unsigned i = t / L;
     const int lane = (int)(t % L);
-    ForceSum<DIM, SOLIDS> f;
+    ForceSum<DIM, SOLIDS, EXTRAS> f;
     f.begin(p, i, n, i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY, lane, vel, rho, pr, group, stress);
     neighbour_loop<DIM, L, B>(p, cell_start, pos, i, f.on, lane,
                               [&](unsigned j, Vec<DIM> r, float r2, float pw) {
@@ -29,17 +29,19 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
 // Per dimension and lane count (MF_LANES_EACH): with solids (stress, artificial stress) and
 // fluid only (no tensor registers), picked by the launcher. The fluid-only variants are
 // bounded to 4 blocks of 256 per SM (64 registers), the solid ones to 3.
-#define MF_FORCES_ENTRY(name, DIM, SOLIDS, L)                                                                        \
+#define MF_FORCES_ENTRY(name, DIM, SOLIDS, EXTRAS, L)                                                                        \
     extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 3 : MF_FLUID_BLOCKS)                                         \
         name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel,      \
              const float* rho, const float* pr, const float* mass, const unsigned char* kind,                    \
              const unsigned* group, const float* stress, const float* art, const unsigned* id,      \
              const float* surf, float* acc, unsigned* red) {           \
-        forces_impl<DIM, SOLIDS, L>(p, n, cell_start, pos, vel, rho, pr, mass, kind, group, stress, art, id, surf, acc, red); \
+        forces_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, pos, vel, rho, pr, mass, kind, group, stress, art, id, surf, acc, red); \
     }
 #define MF_FORCES_LANES(L)                                \
-    MF_FORCES_ENTRY(sph_forces_##L##_2d, 2, true, L)       \
-    MF_FORCES_ENTRY(sph_forces_##L##_3d, 3, true, L)       \
-    MF_FORCES_ENTRY(sph_forces_fluid_##L##_2d, 2, false, L) \
-    MF_FORCES_ENTRY(sph_forces_fluid_##L##_3d, 3, false, L)
+    MF_FORCES_ENTRY(sph_forces_##L##_2d, 2, true, true, L)        \
+    MF_FORCES_ENTRY(sph_forces_##L##_3d, 3, true, true, L)        \
+    MF_FORCES_ENTRY(sph_forces_fluid_##L##_2d, 2, false, true, L)  \
+    MF_FORCES_ENTRY(sph_forces_fluid_##L##_3d, 3, false, true, L)  \
+    MF_FORCES_ENTRY(sph_forces_lean_##L##_2d, 2, false, false, L)  \
+    MF_FORCES_ENTRY(sph_forces_lean_##L##_3d, 3, false, false, L)
 MF_LANES_EACH(MF_FORCES_LANES)

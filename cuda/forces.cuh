@@ -65,7 +65,10 @@ __device__ __forceinline__ bool whole_stress_pair(const SphParams& p, bool same_
 
 // The acceleration of particle i, summed over its neighbours: `begin`, then `add` for every
 // neighbour j != i (in the neighbour loop's order), then `finish` (all threads of the block).
-template <int DIM, bool SOLIDS> struct ForceSum {
+// EXTRAS = false compiles out the terms beyond the paper's fluid scheme (laminar viscosity,
+// Morris's no-slip walls, cohesion), for the lean kernels that run where all are off
+// (`lean_scheme` in src/backend/cuda/launch.rs).
+template <int DIM, bool SOLIDS, bool EXTRAS = true> struct ForceSum {
     bool on;  // i < n and i is no wall: walls get a = 0
     unsigned char ki;
     unsigned gi;
@@ -166,7 +169,7 @@ template <int DIM, bool SOLIDS> struct ForceSum {
         acc = acc - gw * (mj * pij);
         // Laminar viscosity (Morris et al. 1997); a wall's velocity extrapolated under
         // no_slip (twin of `laminar_velocity` in cpu/forces.rs).
-        if (p.nu > 0.0f && (ki == MF_KIND_FLUID || kj == MF_KIND_FLUID)) {
+        if (EXTRAS && p.nu > 0.0f && (ki == MF_KIND_FLUID || kj == MF_KIND_FLUID)) {
             Vec<DIM> v_visc = vij;
             if (p.no_slip == MF_NO_SLIP_MORRIS && kj == MF_KIND_BOUNDARY)
                 v_visc = vij * no_slip_factor<DIM>(p, r, surf, id[j] - p.wall_first_id);
@@ -174,12 +177,12 @@ template <int DIM, bool SOLIDS> struct ForceSum {
         }
         // Fluid-fluid cohesion, Akinci et al. 2013, eq. (2): -gamma m_j C(r) r_ij / r
         // (uniform branch: nothing when gamma = 0).
-        if (p.cohesion != 0.0f && ki == MF_KIND_FLUID && kj == MF_KIND_FLUID)
+        if (EXTRAS && p.cohesion != 0.0f && ki == MF_KIND_FLUID && kj == MF_KIND_FLUID)
             acc = acc - r * (p.cohesion * mj * cohesion_over_r(p.support, rr));
         if constexpr (SOLIDS) {
             if (art && bonded && ki == MF_KIND_SOLID) {
                 // Gray, Monaghan & Swift 2001: f_ij^n (R_i + R_j) . grad W.
-                float fij = powf(kernel_w(p, rr) * p.inv_w_dx, p.art_stress_n);
+                float fij = powf(nb.w * p.inv_w_dx, p.art_stress_n);
                 Mat<DIM> ra = sload<DIM>(art, i, n), rb = sload<DIM>(art, j, n);
 #pragma unroll
                 for (int a = 0; a < DIM; ++a)

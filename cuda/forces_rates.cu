@@ -8,7 +8,7 @@
 #include "forces.cuh"
 #include "rates.cuh"
 
-template <int DIM, bool SOLIDS, int L, int B = Batch<L, SOLIDS>::B>
+template <int DIM, bool SOLIDS, bool EXTRAS, int L, int B = Batch<L, SOLIDS>::B>
 __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
                                   const float* __restrict__ pos, const float* __restrict__ vel,
                                   const float* __restrict__ rho, const float* __restrict__ pr,
@@ -23,8 +23,8 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
     const unsigned i = t / L;
     const int lane = (int)(t % L);
     const unsigned char ki = i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY;
-    ForceSum<DIM, SOLIDS> f;
-    RateSum<DIM, SOLIDS> r;
+    ForceSum<DIM, SOLIDS, EXTRAS> f;
+    RateSum<DIM, SOLIDS, EXTRAS> r;
     f.begin(p, i, n, ki, lane, vel, rho, pr, group, stress);
     r.begin(p, i, n, ki, vel, rho, group);
     // Every particle with forces has rates (dynamic walls have rates only).
@@ -42,19 +42,21 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
 // Per dimension and lane count (MF_LANES_EACH), with and without solids, as for forces and
 // rates; the arguments are those of forces, then those that rates writes. Bounds: as the
 // separate kernels (fluid-only 4 blocks of 256 per SM, with solids 1).
-#define MF_FORCES_RATES_ENTRY(name, DIM, SOLIDS, L)                                                                 \
+#define MF_FORCES_RATES_ENTRY(name, DIM, SOLIDS, EXTRAS, L)                                                                 \
     extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 1 : MF_FLUID_BLOCKS)                                        \
         name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel,      \
              const float* rho, const float* pr, const float* mass, const unsigned char* kind,                    \
              const unsigned* group, const float* stress, const float* art, const unsigned* id,      \
              const float* surf, float* acc, unsigned* red,            \
              float* drho, float* xsph, float* rate) {                                                            \
-        forces_rates_impl<DIM, SOLIDS, L>(p, n, cell_start, pos, vel, rho, pr, mass, kind, group, stress, art, id, surf, acc, \
+        forces_rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, pos, vel, rho, pr, mass, kind, group, stress, art, id, surf, acc, \
                                           red, drho, xsph, rate);                                                \
     }
 #define MF_FORCES_RATES_LANES(L)                                      \
-    MF_FORCES_RATES_ENTRY(sph_forces_rates_##L##_2d, 2, true, L)       \
-    MF_FORCES_RATES_ENTRY(sph_forces_rates_##L##_3d, 3, true, L)       \
-    MF_FORCES_RATES_ENTRY(sph_forces_rates_fluid_##L##_2d, 2, false, L) \
-    MF_FORCES_RATES_ENTRY(sph_forces_rates_fluid_##L##_3d, 3, false, L)
+    MF_FORCES_RATES_ENTRY(sph_forces_rates_##L##_2d, 2, true, true, L)        \
+    MF_FORCES_RATES_ENTRY(sph_forces_rates_##L##_3d, 3, true, true, L)        \
+    MF_FORCES_RATES_ENTRY(sph_forces_rates_fluid_##L##_2d, 2, false, true, L)  \
+    MF_FORCES_RATES_ENTRY(sph_forces_rates_fluid_##L##_3d, 3, false, true, L)  \
+    MF_FORCES_RATES_ENTRY(sph_forces_rates_lean_##L##_2d, 2, false, false, L)  \
+    MF_FORCES_RATES_ENTRY(sph_forces_rates_lean_##L##_3d, 3, false, false, L)
 MF_LANES_EACH(MF_FORCES_RATES_LANES)

@@ -21,7 +21,9 @@ MF_ENTRY2(sph_grid_hist,
           (const SphParams p, unsigned n, const float* pos, unsigned* cell, unsigned* rank, unsigned* count),
           (p, n, pos, cell, rank, count))
 
-// 2. Exclusive scan of the counts within blocks of MF_SCAN_BLOCK cells; block totals to bsum.
+// 2. Exclusive scan of the counts within blocks of MF_SCAN_BLOCK cells, written to the cell
+// starts (relative to the block until 5. adds the block's offset: no array of its own, 4 B
+// per cell less); block totals to bsum.
 extern "C" __global__ void __launch_bounds__(MF_SCAN_BLOCK)
 sph_scan_local(unsigned n_cells, const unsigned* __restrict__ count, unsigned* __restrict__ local,
                unsigned* __restrict__ bsum) {
@@ -99,14 +101,15 @@ sph_grid_scatter(unsigned n, const unsigned* __restrict__ cell, const unsigned* 
 
 // 5. One thread per cell: sort its segment by id (insertion sort: cells hold a few dozen
 // particles at most), making the order (cell, id) as on the CPU; final cell ranges; clear
-// the counts for the next step.
+// the counts for the next step. cell_start holds the block-relative starts of 2. (each thread
+// reads and then rewrites only its own cell's entry).
 extern "C" __global__ void __launch_bounds__(MF_BLOCK)
 sph_grid_segsort(unsigned n_cells, const unsigned* __restrict__ id, unsigned* __restrict__ count,
-                 const unsigned* __restrict__ local, const unsigned* __restrict__ bsum,
-                 unsigned* __restrict__ order, unsigned* __restrict__ cell_start) {
+                 const unsigned* __restrict__ bsum, unsigned* __restrict__ order,
+                 unsigned* __restrict__ cell_start) {
     unsigned c = blockIdx.x * blockDim.x + threadIdx.x;
     if (c >= n_cells) return;
-    unsigned s = local[c] + bsum[c / MF_SCAN_BLOCK];
+    unsigned s = cell_start[c] + bsum[c / MF_SCAN_BLOCK];
     unsigned e = s + count[c];
     count[c] = 0;
     cell_start[c] = s;

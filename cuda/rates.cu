@@ -3,7 +3,7 @@
 #include "rates.cuh"
 
 // drho: null without the continuity density; stress, rate: null without solids.
-template <int DIM, bool SOLIDS, int L, int B = Batch<L, SOLIDS>::B>
+template <int DIM, bool SOLIDS, bool EXTRAS, int L, int B = Batch<L, SOLIDS>::B>
 __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
                            const float* __restrict__ pos, const float* __restrict__ vel,
                            const float* __restrict__ rho, const float* __restrict__ mass,
@@ -13,7 +13,7 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
     const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
     const unsigned i = t / L;
     const int lane = (int)(t % L);
-    RateSum<DIM, SOLIDS> r;
+    RateSum<DIM, SOLIDS, EXTRAS> r;
     r.begin(p, i, n, i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY, vel, rho, group);
     neighbour_loop<DIM, L, B>(p, cell_start, pos, i, r.on, lane,
                               [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
@@ -26,17 +26,19 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
 // Per dimension and lane count (MF_LANES_EACH), as for forces: with / without solids; same
 // signature, picked by the launcher. The fluid-only variants are bounded to 4 blocks of 256
 // per SM (64 registers; unbounded they take 78-79 in 3D: 3 blocks).
-#define MF_RATES_ENTRY(name, DIM, SOLIDS, L)                                                                   \
+#define MF_RATES_ENTRY(name, DIM, SOLIDS, EXTRAS, L)                                                                   \
     extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 1 : MF_FLUID_BLOCKS)                                   \
         name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel, \
              const float* rho, const float* mass, const unsigned char* kind, const unsigned* group,          \
              const float* stress, float* drho, float* xsph, float* rate) {                                    \
-        rates_impl<DIM, SOLIDS, L>(p, n, cell_start, pos, vel, rho, mass, kind, group, stress, drho, xsph, rate); \
+        rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, pos, vel, rho, mass, kind, group, stress, drho, xsph, rate); \
     }
 #define MF_RATES_LANES(L)                                \
-    MF_RATES_ENTRY(sph_rates_##L##_2d, 2, true, L)        \
-    MF_RATES_ENTRY(sph_rates_##L##_3d, 3, true, L)        \
-    MF_RATES_ENTRY(sph_rates_fluid_##L##_2d, 2, false, L) \
-    MF_RATES_ENTRY(sph_rates_fluid_##L##_3d, 3, false, L)
+    MF_RATES_ENTRY(sph_rates_##L##_2d, 2, true, true, L)         \
+    MF_RATES_ENTRY(sph_rates_##L##_3d, 3, true, true, L)         \
+    MF_RATES_ENTRY(sph_rates_fluid_##L##_2d, 2, false, true, L)   \
+    MF_RATES_ENTRY(sph_rates_fluid_##L##_3d, 3, false, true, L)   \
+    MF_RATES_ENTRY(sph_rates_lean_##L##_2d, 2, false, false, L)   \
+    MF_RATES_ENTRY(sph_rates_lean_##L##_3d, 3, false, false, L)
 MF_LANES_EACH(MF_RATES_LANES)
 

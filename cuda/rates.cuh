@@ -47,7 +47,8 @@ template <int DIM> __device__ __forceinline__ Mat<DIM> inverse(const Mat<DIM>& a
 
 // The rates of particle i, summed over its neighbours: `begin`, then `add` for every
 // neighbour j != i (in the neighbour loop's order), then `finish` (all lanes of the warp).
-template <int DIM, bool SOLIDS> struct RateSum {
+// EXTRAS = false: without density diffusion and shifting (the lean kernels, as ForceSum).
+template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
     bool on;  // i < n and i is no wall, or a dynamic wall (its d rho/dt)
     bool solid_i, diffuse, shift;
     unsigned char ki;
@@ -70,10 +71,10 @@ template <int DIM, bool SOLIDS> struct RateSum {
         xs = vzero<DIM>();
         drho = 0.0f;
         // Density diffusion (delta-SPH) between fluid particles only, as in cpu/rates.rs.
-        diffuse = p.delta_sph > 0.0f && i < n && ki == MF_KIND_FLUID;
+        diffuse = EXTRAS && p.delta_sph > 0.0f && i < n && ki == MF_KIND_FLUID;
         diffusion = 0.0f;
         // Particle shifting of fluid particles (cpu/rates.rs `shift_velocity`).
-        shift = p.shifting > 0.0f && i < n && ki == MF_KIND_FLUID;
+        shift = EXTRAS && p.shifting > 0.0f && i < n && ki == MF_KIND_FLUID;
         grad_c = vzero<DIM>();
         div_r = 0.0f;
         if constexpr (SOLIDS) {
@@ -110,7 +111,7 @@ template <int DIM, bool SOLIDS> struct RateSum {
         if (shift) {
             // Every neighbour that couples fills the support (not shifted into a wall).
             const float vjv = fast_div(mj, rhoj);
-            const float f = kernel_w(p, rr) * p.inv_w_dx;
+            const float f = nb.w * p.inv_w_dx;
             grad_c = grad_c + gw * (vjv * (1.0f + MF_SHIFT_ANTI_CLUMP * (f * f) * (f * f)));
             div_r -= vjv * dot(r, gw);
         }
@@ -120,7 +121,7 @@ template <int DIM, bool SOLIDS> struct RateSum {
         if (!one_body || ki == MF_KIND_BOUNDARY) return;
         const float s = fast_div(mj, 0.5f * (rhoi + rhoj));
         // XSPH, eq. (18), within one material (one body for solids).
-        xs = xs - vij * (p.xsph_eps * s * kernel_w(p, rr));
+        xs = xs - vij * (p.xsph_eps * s * nb.w);
         if constexpr (SOLIDS) {
             if (solid_i) {
                 // Velocity gradient, eq. (15), and the moment A = sum V_j (x_j - x_i) (x) grad W.
@@ -147,7 +148,7 @@ template <int DIM, bool SOLIDS> struct RateSum {
         for (int a = 0; a < DIM; ++a) xs.c[a] = lane_sum<L>(xs.c[a]);
         drho = lane_sum<L>(drho);
         diffusion = lane_sum<L>(diffusion);
-        if (p.shifting > 0.0f) {  // uniform branch: every lane of the warp sums
+        if (EXTRAS && p.shifting > 0.0f) {  // uniform branch: every lane of the warp sums
 #pragma unroll
             for (int a = 0; a < DIM; ++a) grad_c.c[a] = lane_sum<L>(grad_c.c[a]);
             div_r = lane_sum<L>(div_r);

@@ -111,6 +111,18 @@ const V_3D_DELTA: Variant = Variant {
     delta_sph: true,
     ..V_3D_B
 };
+/// 2D and 3D: dynamic walls, continuity, forward Euler and nothing beyond the paper's fluid
+/// scheme: as fluid-only scenes, the lean kernels' cases (`params::lean_scheme`), the
+/// scheme `meshfree bench` times.
+const V_2D_LEAN: Variant = Variant {
+    dynamic_walls: true,
+    symplectic: false,
+    ..V_2D_B
+};
+const V_3D_LEAN: Variant = Variant {
+    laminar: false,
+    ..V_3D_B
+};
 
 /// A fluid lattice over a wall (3 layers, bottom; in 3D also the two z faces), periodic in
 /// x, with an elastic disc / sphere inside; jittered positions, random velocities and
@@ -776,6 +788,48 @@ fn stages_3d_fluid_only_no_periodic_axis_symplectic() {
         "V_3D_A fluid only, no periodic axis",
         not_periodic(fluid_only(3, V_3D_A)),
     );
+}
+/// Which parity scenes take the lean kernels: pinned, so that the lean and the full
+/// fluid-only kernels both stay covered.
+#[test]
+fn lean_kernels_are_covered() {
+    for (dim, v) in [(2, V_2D_LEAN), (3, V_3D_LEAN), (3, V_3D_A), (2, V_2D_B)] {
+        assert!(
+            params::lean_scheme(&fluid_only(dim, v).params),
+            "{dim}D {v:?}"
+        );
+    }
+    for (dim, v) in [(2, V_2D_A), (3, V_3D_B), (2, V_2D_DELTA), (3, V_3D_DELTA)] {
+        assert!(
+            !params::lean_scheme(&fluid_only(dim, v).params),
+            "{dim}D {v:?}"
+        );
+    }
+}
+#[test]
+fn stages_2d_lean_dynamic_walls_euler() {
+    stages_on::<D2>("V_2D_LEAN fluid only", fluid_only(2, V_2D_LEAN));
+}
+#[test]
+fn stages_3d_lean_dynamic_walls_euler() {
+    stages_on::<D3>("V_3D_LEAN fluid only", fluid_only(3, V_3D_LEAN));
+}
+#[test]
+fn stages_3d_lean_no_periodic_axis_euler() {
+    stages_on::<D3>(
+        "V_3D_LEAN fluid only, no periodic axis",
+        not_periodic(fluid_only(3, V_3D_LEAN)),
+    );
+}
+#[test]
+fn diagnostics_after_200_steps_2d_lean_euler() {
+    let setup = fluid_only_of(scene_with(2, V_2D_LEAN, 0.05));
+    long_run_on::<D2>("V_2D_LEAN fluid only", setup, 200);
+}
+#[test]
+fn diagnostics_after_200_steps_3d_lean_euler() {
+    let setup = fluid_only_of(scene_with(3, V_3D_LEAN, 0.05));
+    long_run_on::<D3>("V_3D_LEAN fluid only", setup, 200);
 }
 #[test]
 fn stages_2d_density_diffusion() {

@@ -19,6 +19,19 @@ pub const BINDINGS_SOURCE: &str = env!("MESHFREE_BINDINGS_SOURCE");
 
 /// Fill the derived fields (marked "derived" in the header) from the primary ones.
 /// Needs `dim`, `kernel`, `h`, `dx`, `rho0`, `c0`, `tait_gamma`, the domain and `periodic`.
+/// Whether the scheme has none of the terms beyond the paper's fluid scheme: no laminar
+/// viscosity, cohesion, Morris's no-slip walls, density diffusion or shifting. Fluid-only
+/// scenes where this holds run the lean CUDA kernels (`EXTRAS = false` in cuda/forces.cuh
+/// and cuda/rates.cuh), which compile those terms out instead of testing them per pair: the
+/// same results with fewer registers and branches (docs/performance.md, session 6).
+pub fn lean_scheme(p: &SphParams) -> bool {
+    p.nu <= 0.0
+        && p.cohesion == 0.0
+        && p.no_slip != MF_NO_SLIP_MORRIS as i32
+        && p.delta_sph <= 0.0
+        && p.shifting <= 0.0
+}
+
 pub fn derive(p: &mut SphParams) {
     let d = p.dim as usize;
     p.support = 2.0 * p.h;

@@ -72,7 +72,6 @@ pub struct Buffers {
     pub rank: CudaSlice<u32>,
     pub order: CudaSlice<u32>,
     pub count: CudaSlice<u32>,
-    pub local: CudaSlice<u32>,
     pub bsum: CudaSlice<u32>,
     pub cell_start: CudaSlice<u32>,
     // scalars
@@ -168,7 +167,6 @@ impl Buffers {
             rank: a.z(n)?,
             order: a.z(n)?,
             count: a.z(n_cells)?,
-            local: a.z(n_cells)?,
             bsum: a.z(n_blocks)?,
             cell_start: a.z(n_cells + 1)?,
             red: a.z(3)?,

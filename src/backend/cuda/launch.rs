@@ -10,7 +10,7 @@ use cudarc::driver::{
 use super::buffers::{Buffers, SCAN_BLOCK};
 use super::device::Device;
 use crate::backend::BackendError;
-use crate::params::SphParams;
+use crate::params::{lean_scheme, SphParams};
 
 // SAFETY: SphParams is the bindgen image of the C struct in `cuda/sph_params.h` (repr(C),
 // plain integers and floats, no pointers); kernels take it by value. `tests/cuda_parity.rs`
@@ -97,6 +97,9 @@ pub struct Kernels {
     rates_fluid: PerLanes,
     forces_rates: PerLanes,
     forces_rates_fluid: PerLanes,
+    forces_lean: PerLanes,
+    rates_lean: PerLanes,
+    forces_rates_lean: PerLanes,
     /// Threads per particle in the neighbour kernels (density, forces, rates), one of
     /// `LANE_COUNTS`; set by the solver from the system size.
     pub lanes: usize,
@@ -126,6 +129,9 @@ impl Kernels {
             rates_fluid: PerLanes::load(dev, "rates", "sph_rates_fluid", dim)?,
             forces_rates: PerLanes::load(dev, "forces_rates", "sph_forces_rates", dim)?,
             forces_rates_fluid: PerLanes::load(dev, "forces_rates", "sph_forces_rates_fluid", dim)?,
+            forces_lean: PerLanes::load(dev, "forces", "sph_forces_lean", dim)?,
+            rates_lean: PerLanes::load(dev, "rates", "sph_rates_lean", dim)?,
+            forces_rates_lean: PerLanes::load(dev, "forces_rates", "sph_forces_rates_lean", dim)?,
             lanes: 1,
             step_size: Kernel::load(dev, "reduce", plain("sph_step_size"))?,
             kick: Kernel::load(dev, "integrate", d("sph_kick"))?,
@@ -179,12 +185,13 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
             .map(|_| ())
     });
     // SAFETY: sph_scan_local(unsigned n_cells, const unsigned* count, unsigned* local,
-    // unsigned* bsum); grid of ceil(n_cells/1024) blocks of 1024, bsum has that many.
+    // unsigned* bsum); grid of ceil(n_cells/1024) blocks of 1024, bsum has that many; local:
+    // the block-relative starts, into cell_start (made absolute by segsort).
     k.scan_local.check(unsafe {
         s.launch_builder(&k.scan_local.f)
             .arg(&nc)
             .arg(&b.count)
-            .arg(&mut b.local)
+            .arg(&mut b.cell_start)
             .arg(&mut b.bsum)
             .launch(LaunchConfig {
                 grid_dim: (nb, 1, 1),
@@ -206,27 +213,27 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
             .map(|_| ())
     });
     // SAFETY: sph_grid_scatter(unsigned n, const unsigned* cell, const unsigned* rank,
-    // const unsigned* local, const unsigned* bsum, unsigned* order).
+    // const unsigned* local, const unsigned* bsum, unsigned* order); local: cell_start, as
+    // the scan left it.
     k.scatter.check(unsafe {
         s.launch_builder(&k.scatter.f)
             .arg(&n)
             .arg(&b.cell)
             .arg(&b.rank)
-            .arg(&b.local)
+            .arg(&b.cell_start)
             .arg(&b.bsum)
             .arg(&mut b.order)
             .launch(cfg(b.n))
             .map(|_| ())
     });
     // SAFETY: sph_grid_segsort(unsigned n_cells, const unsigned* id, unsigned* count,
-    // const unsigned* local, const unsigned* bsum, unsigned* order, unsigned* cell_start);
-    // cell_start has n_cells + 1 entries.
+    // const unsigned* bsum, unsigned* order, unsigned* cell_start); cell_start has n_cells + 1
+    // entries, the first n_cells holding the scan's block-relative starts.
     k.segsort.check(unsafe {
         s.launch_builder(&k.segsort.f)
             .arg(&nc)
             .arg(&b.cur.id)
             .arg(&mut b.count)
-            .arg(&b.local)
             .arg(&b.bsum)
             .arg(&mut b.order)
             .arg(&mut b.cell_start)
@@ -299,10 +306,10 @@ pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     let n = b.n as u32;
     let c = &b.cur;
     let lanes = k.lanes;
-    let kr = if c.stress.is_some() {
-        k.rates.get(lanes)
-    } else {
-        k.rates_fluid.get(lanes)
+    let kr = match (c.stress.is_some(), lean_scheme(p)) {
+        (true, _) => k.rates.get(lanes),
+        (false, false) => k.rates_fluid.get(lanes),
+        (false, true) => k.rates_lean.get(lanes),
     };
     // SAFETY: sph_rates[_fluid]_{1,2,4,8}_{2,3}d(const SphParams p, unsigned n, const unsigned*
     // cell_start, const float* pos, const float* vel, const float* rho, const float* mass,
@@ -337,7 +344,7 @@ pub fn forces_rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buf
 
 /// The forces pass, alone or fused with the rates (`fused`): one argument list, to which the
 /// fused kernel appends the rates' outputs. Fluid-only scenes take the variants without
-/// tensor terms (same signatures).
+/// tensor terms, and of those the lean ones where `lean_scheme` holds (same signatures).
 fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers, fused: bool) {
     if b.n == 0 {
         return;
@@ -345,11 +352,13 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     let n = b.n as u32;
     let c = &b.cur;
     let lanes = k.lanes;
-    let kf = match (fused, c.stress.is_some()) {
-        (false, true) => k.forces.get(lanes),
-        (false, false) => k.forces_fluid.get(lanes),
-        (true, true) => k.forces_rates.get(lanes),
-        (true, false) => k.forces_rates_fluid.get(lanes),
+    let kf = match (fused, c.stress.is_some(), lean_scheme(p)) {
+        (false, true, _) => k.forces.get(lanes),
+        (false, false, false) => k.forces_fluid.get(lanes),
+        (false, false, true) => k.forces_lean.get(lanes),
+        (true, true, _) => k.forces_rates.get(lanes),
+        (true, false, false) => k.forces_rates_fluid.get(lanes),
+        (true, false, true) => k.forces_rates_lean.get(lanes),
     };
     // SAFETY: sph_forces[_fluid]_{1,2,4,8}_{2,3}d(const SphParams p, unsigned n, const unsigned* cell_start,
     // const float* pos, const float* vel, const float* rho, const float* pr, const float* mass,
