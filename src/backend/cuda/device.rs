@@ -68,8 +68,24 @@ impl Device {
             .new_stream()
             .map_err(|e| BackendError::Cuda(format!("cannot create a CUDA stream: {e:?}")))?;
         let mut modules = HashMap::new();
+        // MESHFREE_PTX_DIR: modules found there as <stem>.ptx replace the embedded ones, for
+        // A/B measurements of compile-time variants of the kernels (same signatures: e.g.
+        // `nvcc --ptx -DMF_NB_BATCH_FLUID=4 ...`) without rebuilding the binary.
+        let ptx_dir = std::env::var_os("MESHFREE_PTX_DIR").map(std::path::PathBuf::from);
         for (stem, src) in ptx::MODULES {
-            let m = ctx.load_module(Ptx::from_src(*src)).map_err(|e| {
+            let replaced = ptx_dir
+                .as_ref()
+                .map(|d| d.join(format!("{stem}.ptx")))
+                .filter(|f| f.is_file());
+            let src = match &replaced {
+                Some(f) => {
+                    eprintln!("meshfree: PTX module `{stem}` from {} (MESHFREE_PTX_DIR)", f.display());
+                    std::fs::read_to_string(f)
+                        .map_err(|e| BackendError::Cuda(format!("cannot read {}: {e}", f.display())))?
+                }
+                None => src.to_string(),
+            };
+            let m = ctx.load_module(Ptx::from_src(src)).map_err(|e| {
                 BackendError::Cuda(format!(
                     "loading PTX module `{stem}` ({stem}.cu) failed: {e:?}; built by nvcc {NVCC_VERSION}, driver \
                      supports CUDA {} (a driver older than the nvcc refuses its PTX)",
