@@ -177,47 +177,8 @@ __device__ __forceinline__ float fast_div(float a, float b) { return __fdividef(
 __device__ __forceinline__ float fast_norm(float r2) { return r2 > 0.0f ? r2 * rsqrtf(r2) : 0.0f; }
 
 // ---- kernels: twin of src/kernel.rs ----
-__device__ __forceinline__ float shape_w(int kernel, float q) {
-    if (kernel == MF_KERNEL_WENDLAND_C2) {
-        if (q < 2.0f) {
-            float t = 1.0f - 0.5f * q;
-            return t * t * t * t * (2.0f * q + 1.0f);
-        }
-        return 0.0f;
-    }
-    if (q < 1.0f) return 1.0f - 1.5f * q * q + 0.75f * q * q * q;
-    if (q < 2.0f) {
-        float t = 2.0f - q;
-        return 0.25f * t * t * t;
-    }
-    return 0.0f;
-}
-__device__ __forceinline__ float shape_f(int kernel, float q) {
-    if (kernel == MF_KERNEL_WENDLAND_C2) {
-        if (q < 2.0f) {
-            float t = 1.0f - 0.5f * q;
-            return -5.0f * t * t * t;
-        }
-        return 0.0f;
-    }
-    if (q < 1.0f) return -3.0f + 2.25f * q;
-    if (q < 2.0f) {
-        float t = 2.0f - q;
-        return fast_div(-0.75f * t * t, q);
-    }
-    return 0.0f;
-}
-// W(r, h) [L^-d], eqs. (1)-(4).
-__device__ __forceinline__ float kernel_w(const SphParams& p, float r) {
-    return p.kernel_norm * shape_w(p.kernel, fast_div(r, p.h));
-}
-// (dW/dr) / r [L^-(d+2)]: grad_i W_ij = kernel_f(r) r_ij.
-__device__ __forceinline__ float kernel_f(const SphParams& p, float r) {
-    return p.kernel_norm / (p.h * p.h) * shape_f(p.kernel, fast_div(r, p.h));
-}
-// Both at one r, under one branch on the kernel and on q (the pair sums need W for XSPH and
-// shifting beside the gradient): the same expressions as shape_w and shape_f, so the same
-// values as kernel_w and kernel_f. w [L^-d], f [L^-(d+2)].
+// W [L^-d], eqs. (1)-(4), and (dW/dr) / r [L^-(d+2)] (grad_i W_ij = f r_ij) at one r, under
+// one branch on the kernel and on q: the pair sums need both (W for XSPH and shifting).
 __device__ __forceinline__ void kernel_wf(const SphParams& p, float r, float& w, float& f) {
     const float q = fast_div(r, p.h);
     float sw = 0.0f, sf = 0.0f;
@@ -238,6 +199,12 @@ __device__ __forceinline__ void kernel_wf(const SphParams& p, float r, float& w,
     w = p.kernel_norm * sw;
     f = p.kernel_norm / (p.h * p.h) * sf;
 }
+// W(r, h) [L^-d] alone (the gradient's arithmetic is dead code here and compiled out).
+__device__ __forceinline__ float kernel_w(const SphParams& p, float r) {
+    float w, f;
+    kernel_wf(p, r, w, f);
+    return w;
+}
 
 // The neighbour's kind: in fluid-only scenes from the sign of its vel.w, else from the kind
 // array.
@@ -256,8 +223,8 @@ template <int DIM> struct Neighbour {
     unsigned char kind;
     Vec<DIM> r;    // x_i - x_j (minimum image) [L]
     float r2, rr;  // |r|^2 [L^2], |r| [L]
-    float fw;      // kernel_f(|r|): grad_i W_ij = fw r [L^-(d+2)]
-    float w;       // kernel_w(|r|) = W_ij [L^-d]
+    float fw;      // (dW/dr)/r at |r| (kernel_wf): grad_i W_ij = fw r [L^-(d+2)]
+    float w;       // W_ij [L^-d]
     Vec<DIM> v;    // v_j [L/T]
     float m, rho;  // m_j [M], rho_j [M L^-d]
 };
