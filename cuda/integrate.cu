@@ -56,8 +56,14 @@ __device__ void sph_drift_body(const SphParams p, unsigned n, const float* __res
     if (i == 0) *time += (double)dt;
     if (i >= n) return;
     const unsigned char k = kind[i];
-    // Dynamic wall particles take part; their d rho/dt is zero otherwise.
-    if (drho) rho[i] += dt * drho[i];
+    // Dynamic wall particles take part; their d rho/dt is zero otherwise. Under
+    // wall_rho_floor a wall's density is held at >= rho0 (`wall_density_floor` in
+    // src/backend/cpu/integrate.rs; DualSPHysics' DBC).
+    if (drho) {
+        float r = rho[i] + dt * drho[i];
+        if (p.wall_rho_floor && k == MF_KIND_BOUNDARY) r = fmaxf(r, p.rho0);
+        rho[i] = r;
+    }
     // A driven group moves at its prescribed velocity (no XSPH), whatever its kind.
     const bool driven = is_driven(p, group[i]);
     if (k == MF_KIND_BOUNDARY && !driven) return;

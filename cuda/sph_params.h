@@ -120,6 +120,11 @@ typedef struct SphParams {
                                singular d_B / d_A of fluid next to the surface */
     uint32_t wall_first_id; /* the smallest id of a boundary particle: Setup::wall_surface is
                                indexed by id - wall_first_id (set with it by Scene::setup) */
+    int32_t wall_rho_floor; /* 1: a dynamic wall particle's continuity density is held at
+                               rho >= rho0 after each update (DualSPHysics' DBC, "to prevent
+                               absorption of fluid particles by boundaries"): a wall the water
+                               leaves returns to p = 0 instead of keeping a tension, and
+                               pushes again as soon as water comes back; 0: unclamped */
 
     /* ---- prescribed motion: pistons, clamps, inflow bands ---- */
     int32_t driven;             /* 1: particles of scene group `driven_group` (any kind) move at

@@ -1097,3 +1097,26 @@ fn stages_2d_background_pressure_dynamic_walls() {
     setup.params.p_background = 2.0;
     stages_on::<D2>("V_2D_A background pressure", setup);
 }
+
+/// `setup` with the dynamic walls' continuity density held at >= rho0 (`wall_rho_floor`,
+/// DualSPHysics' DBC; `wall_density_floor` in src/backend/cpu/integrate.rs): the random
+/// velocities dilate some wall particles, so the drift's clamp binds.
+fn with_wall_density_floor(mut setup: Setup) -> Setup {
+    setup.params.wall_rho_floor = 1;
+    setup
+}
+#[test]
+fn stages_2d_wall_density_floor_continuity_symplectic() {
+    let setup = with_wall_density_floor(scene(2, V_2D_SYMPLECTIC_LAMINAR));
+    stages_on::<D2>("V_2D_SYMPLECTIC_LAMINAR wall density floor", setup);
+}
+#[test]
+fn stages_3d_wall_density_floor_continuity_euler() {
+    let setup = with_wall_density_floor(scene(3, V_3D_B));
+    stages_on::<D3>("V_3D_B wall density floor", setup);
+}
+#[test]
+fn diagnostics_after_200_steps_2d_wall_density_floor() {
+    let setup = with_wall_density_floor(scene_with(2, V_2D_SYMPLECTIC_LAMINAR, 0.05));
+    long_run_on::<D2>("V_2D_SYMPLECTIC_LAMINAR wall density floor", setup, 200);
+}

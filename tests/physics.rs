@@ -2,12 +2,12 @@
 //! at rest with hydrostatic pressure; a dam-break surge front tracks Martin & Moyce (1952).
 
 use meshfree::backend::cpu_solver;
-use meshfree::kernel;
 use meshfree::params::SphParams;
 use meshfree::particle::{Kind, Particle};
 use meshfree::run::{self, Gates};
 use meshfree::scene::Scene;
 use meshfree::solver::Solver;
+use meshfree::validate::dam_break::wall_height;
 
 /// A built-in scene at another spacing.
 fn coarsened(name: &str, spacing: f64) -> Scene {
@@ -228,28 +228,11 @@ fn dam_break_surge_front_tracks_martin_moyce() {
 
 #[test]
 fn dam_break_column_height_at_the_wall_tracks_martin_moyce() {
-    // The water surface at the back wall: the lowest height, on the vertical line one
-    // spacing from the wall, where the SPH colour function sum_j V_j W(x - x_j) of the fluid
-    // falls below 1/2. (The top-most particle there is quantised to whole spacings: at
-    // dx = 0.04 a = 9 % of the late Martin & Moyce heights, as large as the tolerance.)
-    let height = |ps: &[Particle], p: &SphParams| {
-        let x0 = p.dx;
-        let colour = |y: f32| -> f32 {
-            ps.iter()
-                .filter(|q| q.kind == Kind::Fluid)
-                .map(|q| {
-                    let (rx, ry) = (q.position[0] - x0, q.position[1] - y);
-                    q.mass / q.density * kernel::w(p, (rx * rx + ry * ry).sqrt())
-                })
-                .sum()
-        };
-        let step = p.dx / 20.0;
-        let mut y = p.dx; // inside the water above the floor
-        while colour(y) >= 0.5 && y < 10.0 {
-            y += step;
-        }
-        y as f64
-    };
+    // The water surface at the back wall: the validation case's kernel gauge (the fluid
+    // mirrored across the wall and the floor, phi = 1/2). (The top-most particle there is
+    // quantised to whole spacings: at dx = 0.04 a = 9 % of the late Martin & Moyce
+    // heights, as large as the tolerance.)
+    let height = |ps: &[Particle], p: &SphParams| wall_height(p, ps, p.dx as f64);
     let worst = worst_against_martin_moyce("residual_height_at_wall", 0.8..=2.6, height);
     // Without the wall's tensile cut-off the water clung to the wall at h/a ~ 0.98.
     assert!(

@@ -92,6 +92,16 @@ fn dam_break_walls_start_at_rest() {
     }
 }
 
+/// `[boundary] wall_density_floor` is off by default and on in the dam break (docs/accuracy.md:
+/// unclamped, the walls the water leaves fall to 0.73 rho0 and the column rings).
+#[test]
+fn wall_density_floor_only_where_asked() {
+    let dam = Scene::builtin("dam-break-2d").unwrap().setup().unwrap();
+    assert_eq!(dam.params.wall_rho_floor, 1);
+    let tank = Scene::builtin("tank-2d").unwrap().setup().unwrap();
+    assert_eq!(tank.params.wall_rho_floor, 0);
+}
+
 #[test]
 fn tank_2d_particles() {
     let s = Scene::builtin("tank-2d").unwrap();

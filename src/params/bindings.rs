@@ -101,6 +101,8 @@ pub struct SphParams {
     pub no_slip_beta_max: f32,
     #[doc = " the smallest id of a boundary particle: Setup::wall_surface is\nindexed by id - wall_first_id (set with it by Scene::setup)"]
     pub wall_first_id: u32,
+    #[doc = " 1: a dynamic wall particle's continuity density is held at\nrho >= rho0 after each update (DualSPHysics' DBC, \"to prevent\nabsorption of fluid particles by boundaries\"): a wall the water\nleaves returns to p = 0 instead of keeping a tension, and\npushes again as soon as water comes back; 0: unclamped"]
+    pub wall_rho_floor: i32,
     #[doc = " 1: particles of scene group `driven_group` (any kind) move at\n`driven_velocity`, whatever the forces (a piston, a clamp)"]
     pub driven: i32,
     #[doc = " the scene group id"]

@@ -359,6 +359,15 @@ pub struct BoundaryMaterial {
     /// up at dx = 0.01 with it, docs/accuracy.md). Default false: walls start at rho0, p = 0.
     #[serde(default)]
     pub hydrostatic_walls: bool,
+    /// true: a dynamic wall particle's continuity density never falls below rho0 (the DBC
+    /// of DualSPHysics, Crespo et al. 2007; Dominguez et al. 2022). Unclamped, a wall the
+    /// water runs off keeps the dilatation it read (a dam break's floor and back wall fell
+    /// to 0.73 rho0, p = -2.5e5 Pa): it pulls on nothing (`wall_pair_stress`), but it is
+    /// soft to the water that comes back until that has compressed it by a quarter, and
+    /// the column rang with particle-scale pressure noise (docs/accuracy.md, dam break).
+    /// Default false (results of the other cases unchanged); on in the dam-break case.
+    #[serde(default)]
+    pub wall_density_floor: bool,
 }
 
 fn default_p1() -> i32 {

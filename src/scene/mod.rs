@@ -65,6 +65,8 @@
 //!                                    # own velocity | "morris": extrapolated across the wall
 //!                                    # surface (Morris, Fox & Zhu 1997; dynamic walls, nu > 0)
 //! no_slip_beta_max = 1.5             # default 1.5: cap of Morris's 1 + d_B / d_A
+//! wall_density_floor = false         # default false; true: dynamic walls' density >= rho0
+//!                                    # (DualSPHysics' DBC; docs/accuracy.md, dam break)
 //!
 //! [[fluid_blocks]]
 //! min = [0.0, 0.0]
@@ -489,6 +491,7 @@ fn scene_params(s: &SceneFile) -> SphParams {
                 NoSlip::Morris => params::MF_NO_SLIP_MORRIS,
             } as i32;
             p.no_slip_beta_max = b.no_slip_beta_max as f32;
+            p.wall_rho_floor = b.wall_density_floor as i32;
         }
         None => {
             p.lj_c0 = 0.0;
@@ -499,6 +502,7 @@ fn scene_params(s: &SceneFile) -> SphParams {
             p.wall_pressure = 1;
             p.no_slip = params::MF_NO_SLIP_WALL_VELOCITY as i32;
             p.no_slip_beta_max = default_beta_max() as f32;
+            p.wall_rho_floor = 0;
         }
     }
 

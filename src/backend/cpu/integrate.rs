@@ -41,6 +41,20 @@ pub fn in_inflow_band<D: Dim>(p: &SphParams, kind: u8, x: D::V) -> bool {
     c >= p.inflow_lo && c < p.inflow_hi
 }
 
+/// The continuity density [M L^-d] of a particle of kind `kind` after its update: a dynamic
+/// wall particle's held at rho >= rho0 under `wall_rho_floor` (the DBC of DualSPHysics,
+/// Crespo et al. 2007: "to prevent absorption of fluid particles by boundaries"), so a wall
+/// the water has left sits at p = 0 and pushes as soon as water comes back; unchanged
+/// otherwise. Twin: `sph_drift` in `cuda/integrate.cu`.
+#[inline]
+pub fn wall_density_floor(p: &SphParams, kind: u8, rho: f32) -> f32 {
+    if p.wall_rho_floor != 0 && kind as u32 == MF_KIND_BOUNDARY {
+        rho.max(p.rho0)
+    } else {
+        rho
+    }
+}
+
 /// The kick: v += dt a for fluid and solid particles; v = inflow_velocity for fluid in the
 /// inflow band (`in_inflow_band`); the driven group's velocity is set to its prescribed
 /// value, whatever the forces. [L/T]
@@ -85,7 +99,8 @@ pub fn drift<D: Dim>(p: &SphParams, dt: f32, s: &mut State<D>) {
         s.rho
             .par_iter_mut()
             .zip(drho.par_iter())
-            .for_each(|(r, d)| *r += dt * d);
+            .enumerate()
+            .for_each(|(i, (r, d))| *r = wall_density_floor(p, kind[i], *r + dt * d));
     }
     if let Some(solid) = s.solid.as_mut() {
         let rate = &solid.stress_rate;
