@@ -79,9 +79,13 @@ impl Device {
                 .filter(|f| f.is_file());
             let src = match &replaced {
                 Some(f) => {
-                    eprintln!("meshfree: PTX module `{stem}` from {} (MESHFREE_PTX_DIR)", f.display());
-                    std::fs::read_to_string(f)
-                        .map_err(|e| BackendError::Cuda(format!("cannot read {}: {e}", f.display())))?
+                    eprintln!(
+                        "meshfree: PTX module `{stem}` from {} (MESHFREE_PTX_DIR)",
+                        f.display()
+                    );
+                    std::fs::read_to_string(f).map_err(|e| {
+                        BackendError::Cuda(format!("cannot read {}: {e}", f.display()))
+                    })?
                 }
                 None => src.to_string(),
             };
