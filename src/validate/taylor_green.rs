@@ -12,7 +12,11 @@
 //! stagnation points, the vortices break up within t ~ 0.3 and E_k decays 2-5 times too fast
 //! depending on how the lattice sits on the stagnation lines (n = 22, 26, 30, 34: n = 2 mod 4
 //! puts particle rows on them). The quick tier reports the unshifted run beside it; the
-//! speed-vs-accuracy chart has both (`default` and `shifting 0.2`).
+//! speed-vs-accuracy chart has both (`default` and `shifting 0.2`). The shift velocity
+//! scales with c0 (`-C h c0 grad C`); Sun et al. 2017's flow-speed scaling
+//! (`[fluid] shifting_speed = U`) is the same shift here with C x c0 / U = 10 C, and no C
+//! passes both tiers (docs/accuracy.md, "Particle shifting", session 6), so the case keeps
+//! the default.
 
 use super::plot::{plot, Figure, Series};
 use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
@@ -99,7 +103,9 @@ fn simulate_edited(
     scene.revalidate()?;
     let mut setup = scene.setup()?;
     let tau = 2.0 * std::f64::consts::PI;
-    let tait_b = 1.0 * C0 * C0 / GAMMA;
+    // Tait, eq. (9), with the scene's c0 and gamma (an `edit` may change c0).
+    let f = &scene.file.fluid;
+    let (gamma, tait_b) = (f.gamma, f.density * f.sound_speed * f.sound_speed / f.gamma);
     for q in setup.particles.iter_mut().filter(|q| q.kind == Kind::Fluid) {
         let (x, y) = (q.position[0] as f64, q.position[1] as f64);
         q.velocity = [
@@ -109,7 +115,7 @@ fn simulate_edited(
         ];
         let p = -((2.0 * tau * x).cos() + (2.0 * tau * y).cos()) / 4.0;
         q.pressure = p as f32;
-        q.density = (1.0 + p / tait_b).powf(1.0 / GAMMA) as f32;
+        q.density = (1.0 + p / tait_b).powf(1.0 / gamma) as f32;
     }
     let mut sim = Sim::new(ctx, setup, scene.gates(), format!("{n} x {n}"))?;
     let e0 = sim.solver.diagnostics().kinetic_energy;
