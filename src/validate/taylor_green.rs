@@ -13,10 +13,9 @@
 //! depending on how the lattice sits on the stagnation lines (n = 22, 26, 30, 34: n = 2 mod 4
 //! puts particle rows on them). The quick tier reports the unshifted run beside it; the
 //! speed-vs-accuracy chart has both (`default` and `shifting 0.2`). The shift velocity
-//! scales with c0 (`-C h c0 grad C`); Sun et al. 2017's flow-speed scaling
-//! (`[fluid] shifting_speed = U`) is the same shift here with C x c0 / U = 10 C, and no C
-//! passes both tiers (docs/accuracy.md, "Particle shifting", session 6), so the case keeps
-//! the default.
+//! scales with c0 (`-C h c0 grad C`); Sun et al. 2017's flow-speed scaling would be the same
+//! shift here with C x c0 / U = 10 C, and no C passes both tiers (docs/accuracy.md,
+//! "Particle shifting", session 6).
 
 use super::plot::{plot, Figure, Series};
 use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
