@@ -39,7 +39,7 @@ template <int DIM> __device__ __forceinline__ void vstore(float* a, unsigned i, 
 // density pass and at upload, kept by the kick); the mass m (constant: written at upload,
 // kept by the kick, the drift and the grid's reorder) is pos.w in 3D and vel.z in 2D (whose
 // positions stay float2: the candidate test loads them, most candidates are rejected). The
-// separate arrays stay the reference.
+// mass has no array of its own on the device (mass_of); the density's reference is rho[].
 // vel.w of a particle of kind k and density rho.
 __device__ __forceinline__ float vel_w(unsigned char k, float rho) { return k == MF_KIND_BOUNDARY ? -rho : rho; }
 // Whether vel.w marks a boundary particle (the sign bit: -0.0 counts).
@@ -65,6 +65,12 @@ template <int DIM> __device__ __forceinline__ Vec<DIM> vload_w(const float* a, u
         v.c[0] = t.x; v.c[1] = t.y; v.c[2] = t.z;
         return v;
     }
+}
+// Particle i's mass [M]: pos.w in 3D, vel.z in 2D (see above).
+template <int DIM>
+__device__ __forceinline__ float mass_of(const float* __restrict__ pos, const float* __restrict__ vel, unsigned i) {
+    if constexpr (DIM == 3) return reinterpret_cast<const float4*>(pos)[i].w;
+    else return reinterpret_cast<const float4*>(vel)[i].z;
 }
 // Velocity i (float4 in both dimensions), its w slot in w and, in 2D, the mass (vel.z) in m.
 template <int DIM> __device__ __forceinline__ Vec<DIM> vel_load(const float* v, unsigned i, float& m, float& w) {

@@ -79,7 +79,7 @@ __device__ Mat<DIM> artificial_stress(const SphParams& p, const Mat<DIM>& si, fl
 template <int DIM, int L>
 __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __restrict__ cell_start,
                              const float* __restrict__ pos, float* __restrict__ vel,
-                             const unsigned char* __restrict__ kind, const float* __restrict__ mass,
+                             const unsigned char* __restrict__ kind,
                              float* __restrict__ rho, float* __restrict__ pr,
                              const float* __restrict__ stress, float* __restrict__ art) {
     const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
@@ -99,7 +99,7 @@ __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __re
                                             });
         sum_w = lane_sum<L>(sum_w);  // every lane of the warp takes part
         if (active && lane == 0) {
-            r = mass[i] * sum_w;  // eq. (8), number-density form (Hu & Adams 2006)
+            r = mass_of<DIM>(pos, vel, i) * sum_w;  // eq. (8), number-density form (Hu & Adams 2006)
             rho[i] = r;
         }
     } else if (active && lane == 0) {
@@ -128,13 +128,13 @@ __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __re
     template <int DIM>                                                                                         \
     __device__ void sph_density_##L##_body(const SphParams p, unsigned n, const unsigned* cell_start,          \
                                            const float* pos, float* vel, const unsigned char* kind,            \
-                                           const float* mass, float* rho, float* pr, const float* stress,      \
+                                           float* rho, float* pr, const float* stress,      \
                                            float* art) {                                                       \
-        density_impl<DIM, L>(p, n, cell_start, pos, vel, kind, mass, rho, pr, stress, art);                     \
+        density_impl<DIM, L>(p, n, cell_start, pos, vel, kind, rho, pr, stress, art);                     \
     }                                                                                                          \
     MF_ENTRY2(sph_density_##L,                                                                                 \
               (const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, float* vel,        \
-               const unsigned char* kind, const float* mass, float* rho, float* pr, const float* stress,       \
+               const unsigned char* kind, float* rho, float* pr, const float* stress,       \
                float* art),                                                                                    \
-              (p, n, cell_start, pos, vel, kind, mass, rho, pr, stress, art))
+              (p, n, cell_start, pos, vel, kind, rho, pr, stress, art))
 MF_LANES_EACH(MF_DENSITY_ENTRY)

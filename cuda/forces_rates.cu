@@ -12,7 +12,7 @@ template <int DIM, bool SOLIDS, bool EXTRAS, int L, int B = Batch<L, SOLIDS>::B>
 __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
                                   const float* __restrict__ pos, const float* __restrict__ vel,
                                   const float* __restrict__ rho, const float* __restrict__ pr,
-                                  const float* __restrict__ mass, const unsigned char* __restrict__ kind,
+                                  const unsigned char* __restrict__ kind,
                                   const unsigned* __restrict__ group, const float* __restrict__ stress,
                                   const float* __restrict__ art, const unsigned* __restrict__ id,
                                   const float* __restrict__ surf, float* __restrict__ acc_out,
@@ -45,11 +45,11 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
 #define MF_FORCES_RATES_ENTRY(name, DIM, SOLIDS, EXTRAS, L)                                                                 \
     extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 1 : MF_FLUID_BLOCKS)                                        \
         name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel,      \
-             const float* rho, const float* pr, const float* mass, const unsigned char* kind,                    \
+             const float* rho, const float* pr, const unsigned char* kind,                    \
              const unsigned* group, const float* stress, const float* art, const unsigned* id,      \
              const float* surf, float* acc, unsigned* red,            \
              float* drho, float* xsph, float* rate) {                                                            \
-        forces_rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, pos, vel, rho, pr, mass, kind, group, stress, art, id, surf, acc, \
+        forces_rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, pos, vel, rho, pr, kind, group, stress, art, id, surf, acc, \
                                           red, drho, xsph, rate);                                                \
     }
 #define MF_FORCES_RATES_LANES(L)                                      \

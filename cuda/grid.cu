@@ -128,16 +128,17 @@ sph_grid_segsort(unsigned n_cells, const unsigned* __restrict__ id, unsigned* __
     }
 }
 
-// 6. Reorder every persistent array: new slot k takes old slot order[k].
+// 6. Reorder every persistent array: new slot k takes old slot order[k] (the mass travels in
+// pos.w / vel.z, mass_of in common.cuh).
 template <int DIM>
 __device__ void sph_grid_gather_body(unsigned n, const unsigned* __restrict__ order,
                                      const unsigned* __restrict__ id, const unsigned char* __restrict__ kind,
-                                     const unsigned* __restrict__ group, const float* __restrict__ mass,
+                                     const unsigned* __restrict__ group,
                                      const float* __restrict__ pos, const float* __restrict__ vel,
                                      const float* __restrict__ rho, const float* __restrict__ pr,
                                      const float* __restrict__ stress, unsigned* __restrict__ id2,
                                      unsigned char* __restrict__ kind2, unsigned* __restrict__ group2,
-                                     float* __restrict__ mass2, float* __restrict__ pos2, float* __restrict__ vel2,
+                                     float* __restrict__ pos2, float* __restrict__ vel2,
                                      float* __restrict__ rho2, float* __restrict__ pr2, float* __restrict__ stress2) {
     unsigned k = blockIdx.x * blockDim.x + threadIdx.x;
     if (k >= n) return;
@@ -145,7 +146,6 @@ __device__ void sph_grid_gather_body(unsigned n, const unsigned* __restrict__ or
     id2[k] = id[o];
     kind2[k] = kind[o];
     group2[k] = group[o];
-    mass2[k] = mass[o];
     if constexpr (DIM == 2) {
         reinterpret_cast<float2*>(pos2)[k] = reinterpret_cast<const float2*>(pos)[o];
     } else {
@@ -161,8 +161,8 @@ __device__ void sph_grid_gather_body(unsigned n, const unsigned* __restrict__ or
 }
 MF_ENTRY2(sph_grid_gather,
           (unsigned n, const unsigned* order, const unsigned* id, const unsigned char* kind, const unsigned* group,
-           const float* mass, const float* pos, const float* vel, const float* rho, const float* pr,
-           const float* stress, unsigned* id2, unsigned char* kind2, unsigned* group2, float* mass2, float* pos2,
-           float* vel2, float* rho2, float* pr2, float* stress2),
-          (n, order, id, kind, group, mass, pos, vel, rho, pr, stress, id2, kind2, group2, mass2, pos2, vel2,
-           rho2, pr2, stress2))
+           const float* pos, const float* vel, const float* rho, const float* pr, const float* stress,
+           unsigned* id2, unsigned char* kind2, unsigned* group2, float* pos2, float* vel2, float* rho2,
+           float* pr2, float* stress2),
+          (n, order, id, kind, group, pos, vel, rho, pr, stress, id2, kind2, group2, pos2, vel2, rho2, pr2,
+           stress2))

@@ -6,7 +6,7 @@
 template <int DIM, bool SOLIDS, bool EXTRAS, int L, int B = Batch<L, SOLIDS>::B>
 __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
                            const float* __restrict__ pos, const float* __restrict__ vel,
-                           const float* __restrict__ rho, const float* __restrict__ mass,
+                           const float* __restrict__ rho,
                            const unsigned char* __restrict__ kind, const unsigned* __restrict__ group,
                            const float* __restrict__ stress, float* __restrict__ drho_out,
                            float* __restrict__ xsph_out, float* __restrict__ rate_out) {
@@ -29,9 +29,9 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
 #define MF_RATES_ENTRY(name, DIM, SOLIDS, EXTRAS, L)                                                                   \
     extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 1 : MF_FLUID_BLOCKS)                                   \
         name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel, \
-             const float* rho, const float* mass, const unsigned char* kind, const unsigned* group,          \
+             const float* rho, const unsigned char* kind, const unsigned* group,          \
              const float* stress, float* drho, float* xsph, float* rate) {                                    \
-        rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, pos, vel, rho, mass, kind, group, stress, drho, xsph, rate); \
+        rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, pos, vel, rho, kind, group, stress, drho, xsph, rate); \
     }
 #define MF_RATES_LANES(L)                                \
     MF_RATES_ENTRY(sph_rates_##L##_2d, 2, true, true, L)         \

@@ -24,7 +24,7 @@ extern "C" __global__ void sph_step_size(const SphParams p, unsigned* __restrict
 // bits; counts = (fluid, solid, boundary). The caller zeroes them.
 template <int DIM>
 __device__ void sph_diagnostics_body(const SphParams p, unsigned n, const unsigned char* __restrict__ kind,
-                                     const float* __restrict__ mass, const float* __restrict__ vel,
+                                     const float* __restrict__ pos, const float* __restrict__ vel,
                                      const float* __restrict__ rho, double* __restrict__ sums,
                                      unsigned* __restrict__ maxes, unsigned* __restrict__ counts) {
     __shared__ double shd[MF_BLOCK / 32];
@@ -35,7 +35,7 @@ __device__ void sph_diagnostics_body(const SphParams p, unsigned n, const unsign
     unsigned char k = i < n ? kind[i] : (unsigned char)255;
     if (i < n && k != MF_KIND_BOUNDARY) {
         Vec<DIM> v = vel_load<DIM>(vel, i);
-        double m = (double)mass[i], v2 = 0.0;
+        double m = (double)mass_of<DIM>(pos, vel, i), v2 = 0.0;
         for (int a = 0; a < DIM; ++a) {
             v2 += (double)v.c[a] * (double)v.c[a];
             mom[a] = m * (double)v.c[a];
@@ -65,9 +65,9 @@ __device__ void sph_diagnostics_body(const SphParams p, unsigned n, const unsign
     if (threadIdx.x == 0) atomicMax(&maxes[1], __float_as_uint(derr));
 }
 MF_ENTRY2(sph_diagnostics,
-          (const SphParams p, unsigned n, const unsigned char* kind, const float* mass, const float* vel,
+          (const SphParams p, unsigned n, const unsigned char* kind, const float* pos, const float* vel,
            const float* rho, double* sums, unsigned* maxes, unsigned* counts),
-          (p, n, kind, mass, vel, rho, sums, maxes, counts))
+          (p, n, kind, pos, vel, rho, sums, maxes, counts))
 
 // Health check: the first unhealthy slot, as atomicMin of (slot << 8 | fault code)
 // (solver::fault_codes) into *first (the caller sets it to ~0).

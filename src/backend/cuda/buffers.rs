@@ -2,7 +2,7 @@
 
 //! and the kernels' layout: vectors as float2 (2D) / float4 (3D; position w = mass, others
 //! w = 0), except velocities, float4 in both (w = density negated on walls; 2D z = mass;
-//! `vel_load` in `cuda/common.cuh`), symmetric tensors as 3 (2D: xx, yy, xy) or 6 (3D: xx,
+//! `vel_load` in `cuda/common.cuh`; the mass has no array of its own), symmetric tensors as 3 (2D: xx, yy, xy) or 6 (3D: xx,
 //! yy, zz, xy, xz, yz) planes.
 
 use std::sync::Arc;
@@ -45,7 +45,6 @@ pub struct Persistent {
     pub id: CudaSlice<u32>,
     pub kind: CudaSlice<u8>,
     pub group: CudaSlice<u32>,
-    pub mass: CudaSlice<f32>,
     pub pos: CudaSlice<f32>,
     pub vel: CudaSlice<f32>,
     pub rho: CudaSlice<f32>,
@@ -125,7 +124,6 @@ impl Buffers {
                 id: a.z(n)?,
                 kind: a.z(n)?,
                 group: a.z(n)?,
-                mass: a.z(n)?,
                 pos: a.z(n * vs)?,
                 vel: a.z(n * VEL_STRIDE)?,
                 rho: a.z(n)?,
@@ -203,7 +201,6 @@ impl Buffers {
         s.memcpy_htod(&st.id, &mut c.id)?;
         s.memcpy_htod(&st.kind, &mut c.kind)?;
         s.memcpy_htod(&st.group, &mut c.group)?;
-        s.memcpy_htod(&st.mass, &mut c.mass)?;
         // Mass and density (negated on walls) in the spare slots (`vel_load` in cuda/common.cuh).
         let wall = |i: usize| st.kind[i] as u32 == MF_KIND_BOUNDARY;
         let pos = flat_v::<D>(&st.pos, |i| st.mass[i]);
@@ -263,15 +260,16 @@ impl Buffers {
             v.truncate(n);
             v
         };
+        let (pos, vel) = (s.clone_dtoh(&c.pos)?, s.clone_dtoh(&c.vel)?);
         let mut kind = s.clone_dtoh(&c.kind)?;
         kind.truncate(n);
         Ok(State {
             id: trim(s.clone_dtoh(&c.id)?),
             kind,
             group: trim(s.clone_dtoh(&c.group)?),
-            mass: trimf(s.clone_dtoh(&c.mass)?),
-            pos: unflat_v::<D>(&s.clone_dtoh(&c.pos)?, n),
-            vel: unflat::<D>(&s.clone_dtoh(&c.vel)?, n, VEL_STRIDE),
+            mass: mass_of::<D>(&pos, &vel, n),
+            pos: unflat_v::<D>(&pos, n),
+            vel: unflat::<D>(&vel, n, VEL_STRIDE),
             rho: trimf(s.clone_dtoh(&c.rho)?),
             p: trimf(s.clone_dtoh(&c.p)?),
             acc: unflat_v::<D>(&s.clone_dtoh(&self.acc)?, n),
@@ -282,6 +280,16 @@ impl Buffers {
             },
             solid,
         })
+    }
+}
+
+/// The masses from the flat positions and velocities: pos.w in 3D, vel.z in 2D (no array of
+/// their own on the device; `mass_of` in cuda/common.cuh).
+fn mass_of<D: Dim>(pos: &[f32], vel: &[f32], n: usize) -> Vec<f32> {
+    if D::D == 3 {
+        (0..n).map(|i| pos[i * 4 + 3]).collect()
+    } else {
+        (0..n).map(|i| vel[i * VEL_STRIDE + 2]).collect()
     }
 }
 

@@ -243,16 +243,15 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     {
         let (c, a) = (&b.cur, &mut b.alt);
         // SAFETY: sph_grid_gather_{2,3}d(unsigned n, const unsigned* order, const unsigned* id,
-        // const unsigned char* kind, const unsigned* group, const float* mass, const float* pos,
-        // const float* vel, const float* rho, const float* pr, const float* stress, then the
-        // same ten outputs); stress null in both sets or in neither.
+        // const unsigned char* kind, const unsigned* group, const float* pos, const float* vel,
+        // const float* rho, const float* pr, const float* stress, then the same nine outputs);
+        // stress null in both sets or in neither.
         let mut l = s.launch_builder(&k.gather.f);
         l.arg(&n)
             .arg(&b.order)
             .arg(&c.id)
             .arg(&c.kind)
             .arg(&c.group)
-            .arg(&c.mass)
             .arg(&c.pos)
             .arg(&c.vel);
         l.arg(&c.rho).arg(&c.p);
@@ -260,7 +259,6 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
         l.arg(&mut a.id)
             .arg(&mut a.kind)
             .arg(&mut a.group)
-            .arg(&mut a.mass)
             .arg(&mut a.pos)
             .arg(&mut a.vel);
         l.arg(&mut a.rho).arg(&mut a.p);
@@ -279,8 +277,8 @@ pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers)
     let c = &mut b.cur;
     let (kd, lanes) = (k.density.get(k.lanes), k.lanes);
     // SAFETY: sph_density_{1,2,4,8}_{2,3}d(const SphParams p, unsigned n, const unsigned* cell_start,
-    // const float* pos, float* vel, const unsigned char* kind, const float* mass, float* rho,
-    // float* pr, const float* stress, float* art); vel is written only in its w slots (3D);
+    // const float* pos, float* vel, const unsigned char* kind, float* rho, float* pr,
+    // const float* stress, float* art); vel is written only in its w slots;
     // art null without artificial stress (then stress is not read), else both hold n_sym
     // planes of n.
     let mut l = s.launch_builder(&kd.f);
@@ -290,7 +288,6 @@ pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers)
         .arg(&c.pos)
         .arg(&mut c.vel)
         .arg(&c.kind)
-        .arg(&c.mass)
         .arg(&mut c.rho)
         .arg(&mut c.p);
     opt!(l, &c.stress);
@@ -312,7 +309,7 @@ pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
         (false, true) => k.rates_lean.get(lanes),
     };
     // SAFETY: sph_rates[_fluid]_{1,2,4,8}_{2,3}d(const SphParams p, unsigned n, const unsigned*
-    // cell_start, const float* pos, const float* vel, const float* rho, const float* mass,
+    // cell_start, const float* pos, const float* vel, const float* rho,
     // const unsigned char* kind, const unsigned* group, const float* stress, float* drho,
     // float* xsph, float* rate); drho null without the continuity density; stress and rate
     // null without solids (the fluid variants read neither).
@@ -323,7 +320,6 @@ pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
         .arg(&c.pos)
         .arg(&c.vel)
         .arg(&c.rho)
-        .arg(&c.mass)
         .arg(&c.kind)
         .arg(&c.group);
     opt!(l, &c.stress);
@@ -361,7 +357,7 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
         (true, false, true) => k.forces_rates_lean.get(lanes),
     };
     // SAFETY: sph_forces[_fluid]_{1,2,4,8}_{2,3}d(const SphParams p, unsigned n, const unsigned* cell_start,
-    // const float* pos, const float* vel, const float* rho, const float* pr, const float* mass,
+    // const float* pos, const float* vel, const float* rho, const float* pr,
     // const unsigned char* kind, const unsigned* group, const float* stress, const float* art,
     // const unsigned* id, const float* surf, float* acc, unsigned* red); stress, art, surf may
     // be null (surf is read only under no_slip, when Buffers holds it: float4 per boundary
@@ -376,8 +372,7 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
         .arg(&c.pos)
         .arg(&c.vel)
         .arg(&c.rho)
-        .arg(&c.p)
-        .arg(&c.mass);
+        .arg(&c.p);
     l.arg(&c.kind).arg(&c.group);
     opt!(l, &c.stress);
     opt!(l, &b.art);
@@ -470,14 +465,14 @@ pub fn diagnostics(
     let n = b.n as u32;
     let c = &b.cur;
     // SAFETY: sph_diagnostics_{2,3}d(const SphParams p, unsigned n, const unsigned char* kind,
-    // const float* mass, const float* vel, const float* rho, double* sums (4),
+    // const float* pos, const float* vel, const float* rho, double* sums (4),
     // unsigned* maxes (2), unsigned* counts (3)).
     unsafe {
         s.launch_builder(&k.diagnostics.f)
             .arg(p)
             .arg(&n)
             .arg(&c.kind)
-            .arg(&c.mass)
+            .arg(&c.pos)
             .arg(&c.vel)
             .arg(&c.rho)
             .arg(&mut b.diag_sums)
