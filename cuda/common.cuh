@@ -439,6 +439,17 @@ __device__ __forceinline__ void call_neighbour(const SphParams& p, const float* 
 // launcher (src/backend/cuda/launch.rs) picks L by system size.
 #define MF_LANES_EACH(X) X(1) X(2) X(4) X(8)
 
+// The schemes of the forces and rates kernels, for one lane count L: ENTRY(entry name, DIM,
+// SOLIDS, EXTRAS, L) for `name_L_{2,3}d` (with solids), `name_fluid_L_{2,3}d` (fluid-only)
+// and `name_lean_L_{2,3}d` (fluid-only without the optional terms: params::lean_scheme).
+#define MF_SCHEMES(ENTRY, name, L)                       \
+    ENTRY(name##_##L##_2d, 2, true, true, L)             \
+    ENTRY(name##_##L##_3d, 3, true, true, L)             \
+    ENTRY(name##_fluid_##L##_2d, 2, false, true, L)      \
+    ENTRY(name##_fluid_##L##_3d, 3, false, true, L)      \
+    ENTRY(name##_lean_##L##_2d, 2, false, false, L)      \
+    ENTRY(name##_lean_##L##_3d, 3, false, false, L)
+
 // Candidates per batch in the neighbour loop (see for_each_neighbor_split): 8 for the
 // one-lane fluid-only forces and rates (large systems; measured on the H100 against 4 and 2,
 // docs/performance.md, Session 3), MF_NB_BATCH for the others.

@@ -37,11 +37,5 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
              const float* surf, float* acc, unsigned* red) {           \
         forces_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, pos, vel, rho, pr, kind, group, stress, art, id, surf, acc, red); \
     }
-#define MF_FORCES_LANES(L)                                \
-    MF_FORCES_ENTRY(sph_forces_##L##_2d, 2, true, true, L)        \
-    MF_FORCES_ENTRY(sph_forces_##L##_3d, 3, true, true, L)        \
-    MF_FORCES_ENTRY(sph_forces_fluid_##L##_2d, 2, false, true, L)  \
-    MF_FORCES_ENTRY(sph_forces_fluid_##L##_3d, 3, false, true, L)  \
-    MF_FORCES_ENTRY(sph_forces_lean_##L##_2d, 2, false, false, L)  \
-    MF_FORCES_ENTRY(sph_forces_lean_##L##_3d, 3, false, false, L)
+#define MF_FORCES_LANES(L) MF_SCHEMES(MF_FORCES_ENTRY, sph_forces, L)
 MF_LANES_EACH(MF_FORCES_LANES)

@@ -52,11 +52,5 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
         forces_rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, pos, vel, rho, pr, kind, group, stress, art, id, surf, acc, \
                                           red, drho, xsph, rate);                                                \
     }
-#define MF_FORCES_RATES_LANES(L)                                      \
-    MF_FORCES_RATES_ENTRY(sph_forces_rates_##L##_2d, 2, true, true, L)        \
-    MF_FORCES_RATES_ENTRY(sph_forces_rates_##L##_3d, 3, true, true, L)        \
-    MF_FORCES_RATES_ENTRY(sph_forces_rates_fluid_##L##_2d, 2, false, true, L)  \
-    MF_FORCES_RATES_ENTRY(sph_forces_rates_fluid_##L##_3d, 3, false, true, L)  \
-    MF_FORCES_RATES_ENTRY(sph_forces_rates_lean_##L##_2d, 2, false, false, L)  \
-    MF_FORCES_RATES_ENTRY(sph_forces_rates_lean_##L##_3d, 3, false, false, L)
+#define MF_FORCES_RATES_LANES(L) MF_SCHEMES(MF_FORCES_RATES_ENTRY, sph_forces_rates, L)
 MF_LANES_EACH(MF_FORCES_RATES_LANES)

@@ -33,12 +33,6 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
              const float* stress, float* drho, float* xsph, float* rate) {                                    \
         rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, pos, vel, rho, kind, group, stress, drho, xsph, rate); \
     }
-#define MF_RATES_LANES(L)                                \
-    MF_RATES_ENTRY(sph_rates_##L##_2d, 2, true, true, L)         \
-    MF_RATES_ENTRY(sph_rates_##L##_3d, 3, true, true, L)         \
-    MF_RATES_ENTRY(sph_rates_fluid_##L##_2d, 2, false, true, L)   \
-    MF_RATES_ENTRY(sph_rates_fluid_##L##_3d, 3, false, true, L)   \
-    MF_RATES_ENTRY(sph_rates_lean_##L##_2d, 2, false, false, L)   \
-    MF_RATES_ENTRY(sph_rates_lean_##L##_3d, 3, false, false, L)
+#define MF_RATES_LANES(L) MF_SCHEMES(MF_RATES_ENTRY, sph_rates, L)
 MF_LANES_EACH(MF_RATES_LANES)
 
