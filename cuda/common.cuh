@@ -338,31 +338,28 @@ __device__ __forceinline__ float slab_gap2(const SphParams& p, int a, int c, flo
 // MF_CELL_REACH (z outer, then y), skipping rows whose slab lies beyond the support, calls
 // row(first cell index of the row, x0, x1) with the x cells x0..x1 (unwrapped on a periodic
 // x axis) that the support's cross-section at that row reaches. Twin of `rows` in
-// src/backend/cpu/grid.rs: same candidates, same order.
+// src/backend/cpu/grid.rs: same candidates, same order. `plane_rows` visits the rows of one
+// z offset dz (ci: the cell of xi, from cell_coords).
 template <int DIM, class R>
-__device__ __forceinline__ void rows(const SphParams& p, Vec<DIM> xi, R&& row) {
-    int ci[3];
-    cell_coords<DIM>(p, xi, ci);
+__device__ __forceinline__ void plane_rows(const SphParams& p, Vec<DIM> xi, const int ci[3], int dz, R&& row) {
     const int reach = MF_CELL_REACH;
-    const int rz = DIM == 3 ? reach : 0;
     const int nx = p.grid_dims[0];
     const float r2max = p.support2;
-    // The row at offsets (dz, dy), if the support reaches it.
-    auto visit = [&](int dz, int dy) {
-        int cz = ci[2] + dz;
-        if (cz < 0 || cz >= p.grid_dims[2]) {
-            if (!p.periodic[2]) return;
-            cz = (cz + p.grid_dims[2]) % p.grid_dims[2];
-        }
+    int cz = ci[2] + dz;
+    if (cz < 0 || cz >= p.grid_dims[2]) {
+        if (!p.periodic[2]) return;
+        cz = (cz + p.grid_dims[2]) % p.grid_dims[2];
+    }
+    float gz = 0.0f;
+    if constexpr (DIM == 3) gz = slab_gap2(p, 2, ci[2] + dz, xi.c[2]);
+    for (int dy = -reach; dy <= reach; ++dy) {
         int cy = ci[1] + dy;
         if (cy < 0 || cy >= p.grid_dims[1]) {
-            if (!p.periodic[1]) return;
+            if (!p.periodic[1]) continue;
             cy = (cy + p.grid_dims[1]) % p.grid_dims[1];
         }
-        float gz = 0.0f;
-        if constexpr (DIM == 3) gz = slab_gap2(p, 2, ci[2] + dz, xi.c[2]);
         const float d2 = gz + slab_gap2(p, 1, ci[1] + dy, xi.c[1]);
-        if (d2 > r2max * (1.0f + MF_PRUNE_SLACK)) return;
+        if (d2 > r2max * (1.0f + MF_PRUNE_SLACK)) continue;
         // Half-width of the support's cross-section at this row, then the x cells it spans.
         const float w = sqrtf(fmaxf(r2max - d2, 0.0f)) + MF_PRUNE_SLACK * p.support;
         int x0 = max(ci[0] - reach, (int)floorf((xi.c[0] - w - p.domain_min[0]) / p.cell_size[0]));
@@ -371,14 +368,15 @@ __device__ __forceinline__ void rows(const SphParams& p, Vec<DIM> xi, R&& row) {
             x0 = max(x0, 0);
             x1 = min(x1, nx - 1);
         }
-        if (x0 > x1) return;
+        if (x0 > x1) continue;
         row((unsigned)(nx * (cy + p.grid_dims[1] * cz)), x0, x1);
-    };
-    for (int dz = -rz; dz <= rz; ++dz) {
-        for (int dy = -reach; dy <= reach; ++dy) {
-            visit(dz, dy);
-        }
     }
+}
+template <int DIM, class R> __device__ __forceinline__ void rows(const SphParams& p, Vec<DIM> xi, R&& row) {
+    int ci[3];
+    cell_coords<DIM>(p, xi, ci);
+    const int rz = DIM == 3 ? MF_CELL_REACH : 0;
+    for (int dz = -rz; dz <= rz; ++dz) plane_rows<DIM>(p, xi, ci, dz, row);
 }
 
 // The candidate ranges of one row (see `rows`): a row that does not wrap around a periodic x
@@ -450,21 +448,18 @@ __device__ __forceinline__ void call_neighbour(const SphParams& p, const float* 
     ENTRY(name##_lean_##L##_2d, 2, false, false, L)      \
     ENTRY(name##_lean_##L##_3d, 3, false, false, L)
 
-// Candidates per batch in the neighbour loop (see for_each_neighbor_split): 8 for the
-// one-lane fluid-only forces and rates (large systems; measured on the H100 against 4 and 2,
-// docs/performance.md, Session 3), MF_NB_BATCH for the others.
+// Candidates per batch in the neighbour loops (batch_accept, queued_neighbours): their
+// position loads are in flight together. 4 (H100, 4M, docs/performance.md, session 7: with
+// the queue, 8 spilled the batch at 64 registers and was 24 % slower in 3D, 2 was 1.5 %
+// slower).
 #ifndef MF_NB_BATCH
 #define MF_NB_BATCH 4
 #endif
 // Blocks of MF_BLOCK per SM that the fluid-only forces, rates and fused kernels are bounded
-// to (4: 64 registers).
+// to (4: 64 registers; 3 was slower, session 7).
 #ifndef MF_FLUID_BLOCKS
 #define MF_FLUID_BLOCKS 4
 #endif
-#ifndef MF_NB_BATCH_FLUID
-#define MF_NB_BATCH_FLUID 8
-#endif
-template <int L, bool SOLIDS> struct Batch { static constexpr int B = L == 1 && !SOLIDS ? MF_NB_BATCH_FLUID : MF_NB_BATCH; };
 
 // Calls f(j, r_ij, r_ij^2, w_j) for every j (i included) within the support of xi (w_j: the
 // w slot of j's stored position, its mass in 3D; 0 in 2D), the candidates of `rows` split
@@ -481,13 +476,96 @@ __device__ __forceinline__ void for_each_neighbor_split(const SphParams& p, cons
     });
 }
 
-// The neighbour loop of the forces and rates kernels (for_each_neighbor_split), with the
-// minimum image compiled in only where the scene has a periodic axis: tested once here, not
-// per candidate. on: whether this lane sums for particle i.
+// The accepted-candidate queue of the one-lane neighbour loop (queued_neighbours): up to
+// MF_QUEUE entries (first candidate, mask of the accepted ones among the 32 from there) per
+// thread in shared memory, entry e of thread t at [e * MF_BLOCK + t]; MF_QUEUE 0: no queue
+// (batch_accept's pair sums after each batch). 8 entries of 8 B: 16 KB per block of 256; more
+// takes L1 cache from the candidate loads and was slower (docs/performance.md, session 7).
+#ifndef MF_QUEUE
+#define MF_QUEUE 8
+#endif
+
+// The one-lane neighbour loop in two phases per plane of rows, for the pair sums' SIMT
+// efficiency: the lanes of a warp accept different numbers of candidates from each batch
+// and row, and a warp runs a pair sum while any lane has one, so summing after each batch
+// (batch_accept) runs the sum for the maximum over the lanes of every batch. Here the
+// candidates of one plane of rows (one z offset; 2D: all rows) are only tested (B position
+// loads in flight, as batch_accept), each chunk of 32 consecutive candidates with an accepted
+// one leaving (first, mask) in the queue q; then one loop takes one accepted neighbour per
+// pass, from whichever entry the lane is at, so that the warp runs the pair sum for the
+// maximum over the lanes of their plane totals. A plane with more than MF_QUEUE such chunks
+// (a dense cluster) is tested again from its next unqueued chunk after each drain, so that
+// the fill and the pair sum each stay one site in the code (a second copy of the inlined
+// pair sum cost registers). Same neighbours, same order as for_each_neighbor_split with
+// L = 1: the same results bit for bit.
+template <int DIM, int B, bool PERIODIC, class F>
+__device__ __forceinline__ void queued_neighbours(const SphParams& p, const unsigned* __restrict__ cell_start,
+                                                  const float* __restrict__ pos, Vec<DIM> xi, uint2* q, F&& f) {
+    static_assert(32 % B == 0, "batches must tile the 32-candidate chunks");
+    const unsigned t = threadIdx.x;
+    int ci[3];
+    cell_coords<DIM>(p, xi, ci);
+    const int rz = DIM == 3 ? MF_CELL_REACH : 0;
+    for (int dz = -rz; dz <= rz; ++dz) {
+        for (int skip = 0;; skip += MF_QUEUE) {
+            int seen = 0;  // chunks with an accepted candidate, this pass
+            plane_rows<DIM>(p, xi, ci, dz, [&](unsigned row, int x0, int x1) {
+                row_ranges(p, cell_start, row, x0, x1, [&](unsigned s, unsigned e) {
+                    for (unsigned c = s; c < e; c += 32) {
+                        unsigned mask = 0;
+                        for (int b = 0; b < 32 && c + b < e; b += B) {
+                            const unsigned base = c + (unsigned)b;
+                            Vec<DIM> xj[B];
+#pragma unroll
+                            for (int k = 0; k < B; ++k) xj[k] = vload<DIM>(pos, min(base + k, e - 1));
+#pragma unroll
+                            for (int k = 0; k < B; ++k) {
+                                const Vec<DIM> r = separation<DIM, PERIODIC>(p, xi, xj[k]);
+                                if (base + k < e && dot(r, r) < p.support2) mask |= 1u << (b + k);
+                            }
+                        }
+                        if (mask == 0u) continue;
+                        const int slot = seen - skip;
+                        if (slot >= 0 && slot < MF_QUEUE) q[slot * MF_BLOCK + t] = make_uint2(c, mask);
+                        ++seen;
+                    }
+                });
+            });
+            const int ne = min(seen - skip, MF_QUEUE);
+            // Next accepted neighbour: a short loop over empty-handed entries, then the sum.
+            int k = 0;
+            uint2 en = ne > 0 ? q[t] : make_uint2(0u, 0u);
+            for (;;) {
+                while (en.y == 0u && ++k < ne) en = q[k * MF_BLOCK + t];
+                if (en.y == 0u) break;
+                const int bit = __ffs(en.y) - 1;
+                en.y &= en.y - 1u;
+                call_neighbour<DIM, PERIODIC>(p, pos, xi, en.x + (unsigned)bit, f);
+            }
+            if (seen - skip <= MF_QUEUE) break;
+        }
+    }
+}
+
+// The neighbour loop of the forces and rates kernels (for_each_neighbor_split, or
+// queued_neighbours for one lane), with the minimum image compiled in only where the scene
+// has a periodic axis: tested once here, not per candidate. on: whether this lane sums for
+// particle i.
 template <int DIM, int L, int B, class F>
 __device__ __forceinline__ void neighbour_loop(const SphParams& p, const unsigned* __restrict__ cell_start,
                                                const float* __restrict__ pos, unsigned i, bool on, int lane,
                                                F&& f) {
+#if MF_QUEUE > 0
+    if constexpr (L == 1) {
+        __shared__ uint2 q[MF_QUEUE * MF_BLOCK];
+        if (!on) return;
+        if (p.periodic[0] || p.periodic[1] || p.periodic[2])
+            queued_neighbours<DIM, B, true>(p, cell_start, pos, vload<DIM>(pos, i), q, f);
+        else
+            queued_neighbours<DIM, B, false>(p, cell_start, pos, vload<DIM>(pos, i), q, f);
+        return;
+    }
+#endif
     if (!on) return;
     if (p.periodic[0] || p.periodic[1] || p.periodic[2])
         for_each_neighbor_split<DIM, L, B, true>(p, cell_start, pos, vload<DIM>(pos, i), lane, f);

@@ -4,7 +4,7 @@
 // tests/cuda_parity.rs.
 #include "forces.cuh"
 
-template <int DIM, bool SOLIDS, bool EXTRAS, int L, int B = Batch<L, SOLIDS>::B>
+template <int DIM, bool SOLIDS, bool EXTRAS, int L, int B = MF_NB_BATCH>
 __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
                             const float* __restrict__ pos, const float* __restrict__ vel,
                             const float* __restrict__ rho, const float* __restrict__ pr,

@@ -3,7 +3,7 @@
 #include "rates.cuh"
 
 // drho: null without the continuity density; stress, rate: null without solids.
-template <int DIM, bool SOLIDS, bool EXTRAS, int L, int B = Batch<L, SOLIDS>::B>
+template <int DIM, bool SOLIDS, bool EXTRAS, int L, int B = MF_NB_BATCH>
 __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
                            const float* __restrict__ pos, const float* __restrict__ vel,
                            const float* __restrict__ rho,

@@ -70,7 +70,7 @@ impl Device {
         let mut modules = HashMap::new();
         // MESHFREE_PTX_DIR: modules found there as <stem>.ptx replace the embedded ones, for
         // A/B measurements of compile-time variants of the kernels (same signatures: e.g.
-        // `nvcc --ptx -DMF_NB_BATCH_FLUID=4 ...`) without rebuilding the binary.
+        // `nvcc --ptx -DMF_QUEUE=0 ...`) without rebuilding the binary.
         let ptx_dir = std::env::var_os("MESHFREE_PTX_DIR").map(std::path::PathBuf::from);
         for (stem, src) in ptx::MODULES {
             let replaced = ptx_dir
