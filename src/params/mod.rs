@@ -17,8 +17,6 @@ use crate::kernel;
 /// Where the Rust bindings came from in this build: "bindgen" or "committed".
 pub const BINDINGS_SOURCE: &str = env!("MESHFREE_BINDINGS_SOURCE");
 
-/// Fill the derived fields (marked "derived" in the header) from the primary ones.
-/// Needs `dim`, `kernel`, `h`, `dx`, `rho0`, `c0`, `tait_gamma`, the domain and `periodic`.
 /// Whether the scheme has none of the terms beyond the paper's fluid scheme: no laminar
 /// viscosity, cohesion, Morris's no-slip walls, density diffusion or shifting. Fluid-only
 /// scenes where this holds run the lean CUDA kernels (`EXTRAS = false` in cuda/forces.cuh
@@ -32,6 +30,8 @@ pub fn lean_scheme(p: &SphParams) -> bool {
         && p.shifting <= 0.0
 }
 
+/// Fill the derived fields (marked "derived" in the header) from the primary ones.
+/// Needs `dim`, `kernel`, `h`, `dx`, `rho0`, `c0`, `tait_gamma`, the domain and `periodic`.
 pub fn derive(p: &mut SphParams) {
     let d = p.dim as usize;
     p.support = 2.0 * p.h;
