@@ -580,9 +580,14 @@ template <int L> __device__ __forceinline__ float lane_sum(float v) {
     return v;
 }
 
+// Maximum over the warp (every lane must call; valid in every lane).
+__device__ __forceinline__ float warp_max(float v) {
+    for (int o = 16; o > 0; o >>= 1) v = fmaxf(v, __shfl_xor_sync(0xffffffffu, v, o));
+    return v;
+}
 // Block-wide reductions for blockDim.x == MF_BLOCK (every thread must call).
 __device__ __forceinline__ float block_max(float v, float* sh) {
-    for (int o = 16; o > 0; o >>= 1) v = fmaxf(v, __shfl_xor_sync(0xffffffffu, v, o));
+    v = warp_max(v);
     const int w = threadIdx.x >> 5, l = threadIdx.x & 31;
     __syncthreads();
     if (l == 0) sh[w] = v;
