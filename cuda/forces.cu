@@ -12,6 +12,7 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
                             const unsigned* __restrict__ group, const float* __restrict__ stress,
                             const float* __restrict__ art, const unsigned* __restrict__ id,
                             const float* __restrict__ surf, float* __restrict__ acc_out, unsigned* __restrict__ red) {
+    __shared__ float sh[MF_BLOCK / 32];
     const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
     const unsigned i = t / L;
     const int lane = (int)(t % L);
@@ -22,7 +23,7 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
         if (j == i) return;
         f.add(p, i, n, neighbour<DIM, SOLIDS>(p, j, r, r2, pw, vel, kind), pr, group, stress, art, id, surf);
     });
-    f.template finish<L>(p, i, n, lane, acc_out, red);
+    f.template finish<L>(p, i, n, lane, acc_out, red, sh);
 }
 
 // Per dimension and lane count (MF_LANES_EACH): with solids (stress, artificial stress) and

@@ -64,7 +64,7 @@ __device__ __forceinline__ bool whole_stress_pair(const SphParams& p, bool same_
 }
 
 // The acceleration of particle i, summed over its neighbours: `begin`, then `add` for every
-// neighbour j != i (in the neighbour loop's order), then `finish` (all lanes of the warp).
+// neighbour j != i (in the neighbour loop's order), then `finish` (all threads of the block).
 // EXTRAS = false compiles out the terms beyond the paper's fluid scheme (laminar viscosity,
 // Morris's no-slip walls, cohesion), for the lean kernels that run where all are off
 // (`lean_scheme` in src/backend/cuda/launch.rs).
@@ -194,10 +194,10 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct ForceSum {
     }
 
     // Combine the L lanes of each particle, store a (0 on walls), and fold |v|, |a| and c
-    // into the step size's maxima (every lane of the warp calls).
+    // into the step size's maxima (every thread of the block calls).
     template <int L>
     __device__ __forceinline__ void finish(const SphParams& p, unsigned i, unsigned n, int lane, float* __restrict__ acc_out,
-                                           unsigned* __restrict__ red) {
+                                           unsigned* __restrict__ red, float* sh) {
         float vmax = 0.0f, amax = 0.0f, cmax = 0.0f;
 #pragma unroll
         for (int a = 0; a < DIM; ++a) acc.c[a] = lane_sum<L>(acc.c[a]);
@@ -211,16 +211,27 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct ForceSum {
         }
         // Extremes over fluid and solid particles (twin: reduce.rs `extremes`); non-negative
         // floats order like their bit patterns, so atomicMax on the bits is a float max.
-        // Per warp, not per block: no barrier, so that a warp that has finished its
-        // neighbour loop does not wait for the slowest warp of its block (H100, 4M: 2D and
-        // 3D forward Euler steps 0.6-0.8 % shorter, docs/performance.md, session 7).
-        vmax = warp_max(vmax);
-        amax = warp_max(amax);
-        cmax = warp_max(cmax);
-        if ((threadIdx.x & 31) == 0) {
-            atomicMax(&red[0], __float_as_uint(vmax));
-            atomicMax(&red[1], __float_as_uint(amax));
-            atomicMax(&red[2], __float_as_uint(cmax));
+        if constexpr (L == 1) {
+            // One lane per particle (large systems): per warp, not per block, so that no
+            // warp waits at a barrier for the slowest of its block (H100, 4M: forward Euler
+            // steps 0.6-0.8 % shorter, docs/performance.md, session 7).
+            vmax = warp_max(vmax);
+            amax = warp_max(amax);
+            cmax = warp_max(cmax);
+            if ((threadIdx.x & 31) == 0) {
+                atomicMax(&red[0], __float_as_uint(vmax));
+                atomicMax(&red[1], __float_as_uint(amax));
+                atomicMax(&red[2], __float_as_uint(cmax));
+            }
+        } else {
+            // Small systems (several lanes): per block, 8 times fewer atomics on the same
+            // three words at the end of a short pass (per warp was 4 us slower at 30,000).
+            vmax = block_max(vmax, sh);
+            if (threadIdx.x == 0) atomicMax(&red[0], __float_as_uint(vmax));
+            amax = block_max(amax, sh);
+            if (threadIdx.x == 0) atomicMax(&red[1], __float_as_uint(amax));
+            cmax = block_max(cmax, sh);
+            if (threadIdx.x == 0) atomicMax(&red[2], __float_as_uint(cmax));
         }
     }
 };

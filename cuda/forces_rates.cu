@@ -18,6 +18,7 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
                                   const float* __restrict__ surf, float* __restrict__ acc_out,
                                   unsigned* __restrict__ red, float* __restrict__ drho_out,
                                   float* __restrict__ xsph_out, float* __restrict__ rate_out) {
+    __shared__ float sh[MF_BLOCK / 32];
     const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
     const unsigned i = t / L;
     const int lane = (int)(t % L);
@@ -34,7 +35,7 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
         if (f.on) f.add(p, i, n, nb, pr, group, stress, art, id, surf);
         r.add(p, nb, group);
     });
-    f.template finish<L>(p, i, n, lane, acc_out, red);
+    f.template finish<L>(p, i, n, lane, acc_out, red, sh);
     r.template finish<L>(p, i, n, lane, stress, drho_out, xsph_out, rate_out);
 }
 
