@@ -551,7 +551,7 @@ __device__ __forceinline__ void queued_neighbours(const SphParams& p, const unsi
 // queued_neighbours for one lane), with the minimum image compiled in only where the scene
 // has a periodic axis: tested once here, not per candidate. on: whether this lane sums for
 // particle i.
-template <int DIM, int L, int B, class F>
+template <int DIM, int L, class F>
 __device__ __forceinline__ void neighbour_loop(const SphParams& p, const unsigned* __restrict__ cell_start,
                                                const float* __restrict__ pos, unsigned i, bool on, int lane,
                                                F&& f) {
@@ -560,17 +560,17 @@ __device__ __forceinline__ void neighbour_loop(const SphParams& p, const unsigne
         __shared__ uint2 q[MF_QUEUE * MF_BLOCK];
         if (!on) return;
         if (p.periodic[0] || p.periodic[1] || p.periodic[2])
-            queued_neighbours<DIM, B, true>(p, cell_start, pos, vload<DIM>(pos, i), q, f);
+            queued_neighbours<DIM, MF_NB_BATCH, true>(p, cell_start, pos, vload<DIM>(pos, i), q, f);
         else
-            queued_neighbours<DIM, B, false>(p, cell_start, pos, vload<DIM>(pos, i), q, f);
+            queued_neighbours<DIM, MF_NB_BATCH, false>(p, cell_start, pos, vload<DIM>(pos, i), q, f);
         return;
     }
 #endif
     if (!on) return;
     if (p.periodic[0] || p.periodic[1] || p.periodic[2])
-        for_each_neighbor_split<DIM, L, B, true>(p, cell_start, pos, vload<DIM>(pos, i), lane, f);
+        for_each_neighbor_split<DIM, L, MF_NB_BATCH, true>(p, cell_start, pos, vload<DIM>(pos, i), lane, f);
     else
-        for_each_neighbor_split<DIM, L, B, false>(p, cell_start, pos, vload<DIM>(pos, i), lane, f);
+        for_each_neighbor_split<DIM, L, MF_NB_BATCH, false>(p, cell_start, pos, vload<DIM>(pos, i), lane, f);
 }
 
 // Sum over the L lanes of a particle (all 32 lanes of the warp must call).

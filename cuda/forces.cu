@@ -4,7 +4,7 @@
 // tests/cuda_parity.rs.
 #include "forces.cuh"
 
-template <int DIM, bool SOLIDS, bool EXTRAS, int L, int B = MF_NB_BATCH>
+template <int DIM, bool SOLIDS, bool EXTRAS, int L>
 __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
                             const float* __restrict__ pos, const float* __restrict__ vel,
                             const float* __restrict__ rho, const float* __restrict__ pr,
@@ -18,7 +18,7 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
     const int lane = (int)(t % L);
     ForceSum<DIM, SOLIDS, EXTRAS> f;
     f.begin(p, i, n, i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY, lane, vel, rho, pr, group, stress);
-    neighbour_loop<DIM, L, B>(p, cell_start, pos, i, f.on, lane,
+    neighbour_loop<DIM, L>(p, cell_start, pos, i, f.on, lane,
                               [&](unsigned j, Vec<DIM> r, float r2, float pw) {
         if (j == i) return;
         f.add(p, i, n, neighbour<DIM, SOLIDS>(p, j, r, r2, pw, vel, kind), pr, group, stress, art, id, surf);

@@ -8,7 +8,7 @@
 #include "forces.cuh"
 #include "rates.cuh"
 
-template <int DIM, bool SOLIDS, bool EXTRAS, int L, int B = MF_NB_BATCH>
+template <int DIM, bool SOLIDS, bool EXTRAS, int L>
 __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
                                   const float* __restrict__ pos, const float* __restrict__ vel,
                                   const float* __restrict__ rho, const float* __restrict__ pr,
@@ -28,7 +28,7 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
     f.begin(p, i, n, ki, lane, vel, rho, pr, group, stress);
     r.begin(p, i, n, ki, vel, rho, group);
     // Every particle with forces has rates (dynamic walls have rates only).
-    neighbour_loop<DIM, L, B>(p, cell_start, pos, i, r.on, lane,
+    neighbour_loop<DIM, L>(p, cell_start, pos, i, r.on, lane,
                               [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
         if (j == i) return;
         const Neighbour<DIM> nb = neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, kind);

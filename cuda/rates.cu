@@ -3,7 +3,7 @@
 #include "rates.cuh"
 
 // drho: null without the continuity density; stress, rate: null without solids.
-template <int DIM, bool SOLIDS, bool EXTRAS, int L, int B = MF_NB_BATCH>
+template <int DIM, bool SOLIDS, bool EXTRAS, int L>
 __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
                            const float* __restrict__ pos, const float* __restrict__ vel,
                            const float* __restrict__ rho,
@@ -15,7 +15,7 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
     const int lane = (int)(t % L);
     RateSum<DIM, SOLIDS, EXTRAS> r;
     r.begin(p, i, n, i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY, vel, rho, group);
-    neighbour_loop<DIM, L, B>(p, cell_start, pos, i, r.on, lane,
+    neighbour_loop<DIM, L>(p, cell_start, pos, i, r.on, lane,
                               [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
         if (j == i) return;
         r.add(p, neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, kind), group);
