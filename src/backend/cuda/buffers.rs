@@ -2,8 +2,8 @@
 
 //! and the kernels' layout: vectors as float2 (2D) / float4 (3D; position w = mass, others
 //! w = 0), except velocities, float4 in both (w = density negated on walls; 2D z = mass;
-//! `vel_load` in `cuda/common.cuh`; the mass has no array of its own), symmetric tensors as 3 (2D: xx, yy, xy) or 6 (3D: xx,
-//! yy, zz, xy, xz, yz) planes.
+//! `vel_load` in `cuda/common.cuh`; the mass has no array of its own), symmetric tensors as
+//! 3 (2D: xx, yy, xy) or 6 (3D: xx, yy, zz, xy, xz, yz) planes.
 
 use std::sync::Arc;
 
@@ -287,7 +287,7 @@ impl Buffers {
 /// their own on the device; `mass_of` in cuda/common.cuh).
 fn mass_of<D: Dim>(pos: &[f32], vel: &[f32], n: usize) -> Vec<f32> {
     if D::D == 3 {
-        (0..n).map(|i| pos[i * 4 + 3]).collect()
+        (0..n).map(|i| pos[i * vstride::<D>() + 3]).collect()
     } else {
         (0..n).map(|i| vel[i * VEL_STRIDE + 2]).collect()
     }
