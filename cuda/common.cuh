@@ -42,6 +42,17 @@ template <int DIM> __device__ __forceinline__ void vstore(float* a, unsigned i, 
 // mass has no array of its own on the device (mass_of); the density's reference is rho[].
 // vel.w of a particle of kind k and density rho.
 __device__ __forceinline__ float vel_w(unsigned char k, float rho) { return k == MF_KIND_BOUNDARY ? -rho : rho; }
+// Tait eq. (9) for fluid and dynamic wall particles; P = c_s^2 (rho - rho0_s) for solids
+// (Gray & Monaghan 2001); 0 for the paper's walls.
+// [P] from rho [M/L^3]; the density pass and the continuity scheme's reorder (grid.cu).
+__device__ __forceinline__ float pressure(const SphParams& p, unsigned char kind, float rho) {
+    if (kind == MF_KIND_SOLID) return p.solid_c0 * p.solid_c0 * (rho - p.solid_rho0);
+    // eq. (9) plus the background pressure (cpu/density.rs `pressure`).
+    if (kind == MF_KIND_FLUID || p.wall_pressure != 0)
+        return p.tait_b * (powf(rho / p.rho0, p.tait_gamma) - 1.0f) + p.p_background;
+    return 0.0f;
+}
+
 // Whether vel.w marks a boundary particle (the sign bit: -0.0 counts).
 __device__ __forceinline__ bool vel_w_boundary(float w) { return (__float_as_uint(w) >> 31) != 0; }
 // Store the DIM components of v, keeping the w slot of a 3D vector (positions).

@@ -4,16 +4,6 @@
 // parity test: tests/cuda_parity.rs.
 #include "common.cuh"
 
-// Tait eq. (9) for fluid and dynamic wall particles; P = c_s^2 (rho - rho0_s) for solids
-// (Gray & Monaghan 2001); 0 for the paper's walls.
-__device__ __forceinline__ float pressure(const SphParams& p, unsigned char kind, float rho) {
-    if (kind == MF_KIND_SOLID) return p.solid_c0 * p.solid_c0 * (rho - p.solid_rho0);
-    // eq. (9) plus the background pressure (cpu/density.rs `pressure`).
-    if (kind == MF_KIND_FLUID || p.wall_pressure != 0)
-        return p.tait_b * (powf(rho / p.rho0, p.tait_gamma) - 1.0f) + p.p_background;
-    return 0.0f;
-}
-
 // Eigen-decomposition of the symmetric upper-left d x d block by cyclic Jacobi rotations:
 // line for line the CPU's jacobi_eigen (stress.rs).
 __device__ void jacobi_eigen(float a[3][3], int d, float lambda[3], float v[3][3]) {

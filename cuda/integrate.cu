@@ -7,8 +7,31 @@
 
 // The driven group: `is_driven` in common.cuh.
 
-// Inflow band (`p.inflow`): fluid particles with inflow_lo <= x[inflow_axis] < inflow_hi
-// get their velocity set to inflow_velocity instead of integrated (twin: `in_inflow_band`).
+// The kick of one particle (kind k, group g, position x): v += dt a; the velocity of the
+// inflow band (`p.inflow`: fluid particles with inflow_lo <= x[inflow_axis] < inflow_hi;
+// twin: `in_inflow_band`) or of the driven group instead; false where v stays (walls).
+template <int DIM>
+__device__ __forceinline__ bool kick_one(const SphParams& p, unsigned char k, unsigned g, const Vec<DIM>& x, float dt,
+                                         const float* __restrict__ acc, unsigned i, Vec<DIM>& v) {
+    if (p.inflow && k == MF_KIND_FLUID) {
+        const float c = x.c[p.inflow_axis];
+        if (c >= p.inflow_lo && c < p.inflow_hi) {
+#pragma unroll
+            for (int d = 0; d < DIM; ++d) v.c[d] = p.inflow_velocity[d];
+            return true;
+        }
+    }
+    // Driven group: prescribed velocity, whatever the forces.
+    if (is_driven(p, g)) {
+#pragma unroll
+        for (int d = 0; d < DIM; ++d) v.c[d] = p.driven_velocity[d];
+        return true;
+    }
+    if (k == MF_KIND_BOUNDARY) return false;
+    v = v + vload<DIM>(acc, i) * dt;
+    return true;
+}
+
 template <int DIM>
 __device__ void sph_kick_body(const SphParams p, unsigned n, const float* __restrict__ dt_dev,
                               const unsigned char* __restrict__ kind, const unsigned* __restrict__ group,
@@ -16,46 +39,23 @@ __device__ void sph_kick_body(const SphParams p, unsigned n, const float* __rest
                               const float* __restrict__ acc) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
-    if (p.inflow && kind[i] == MF_KIND_FLUID) {
-        const float c = vload<DIM>(pos, i).c[p.inflow_axis];
-        if (c >= p.inflow_lo && c < p.inflow_hi) {
-            Vec<DIM> v;
-#pragma unroll
-            for (int d = 0; d < DIM; ++d) v.c[d] = p.inflow_velocity[d];
-            vel_store<DIM>(vel, i, v);
-            return;
-        }
-    }
-    // Driven group: prescribed velocity, whatever the forces.
-    if (is_driven(p, group[i])) {
-        Vec<DIM> u;
-#pragma unroll
-        for (int d = 0; d < DIM; ++d) u.c[d] = p.driven_velocity[d];
-        vel_store<DIM>(vel, i, u);
-        return;
-    }
-    if (kind[i] == MF_KIND_BOUNDARY) return;
-    const float dt = *dt_dev;
-    vel_store<DIM>(vel, i, vel_load<DIM>(vel, i) + vload<DIM>(acc, i) * dt);  // keeps rho, m (common.cuh)
+    const Vec<DIM> x = p.inflow ? vload<DIM>(pos, i) : vzero<DIM>();
+    Vec<DIM> v = vel_load<DIM>(vel, i);
+    if (kick_one<DIM>(p, kind[i], group[i], x, *dt_dev, acc, i, v)) vel_store<DIM>(vel, i, v);  // keeps rho, m
 }
 MF_ENTRY2(sph_kick,
           (const SphParams p, unsigned n, const float* dt_dev, const unsigned char* kind, const unsigned* group,
            const float* pos, float* vel, const float* acc),
           (p, n, dt_dev, kind, group, pos, vel, acc))
 
+// The drift of one particle (kind k, group g, velocity v) by dt; returns its new position.
 // drho: null without the continuity density; stress, rate: null without solids.
 template <int DIM>
-__device__ void sph_drift_body(const SphParams p, unsigned n, const float* __restrict__ dt_dev,
-                               double* __restrict__ time, const unsigned char* __restrict__ kind,
-                               const unsigned* __restrict__ group, float* __restrict__ pos, const float* __restrict__ vel,
-                               const float* __restrict__ xsph, float* __restrict__ rho,
-                               const float* __restrict__ drho, float* __restrict__ stress,
-                               const float* __restrict__ rate) {
-    const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
-    const float dt = *dt_dev;
-    if (i == 0) *time += (double)dt;
-    if (i >= n) return;
-    const unsigned char k = kind[i];
+__device__ __forceinline__ Vec<DIM> drift_one(const SphParams& p, unsigned n, unsigned i, unsigned char k, unsigned g,
+                                              const Vec<DIM>& v, float dt, float* __restrict__ pos,
+                                              const float* __restrict__ xsph, float* __restrict__ rho,
+                                              const float* __restrict__ drho, float* __restrict__ stress,
+                                              const float* __restrict__ rate) {
     // Dynamic wall particles take part; their d rho/dt is zero otherwise. Under
     // wall_rho_floor a wall's density is held at >= rho0 (`wall_density_floor` in
     // src/backend/cpu/integrate.rs; DualSPHysics' DBC).
@@ -64,17 +64,17 @@ __device__ void sph_drift_body(const SphParams p, unsigned n, const float* __res
         if (p.wall_rho_floor && k == MF_KIND_BOUNDARY) r = fmaxf(r, p.rho0);
         rho[i] = r;
     }
+    Vec<DIM> x = vload<DIM>(pos, i);
     // A driven group moves at its prescribed velocity (no XSPH), whatever its kind.
-    const bool driven = is_driven(p, group[i]);
-    if (k == MF_KIND_BOUNDARY && !driven) return;
-    Vec<DIM> x;
+    const bool driven = is_driven(p, g);
+    if (k == MF_KIND_BOUNDARY && !driven) return x;
     if (driven) {
         Vec<DIM> u;
 #pragma unroll
         for (int d = 0; d < DIM; ++d) u.c[d] = p.driven_velocity[d];
-        x = vload<DIM>(pos, i) + u * dt;
+        x = x + u * dt;
     } else {
-        x = vload<DIM>(pos, i) + (vel_load<DIM>(vel, i) + vload<DIM>(xsph, i)) * dt;
+        x = x + (v + vload<DIM>(xsph, i)) * dt;  // eq. (18)
     }
 #pragma unroll
     for (int d = 0; d < DIM; ++d) {  // wrap on periodic axes
@@ -89,9 +89,50 @@ __device__ void sph_drift_body(const SphParams p, unsigned n, const float* __res
 #pragma unroll
         for (int c = 0; c < Sym<DIM>::N; ++c) stress[c * n + i] += rate[c * n + i] * dt;
     }
+    return x;
+}
+
+template <int DIM>
+__device__ void sph_drift_body(const SphParams p, unsigned n, const float* __restrict__ dt_dev,
+                               double* __restrict__ time, const unsigned char* __restrict__ kind,
+                               const unsigned* __restrict__ group, float* __restrict__ pos, const float* __restrict__ vel,
+                               const float* __restrict__ xsph, float* __restrict__ rho,
+                               const float* __restrict__ drho, float* __restrict__ stress,
+                               const float* __restrict__ rate) {
+    const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
+    const float dt = *dt_dev;
+    if (i == 0) *time += (double)dt;
+    if (i >= n) return;
+    drift_one<DIM>(p, n, i, kind[i], group[i], vel_load<DIM>(vel, i), dt, pos, xsph, rho, drho, stress, rate);
 }
 MF_ENTRY2(sph_drift,
           (const SphParams p, unsigned n, const float* dt_dev, double* time, const unsigned char* kind,
            const unsigned* group, float* pos, const float* vel, const float* xsph, float* rho, const float* drho,
            float* stress, const float* rate),
           (p, n, dt_dev, time, kind, group, pos, vel, xsph, rho, drho, stress, rate))
+
+// The forward Euler's drift then kick in one pass (`Solver::drift_kick`): the drift takes
+// the old velocity, the kick's inflow test the new position, as the two kernels in turn.
+template <int DIM>
+__device__ void sph_drift_kick_body(const SphParams p, unsigned n, const float* __restrict__ dt_dev,
+                                    double* __restrict__ time, const unsigned char* __restrict__ kind,
+                                    const unsigned* __restrict__ group, float* __restrict__ pos,
+                                    float* __restrict__ vel, const float* __restrict__ xsph,
+                                    float* __restrict__ rho, const float* __restrict__ drho,
+                                    float* __restrict__ stress, const float* __restrict__ rate,
+                                    const float* __restrict__ acc) {
+    const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
+    const float dt = *dt_dev;
+    if (i == 0) *time += (double)dt;
+    if (i >= n) return;
+    const unsigned char k = kind[i];
+    const unsigned g = group[i];
+    Vec<DIM> v = vel_load<DIM>(vel, i);
+    const Vec<DIM> x = drift_one<DIM>(p, n, i, k, g, v, dt, pos, xsph, rho, drho, stress, rate);
+    if (kick_one<DIM>(p, k, g, x, dt, acc, i, v)) vel_store<DIM>(vel, i, v);  // keeps rho, m
+}
+MF_ENTRY2(sph_drift_kick,
+          (const SphParams p, unsigned n, const float* dt_dev, double* time, const unsigned char* kind,
+           const unsigned* group, float* pos, float* vel, const float* xsph, float* rho, const float* drho,
+           float* stress, const float* rate, const float* acc),
+          (p, n, dt_dev, time, kind, group, pos, vel, xsph, rho, drho, stress, rate, acc))

@@ -160,6 +160,12 @@ pub trait Solver: Send {
     fn kick(&mut self);
     /// x += dt (v + xsph), rho += dt d rho/dt, S += dt dS/dt; advances the clock.
     fn drift(&mut self);
+    /// The forward Euler's `drift` then `kick` (the positions move with the old velocity).
+    /// A backend may do both in one pass over the particles (the CUDA backend does).
+    fn drift_kick(&mut self) {
+        self.drift();
+        self.kick();
+    }
 
     /// One time step, in the order of the paper's Fig. 1. The paper's forward Euler,
     /// eq. (19), takes every rate at the old velocity; the symplectic Euler kicks first and
@@ -170,8 +176,7 @@ pub trait Solver: Send {
         if self.params().integrator as u32 == MF_INTEGRATOR_EULER {
             self.forces_and_rates();
             self.time_step();
-            self.drift();
-            self.kick();
+            self.drift_kick();
         } else {
             self.forces();
             self.time_step();

@@ -86,6 +86,9 @@ pub struct Buffers {
     pub bytes: usize,
     /// Flips at each swap of `cur` and `alt` (a captured graph is bound to one assignment).
     pub swapped: bool,
+    /// Set by a grid build that applied the equation of state (continuity density without
+    /// artificial stress); the density pass that follows takes it and launches nothing.
+    pub eos_done: bool,
 }
 
 struct Alloc<'a> {
@@ -177,6 +180,7 @@ impl Buffers {
             layout: a.z(4)?,
             bytes: 0,
             swapped: false,
+            eos_done: false,
         };
         b.bytes = a.bytes;
         b.write_state(s, state)?;

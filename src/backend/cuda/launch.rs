@@ -10,7 +10,7 @@ use cudarc::driver::{
 use super::buffers::{Buffers, SCAN_BLOCK};
 use super::device::Device;
 use crate::backend::BackendError;
-use crate::params::{lean_scheme, SphParams};
+use crate::params::{lean_scheme, SphParams, MF_DENSITY_CONTINUITY};
 
 // SAFETY: SphParams is the bindgen image of the C struct in `cuda/sph_params.h` (repr(C),
 // plain integers and floats, no pointers); kernels take it by value. `tests/cuda_parity.rs`
@@ -88,8 +88,8 @@ pub struct Kernels {
     scan_local: Kernel,
     scan_top: Kernel,
     scatter: Kernel,
-    segsort: Kernel,
     gather: Kernel,
+    finish: Kernel,
     density: PerLanes,
     forces: PerLanes,
     forces_fluid: PerLanes,
@@ -106,6 +106,7 @@ pub struct Kernels {
     step_size: Kernel,
     kick: Kernel,
     drift: Kernel,
+    drift_kick: Kernel,
     diagnostics: Kernel,
     check: Kernel,
     layout: Kernel,
@@ -120,8 +121,8 @@ impl Kernels {
             scan_local: Kernel::load(dev, "grid", plain("sph_scan_local"))?,
             scan_top: Kernel::load(dev, "grid", plain("sph_scan_top"))?,
             scatter: Kernel::load(dev, "grid", plain("sph_grid_scatter"))?,
-            segsort: Kernel::load(dev, "grid", plain("sph_grid_segsort"))?,
             gather: Kernel::load(dev, "grid", d("sph_grid_gather"))?,
+            finish: Kernel::load(dev, "grid", plain("sph_grid_finish"))?,
             density: PerLanes::load(dev, "density", "sph_density", dim)?,
             forces: PerLanes::load(dev, "forces", "sph_forces", dim)?,
             forces_fluid: PerLanes::load(dev, "forces", "sph_forces_fluid", dim)?,
@@ -136,6 +137,7 @@ impl Kernels {
             step_size: Kernel::load(dev, "reduce", plain("sph_step_size"))?,
             kick: Kernel::load(dev, "integrate", d("sph_kick"))?,
             drift: Kernel::load(dev, "integrate", d("sph_drift"))?,
+            drift_kick: Kernel::load(dev, "integrate", d("sph_drift_kick"))?,
             diagnostics: Kernel::load(dev, "reduce", d("sph_diagnostics"))?,
             check: Kernel::load(dev, "reduce", d("sph_check"))?,
             layout: Kernel::load(dev, "reduce", plain("sph_params_layout"))?,
@@ -161,8 +163,8 @@ pub struct StepGraph(pub cudarc::driver::CudaGraph, pub bool);
 // so it moves between threads with the solver but is never shared.
 unsafe impl Send for StepGraph {}
 
-/// Neighbour grid: hist, scan (3 kernels), scatter, per-cell sort by id, gather; then the
-/// two persistent buffer sets are swapped.
+/// Neighbour grid: hist, scan (2 kernels), scatter, sort by id within cells fused with the
+/// reorder (gather), cell ranges; then the two persistent buffer sets are swapped.
 pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     let n = b.n as u32;
     let nc = b.n_cells as u32;
@@ -172,7 +174,7 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     }
     // SAFETY: sph_grid_hist_{2,3}d(const SphParams p, unsigned n, const float* pos,
     // unsigned* cell, unsigned* rank, unsigned* count); pos holds n vectors, cell/rank n,
-    // count n_cells (zero: cleared by segsort or at allocation).
+    // count n_cells (zero: cleared by finish or at allocation).
     k.hist.check(unsafe {
         s.launch_builder(&k.hist.f)
             .arg(p)
@@ -186,7 +188,7 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     });
     // SAFETY: sph_scan_local(unsigned n_cells, const unsigned* count, unsigned* local,
     // unsigned* bsum); grid of ceil(n_cells/1024) blocks of 1024, bsum has that many; local:
-    // the block-relative starts, into cell_start (made absolute by segsort).
+    // the block-relative starts, into cell_start (made absolute by finish).
     k.scan_local.check(unsafe {
         s.launch_builder(&k.scan_local.f)
             .arg(&nc)
@@ -226,30 +228,28 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
             .launch(cfg(b.n))
             .map(|_| ())
     });
-    // SAFETY: sph_grid_segsort(unsigned n_cells, const unsigned* id, unsigned* count,
-    // const unsigned* bsum, unsigned* order, unsigned* cell_start); cell_start has n_cells + 1
-    // entries, the first n_cells holding the scan's block-relative starts.
-    k.segsort.check(unsafe {
-        s.launch_builder(&k.segsort.f)
-            .arg(&nc)
-            .arg(&b.cur.id)
-            .arg(&mut b.count)
-            .arg(&b.bsum)
-            .arg(&mut b.order)
-            .arg(&mut b.cell_start)
-            .launch(cfg(b.n_cells))
-            .map(|_| ())
-    });
+    // Continuity density without artificial stress: the reorder applies the equation of
+    // state and the density pass has nothing left to do (`density` skips it).
+    let eos = p.density_mode as u32 == MF_DENSITY_CONTINUITY && b.art.is_none();
+    let eos_arg = eos as u32;
     {
         let (c, a) = (&b.cur, &mut b.alt);
-        // SAFETY: sph_grid_gather_{2,3}d(unsigned n, const unsigned* order, const unsigned* id,
+        // SAFETY: sph_grid_gather_{2,3}d(const SphParams p, unsigned n, unsigned eos,
+        // const unsigned* order, const unsigned* cell, const unsigned* count,
+        // const unsigned* local, const unsigned* bsum, const unsigned* id,
         // const unsigned char* kind, const unsigned* group, const float* pos, const float* vel,
-        // const float* rho, const float* pr, const float* stress, then the same nine outputs);
-        // stress null in both sets or in neither.
+        // const float* rho, const float* pr, const float* stress, then the same eight outputs);
+        // local: cell_start as the scan left it; stress null in both sets or in neither.
         let mut l = s.launch_builder(&k.gather.f);
-        l.arg(&n)
+        l.arg(p)
+            .arg(&n)
+            .arg(&eos_arg)
             .arg(&b.order)
-            .arg(&c.id)
+            .arg(&b.cell)
+            .arg(&b.count)
+            .arg(&b.cell_start)
+            .arg(&b.bsum);
+        l.arg(&c.id)
             .arg(&c.kind)
             .arg(&c.group)
             .arg(&c.pos)
@@ -265,12 +265,25 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
         opt!(l, &mut a.stress);
         k.gather.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
     }
+    // SAFETY: sph_grid_finish(unsigned n_cells, unsigned* count, const unsigned* bsum,
+    // unsigned* cell_start); cell_start has n_cells + 1 entries, the first n_cells holding
+    // the scan's block-relative starts.
+    k.finish.check(unsafe {
+        s.launch_builder(&k.finish.f)
+            .arg(&nc)
+            .arg(&mut b.count)
+            .arg(&b.bsum)
+            .arg(&mut b.cell_start)
+            .launch(cfg(b.n_cells))
+            .map(|_| ())
+    });
+    b.eos_done = eos;
     std::mem::swap(&mut b.cur, &mut b.alt);
     b.swapped = !b.swapped;
 }
 
 pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
-    if b.n == 0 {
+    if b.n == 0 || std::mem::take(&mut b.eos_done) {
         return;
     }
     let n = b.n as u32;
@@ -448,6 +461,33 @@ pub fn drift(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     opt!(l, &mut c.stress);
     opt!(l, &b.stress_rate);
     k.drift.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
+}
+
+/// The forward Euler's drift then kick in one kernel (`Solver::drift_kick`).
+pub fn drift_kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    let n = b.n as u32;
+    let c = &mut b.cur;
+    // SAFETY: sph_drift_kick_{2,3}d(const SphParams p, unsigned n, const float* dt_dev,
+    // double* time, const unsigned char* kind, const unsigned* group, float* pos, float* vel,
+    // const float* xsph, float* rho, const float* drho, float* stress, const float* rate,
+    // const float* acc); drho, stress and rate may be null. Launched even for n = 0: it
+    // advances the clock.
+    let mut l = s.launch_builder(&k.drift_kick.f);
+    l.arg(p)
+        .arg(&n)
+        .arg(&b.dt)
+        .arg(&mut b.time)
+        .arg(&c.kind)
+        .arg(&c.group)
+        .arg(&mut c.pos)
+        .arg(&mut c.vel);
+    l.arg(&b.xsph).arg(&mut c.rho);
+    opt!(l, &b.drho);
+    opt!(l, &mut c.stress);
+    opt!(l, &b.stress_rate);
+    l.arg(&b.acc);
+    k.drift_kick
+        .check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
 }
 
 pub fn diagnostics(

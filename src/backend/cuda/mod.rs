@@ -146,10 +146,18 @@ impl<D: Dim> CudaSolver<D> {
     }
 
     /// Overwrite the arrays (same length) with `state`; the grid stays. For parity tests.
+    /// The next `density` runs in full (a grid build's equation of state was of the old state).
     pub fn upload_state(&mut self, state: &State<D>) {
+        self.buf.eos_done = false;
         if let Err(e) = self.buf.write_state(&self.dev.stream, state) {
             self.sync_err("uploading a state", e)
         }
+    }
+
+    /// Whether the last grid build applied the equation of state (continuity density without
+    /// artificial stress), leaving the density pass nothing to do. For parity tests.
+    pub fn grid_applied_eos(&self) -> bool {
+        self.buf.eos_done
     }
 
     /// The step size of the last `time_step` [T] (read back).
@@ -276,6 +284,11 @@ impl<D: Dim> Solver for CudaSolver<D> {
     }
     fn drift(&mut self) {
         launch::drift(&self.k, &self.dev.stream, &self.params, &mut self.buf);
+        self.steps += 1;
+    }
+    /// One kernel for both (`cuda/integrate.cu`).
+    fn drift_kick(&mut self) {
+        launch::drift_kick(&self.k, &self.dev.stream, &self.params, &mut self.buf);
         self.steps += 1;
     }
     fn advance(&mut self, steps: u64) {
