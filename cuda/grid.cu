@@ -5,18 +5,15 @@
 
 #define MF_SCAN_BLOCK 1024
 
-// 1. Cell of every particle and its arrival rank in that cell (any order: fixed in 5.).
+// 1. Cell of every particle and its arrival rank in that cell (any order: fixed in 5.);
+// skipped where the last drift did it (hist_one in common.cuh).
 template <int DIM>
 __device__ void sph_grid_hist_body(const SphParams p, unsigned n, const float* __restrict__ pos,
                                    unsigned* __restrict__ cell, unsigned* __restrict__ rank,
                                    unsigned* __restrict__ count) {
     unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
-    int c[3];
-    cell_coords<DIM>(p, vload<DIM>(pos, i), c);
-    unsigned k = cell_index(p, c);
-    cell[i] = k;
-    rank[i] = atomicAdd(&count[k], 1u);
+    hist_one<DIM>(p, i, vload<DIM>(pos, i), cell, rank, count);
 }
 MF_ENTRY2(sph_grid_hist,
           (const SphParams p, unsigned n, const float* pos, unsigned* cell, unsigned* rank, unsigned* count),

@@ -1,6 +1,6 @@
 // Time integration: the kick (v += dt a; v set in the inflow band; a driven group's
 // velocity set) and the drift (x += dt (v + xsph), eq. (18), with the periodic wrap;
-// rho += dt d rho/dt; S += dt dS/dt; the device clock). dt is read on the device (written
+// rho += dt d rho/dt; S += dt dS/dt; the device clock; the next grid build's cell counts). dt is read on the device (written
 // by sph_step_size): no host round trip per step.
 // Twin: src/backend/cpu/integrate.rs; parity test: tests/cuda_parity.rs.
 #include "common.cuh"
@@ -49,7 +49,8 @@ MF_ENTRY2(sph_kick,
           (p, n, dt_dev, kind, group, pos, vel, acc))
 
 // The drift of one particle (kind k, group g, velocity v) by dt; returns its new position.
-// drho: null without the continuity density; stress, rate: null without solids.
+// drho: null without the continuity density; stress, rate: null without solids. The callers
+// then file the particle in its cell for the next grid build (hist_one).
 template <int DIM>
 __device__ __forceinline__ Vec<DIM> drift_one(const SphParams& p, unsigned n, unsigned i, unsigned char k, unsigned g,
                                               const Vec<DIM>& v, float dt, float* __restrict__ pos,
@@ -98,18 +99,21 @@ __device__ void sph_drift_body(const SphParams p, unsigned n, const float* __res
                                const unsigned* __restrict__ group, float* __restrict__ pos, const float* __restrict__ vel,
                                const float* __restrict__ xsph, float* __restrict__ rho,
                                const float* __restrict__ drho, float* __restrict__ stress,
-                               const float* __restrict__ rate) {
+                               const float* __restrict__ rate, unsigned* __restrict__ cell,
+                               unsigned* __restrict__ rank, unsigned* __restrict__ count) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
     const float dt = *dt_dev;
     if (i == 0) *time += (double)dt;
     if (i >= n) return;
-    drift_one<DIM>(p, n, i, kind[i], group[i], vel_load<DIM>(vel, i), dt, pos, xsph, rho, drho, stress, rate);
+    const Vec<DIM> x =
+        drift_one<DIM>(p, n, i, kind[i], group[i], vel_load<DIM>(vel, i), dt, pos, xsph, rho, drho, stress, rate);
+    hist_one<DIM>(p, i, x, cell, rank, count);
 }
 MF_ENTRY2(sph_drift,
           (const SphParams p, unsigned n, const float* dt_dev, double* time, const unsigned char* kind,
            const unsigned* group, float* pos, const float* vel, const float* xsph, float* rho, const float* drho,
-           float* stress, const float* rate),
-          (p, n, dt_dev, time, kind, group, pos, vel, xsph, rho, drho, stress, rate))
+           float* stress, const float* rate, unsigned* cell, unsigned* rank, unsigned* count),
+          (p, n, dt_dev, time, kind, group, pos, vel, xsph, rho, drho, stress, rate, cell, rank, count))
 
 // The forward Euler's drift then kick in one pass (`Solver::drift_kick`): the drift takes
 // the old velocity, the kick's inflow test the new position, as the two kernels in turn.
@@ -120,7 +124,8 @@ __device__ void sph_drift_kick_body(const SphParams p, unsigned n, const float* 
                                     float* __restrict__ vel, const float* __restrict__ xsph,
                                     float* __restrict__ rho, const float* __restrict__ drho,
                                     float* __restrict__ stress, const float* __restrict__ rate,
-                                    const float* __restrict__ acc) {
+                                    const float* __restrict__ acc, unsigned* __restrict__ cell,
+                                    unsigned* __restrict__ rank, unsigned* __restrict__ count) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
     const float dt = *dt_dev;
     if (i == 0) *time += (double)dt;
@@ -130,9 +135,10 @@ __device__ void sph_drift_kick_body(const SphParams p, unsigned n, const float* 
     Vec<DIM> v = vel_load<DIM>(vel, i);
     const Vec<DIM> x = drift_one<DIM>(p, n, i, k, g, v, dt, pos, xsph, rho, drho, stress, rate);
     if (kick_one<DIM>(p, k, g, x, dt, acc, i, v)) vel_store<DIM>(vel, i, v);  // keeps rho, m
+    hist_one<DIM>(p, i, x, cell, rank, count);
 }
 MF_ENTRY2(sph_drift_kick,
           (const SphParams p, unsigned n, const float* dt_dev, double* time, const unsigned char* kind,
            const unsigned* group, float* pos, float* vel, const float* xsph, float* rho, const float* drho,
-           float* stress, const float* rate, const float* acc),
-          (p, n, dt_dev, time, kind, group, pos, vel, xsph, rho, drho, stress, rate, acc))
+           float* stress, const float* rate, const float* acc, unsigned* cell, unsigned* rank, unsigned* count),
+          (p, n, dt_dev, time, kind, group, pos, vel, xsph, rho, drho, stress, rate, acc, cell, rank, count))

@@ -89,6 +89,9 @@ pub struct Buffers {
     /// Set by a grid build that applied the equation of state (continuity density without
     /// artificial stress); the density pass that follows takes it and launches nothing.
     pub eos_done: bool,
+    /// Set by the drift, which files every particle in its cell (`cell`, `rank`, `count`) for
+    /// the next grid build; that build takes it and skips its own pass.
+    pub hist_done: bool,
 }
 
 struct Alloc<'a> {
@@ -181,6 +184,7 @@ impl Buffers {
             bytes: 0,
             swapped: false,
             eos_done: false,
+            hist_done: false,
         };
         b.bytes = a.bytes;
         b.write_state(s, state)?;
@@ -201,6 +205,11 @@ impl Buffers {
             self.n,
             "write_state: length differs from the allocation"
         );
+        // What a drift or a grid build derived from the old state goes with it.
+        self.eos_done = false;
+        if std::mem::take(&mut self.hist_done) {
+            s.memset_zeros(&mut self.count)?;
+        }
         let c = &mut self.cur;
         s.memcpy_htod(&st.id, &mut c.id)?;
         s.memcpy_htod(&st.kind, &mut c.kind)?;

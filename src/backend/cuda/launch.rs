@@ -172,20 +172,23 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     if n == 0 {
         return;
     }
-    // SAFETY: sph_grid_hist_{2,3}d(const SphParams p, unsigned n, const float* pos,
+    // Cells and counts: already filed by the last drift from the positions it wrote, else
+    // here. SAFETY: sph_grid_hist_{2,3}d(const SphParams p, unsigned n, const float* pos,
     // unsigned* cell, unsigned* rank, unsigned* count); pos holds n vectors, cell/rank n,
-    // count n_cells (zero: cleared by finish or at allocation).
-    k.hist.check(unsafe {
-        s.launch_builder(&k.hist.f)
-            .arg(p)
-            .arg(&n)
-            .arg(&b.cur.pos)
-            .arg(&mut b.cell)
-            .arg(&mut b.rank)
-            .arg(&mut b.count)
-            .launch(cfg(b.n))
-            .map(|_| ())
-    });
+    // count n_cells (zero: cleared by finish, by write_state or at allocation).
+    if !std::mem::take(&mut b.hist_done) {
+        k.hist.check(unsafe {
+            s.launch_builder(&k.hist.f)
+                .arg(p)
+                .arg(&n)
+                .arg(&b.cur.pos)
+                .arg(&mut b.cell)
+                .arg(&mut b.rank)
+                .arg(&mut b.count)
+                .launch(cfg(b.n))
+                .map(|_| ())
+        });
+    }
     // SAFETY: sph_scan_local(unsigned n_cells, const unsigned* count, unsigned* local,
     // unsigned* bsum); grid of ceil(n_cells/1024) blocks of 1024, bsum has that many; local:
     // the block-relative starts, into cell_start (made absolute by finish).
@@ -445,8 +448,9 @@ pub fn drift(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     // SAFETY: sph_drift_{2,3}d(const SphParams p, unsigned n, const float* dt_dev,
     // double* time, const unsigned char* kind, const unsigned* group, float* pos,
     // const float* vel, const float* xsph, float* rho, const float* drho, float* stress,
-    // const float* rate);
-    // drho, stress and rate may be null. Launched even for n = 0: it advances the clock.
+    // const float* rate, unsigned* cell, unsigned* rank, unsigned* count);
+    // drho, stress and rate may be null; the last three as in sph_grid_hist (count cleared by
+    // the grid build's finish). Launched even for n = 0: it advances the clock.
     let mut l = s.launch_builder(&k.drift.f);
     l.arg(p)
         .arg(&n)
@@ -460,7 +464,9 @@ pub fn drift(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     opt!(l, &b.drho);
     opt!(l, &mut c.stress);
     opt!(l, &b.stress_rate);
+    l.arg(&mut b.cell).arg(&mut b.rank).arg(&mut b.count);
     k.drift.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
+    b.hist_done = true;
 }
 
 /// The forward Euler's drift then kick in one kernel (`Solver::drift_kick`).
@@ -470,8 +476,7 @@ pub fn drift_kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     // SAFETY: sph_drift_kick_{2,3}d(const SphParams p, unsigned n, const float* dt_dev,
     // double* time, const unsigned char* kind, const unsigned* group, float* pos, float* vel,
     // const float* xsph, float* rho, const float* drho, float* stress, const float* rate,
-    // const float* acc); drho, stress and rate may be null. Launched even for n = 0: it
-    // advances the clock.
+    // const float* acc, unsigned* cell, unsigned* rank, unsigned* count); as sph_drift.
     let mut l = s.launch_builder(&k.drift_kick.f);
     l.arg(p)
         .arg(&n)
@@ -486,8 +491,10 @@ pub fn drift_kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     opt!(l, &mut c.stress);
     opt!(l, &b.stress_rate);
     l.arg(&b.acc);
+    l.arg(&mut b.cell).arg(&mut b.rank).arg(&mut b.count);
     k.drift_kick
         .check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
+    b.hist_done = true;
 }
 
 pub fn diagnostics(

@@ -146,9 +146,7 @@ impl<D: Dim> CudaSolver<D> {
     }
 
     /// Overwrite the arrays (same length) with `state`; the grid stays. For parity tests.
-    /// The next `density` runs in full (a grid build's equation of state was of the old state).
     pub fn upload_state(&mut self, state: &State<D>) {
-        self.buf.eos_done = false;
         if let Err(e) = self.buf.write_state(&self.dev.stream, state) {
             self.sync_err("uploading a state", e)
         }
@@ -294,13 +292,17 @@ impl<D: Dim> Solver for CudaSolver<D> {
     fn advance(&mut self, steps: u64) {
         let mut left = steps;
         if self.graphs && left >= 2 {
-            if self.graph.is_none() {
-                self.graph = self.capture_pair();
-            }
-            if self.graph.as_ref().is_some_and(|g| g.1 != self.buf.swapped) {
-                // After an odd number of single steps: one more, back to the graph's buffers.
+            // A graph starts from the cell counts a drift leaves (`hist_done`: not so after
+            // an upload) and from the buffer assignment it was captured with (not so after an
+            // odd number of single steps): single steps until both hold (two at most).
+            let ready =
+                |s: &Self| s.buf.hist_done && s.graph.as_ref().is_none_or(|g| g.1 == s.buf.swapped);
+            while left > 0 && !ready(self) {
                 self.step();
                 left -= 1;
+            }
+            if self.graph.is_none() && left >= 2 {
+                self.graph = self.capture_pair();
             }
             if let Some(g) = &self.graph {
                 let pairs = left / 2;
