@@ -315,17 +315,16 @@ template <int DIM> __device__ __forceinline__ void cell_coords(const SphParams& 
 __device__ __forceinline__ unsigned cell_index(const SphParams& p, const int c[3]) {
     return (unsigned)(c[0] + p.grid_dims[0] * (c[1] + p.grid_dims[1] * c[2]));
 }
-// The grid build's first step for particle i at x (grid.cu): its cell, and its arrival rank
-// there (any order: the reorder sorts by id). The drift does it for the next build, from the
-// positions it writes (`Buffers::hist_done`).
+// The grid build's first step for particle i at x (grid.cu): its cell, counted. The drift
+// does it for the next build, from the positions it writes (`Buffers::hist_done`).
 template <int DIM>
 __device__ __forceinline__ void hist_one(const SphParams& p, unsigned i, Vec<DIM> x, unsigned* __restrict__ cell,
-                                         unsigned* __restrict__ rank, unsigned* __restrict__ count) {
+                                         unsigned* __restrict__ count) {
     int c[3];
     cell_coords<DIM>(p, x, c);
     const unsigned k = cell_index(p, c);
     cell[i] = k;
-    rank[i] = atomicAdd(&count[k], 1u);
+    atomicAdd(&count[k], 1u);
 }
 // Minimum-image r_i - r_j on periodic axes; PERIODIC = false: the scene has none (the
 // neighbour loops test that once, not per candidate: see neighbour_loop).

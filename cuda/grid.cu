@@ -4,30 +4,24 @@
 #include "common.cuh"
 
 #define MF_SCAN_BLOCK 1024
+#define MF_SCAN_ITEMS 4
+#define MF_SCAN_CELLS (MF_SCAN_BLOCK * MF_SCAN_ITEMS)
 
-// 1. Cell of every particle and its arrival rank in that cell (any order: fixed in 5.);
-// skipped where the last drift did it (hist_one in common.cuh).
+// 1. Cell of every particle and the count of every cell; skipped where the last drift did
+// it (hist_one in common.cuh).
 template <int DIM>
 __device__ void sph_grid_hist_body(const SphParams p, unsigned n, const float* __restrict__ pos,
-                                   unsigned* __restrict__ cell, unsigned* __restrict__ rank,
-                                   unsigned* __restrict__ count) {
+                                   unsigned* __restrict__ cell, unsigned* __restrict__ count) {
     unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
-    hist_one<DIM>(p, i, vload<DIM>(pos, i), cell, rank, count);
+    hist_one<DIM>(p, i, vload<DIM>(pos, i), cell, count);
 }
-MF_ENTRY2(sph_grid_hist,
-          (const SphParams p, unsigned n, const float* pos, unsigned* cell, unsigned* rank, unsigned* count),
-          (p, n, pos, cell, rank, count))
+MF_ENTRY2(sph_grid_hist, (const SphParams p, unsigned n, const float* pos, unsigned* cell, unsigned* count),
+          (p, n, pos, cell, count))
 
-// 2. Exclusive scan of the counts within blocks of MF_SCAN_BLOCK cells, written to the cell
-// starts (relative to the block until 5. adds the block's offset: no array of its own, 4 B
-// per cell less); block totals to bsum.
-extern "C" __global__ void __launch_bounds__(MF_SCAN_BLOCK)
-sph_scan_local(unsigned n_cells, const unsigned* __restrict__ count, unsigned* __restrict__ local,
-               unsigned* __restrict__ bsum) {
-    __shared__ unsigned sh[MF_SCAN_BLOCK / 32];
-    unsigned c = blockIdx.x * MF_SCAN_BLOCK + threadIdx.x;
-    unsigned v = c < n_cells ? count[c] : 0u;
+// Inclusive scan of v over the block's MF_SCAN_BLOCK threads (all of them call it); sh:
+// MF_SCAN_BLOCK / 32 words of shared memory, free again after the next __syncthreads.
+__device__ __forceinline__ unsigned block_inclusive_scan(unsigned v, unsigned* sh) {
     const int w = threadIdx.x >> 5, l = threadIdx.x & 31;
     unsigned x = v;  // inclusive warp scan
     for (int o = 1; o < 32; o <<= 1) {
@@ -45,8 +39,39 @@ sph_scan_local(unsigned n_cells, const unsigned* __restrict__ count, unsigned* _
         sh[l] = s;  // inclusive over warps
     }
     __syncthreads();
-    unsigned incl = x + (w > 0 ? sh[w - 1] : 0u);
-    if (c < n_cells) local[c] = incl - v;
+    return x + (w > 0 ? sh[w - 1] : 0u);
+}
+
+// 2. Exclusive scan of the counts within blocks of MF_SCAN_CELLS cells (MF_SCAN_ITEMS
+// consecutive cells per thread, one 16-byte load and store), written to `local` (relative
+// to the block: start(c) = local[c] + bsum[c / MF_SCAN_CELLS] after 3.); block totals to
+// bsum. Run over n_cells + 1 entries (count[n_cells] = 0), so that start(n_cells) = n
+// closes the last cell's range.
+extern "C" __global__ void __launch_bounds__(MF_SCAN_BLOCK)
+sph_scan_local(unsigned n_cells, const unsigned* __restrict__ count, unsigned* __restrict__ local,
+               unsigned* __restrict__ bsum) {
+    __shared__ unsigned sh[MF_SCAN_BLOCK / 32];
+    const unsigned c = blockIdx.x * MF_SCAN_CELLS + threadIdx.x * MF_SCAN_ITEMS;
+    const bool whole = c + MF_SCAN_ITEMS <= n_cells;
+    uint4 v = make_uint4(0u, 0u, 0u, 0u);
+    if (whole) {
+        v = reinterpret_cast<const uint4*>(count)[c / MF_SCAN_ITEMS];
+    } else if (c < n_cells) {
+        v.x = count[c];
+        if (c + 1 < n_cells) v.y = count[c + 1];
+        if (c + 2 < n_cells) v.z = count[c + 2];
+    }
+    const unsigned t = v.x + v.y + v.z + v.w;
+    const unsigned incl = block_inclusive_scan(t, sh);
+    const unsigned e = incl - t;
+    const uint4 out = make_uint4(e, e + v.x, e + v.x + v.y, e + v.x + v.y + v.z);
+    if (whole) {
+        reinterpret_cast<uint4*>(local)[c / MF_SCAN_ITEMS] = out;
+    } else if (c < n_cells) {
+        local[c] = out.x;
+        if (c + 1 < n_cells) local[c + 1] = out.y;
+        if (c + 2 < n_cells) local[c + 2] = out.z;
+    }
     if (threadIdx.x == MF_SCAN_BLOCK - 1) bsum[blockIdx.x] = incl;
 }
 
@@ -57,27 +82,10 @@ sph_scan_top(unsigned n_blocks, unsigned* __restrict__ bsum) {
     __shared__ unsigned carry;
     if (threadIdx.x == 0) carry = 0;
     __syncthreads();
-    const int w = threadIdx.x >> 5, l = threadIdx.x & 31;
     for (unsigned base = 0; base < n_blocks; base += MF_SCAN_BLOCK) {
         unsigned b = base + threadIdx.x;
         unsigned v = b < n_blocks ? bsum[b] : 0u;
-        unsigned x = v;
-        for (int o = 1; o < 32; o <<= 1) {
-            unsigned y = __shfl_up_sync(0xffffffffu, x, o);
-            if (l >= o) x += y;
-        }
-        if (l == 31) sh[w] = x;
-        __syncthreads();
-        if (w == 0) {
-            unsigned s = sh[l];
-            for (int o = 1; o < 32; o <<= 1) {
-                unsigned y = __shfl_up_sync(0xffffffffu, s, o);
-                if (l >= o) s += y;
-            }
-            sh[l] = s;
-        }
-        __syncthreads();
-        unsigned incl = x + (w > 0 ? sh[w - 1] : 0u);
+        unsigned incl = block_inclusive_scan(v, sh);
         unsigned c0 = carry;
         if (b < n_blocks) bsum[b] = c0 + incl - v;
         __syncthreads();
@@ -86,15 +94,35 @@ sph_scan_top(unsigned n_blocks, unsigned* __restrict__ bsum) {
     }
 }
 
-// 4. Scatter: slot = cell start + arrival rank (order inside a cell still arbitrary).
+// Where cell c's particles start in the sorted order (c <= n_cells), from 2. and 3.
+__device__ __forceinline__ unsigned cell_start_of(const unsigned* __restrict__ local, const unsigned* __restrict__ bsum,
+                                                  unsigned c) {
+    return local[c] + bsum[c / MF_SCAN_CELLS];
+}
+
+// 4. Scatter: each particle takes a slot of its cell's range by counting the cell's count
+// down (any order inside the cell: 5. sorts), which leaves the counts at zero for the next
+// build's 1. The particles are in the last build's cell order, so most lanes of a warp share
+// a cell with the lane before: each run of equal cells takes its slots with one atomic,
+// from its first lane (__match_any_sync, which would also join runs that are apart,
+// measured slower than one atomic per particle: H100, session 8).
 extern "C" __global__ void __launch_bounds__(MF_BLOCK)
-sph_grid_scatter(unsigned n, const unsigned* __restrict__ cell, const unsigned* __restrict__ rank,
-                 const unsigned* __restrict__ local, const unsigned* __restrict__ bsum,
-                 unsigned* __restrict__ order) {
-    unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= n) return;
-    unsigned k = cell[i];
-    order[local[k] + bsum[k / MF_SCAN_BLOCK] + rank[i]] = i;
+sph_grid_scatter(unsigned n, const unsigned* __restrict__ cell, const unsigned* __restrict__ local,
+                 const unsigned* __restrict__ bsum, unsigned* __restrict__ count, unsigned* __restrict__ order) {
+    const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
+    const bool valid = i < n;  // every lane takes part in the warp's exchanges
+    const unsigned k = valid ? cell[i] : 0xffffffffu;
+    const int lane = threadIdx.x & 31;
+    const unsigned before = __shfl_up_sync(0xffffffffu, k, 1);
+    const unsigned heads = __ballot_sync(0xffffffffu, lane == 0 || k != before);
+    const int head = 31 - __clz(heads & (0xffffffffu >> (31 - lane)));    // my run's first lane
+    const unsigned later = heads & ~(0xffffffffu >> (31 - lane));          // heads after me
+    const int end = later ? __ffs(later) - 1 : 32;                          // one past my run
+    unsigned top = 0;
+    // (Lanes past n have the cell 0xffffffff: runs of their own, never counted.)
+    if (valid && lane == head) top = atomicSub(&count[k], (unsigned)(end - head));
+    top = __shfl_sync(0xffffffffu, top, head);  // the run's count before its atomic
+    if (valid) order[cell_start_of(local, bsum, k) + top - 1u - (unsigned)(lane - head)] = i;
 }
 
 // 5. One thread per slot of the scatter's order: the particle's rank by id among its
@@ -102,14 +130,16 @@ sph_grid_scatter(unsigned n, const unsigned* __restrict__ cell, const unsigned* 
 // and the lanes of a warp mostly share one cell, so the segment's loads are broadcasts),
 // which makes the order (cell, id) as on the CPU; the particle goes straight to its sorted
 // slot, moving every persistent array (the mass travels in pos.w / vel.z, mass_of in
-// common.cuh). cell_start holds the scan's block-relative starts (made absolute by 6.).
+// common.cuh). The first n_cells + 1 threads also write the cell ranges the neighbour loops
+// read (cell_start, n_cells + 1 entries); grid: max(n, n_cells + 1) threads.
 // eos != 0 (continuity density without artificial stress, where the density pass has
 // nothing else to do): the equation of state eq. (9) is applied here, from the density
 // the particle carries, and the velocity's w slot set (vel_w): the density pass is skipped.
 template <int DIM>
-__device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned eos, const unsigned* __restrict__ order,
-                                     const unsigned* __restrict__ cell, const unsigned* __restrict__ count,
+__device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned n_cells, unsigned eos,
+                                     const unsigned* __restrict__ order, const unsigned* __restrict__ cell,
                                      const unsigned* __restrict__ local, const unsigned* __restrict__ bsum,
+                                     unsigned* __restrict__ cell_start,
                                      const unsigned* __restrict__ id, const unsigned char* __restrict__ kind,
                                      const unsigned* __restrict__ group,
                                      const float* __restrict__ pos, const float* __restrict__ vel,
@@ -119,10 +149,11 @@ __device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned eos
                                      float* __restrict__ pos2, float* __restrict__ vel2,
                                      float* __restrict__ rho2, float* __restrict__ pr2, float* __restrict__ stress2) {
     unsigned a = blockIdx.x * blockDim.x + threadIdx.x;
+    if (a <= n_cells) cell_start[a] = cell_start_of(local, bsum, a);
     if (a >= n) return;
     const unsigned o = order[a];
     const unsigned c = cell[o];
-    const unsigned s = local[c] + bsum[c / MF_SCAN_BLOCK], e = s + count[c];
+    const unsigned s = cell_start_of(local, bsum, c), e = cell_start_of(local, bsum, c + 1);
     const unsigned key = id[o];
     unsigned k = s;
     for (unsigned b = s; b < e; ++b) k += id[order[b]] < key;  // ids are unique
@@ -152,24 +183,10 @@ __device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned eos
     }
 }
 MF_ENTRY2(sph_grid_gather,
-          (const SphParams p, unsigned n, unsigned eos, const unsigned* order, const unsigned* cell,
-           const unsigned* count, const unsigned* local, const unsigned* bsum, const unsigned* id,
+          (const SphParams p, unsigned n, unsigned n_cells, unsigned eos, const unsigned* order,
+           const unsigned* cell, const unsigned* local, const unsigned* bsum, unsigned* cell_start, const unsigned* id,
            const unsigned char* kind, const unsigned* group, const float* pos, const float* vel, const float* rho,
            const float* pr, const float* stress, unsigned* id2, unsigned char* kind2, unsigned* group2,
            float* pos2, float* vel2, float* rho2, float* pr2, float* stress2),
-          (p, n, eos, order, cell, count, local, bsum, id, kind, group, pos, vel, rho, pr, stress, id2, kind2,
+          (p, n, n_cells, eos, order, cell, local, bsum, cell_start, id, kind, group, pos, vel, rho, pr, stress, id2, kind2,
            group2, pos2, vel2, rho2, pr2, stress2))
-
-// 6. One thread per cell: the final cell ranges (block-relative start of 2. plus the
-// block's offset of 3.; cell_start has n_cells + 1 entries) and the counts cleared for the
-// next step's 1.
-extern "C" __global__ void __launch_bounds__(MF_BLOCK)
-sph_grid_finish(unsigned n_cells, unsigned* __restrict__ count, const unsigned* __restrict__ bsum,
-                unsigned* __restrict__ cell_start) {
-    unsigned c = blockIdx.x * blockDim.x + threadIdx.x;
-    if (c >= n_cells) return;
-    const unsigned s = cell_start[c] + bsum[c / MF_SCAN_BLOCK];
-    cell_start[c] = s;
-    if (c == n_cells - 1) cell_start[n_cells] = s + count[c];
-    count[c] = 0;
-}

@@ -68,9 +68,11 @@ pub struct Buffers {
     pub wall_surface: Option<CudaSlice<f32>>,
     // grid
     pub cell: CudaSlice<u32>,
-    pub rank: CudaSlice<u32>,
     pub order: CudaSlice<u32>,
+    /// Per cell, n_cells + 1 (the last stays 0: the scan's sentinel).
     pub count: CudaSlice<u32>,
+    /// The scan's block-relative cell starts (n_cells + 1) and block offsets.
+    pub local: CudaSlice<u32>,
     pub bsum: CudaSlice<u32>,
     pub cell_start: CudaSlice<u32>,
     // scalars
@@ -89,7 +91,7 @@ pub struct Buffers {
     /// Set by a grid build that applied the equation of state (continuity density without
     /// artificial stress); the density pass that follows takes it and launches nothing.
     pub eos_done: bool,
-    /// Set by the drift, which files every particle in its cell (`cell`, `rank`, `count`) for
+    /// Set by the drift, which files every particle in its cell (`cell`, `count`) for
     /// the next grid build; that build takes it and skips its own pass.
     pub hist_done: bool,
 }
@@ -108,8 +110,10 @@ impl Alloc<'_> {
     }
 }
 
-/// The scan's block width (MF_SCAN_BLOCK in `cuda/grid.cu`).
+/// The scan's block width and the cells each block scans (MF_SCAN_BLOCK, MF_SCAN_CELLS in
+/// `cuda/grid.cu`).
 pub const SCAN_BLOCK: usize = 1024;
+pub const SCAN_CELLS: usize = 4 * SCAN_BLOCK;
 
 impl Buffers {
     /// Allocate for `state`, a grid of `n_cells` and the wall surface `surface`
@@ -139,7 +143,7 @@ impl Buffers {
         };
         let cur = persistent(&mut a)?;
         let alt = persistent(&mut a)?;
-        let n_blocks = n_cells.div_ceil(SCAN_BLOCK);
+        let n_blocks = (n_cells + 1).div_ceil(SCAN_CELLS);
         let mut b = Buffers {
             n,
             n_cells,
@@ -168,9 +172,9 @@ impl Buffers {
                 Some(a.z(surface.len() * 4)?)
             },
             cell: a.z(n)?,
-            rank: a.z(n)?,
             order: a.z(n)?,
-            count: a.z(n_cells)?,
+            count: a.z(n_cells + 1)?,
+            local: a.z(n_cells + 1)?,
             bsum: a.z(n_blocks)?,
             cell_start: a.z(n_cells + 1)?,
             red: a.z(3)?,

@@ -7,7 +7,7 @@ use cudarc::driver::{
     CudaFunction, CudaSlice, CudaStream, DeviceRepr, DriverError, LaunchConfig, PushKernelArg,
 };
 
-use super::buffers::{Buffers, SCAN_BLOCK};
+use super::buffers::{Buffers, SCAN_BLOCK, SCAN_CELLS};
 use super::device::Device;
 use crate::backend::BackendError;
 use crate::params::{lean_scheme, SphParams, MF_DENSITY_CONTINUITY};
@@ -89,7 +89,6 @@ pub struct Kernels {
     scan_top: Kernel,
     scatter: Kernel,
     gather: Kernel,
-    finish: Kernel,
     density: PerLanes,
     forces: PerLanes,
     forces_fluid: PerLanes,
@@ -122,7 +121,6 @@ impl Kernels {
             scan_top: Kernel::load(dev, "grid", plain("sph_scan_top"))?,
             scatter: Kernel::load(dev, "grid", plain("sph_grid_scatter"))?,
             gather: Kernel::load(dev, "grid", d("sph_grid_gather"))?,
-            finish: Kernel::load(dev, "grid", plain("sph_grid_finish"))?,
             density: PerLanes::load(dev, "density", "sph_density", dim)?,
             forces: PerLanes::load(dev, "forces", "sph_forces", dim)?,
             forces_fluid: PerLanes::load(dev, "forces", "sph_forces_fluid", dim)?,
@@ -163,19 +161,22 @@ pub struct StepGraph(pub cudarc::driver::CudaGraph, pub bool);
 // so it moves between threads with the solver but is never shared.
 unsafe impl Send for StepGraph {}
 
-/// Neighbour grid: hist, scan (2 kernels), scatter, sort by id within cells fused with the
-/// reorder (gather), cell ranges; then the two persistent buffer sets are swapped.
+/// Neighbour grid: hist (unless the last drift did it), scan (2 kernels), scatter, then the
+/// sort by id within cells fused with the reorder (gather), which also writes the cell
+/// ranges; then the two persistent buffer sets are swapped.
 pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     let n = b.n as u32;
     let nc = b.n_cells as u32;
-    let nb = b.n_cells.div_ceil(SCAN_BLOCK) as u32;
+    // The scan runs over n_cells + 1 counts (the last, 0, closes the last cell's range).
+    let n_scan = nc + 1;
+    let nb = n_scan.div_ceil(SCAN_CELLS as u32);
     if n == 0 {
         return;
     }
     // Cells and counts: already filed by the last drift from the positions it wrote, else
     // here. SAFETY: sph_grid_hist_{2,3}d(const SphParams p, unsigned n, const float* pos,
-    // unsigned* cell, unsigned* rank, unsigned* count); pos holds n vectors, cell/rank n,
-    // count n_cells (zero: cleared by finish, by write_state or at allocation).
+    // unsigned* cell, unsigned* count); pos holds n vectors, cell n, count n_cells + 1 (zero:
+    // counted down by the last scatter, cleared by write_state or at allocation).
     if !std::mem::take(&mut b.hist_done) {
         k.hist.check(unsafe {
             s.launch_builder(&k.hist.f)
@@ -183,20 +184,19 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
                 .arg(&n)
                 .arg(&b.cur.pos)
                 .arg(&mut b.cell)
-                .arg(&mut b.rank)
                 .arg(&mut b.count)
                 .launch(cfg(b.n))
                 .map(|_| ())
         });
     }
     // SAFETY: sph_scan_local(unsigned n_cells, const unsigned* count, unsigned* local,
-    // unsigned* bsum); grid of ceil(n_cells/1024) blocks of 1024, bsum has that many; local:
-    // the block-relative starts, into cell_start (made absolute by finish).
+    // unsigned* bsum), over n_scan entries; grid of ceil(n_scan/4096) blocks of 1024, bsum
+    // has that many, local n_scan (16-byte aligned, as count).
     k.scan_local.check(unsafe {
         s.launch_builder(&k.scan_local.f)
-            .arg(&nc)
+            .arg(&n_scan)
             .arg(&b.count)
-            .arg(&mut b.cell_start)
+            .arg(&mut b.local)
             .arg(&mut b.bsum)
             .launch(LaunchConfig {
                 grid_dim: (nb, 1, 1),
@@ -217,16 +217,15 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
             })
             .map(|_| ())
     });
-    // SAFETY: sph_grid_scatter(unsigned n, const unsigned* cell, const unsigned* rank,
-    // const unsigned* local, const unsigned* bsum, unsigned* order); local: cell_start, as
-    // the scan left it.
+    // SAFETY: sph_grid_scatter(unsigned n, const unsigned* cell, const unsigned* local,
+    // const unsigned* bsum, unsigned* count, unsigned* order).
     k.scatter.check(unsafe {
         s.launch_builder(&k.scatter.f)
             .arg(&n)
             .arg(&b.cell)
-            .arg(&b.rank)
-            .arg(&b.cell_start)
+            .arg(&b.local)
             .arg(&b.bsum)
+            .arg(&mut b.count)
             .arg(&mut b.order)
             .launch(cfg(b.n))
             .map(|_| ())
@@ -237,21 +236,23 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     let eos_arg = eos as u32;
     {
         let (c, a) = (&b.cur, &mut b.alt);
-        // SAFETY: sph_grid_gather_{2,3}d(const SphParams p, unsigned n, unsigned eos,
-        // const unsigned* order, const unsigned* cell, const unsigned* count,
-        // const unsigned* local, const unsigned* bsum, const unsigned* id,
+        // SAFETY: sph_grid_gather_{2,3}d(const SphParams p, unsigned n, unsigned n_cells,
+        // unsigned eos, const unsigned* order, const unsigned* cell, const unsigned* local,
+        // const unsigned* bsum, unsigned* cell_start, const unsigned* id,
         // const unsigned char* kind, const unsigned* group, const float* pos, const float* vel,
         // const float* rho, const float* pr, const float* stress, then the same eight outputs);
-        // local: cell_start as the scan left it; stress null in both sets or in neither.
+        // cell_start has n_cells + 1 entries; stress null in both sets or in neither; grid of
+        // max(n, n_cells + 1) threads.
         let mut l = s.launch_builder(&k.gather.f);
         l.arg(p)
             .arg(&n)
+            .arg(&nc)
             .arg(&eos_arg)
             .arg(&b.order)
             .arg(&b.cell)
-            .arg(&b.count)
-            .arg(&b.cell_start)
-            .arg(&b.bsum);
+            .arg(&b.local)
+            .arg(&b.bsum)
+            .arg(&mut b.cell_start);
         l.arg(&c.id)
             .arg(&c.kind)
             .arg(&c.group)
@@ -266,20 +267,10 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
             .arg(&mut a.vel);
         l.arg(&mut a.rho).arg(&mut a.p);
         opt!(l, &mut a.stress);
-        k.gather.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
+        let threads = b.n.max(b.n_cells + 1);
+        k.gather
+            .check(unsafe { l.launch(cfg(threads)).map(|_| ()) });
     }
-    // SAFETY: sph_grid_finish(unsigned n_cells, unsigned* count, const unsigned* bsum,
-    // unsigned* cell_start); cell_start has n_cells + 1 entries, the first n_cells holding
-    // the scan's block-relative starts.
-    k.finish.check(unsafe {
-        s.launch_builder(&k.finish.f)
-            .arg(&nc)
-            .arg(&mut b.count)
-            .arg(&b.bsum)
-            .arg(&mut b.cell_start)
-            .launch(cfg(b.n_cells))
-            .map(|_| ())
-    });
     b.eos_done = eos;
     std::mem::swap(&mut b.cur, &mut b.alt);
     b.swapped = !b.swapped;
@@ -448,9 +439,9 @@ pub fn drift(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     // SAFETY: sph_drift_{2,3}d(const SphParams p, unsigned n, const float* dt_dev,
     // double* time, const unsigned char* kind, const unsigned* group, float* pos,
     // const float* vel, const float* xsph, float* rho, const float* drho, float* stress,
-    // const float* rate, unsigned* cell, unsigned* rank, unsigned* count);
-    // drho, stress and rate may be null; the last three as in sph_grid_hist (count cleared by
-    // the grid build's finish). Launched even for n = 0: it advances the clock.
+    // const float* rate, unsigned* cell, unsigned* count);
+    // drho, stress and rate may be null; the last two as in sph_grid_hist. Launched even for
+    // n = 0: it advances the clock.
     let mut l = s.launch_builder(&k.drift.f);
     l.arg(p)
         .arg(&n)
@@ -464,7 +455,7 @@ pub fn drift(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     opt!(l, &b.drho);
     opt!(l, &mut c.stress);
     opt!(l, &b.stress_rate);
-    l.arg(&mut b.cell).arg(&mut b.rank).arg(&mut b.count);
+    l.arg(&mut b.cell).arg(&mut b.count);
     k.drift.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
     b.hist_done = true;
 }
@@ -476,7 +467,7 @@ pub fn drift_kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     // SAFETY: sph_drift_kick_{2,3}d(const SphParams p, unsigned n, const float* dt_dev,
     // double* time, const unsigned char* kind, const unsigned* group, float* pos, float* vel,
     // const float* xsph, float* rho, const float* drho, float* stress, const float* rate,
-    // const float* acc, unsigned* cell, unsigned* rank, unsigned* count); as sph_drift.
+    // const float* acc, unsigned* cell, unsigned* count); as sph_drift.
     let mut l = s.launch_builder(&k.drift_kick.f);
     l.arg(p)
         .arg(&n)
@@ -491,7 +482,7 @@ pub fn drift_kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     opt!(l, &mut c.stress);
     opt!(l, &b.stress_rate);
     l.arg(&b.acc);
-    l.arg(&mut b.cell).arg(&mut b.rank).arg(&mut b.count);
+    l.arg(&mut b.cell).arg(&mut b.count);
     k.drift_kick
         .check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
     b.hist_done = true;
