@@ -137,8 +137,7 @@ sph_grid_scatter(unsigned n, const unsigned* __restrict__ cell, const unsigned* 
 // the particle carries, and the velocity's w slot set (vel_w): the density pass is skipped.
 template <int DIM>
 __device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned n_cells, unsigned eos,
-                                     const unsigned* __restrict__ order, const unsigned* __restrict__ cell,
-                                     const unsigned* __restrict__ local, const unsigned* __restrict__ bsum,
+                                     const unsigned* __restrict__ order, const unsigned* __restrict__ local, const unsigned* __restrict__ bsum,
                                      unsigned* __restrict__ cell_start,
                                      const unsigned* __restrict__ id, const unsigned char* __restrict__ kind,
                                      const unsigned* __restrict__ group,
@@ -152,7 +151,9 @@ __device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned n_c
     if (a <= n_cells) cell_start[a] = cell_start_of(local, bsum, a);
     if (a >= n) return;
     const unsigned o = order[a];
-    const unsigned c = cell[o];
+    int cc[3];  // its cell, from the position it carries (as 1. found it; no read of cell[])
+    cell_coords<DIM>(p, vload<DIM>(pos, o), cc);
+    const unsigned c = cell_index(p, cc);
     const unsigned s = cell_start_of(local, bsum, c), e = cell_start_of(local, bsum, c + 1);
     const unsigned key = id[o];
     unsigned k = s;
@@ -184,9 +185,9 @@ __device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned n_c
 }
 MF_ENTRY2(sph_grid_gather,
           (const SphParams p, unsigned n, unsigned n_cells, unsigned eos, const unsigned* order,
-           const unsigned* cell, const unsigned* local, const unsigned* bsum, unsigned* cell_start, const unsigned* id,
+           const unsigned* local, const unsigned* bsum, unsigned* cell_start, const unsigned* id,
            const unsigned char* kind, const unsigned* group, const float* pos, const float* vel, const float* rho,
            const float* pr, const float* stress, unsigned* id2, unsigned char* kind2, unsigned* group2,
            float* pos2, float* vel2, float* rho2, float* pr2, float* stress2),
-          (p, n, n_cells, eos, order, cell, local, bsum, cell_start, id, kind, group, pos, vel, rho, pr, stress, id2, kind2,
+          (p, n, n_cells, eos, order, local, bsum, cell_start, id, kind, group, pos, vel, rho, pr, stress, id2, kind2,
            group2, pos2, vel2, rho2, pr2, stress2))

@@ -237,7 +237,7 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     {
         let (c, a) = (&b.cur, &mut b.alt);
         // SAFETY: sph_grid_gather_{2,3}d(const SphParams p, unsigned n, unsigned n_cells,
-        // unsigned eos, const unsigned* order, const unsigned* cell, const unsigned* local,
+        // unsigned eos, const unsigned* order, const unsigned* local,
         // const unsigned* bsum, unsigned* cell_start, const unsigned* id,
         // const unsigned char* kind, const unsigned* group, const float* pos, const float* vel,
         // const float* rho, const float* pr, const float* stress, then the same eight outputs);
@@ -249,7 +249,6 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
             .arg(&nc)
             .arg(&eos_arg)
             .arg(&b.order)
-            .arg(&b.cell)
             .arg(&b.local)
             .arg(&b.bsum)
             .arg(&mut b.cell_start);
