@@ -5,10 +5,12 @@
 //! within 2 % of rho0 g H, one kernel radius away from walls and the free surface.
 //!
 //! Two schemes run at every resolution: the checked one, with the density diffusion of
-//! Molteni & Colagrossi 2009 (delta = 0.1, the value DualSPHysics takes by default), and the
-//! paper's (no density diffusion), whose rows are informational: without diffusion the
-//! continuity density carries particle-scale noise that does not shrink with dx
-//! (docs/accuracy.md, "Hydrostatic tank: the diagnosis").
+//! Molteni & Colagrossi 2009 (delta = 0.1, the value DualSPHysics takes by default) and the
+//! particle shifting of Lind et al. 2012 / Sun et al. 2017 (`[fluid] shifting = 0.1`), and
+//! the paper's (neither), whose rows are informational: without diffusion the continuity
+//! density carries particle-scale noise that does not shrink with dx, and without shifting
+//! the resting cubic-spline lattice pairs at dx = H/80 (nearest neighbours at 0.3 dx, drift
+//! 1.6 dx; docs/accuracy.md, "Hydrostatic tank: the diagnosis" and session 8).
 
 use super::plot::{plot, Figure, Series};
 use super::{convergence, Check, Ctx, RunInfo, Sim, Tier};
@@ -17,8 +19,8 @@ use crate::scene::Scene;
 
 pub const NAME: &str = "hydrostatic-tank";
 pub const DESCRIPTION: &str =
-    "Water 1 x 1 at rest in an open 2D tank (dynamic walls, Tait EOS, c0 = 45, delta-SPH 0.1; \
-the paper's scheme without it, informational): time-averaged pressure vs rho0 g depth, \
+    "Water 1 x 1 at rest in an open 2D tank (dynamic walls, Tait EOS, c0 = 45, delta-SPH 0.1, \
+particle shifting 0.1; the paper's scheme without them, informational): time-averaged pressure vs rho0 g depth, \
 particle drift and residual speed after t = 1.";
 const SOURCE: &str = "hydrostatics, Tait EOS (refdata/analytic_hydrostatic_and_still_water.json)";
 
@@ -29,19 +31,26 @@ pub struct Scheme {
     pub label: &'static str,
     /// [-] delta of the density diffusion (`[fluid] density_diffusion`).
     pub density_diffusion: f64,
+    /// [-] C of the particle shifting (`[fluid] shifting`).
+    pub shifting: f64,
 }
 
 /// The checked scheme: delta-SPH, delta = 0.1 (Molteni & Colagrossi 2009; the value
-/// DualSPHysics takes by default).
+/// DualSPHysics takes by default), and particle shifting C = 0.1, which keeps the resting
+/// lattice from pairing (0.1 drifted less than 0.2 at every resolution: H100 host CPUs,
+/// session 8, docs/accuracy.md).
 pub const CHECKED: Scheme = Scheme {
-    label: "delta-SPH 0.1",
+    label: "delta-SPH 0.1, shifting 0.1",
     density_diffusion: 0.1,
+    shifting: 0.1,
 };
 
-/// The paper's scheme: continuity density without diffusion (informational rows).
+/// The paper's scheme: continuity density without diffusion or shifting (informational
+/// rows).
 pub const PAPER: Scheme = Scheme {
     label: "paper's scheme, no density diffusion",
     density_diffusion: 0.0,
+    shifting: 0.0,
 };
 
 /// The scene, at spacing `dx` (the wall strength C0 = 5 g H / r0 follows dx).
@@ -72,6 +81,7 @@ sound_speed = 45.0
 density_form = "continuity"
 alpha = 0.02
 density_diffusion = {delta}
+shifting = {shifting}
 
 [boundary]
 strength = {strength}
@@ -92,6 +102,7 @@ open_top = true
 "#,
         xmax = 1.0 + margin,
         delta = scheme.density_diffusion,
+        shifting = scheme.shifting,
     )
 }
 
