@@ -1148,3 +1148,36 @@ fn diagnostics_after_200_steps_2d_wall_density_floor() {
     let setup = with_wall_density_floor(scene_with(2, V_2D_SYMPLECTIC_LAMINAR, 0.05));
     long_run_on::<D2>("V_2D_SYMPLECTIC_LAMINAR wall density floor", setup, 200);
 }
+
+/// `scene(dim, v)` in a domain reaching `y_max` [L] up, so that the grid has several blocks
+/// of the GPU's cell scan (4096 cells each; the other scenes have one): the scan of the
+/// block totals (`sph_scan_top`) and cell ranges that cross blocks.
+fn with_tall_domain(mut setup: Setup, y_max: f32) -> Setup {
+    setup.params.domain_max[1] = y_max;
+    params::derive(&mut setup.params);
+    assert!(
+        setup.params.n_cells > 3 * 4096,
+        "only {} cells",
+        setup.params.n_cells
+    );
+    setup
+}
+#[test]
+fn stages_2d_lean_many_scan_blocks() {
+    stages_on::<D2>(
+        "V_2D_LEAN, tall domain",
+        with_tall_domain(scene(2, V_2D_LEAN), 60.0),
+    );
+}
+#[test]
+fn stages_3d_lean_many_scan_blocks() {
+    stages_on::<D3>(
+        "V_3D_LEAN, tall domain",
+        with_tall_domain(scene(3, V_3D_LEAN), 30.0),
+    );
+}
+#[test]
+fn diagnostics_after_200_steps_3d_many_scan_blocks() {
+    let setup = with_tall_domain(scene_with(3, V_3D_LEAN, 0.05), 30.0);
+    long_run_on::<D3>("V_3D_LEAN, tall domain", setup, 200);
+}
