@@ -433,41 +433,26 @@ pub fn kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
 
 /// x += dt (v + xsph), rho += dt d rho/dt, S += dt dS/dt, time += dt (all on the device).
 pub fn drift(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    drift_with(&k.drift, false, s, p, b);
+}
+
+/// The forward Euler's drift then kick in one kernel (`Solver::drift_kick`).
+pub fn drift_kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    drift_with(&k.drift_kick, true, s, p, b);
+}
+
+/// Launches sph_drift (`kick` false) or sph_drift_kick (true), which take the same arguments
+/// but for the kick's accelerations, and marks the cells filed for the next grid build.
+fn drift_with(f: &Kernel, kick: bool, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     let n = b.n as u32;
     let c = &mut b.cur;
     // SAFETY: sph_drift_{2,3}d(const SphParams p, unsigned n, const float* dt_dev,
     // double* time, const unsigned char* kind, const unsigned* group, float* pos,
     // const float* vel, const float* xsph, float* rho, const float* drho, float* stress,
-    // const float* rate, unsigned* cell, unsigned* count);
-    // drho, stress and rate may be null; the last two as in sph_grid_hist. Launched even for
-    // n = 0: it advances the clock.
-    let mut l = s.launch_builder(&k.drift.f);
-    l.arg(p)
-        .arg(&n)
-        .arg(&b.dt)
-        .arg(&mut b.time)
-        .arg(&c.kind)
-        .arg(&c.group)
-        .arg(&mut c.pos)
-        .arg(&c.vel);
-    l.arg(&b.xsph).arg(&mut c.rho);
-    opt!(l, &b.drho);
-    opt!(l, &mut c.stress);
-    opt!(l, &b.stress_rate);
-    l.arg(&mut b.cell).arg(&mut b.count);
-    k.drift.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
-    b.hist_done = true;
-}
-
-/// The forward Euler's drift then kick in one kernel (`Solver::drift_kick`).
-pub fn drift_kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
-    let n = b.n as u32;
-    let c = &mut b.cur;
-    // SAFETY: sph_drift_kick_{2,3}d(const SphParams p, unsigned n, const float* dt_dev,
-    // double* time, const unsigned char* kind, const unsigned* group, float* pos, float* vel,
-    // const float* xsph, float* rho, const float* drho, float* stress, const float* rate,
-    // const float* acc, unsigned* cell, unsigned* count); as sph_drift.
-    let mut l = s.launch_builder(&k.drift_kick.f);
+    // const float* rate, unsigned* cell, unsigned* count); sph_drift_kick_{2,3}d the same
+    // with float* vel and const float* acc before cell. drho, stress and rate may be null;
+    // cell and count as in sph_grid_hist. Launched even for n = 0: it advances the clock.
+    let mut l = s.launch_builder(&f.f);
     l.arg(p)
         .arg(&n)
         .arg(&b.dt)
@@ -480,10 +465,11 @@ pub fn drift_kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     opt!(l, &b.drho);
     opt!(l, &mut c.stress);
     opt!(l, &b.stress_rate);
-    l.arg(&b.acc);
+    if kick {
+        l.arg(&b.acc);
+    }
     l.arg(&mut b.cell).arg(&mut b.count);
-    k.drift_kick
-        .check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
+    f.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
     b.hist_done = true;
 }
 
