@@ -45,6 +45,17 @@ template <int DIM> __device__ __forceinline__ Mat<DIM> inverse(const Mat<DIM>& a
 #define MF_SHIFT_ANTI_CLUMP 0.2f
 #define MF_SHIFT_SURFACE_MARGIN 0.5f
 
+// rho^H_j - rho^H_i of water at rest under gravity, r = r_i - r_j (Fourtakas et al. 2019): the
+// Tait density of p^H_j - p^H_i = rho0 g . (r_j - r_i); twin of hydrostatic_rho_ji in
+// cpu/rates.rs. [M L^-d]
+template <int DIM>
+__device__ __forceinline__ float hydrostatic_rho_ji(const SphParams& p, const Vec<DIM>& r) {
+    float gr = 0.0f;
+#pragma unroll
+    for (int a = 0; a < DIM; ++a) gr += p.gravity[a] * r.c[a];
+    return p.rho0 * expm1f(log1pf(-p.rho0 * gr / p.tait_b) / p.tait_gamma);
+}
+
 // The rates of particle i, summed over its neighbours: `begin`, then `add` for every
 // neighbour j != i (in the neighbour loop's order), then `finish` (all lanes of the warp).
 // EXTRAS = false: without density diffusion and shifting (the lean kernels, as ForceSum).
@@ -106,7 +117,10 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
             // Molteni & Colagrossi 2009 (Comput. Phys. Commun. 180, 861), diffusive term:
             // sum_j psi_ij . grad_i W_ij V_j, psi_ij = 2 (rho_j - rho_i) r_ji / |r_ji|^2 with
             // r_ji = r_j - r_i = -r (diffusive sign, see cpu/rates.rs): 2 (rho_i - rho_j) r . gw / r^2.
-            diffusion += 2.0f * (rhoi - rhoj) * dot(r, gw) / r2 * (mj / rhoj);
+            // Fourtakas et al. 2019: rho_i - rho_j less its hydrostatic part.
+            float drho_ij = rhoi - rhoj;
+            if (p.delta_hydrostatic) drho_ij += hydrostatic_rho_ji<DIM>(p, r);
+            diffusion += 2.0f * drho_ij * dot(r, gw) / r2 * (mj / rhoj);
         }
         if (shift) {
             // Every neighbour that couples fills the support (not shifted into a wall).

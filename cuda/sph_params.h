@@ -144,6 +144,13 @@ typedef struct SphParams {
                               Akinci, Akinci & Teschner 2013 (droplets); 0 = off */
     float delta_sph;       /* [-] delta of the density-diffusion term of Molteni & Colagrossi
                               2009 in the continuity equation; 0 = off (the paper) */
+    int32_t delta_hydrostatic; /* 1: the term diffuses the density's departure from
+                              hydrostatics (Fourtakas, Dominguez, Vacondio & Rogers 2019,
+                              Comput. Fluids 190, 346): rho_i - rho_j becomes
+                              rho_i - rho_j + rho^H_ji, rho^H_ji = rho0 ((1 + rho0 g . (r_j -
+                              r_i) / B)^(1 / gamma) - 1), so water at rest under `gravity`
+                              diffuses nothing, next to a free surface or a wall too;
+                              0: Molteni & Colagrossi's plain difference */
     float shifting;        /* [-] C of the particle shifting velocity
                               dv_i = -C h c0 sum_j V_j (1 + 0.2 (W_ij / W(dx))^4) grad_i W_ij
                               of fluid particles (Lind et al. 2012, with the anti-clumping term of

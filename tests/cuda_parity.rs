@@ -64,6 +64,8 @@ struct Variant {
     /// Density diffusion (delta-SPH, `delta_sph` = 0.1) with a perturbed initial fluid
     /// density, so that the diffusive term is not zero from the first step.
     delta_sph: bool,
+    /// The diffusion's hydrostatic form (Fourtakas et al. 2019, `delta_hydrostatic`).
+    fourtakas: bool,
 }
 /// 2D: summation, dynamic walls, forward Euler, artificial stress, laminar viscosity.
 const V_2D_A: Variant = Variant {
@@ -73,6 +75,7 @@ const V_2D_A: Variant = Variant {
     art_stress: true,
     laminar: true,
     delta_sph: false,
+    fourtakas: false,
 };
 /// 2D: continuity, Lennard-Jones-only walls, symplectic Euler, artificial stress.
 const V_2D_B: Variant = Variant {
@@ -82,6 +85,7 @@ const V_2D_B: Variant = Variant {
     art_stress: true,
     laminar: false,
     delta_sph: false,
+    fourtakas: false,
 };
 /// 3D: continuity, Lennard-Jones-only walls, symplectic Euler, no artificial stress.
 const V_3D_A: Variant = Variant {
@@ -91,6 +95,7 @@ const V_3D_A: Variant = Variant {
     art_stress: false,
     laminar: false,
     delta_sph: false,
+    fourtakas: false,
 };
 /// 3D: continuity with dynamic walls (wall d rho/dt), forward Euler, artificial stress,
 /// laminar viscosity.
@@ -101,6 +106,7 @@ const V_3D_B: Variant = Variant {
     art_stress: true,
     laminar: true,
     delta_sph: false,
+    fourtakas: false,
 };
 /// 2D and 3D: `V_2D_B` / `V_3D_B` with density diffusion.
 const V_2D_DELTA: Variant = Variant {
@@ -110,6 +116,15 @@ const V_2D_DELTA: Variant = Variant {
 const V_3D_DELTA: Variant = Variant {
     delta_sph: true,
     ..V_3D_B
+};
+/// `V_2D_DELTA` / `V_3D_DELTA` with the diffusion's hydrostatic form.
+const V_2D_FOURTAKAS: Variant = Variant {
+    fourtakas: true,
+    ..V_2D_DELTA
+};
+const V_3D_FOURTAKAS: Variant = Variant {
+    fourtakas: true,
+    ..V_3D_DELTA
 };
 /// 2D and 3D: dynamic walls, continuity, forward Euler and nothing beyond the paper's fluid
 /// scheme: as fluid-only scenes, the lean kernels' cases (`params::lean_scheme`), the
@@ -160,6 +175,7 @@ fn scene_with(dim: usize, v: Variant, vel_amp: f32) -> Setup {
         nu: if v.laminar { 0.005 } else { 0.0 },
         xsph_eps: 0.3,
         delta_sph: if v.delta_sph { 0.1 } else { 0.0 },
+        delta_hydrostatic: v.fourtakas as i32,
         solid_rho0: 0.8,
         solid_c0: 15.0,
         shear_modulus: 50.0,
@@ -870,6 +886,18 @@ fn stages_3d_density_diffusion() {
 #[test]
 fn diagnostics_after_200_steps_2d_density_diffusion() {
     long_run::<D2>(2, V_2D_DELTA, 200);
+}
+#[test]
+fn stages_2d_density_diffusion_fourtakas() {
+    stages::<D2>(2, V_2D_FOURTAKAS);
+}
+#[test]
+fn stages_3d_density_diffusion_fourtakas() {
+    stages::<D3>(3, V_3D_FOURTAKAS);
+}
+#[test]
+fn diagnostics_after_200_steps_3d_density_diffusion_fourtakas() {
+    long_run::<D3>(3, V_3D_FOURTAKAS, 200);
 }
 #[test]
 fn diagnostics_after_200_steps_2d_dynamic_walls_euler() {

@@ -123,6 +123,8 @@ pub struct SphParams {
     pub cohesion: f32,
     #[doc = " [-] delta of the density-diffusion term of Molteni & Colagrossi\n2009 in the continuity equation; 0 = off (the paper)"]
     pub delta_sph: f32,
+    #[doc = " 1: the term diffuses the density's departure from\nhydrostatics (Fourtakas, Dominguez, Vacondio & Rogers 2019,\nComput. Fluids 190, 346): rho_i - rho_j becomes\nrho_i - rho_j + rho^H_ji, rho^H_ji = rho0 ((1 + rho0 g . (r_j -\nr_i) / B)^(1 / gamma) - 1), so water at rest under `gravity`\ndiffuses nothing, next to a free surface or a wall too;\n0: Molteni & Colagrossi's plain difference"]
+    pub delta_hydrostatic: i32,
     #[doc = " [-] C of the particle shifting velocity\ndv_i = -C h c0 sum_j V_j (1 + 0.2 (W_ij / W(dx))^4) grad_i W_ij\nof fluid particles (Lind et al. 2012, with the anti-clumping term of\nSun et al. 2017), added to the XSPH velocity of the drift; none at a\nfree surface; 0 = off (the paper)"]
     pub shifting: f32,
     #[doc = " [L/T^2]"]

@@ -185,6 +185,19 @@ pub enum DensityForm {
     Summation,
 }
 
+/// What the density diffusion (`density_diffusion`) acts on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DiffusionForm {
+    /// The density itself (Molteni & Colagrossi 2009). Under gravity its one-sided sums at a
+    /// free surface and a wall diffuse the hydrostatic density, and water at rest moves.
+    #[default]
+    MolteniColagrossi,
+    /// The density's departure from hydrostatics under `gravity` (Fourtakas, Dominguez,
+    /// Vacondio & Rogers 2019): water at rest diffuses nothing.
+    Fourtakas,
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FluidMaterial {
@@ -218,6 +231,9 @@ pub struct FluidMaterial {
     /// only, fluid-fluid pairs), usually 0.1. Default 0 = off (the paper).
     #[serde(default)]
     pub density_diffusion: f64,
+    /// What the density diffusion diffuses. Default "molteni-colagrossi".
+    #[serde(default)]
+    pub density_diffusion_form: DiffusionForm,
     /// [-] C of the particle shifting of Lind et al. 2012 with Sun et al. 2017's
     /// anti-clumping term (fluid particles, none at a free surface), usually 0.2: keeps the
     /// particles evenly spaced where the flow stretches them. Default 0 = off (the paper).

@@ -21,7 +21,7 @@ use serde::{Deserialize, Serialize};
 use super::plot::{plot, Figure, Series};
 use super::{cylinder, taylor_green, Ctx, Tier};
 use crate::backend::BackendChoice;
-use crate::scene::format::{DensityForm, IntegratorChoice, KernelChoice};
+use crate::scene::format::{DensityForm, DiffusionForm, IntegratorChoice, KernelChoice};
 use crate::scene::Scene;
 use crate::stability::cases;
 use crate::stability::sweep::Base;
@@ -84,6 +84,13 @@ fn variants(quick: bool) -> Vec<Variant> {
         Variant {
             name: "delta-SPH 0.1",
             edit: |s| s.file.fluid.density_diffusion = 0.1,
+        },
+        Variant {
+            name: "delta-SPH 0.1, Fourtakas",
+            edit: |s| {
+                s.file.fluid.density_diffusion = 0.1;
+                s.file.fluid.density_diffusion_form = DiffusionForm::Fourtakas;
+            },
         },
         Variant {
             name: "shifting 0.2",

@@ -36,6 +36,17 @@ pub fn shift_velocity<D: Dim>(p: &SphParams, grad_c: D::V, div_r: f32) -> D::V {
     grad_c * (-p.shifting * p.h * p.c0)
 }
 
+/// rho^H_j - rho^H_i [M L^-d]: the density difference of water at rest under gravity between
+/// j and i, r = r_i - r_j (Fourtakas, Dominguez, Vacondio & Rogers 2019, Comput. Fluids 190,
+/// 346): the Tait density, eq. (9) inverted, of the hydrostatic pressure difference
+/// p^H_j - p^H_i = rho0 g . (r_j - r_i), as rho0 expm1(ln(1 + p / B) / gamma) (the plain
+/// power loses the difference to rounding in f32). Twin of `hydrostatic_rho_ji` in
+/// cuda/rates.cuh.
+pub fn hydrostatic_rho_ji<D: Dim>(p: &SphParams, r: D::V) -> f32 {
+    let p_ji = -p.rho0 * D::dot(D::from3(p.gravity), r);
+    p.rho0 * ((p_ji / p.tait_b).ln_1p() / p.tait_gamma).exp_m1()
+}
+
 #[derive(Clone, Copy)]
 struct Rates<V, M> {
     drho: f32,
@@ -97,8 +108,12 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                     // r_ji = r_j - r_i = -r (the sign that makes it a Laplacian of rho: with r_i - r_j
                     // it anti-diffuses and a tank blows up within 0.03 T), V_j = m_j / rho_j;
                     // psi_ij . grad W = 2 (rho_i - rho_j) r . grad W / r^2; [M L^-d L^-2], times delta h c0.
-                    diffusion +=
-                        2.0 * (rhoi - rho[j]) * D::dot(r, grad_w) / r2 * (mass[j] / rho[j]);
+                    // Fourtakas et al. 2019: rho_i - rho_j less its hydrostatic part.
+                    let mut drho_ij = rhoi - rho[j];
+                    if p.delta_hydrostatic != 0 {
+                        drho_ij += hydrostatic_rho_ji::<D>(p, r);
+                    }
+                    diffusion += 2.0 * drho_ij * D::dot(r, grad_w) / r2 * (mass[j] / rho[j]);
                 }
                 // One body: a solid's own group, or a clamp and the solid it holds.
                 if !same_body(p, ki, kj, group[i], group[j]) || ki as u32 == MF_KIND_BOUNDARY {
