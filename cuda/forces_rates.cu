@@ -16,7 +16,8 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
                                   const unsigned* __restrict__ group, const float* __restrict__ stress,
                                   const float* __restrict__ art, const unsigned* __restrict__ id,
                                   const float* __restrict__ surf, float* __restrict__ acc_out,
-                                  unsigned* __restrict__ red, float* __restrict__ drho_out,
+                                  unsigned* __restrict__ red, const float* __restrict__ grad_rho,
+                                  float* __restrict__ drho_out,
                                   float* __restrict__ xsph_out, float* __restrict__ rate_out) {
     __shared__ float sh[MF_BLOCK / 32];
     const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
@@ -26,7 +27,7 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
     ForceSum<DIM, SOLIDS, EXTRAS> f;
     RateSum<DIM, SOLIDS, EXTRAS> r;
     f.begin(p, i, n, ki, lane, vel, rho, pr, group, stress);
-    r.begin(p, i, n, ki, vel, rho, group);
+    r.begin(p, i, n, ki, vel, rho, group, grad_rho);
     // Every particle with forces has rates (dynamic walls have rates only).
     neighbour_loop<DIM, L>(p, cell_start, pos, i, r.on, lane,
                               [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
@@ -48,9 +49,9 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
              const float* rho, const float* pr, const unsigned char* kind,                    \
              const unsigned* group, const float* stress, const float* art, const unsigned* id,      \
              const float* surf, float* acc, unsigned* red,            \
-             float* drho, float* xsph, float* rate) {                                                            \
+             const float* grad_rho, float* drho, float* xsph, float* rate) {                                     \
         forces_rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, pos, vel, rho, pr, kind, group, stress, art, id, surf, acc, \
-                                          red, drho, xsph, rate);                                                \
+                                          red, grad_rho, drho, xsph, rate);                                      \
     }
 #define MF_FORCES_RATES_LANES(L) MF_SCHEMES(MF_FORCES_RATES_ENTRY, sph_forces_rates, L)
 MF_LANES_EACH(MF_FORCES_RATES_LANES)

@@ -8,13 +8,14 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
                            const float* __restrict__ pos, const float* __restrict__ vel,
                            const float* __restrict__ rho,
                            const unsigned char* __restrict__ kind, const unsigned* __restrict__ group,
-                           const float* __restrict__ stress, float* __restrict__ drho_out,
+                           const float* __restrict__ stress, const float* __restrict__ grad_rho,
+                           float* __restrict__ drho_out,
                            float* __restrict__ xsph_out, float* __restrict__ rate_out) {
     const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
     const unsigned i = t / L;
     const int lane = (int)(t % L);
     RateSum<DIM, SOLIDS, EXTRAS> r;
-    r.begin(p, i, n, i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY, vel, rho, group);
+    r.begin(p, i, n, i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY, vel, rho, group, grad_rho);
     neighbour_loop<DIM, L>(p, cell_start, pos, i, r.on, lane,
                               [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
         if (j == i) return;
@@ -30,9 +31,61 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
     extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 1 : MF_FLUID_BLOCKS)                                   \
         name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel, \
              const float* rho, const unsigned char* kind, const unsigned* group,          \
-             const float* stress, float* drho, float* xsph, float* rate) {                                    \
-        rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, pos, vel, rho, kind, group, stress, drho, xsph, rate); \
+             const float* stress, const float* grad_rho, float* drho, float* xsph, float* rate) {             \
+        rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, pos, vel, rho, kind, group, stress, grad_rho, drho, xsph, \
+                                           rate);                                                                \
     }
 #define MF_RATES_LANES(L) MF_SCHEMES(MF_RATES_ENTRY, sph_rates, L)
 MF_LANES_EACH(MF_RATES_LANES)
 
+
+// The renormalised density gradient of each solid particle within its body, for the density
+// diffusion inside bodies (Antuono, Colagrossi, Marrone & Molteni 2010, Comput. Phys. Commun.
+// 181, 532): grad_i = (sum_j V_j (x_j - x_i) (x) grad_i W_ij)^-T sum_j V_j (rho_j - rho_i)
+// grad_i W_ij, V_j = m_j / rho_j, exact for a linear density; zero for other kinds and where
+// the moment is singular (|det| <= 1e-3). One thread per particle. Twin:
+// `solid_density_gradient` in cpu/rates.rs. [M L^-d L^-1]
+template <int DIM>
+__device__ void sph_solid_grad_rho_body(const SphParams p, unsigned n, const unsigned* __restrict__ cell_start,
+                                        const float* __restrict__ pos, const float* __restrict__ vel,
+                                        const float* __restrict__ rho, const unsigned char* __restrict__ kind,
+                                        const unsigned* __restrict__ group, float* __restrict__ grad) {
+    const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
+    const bool on = i < n && kind[i] == MF_KIND_SOLID;
+    const float rhoi = on ? rho[i] : 0.0f;
+    const unsigned gi = on ? group[i] : 0u;
+    Vec<DIM> g = vzero<DIM>();
+    Mat<DIM> m = mzero<DIM>();
+    neighbour_loop<DIM, 1>(p, cell_start, pos, i, on, 0, [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
+        if (j == i) return;
+        const Neighbour<DIM> nb = neighbour<DIM, true>(p, j, rij, r2, pw, vel, kind);
+        if (!same_body(p, (unsigned char)MF_KIND_SOLID, nb.kind, gi, group[j])) return;
+        const Vec<DIM> gw = rij * nb.fw;
+        const float vj = nb.m / nb.rho;
+        g = g + gw * ((nb.rho - rhoi) * vj);
+#pragma unroll
+        for (int a = 0; a < DIM; ++a)
+#pragma unroll
+            for (int b = 0; b < DIM; ++b) m.m[a][b] += (-rij.c[a] * gw.c[b]) * vj;
+    });
+    if (i >= n) return;
+    Vec<DIM> out = vzero<DIM>();
+    const float d = det<DIM>(m);
+    if (on && fabsf(d) > 1e-3f) {
+        const Mat<DIM> inv = inverse<DIM>(m, d);
+        // (M^T)^-1 g = (M^-1)^T g.
+#pragma unroll
+        for (int a = 0; a < DIM; ++a) {
+            float s = inv.m[0][a] * g.c[0];
+#pragma unroll
+            for (int b = 1; b < DIM; ++b) s += inv.m[b][a] * g.c[b];
+            out.c[a] = s;
+        }
+    }
+#pragma unroll
+    for (int a = 0; a < DIM; ++a) grad[i * DIM + a] = out.c[a];
+}
+MF_ENTRY2(sph_solid_grad_rho,
+          (const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel,
+           const float* rho, const unsigned char* kind, const unsigned* group, float* grad),
+          (p, n, cell_start, pos, vel, rho, kind, group, grad))

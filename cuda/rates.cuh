@@ -56,6 +56,14 @@ __device__ __forceinline__ float hydrostatic_rho_ji(const SphParams& p, const Ve
     return p.rho0 * expm1f(log1pf(-p.rho0 * gr / p.tait_b) / p.tait_gamma);
 }
 
+// A solid's renormalised density gradient, DIM floats per particle.
+template <int DIM> __device__ __forceinline__ Vec<DIM> grad_load(const float* __restrict__ g, unsigned i) {
+    Vec<DIM> v;
+#pragma unroll
+    for (int a = 0; a < DIM; ++a) v.c[a] = g[i * DIM + a];
+    return v;
+}
+
 // The rates of particle i, summed over its neighbours: `begin`, then `add` for every
 // neighbour j != i (in the neighbour loop's order), then `finish` (all lanes of the warp).
 // EXTRAS = false: without density diffusion and shifting (the lean kernels, as ForceSum).
@@ -71,18 +79,23 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
     Vec<DIM> grad_c;  // shifting: sum_j V_j (1 + R f^4) grad_i W_ij
     float div_r;      // shifting: the position divergence -sum_j V_j r_ij . grad_i W_ij
     Mat<DIM> gv, mo;  // solids: velocity gradient and moment, eq. (15)
+    const float* gr;  // solids' renormalised density gradients (solid_grad_rho), or null
+    Vec<DIM> gri;     // particle i's
 
     // Particle i of kind k (a wall for i >= n).
     __device__ __forceinline__ void begin(const SphParams& p, unsigned i, unsigned n, unsigned char k,
                                           const float* __restrict__ vel, const float* __restrict__ rho,
-                                          const unsigned* __restrict__ group) {
+                                          const unsigned* __restrict__ group,
+                                          const float* __restrict__ grad_rho) {
         ki = k;
         on = i < n && (ki != MF_KIND_BOUNDARY || p.wall_pressure != 0);
         solid_i = i < n && ki == MF_KIND_SOLID;
         xs = vzero<DIM>();
         drho = 0.0f;
-        // Density diffusion (delta-SPH) between fluid particles only, as in cpu/rates.rs.
-        diffuse = EXTRAS && p.delta_sph > 0.0f && i < n && ki == MF_KIND_FLUID;
+        // Density diffusion (delta-SPH) within one material (fluid, one body), as in
+        // cpu/rates.rs.
+        diffuse = EXTRAS && i < n &&
+                  ((ki == MF_KIND_FLUID && p.delta_sph > 0.0f) || (ki == MF_KIND_SOLID && p.solid_delta_sph > 0.0f));
         diffusion = 0.0f;
         // Particle shifting of fluid particles (cpu/rates.rs `shift_velocity`).
         shift = EXTRAS && p.shifting > 0.0f && i < n && ki == MF_KIND_FLUID;
@@ -92,10 +105,17 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
             gv = mzero<DIM>();
             mo = mzero<DIM>();
         }
+        gr = nullptr;
         if (!on) return;
         vi = vel_load<DIM>(vel, i);
         rhoi = rho[i];
         gi = group[i];
+        if constexpr (SOLIDS && EXTRAS) {
+            if (solid_i && diffuse && grad_rho) {
+                gr = grad_rho;
+                gri = grad_load<DIM>(gr, i);
+            }
+        }
     }
 
     // Neighbour nb (j != i).
@@ -113,14 +133,22 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
         // Continuity, volume form: d rho_i/dt = rho_i sum_j m_j / rho_j v_ij . grad W
         // (the factor rho_i is applied after the sum, as in cpu/rates.rs).
         drho += fast_div(mj, rhoj) * dot(vij, gw);
-        if (diffuse && kj == MF_KIND_FLUID && r2 > 0.0f) {
+        // Without solids every particle is fluid or a wall, and same_body is kj == ki (walls
+        // return below anyway): no load of the neighbour's group.
+        const bool one_body = SOLIDS ? same_body(p, ki, kj, gi, group[nb.j]) : kj == ki;
+        if (diffuse && one_body && r2 > 0.0f) {
             // Molteni & Colagrossi 2009 (Comput. Phys. Commun. 180, 861), diffusive term:
             // sum_j psi_ij . grad_i W_ij V_j, psi_ij = 2 (rho_j - rho_i) r_ji / |r_ji|^2 with
             // r_ji = r_j - r_i = -r (diffusive sign, see cpu/rates.rs): 2 (rho_i - rho_j) r . gw / r^2.
-            // Fourtakas et al. 2019: rho_i - rho_j less its hydrostatic part.
+            // Fourtakas et al. 2019: rho_i - rho_j less its hydrostatic part (fluid).
             float drho_ij = rhoi - rhoj;
-            if (p.delta_hydrostatic) drho_ij += hydrostatic_rho_ji<DIM>(p, r);
-            diffusion += 2.0f * drho_ij * dot(r, gw) / r2 * (mj / rhoj);
+            if (p.delta_hydrostatic && ki == MF_KIND_FLUID) drho_ij += hydrostatic_rho_ji<DIM>(p, r);
+            float psi = 2.0f * drho_ij * dot(r, gw) / r2;
+            // In a body, Antuono et al. 2010's correction: less (grad rho_i + grad rho_j) . grad W.
+            if constexpr (SOLIDS) {
+                if (gr) psi -= dot(gri + grad_load<DIM>(gr, nb.j), gw);
+            }
+            diffusion += psi * (mj / rhoj);
         }
         if (shift) {
             // Every neighbour that couples fills the support (not shifted into a wall).
@@ -129,9 +157,6 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
             grad_c = grad_c + gw * (vjv * (1.0f + MF_SHIFT_ANTI_CLUMP * (f * f) * (f * f)));
             div_r -= vjv * dot(r, gw);
         }
-        // Without solids every particle is fluid or a wall, and same_body is kj == ki (walls
-        // return here anyway): no load of the neighbour's group.
-        const bool one_body = SOLIDS ? same_body(p, ki, kj, gi, group[nb.j]) : kj == ki;
         if (!one_body || ki == MF_KIND_BOUNDARY) return;
         const float s = fast_div(mj, 0.5f * (rhoi + rhoj));
         // XSPH, eq. (18), within one material (one body for solids).
@@ -172,7 +197,11 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
                 xs = xs - grad_c * (p.shifting * p.h * p.c0);
         }
         if (on) drho *= rhoi;
-        if (on && diffuse) drho += p.delta_sph * p.h * p.c0 * diffusion;
+        // + delta h c sum_j ... with the particle's material's delta and sound speed.
+        if (on && diffuse) {
+            const bool sol = ki == MF_KIND_SOLID;
+            drho += (sol ? p.solid_delta_sph : p.delta_sph) * p.h * (sol ? p.solid_c0 : p.c0) * diffusion;
+        }
         if constexpr (SOLIDS) {
 #pragma unroll
             for (int a = 0; a < DIM; ++a)

@@ -81,6 +81,12 @@ typedef struct SphParams {
     float solid_c0;        /* [L/T] solid sound speed: P = c^2 (rho - rho0) */
     float shear_modulus;   /* [M L^-d L^2/T^2] mu_s in eq. (12) */
     float art_stress_eps;  /* [-] Gray-Monaghan-Swift 2001 artificial stress factor; 0 = off */
+    float solid_delta_sph; /* [-] delta of the density diffusion within one body (solid-solid
+                              pairs of `same_body`), with the solid's h c and the correction of
+                              Antuono et al. 2010 (renormalised density gradients), which
+                              leaves a linear density alone, even where the support is cut:
+                              damps the particle-scale (odd-even) pressure mode of a finely
+                              resolved bending plate, not its bending; 0 = off (the paper) */
     float art_stress_n;    /* [-] exponent n of f_ij^n, usually 4 */
     float inv_w_dx;        /* derived: [L^d] 1 / W(dx), normalises f_ij = W_ij / W(dx) */
     int32_t interface_stress; /* 1: a pair across two objects (fluid-solid, two bodies, a body

@@ -66,6 +66,9 @@ struct Variant {
     delta_sph: bool,
     /// The diffusion's hydrostatic form (Fourtakas et al. 2019, `delta_hydrostatic`).
     fourtakas: bool,
+    /// Density diffusion within the solid body (`solid_delta_sph` = 0.1) with a perturbed
+    /// initial solid density.
+    solid_delta: bool,
 }
 /// 2D: summation, dynamic walls, forward Euler, artificial stress, laminar viscosity.
 const V_2D_A: Variant = Variant {
@@ -76,6 +79,7 @@ const V_2D_A: Variant = Variant {
     laminar: true,
     delta_sph: false,
     fourtakas: false,
+    solid_delta: false,
 };
 /// 2D: continuity, Lennard-Jones-only walls, symplectic Euler, artificial stress.
 const V_2D_B: Variant = Variant {
@@ -86,6 +90,7 @@ const V_2D_B: Variant = Variant {
     laminar: false,
     delta_sph: false,
     fourtakas: false,
+    solid_delta: false,
 };
 /// 3D: continuity, Lennard-Jones-only walls, symplectic Euler, no artificial stress.
 const V_3D_A: Variant = Variant {
@@ -96,6 +101,7 @@ const V_3D_A: Variant = Variant {
     laminar: false,
     delta_sph: false,
     fourtakas: false,
+    solid_delta: false,
 };
 /// 3D: continuity with dynamic walls (wall d rho/dt), forward Euler, artificial stress,
 /// laminar viscosity.
@@ -107,6 +113,7 @@ const V_3D_B: Variant = Variant {
     laminar: true,
     delta_sph: false,
     fourtakas: false,
+    solid_delta: false,
 };
 /// 2D and 3D: `V_2D_B` / `V_3D_B` with density diffusion.
 const V_2D_DELTA: Variant = Variant {
@@ -125,6 +132,15 @@ const V_2D_FOURTAKAS: Variant = Variant {
 const V_3D_FOURTAKAS: Variant = Variant {
     fourtakas: true,
     ..V_3D_DELTA
+};
+/// `V_2D_B` / `V_3D_B` (artificial stress) with density diffusion within the solid body.
+const V_2D_SOLID_DELTA: Variant = Variant {
+    solid_delta: true,
+    ..V_2D_B
+};
+const V_3D_SOLID_DELTA: Variant = Variant {
+    solid_delta: true,
+    ..V_3D_B
 };
 /// 2D and 3D: dynamic walls, continuity, forward Euler and nothing beyond the paper's fluid
 /// scheme: as fluid-only scenes, the lean kernels' cases (`params::lean_scheme`), the
@@ -176,6 +192,7 @@ fn scene_with(dim: usize, v: Variant, vel_amp: f32) -> Setup {
         xsph_eps: 0.3,
         delta_sph: if v.delta_sph { 0.1 } else { 0.0 },
         delta_hydrostatic: v.fourtakas as i32,
+        solid_delta_sph: if v.solid_delta { 0.1 } else { 0.0 },
         solid_rho0: 0.8,
         solid_c0: 15.0,
         shear_modulus: 50.0,
@@ -223,7 +240,7 @@ fn scene_with(dim: usize, v: Variant, vel_amp: f32) -> Setup {
                 q.velocity[a] = rng.sym(vel_amp);
             }
         }
-        if v.delta_sph && kind == Kind::Fluid {
+        if (v.delta_sph && kind == Kind::Fluid) || (v.solid_delta && kind == Kind::Solid) {
             q.density *= 1.0 + rng.sym(0.01);
         }
         if kind == Kind::Solid {
@@ -898,6 +915,18 @@ fn stages_3d_density_diffusion_fourtakas() {
 #[test]
 fn diagnostics_after_200_steps_3d_density_diffusion_fourtakas() {
     long_run::<D3>(3, V_3D_FOURTAKAS, 200);
+}
+#[test]
+fn stages_2d_solid_density_diffusion() {
+    stages::<D2>(2, V_2D_SOLID_DELTA);
+}
+#[test]
+fn stages_3d_solid_density_diffusion() {
+    stages::<D3>(3, V_3D_SOLID_DELTA);
+}
+#[test]
+fn diagnostics_after_200_steps_2d_solid_density_diffusion() {
+    long_run::<D2>(2, V_2D_SOLID_DELTA, 200);
 }
 #[test]
 fn diagnostics_after_200_steps_2d_dynamic_walls_euler() {

@@ -522,3 +522,26 @@ fn figure_moments_must_increase() {
     )
     .unwrap();
 }
+
+#[test]
+fn solid_density_diffusion_out_of_range_or_with_summation() {
+    let solid = "\n[solid]\ndensity = 600.0\nsound_speed = 30.0\nshear_modulus = 1e4\n";
+    let body = "\n[[solids]]\nshape = \"disc\"\ncenter = [0.7, 0.7]\nradius = 0.1\n";
+    let t = format!("{BASE}{solid}density_diffusion = -0.1\n{body}");
+    expect_error(&t, "solid.density_diffusion", "");
+    let t = format!("{BASE}{solid}density_diffusion = 1.5\n{body}");
+    expect_error(&t, "solid.density_diffusion", "must lie in [0, 1]");
+    let t = format!(
+        "{}{solid}density_diffusion = 0.02\n{body}",
+        with("alpha = 0.02", "alpha = 0.02\ndensity_form = \"summation\"")
+    );
+    expect_error(
+        &t,
+        "solid.density_diffusion",
+        "acts on the continuity equation",
+    );
+    // In range with the continuity density it reaches the parameters.
+    let t = format!("{BASE}{solid}density_diffusion = 0.02\n{body}");
+    let p = Scene::from_toml(&t, "ok").unwrap().setup().unwrap().params;
+    assert_eq!(p.solid_delta_sph, 0.02);
+}

@@ -73,6 +73,8 @@ pub struct SphParams {
     pub shear_modulus: f32,
     #[doc = " [-] Gray-Monaghan-Swift 2001 artificial stress factor; 0 = off"]
     pub art_stress_eps: f32,
+    #[doc = " [-] delta of the density diffusion within one body (solid-solid\npairs of `same_body`), with the solid's h c and the correction of\nAntuono et al. 2010 (renormalised density gradients), which\nleaves a linear density alone, even where the support is cut:\ndamps the particle-scale (odd-even) pressure mode of a finely\nresolved bending plate, not its bending; 0 = off (the paper)"]
+    pub solid_delta_sph: f32,
     #[doc = " [-] exponent n of f_ij^n, usually 4"]
     pub art_stress_n: f32,
     #[doc = " derived: [L^d] 1 / W(dx), normalises f_ij = W_ij / W(dx)"]

@@ -276,6 +276,12 @@ pub struct SolidMaterial {
     /// The stress the artificial stress is taken from. Default `stress` (the whole sigma).
     #[serde(default)]
     pub artificial_stress_from: ArtStressFrom,
+    /// [-] delta of the density diffusion between the particles of one body (continuity
+    /// density only), in the form of Antuono et al. 2010 that leaves a linear density alone:
+    /// damps a particle-scale (odd-even) pressure mode, not a bending. Default 0 = off (the
+    /// paper).
+    #[serde(default)]
+    pub density_diffusion: f64,
 }
 
 /// The stress whose principal tensions give the artificial stress R (Gray, Monaghan & Swift

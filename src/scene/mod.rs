@@ -55,6 +55,8 @@
 //!                                    # fluid and other bodies (a gate's free end on the floor)
 //! artificial_stress_from = "stress"  # default: R from sigma = -P I + S (Gray et al. 2001) |
 //!                                    # "deviatoric": from S alone (docs/accuracy.md, plate)
+//! density_diffusion = 0.02           # default 0 = off; delta-SPH inside each body (Antuono et al.
+//!                                    # 2010's form: leaves a bending alone), continuity only
 //!
 //! [boundary]                         # only with walls; eq. (17)
 //! strength = 2500.0                  # C0
@@ -464,6 +466,7 @@ fn scene_params(s: &SceneFile) -> SphParams {
             p.solid_c0 = m.sound_speed as f32;
             p.shear_modulus = m.shear_modulus as f32;
             p.art_stress_eps = m.artificial_stress as f32;
+            p.solid_delta_sph = m.density_diffusion as f32;
             p.art_stress_n = m.artificial_stress_exponent as f32;
             p.interface_stress = (m.interface == SolidInterface::Stress) as i32;
             p.solid_skips_walls = (!m.wall_contact) as i32;

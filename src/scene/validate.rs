@@ -77,6 +77,25 @@ impl Ctx<'_> {
         Ok(())
     }
 
+    /// A density diffusion's delta (`field`): in [0, 1], and only on the continuity density.
+    fn density_diffusion(&self, field: &str, delta: f64, form: DensityForm) -> R {
+        self.non_negative(field, delta)?;
+        if delta > 1.0 {
+            return Err(self.err(
+                field,
+                format!("must lie in [0, 1] (Molteni & Colagrossi 2009 use 0.1), found {delta}"),
+            ));
+        }
+        if delta > 0.0 && form == DensityForm::Summation {
+            return Err(self.err(
+                field,
+                "acts on the continuity equation: set [fluid] density_form = \"continuity\" or leave it at 0"
+                    .to_string(),
+            ));
+        }
+        Ok(())
+    }
+
     /// The box [lo, hi] (first `dim` axes) lies inside the domain.
     fn inside(&self, field: &str, what: &str, lo: &[f64], hi: &[f64], d: &Domain) -> R {
         for a in 0..self.dim {
@@ -213,23 +232,11 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
             format!("must lie in [0, 1] (eq. 18), found {}", f.xsph),
         ));
     }
-    c.non_negative("fluid.density_diffusion", f.density_diffusion)?;
-    if f.density_diffusion > 1.0 {
-        return Err(c.err(
-            "fluid.density_diffusion",
-            format!(
-                "must lie in [0, 1] (Molteni & Colagrossi 2009 use 0.1), found {}",
-                f.density_diffusion
-            ),
-        ));
-    }
-    if f.density_diffusion > 0.0 && f.density_form == DensityForm::Summation {
-        return Err(c.err(
-            "fluid.density_diffusion",
-            "acts on the continuity equation: set density_form = \"continuity\" or leave it at 0"
-                .to_string(),
-        ));
-    }
+    c.density_diffusion(
+        "fluid.density_diffusion",
+        f.density_diffusion,
+        f.density_form,
+    )?;
     c.non_negative("fluid.shifting", f.shifting)?;
     if f.shifting > 1.0 {
         return Err(c.err(
@@ -256,6 +263,11 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
         c.positive("solid.sound_speed", m.sound_speed)?;
         c.non_negative("solid.shear_modulus", m.shear_modulus)?;
         c.non_negative("solid.artificial_stress", m.artificial_stress)?;
+        c.density_diffusion(
+            "solid.density_diffusion",
+            m.density_diffusion,
+            s.fluid.density_form,
+        )?;
         c.positive(
             "solid.artificial_stress_exponent",
             m.artificial_stress_exponent,

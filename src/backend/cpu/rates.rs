@@ -54,7 +54,45 @@ struct Rates<V, M> {
     stress_rate: M,
 }
 
+/// The renormalised density gradient of each solid particle within its body, for the
+/// density diffusion inside bodies (Antuono, Colagrossi, Marrone & Molteni 2010, Comput.
+/// Phys. Commun. 181, 532): (sum_j V_j (x_j - x_i) (x) grad_i W_ij)^-T sum_j V_j (rho_j -
+/// rho_i) grad_i W_ij, V_j = m_j / rho_j, exact for a linear density; zero for other kinds and
+/// where the moment is singular. None without that diffusion. Twin: `sph_solid_grad_rho` in
+/// cuda/rates.cu. [M L^-d L^-1]
+fn solid_density_gradient<D: Dim>(p: &SphParams, grid: &Grid, s: &State<D>) -> Option<Vec<D::V>> {
+    if p.solid_delta_sph <= 0.0 || s.solid.is_none() {
+        return None;
+    }
+    let (pos, rho, mass, kind, group) = (&s.pos, &s.rho, &s.mass, &s.kind, &s.group);
+    let g = (0..s.len())
+        .into_par_iter()
+        .map(|i| {
+            if kind[i] as u32 != MF_KIND_SOLID {
+                return D::V::default();
+            }
+            let (mut g, mut m) = (D::V::default(), D::zero());
+            grid.for_each_neighbor::<D>(p, pos, pos[i], |j, r, r2| {
+                if j == i || !same_body(p, kind[i], kind[j], group[i], group[j]) {
+                    return;
+                }
+                let gw = r * kernel::f(p, r2.sqrt());
+                let vj = mass[j] / rho[j];
+                g += gw * ((rho[j] - rho[i]) * vj);
+                m += D::outer(-r, gw) * vj;
+            });
+            if D::determinant(m).abs() > 1e-3 {
+                D::mat_vec(D::inverse(D::transpose(m)), g)
+            } else {
+                D::V::default()
+            }
+        })
+        .collect();
+    Some(g)
+}
+
 pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
+    let grad_rho = solid_density_gradient(p, grid, s);
     let (pos, vel, rho, mass, kind, group) = (&s.pos, &s.vel, &s.rho, &s.mass, &s.kind, &s.group);
     let stress = s.solid.as_ref().map(|so| &so.stress);
     let out: Vec<Rates<D::V, D::M>> = (0..s.len())
@@ -73,10 +111,15 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
             let solid_i = ki as u32 == MF_KIND_SOLID;
             let mut grad_v = D::zero();
             let mut moment = D::zero();
-            // Density diffusion (delta-SPH) between fluid particles only: walls and solids
-            // have their own rest densities, and diffusing across them would pull the fluid
-            // towards the wrong one.
-            let diffuse = p.delta_sph > 0.0 && ki as u32 == MF_KIND_FLUID;
+            // Density diffusion (delta-SPH) within one material: between fluid particles,
+            // and between the particles of one body; walls and other materials have their
+            // own rest densities, and diffusing across them would pull towards the wrong one.
+            let (delta, c_i) = match ki as u32 {
+                MF_KIND_FLUID => (p.delta_sph, p.c0),
+                MF_KIND_SOLID => (p.solid_delta_sph, p.solid_c0),
+                _ => (0.0, 0.0),
+            };
+            let diffuse = delta > 0.0;
             let mut diffusion = 0.0f32;
             let shift = p.shifting > 0.0 && ki as u32 == MF_KIND_FLUID;
             let (mut grad_c, mut div_r) = (D::V::default(), 0.0f32);
@@ -102,18 +145,26 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                     grad_c += grad_w * (vj * (1.0 + SHIFT_ANTI_CLUMP * (f * f) * (f * f)));
                     div_r -= vj * D::dot(r, grad_w);
                 }
-                if diffuse && kj as u32 == MF_KIND_FLUID && r2 > 0.0 {
+                if diffuse && r2 > 0.0 && same_body(p, ki, kj, group[i], group[j]) {
                     // Molteni & Colagrossi 2009 (Comput. Phys. Commun. 180, 861), the diffusive term
                     // sum_j psi_ij . grad_i W_ij V_j, psi_ij = 2 (rho_j - rho_i) r_ji / |r_ji|^2 with
                     // r_ji = r_j - r_i = -r (the sign that makes it a Laplacian of rho: with r_i - r_j
                     // it anti-diffuses and a tank blows up within 0.03 T), V_j = m_j / rho_j;
                     // psi_ij . grad W = 2 (rho_i - rho_j) r . grad W / r^2; [M L^-d L^-2], times delta h c0.
-                    // Fourtakas et al. 2019: rho_i - rho_j less its hydrostatic part.
+                    // Fourtakas et al. 2019: rho_i - rho_j less its hydrostatic part (fluid).
                     let mut drho_ij = rhoi - rho[j];
-                    if p.delta_hydrostatic != 0 {
+                    if p.delta_hydrostatic != 0 && !solid_i {
                         drho_ij += hydrostatic_rho_ji::<D>(p, r);
                     }
-                    diffusion += 2.0 * drho_ij * D::dot(r, grad_w) / r2 * (mass[j] / rho[j]);
+                    let mut psi = 2.0 * drho_ij * D::dot(r, grad_w) / r2;
+                    if let (true, Some(g)) = (solid_i, &grad_rho) {
+                        // In a body, Antuono et al. 2010's correction, which makes the term
+                        // vanish for a linear density (a bending plate's pressure across its
+                        // thickness) where the support is cut too: less (grad rho_i +
+                        // grad rho_j) . grad W.
+                        psi -= D::dot(g[i] + g[j], grad_w);
+                    }
+                    diffusion += psi * (mass[j] / rho[j]);
                 }
                 // One body: a solid's own group, or a clamp and the solid it holds.
                 if !same_body(p, ki, kj, group[i], group[j]) || ki as u32 == MF_KIND_BOUNDARY {
@@ -134,8 +185,9 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 o.xsph += shift_velocity::<D>(p, grad_c, div_r);
             }
             if diffuse {
-                // + delta h c0 sum_j ... [M L^-d T^-1] (Molteni & Colagrossi 2009).
-                o.drho += p.delta_sph * p.h * p.c0 * diffusion;
+                // + delta h c sum_j ... [M L^-d T^-1] (Molteni & Colagrossi 2009), with the
+                // particle's material's delta and sound speed.
+                o.drho += delta * p.h * c_i * diffusion;
             }
             if solid_i {
                 // Kernel-gradient correction (Randles & Libersky 1996; Bonet & Lok 1999):

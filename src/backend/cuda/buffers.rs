@@ -63,6 +63,9 @@ pub struct Buffers {
     pub drho: Option<CudaSlice<f32>>,
     pub stress_rate: Option<CudaSlice<f32>>,
     pub art: Option<CudaSlice<f32>>,
+    /// The solids' renormalised density gradients, D floats per particle; only with the
+    /// density diffusion inside bodies (`solid_delta_sph` > 0).
+    pub grad_rho: Option<CudaSlice<f32>>,
     /// `Setup::wall_surface` as float4 per boundary particle (by id - wall_first_id; not
     /// reordered by the grid); only with `no_slip`.
     pub wall_surface: Option<CudaSlice<f32>>,
@@ -117,12 +120,14 @@ pub const SCAN_CELLS: usize = 4 * SCAN_BLOCK;
 
 impl Buffers {
     /// Allocate for `state`, a grid of `n_cells` and the wall surface `surface`
-    /// (`Setup::wall_surface`; none where empty), then upload `state` and `surface`.
+    /// (`Setup::wall_surface`; none where empty), and the solids' density gradients where
+    /// `solid_diffusion`, then upload `state` and `surface`.
     pub fn new<D: Dim>(
         s: &Arc<CudaStream>,
         state: &State<D>,
         n_cells: usize,
         surface: &[[f32; 4]],
+        solid_diffusion: bool,
     ) -> Result<Buffers, DriverError> {
         let n = state.len();
         let vs = vstride::<D>();
@@ -163,6 +168,11 @@ impl Buffers {
                 .is_some_and(|so| so.art_stress.is_some())
             {
                 Some(a.z(n * ns)?)
+            } else {
+                None
+            },
+            grad_rho: if solids && solid_diffusion {
+                Some(a.z(n * D::D)?)
             } else {
                 None
             },

@@ -99,6 +99,7 @@ pub struct Kernels {
     forces_lean: PerLanes,
     rates_lean: PerLanes,
     forces_rates_lean: PerLanes,
+    solid_grad_rho: Kernel,
     /// Threads per particle in the neighbour kernels (density, forces, rates), one of
     /// `LANE_COUNTS`; set by the solver from the system size.
     pub lanes: usize,
@@ -131,6 +132,7 @@ impl Kernels {
             forces_lean: PerLanes::load(dev, "forces", "sph_forces_lean", dim)?,
             rates_lean: PerLanes::load(dev, "rates", "sph_rates_lean", dim)?,
             forces_rates_lean: PerLanes::load(dev, "forces_rates", "sph_forces_rates_lean", dim)?,
+            solid_grad_rho: Kernel::load(dev, "rates", d("sph_solid_grad_rho"))?,
             lanes: 1,
             step_size: Kernel::load(dev, "reduce", plain("sph_step_size"))?,
             kick: Kernel::load(dev, "integrate", d("sph_kick"))?,
@@ -301,11 +303,40 @@ pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers)
     kd.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
 }
 
+/// The solids' renormalised density gradients for the density diffusion inside bodies
+/// (`Buffers::grad_rho`, held only where `solid_delta_sph` > 0), before a rates pass.
+fn solid_grad_rho(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    let Some(g) = &mut b.grad_rho else {
+        return;
+    };
+    let n = b.n as u32;
+    let c = &b.cur;
+    // SAFETY: sph_solid_grad_rho_{2,3}d(const SphParams p, unsigned n, const unsigned*
+    // cell_start, const float* pos, const float* vel, const float* rho,
+    // const unsigned char* kind, const unsigned* group, float* grad); grad holds D floats per
+    // particle.
+    k.solid_grad_rho.check(unsafe {
+        s.launch_builder(&k.solid_grad_rho.f)
+            .arg(p)
+            .arg(&n)
+            .arg(&b.cell_start)
+            .arg(&c.pos)
+            .arg(&c.vel)
+            .arg(&c.rho)
+            .arg(&c.kind)
+            .arg(&c.group)
+            .arg(g)
+            .launch(cfg(b.n))
+            .map(|_| ())
+    });
+}
+
 /// d rho/dt, XSPH and the Jaumann stress rate from the current velocities.
 pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     if b.n == 0 {
         return;
     }
+    solid_grad_rho(k, s, p, b);
     let n = b.n as u32;
     let c = &b.cur;
     let lanes = k.lanes;
@@ -316,9 +347,10 @@ pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     };
     // SAFETY: sph_rates[_fluid]_{1,2,4,8}_{2,3}d(const SphParams p, unsigned n, const unsigned*
     // cell_start, const float* pos, const float* vel, const float* rho,
-    // const unsigned char* kind, const unsigned* group, const float* stress, float* drho,
-    // float* xsph, float* rate); drho null without the continuity density; stress and rate
-    // null without solids (the fluid variants read neither).
+    // const unsigned char* kind, const unsigned* group, const float* stress,
+    // const float* grad_rho, float* drho, float* xsph, float* rate); drho null without the
+    // continuity density; stress and rate null without solids (the fluid variants read
+    // neither); grad_rho null without the density diffusion inside bodies.
     let mut l = s.launch_builder(&kr.f);
     l.arg(p)
         .arg(&n)
@@ -329,6 +361,7 @@ pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
         .arg(&c.kind)
         .arg(&c.group);
     opt!(l, &c.stress);
+    opt!(l, &b.grad_rho);
     opt!(l, &mut b.drho);
     l.arg(&mut b.xsph);
     opt!(l, &mut b.stress_rate);
@@ -351,6 +384,9 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     if b.n == 0 {
         return;
     }
+    if fused {
+        solid_grad_rho(k, s, p, b);
+    }
     let n = b.n as u32;
     let c = &b.cur;
     let lanes = k.lanes;
@@ -369,8 +405,8 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     // be null (surf is read only under no_slip, when Buffers holds it: float4 per boundary
     // particle by id - wall_first_id); red holds 3 words.
     // sph_forces_rates[_fluid]_{1,2,4,8}_{2,3}d takes the same arguments followed by rates'
-    // outputs, float* drho, float* xsph, float* rate (drho and rate may be null, as for the
-    // rates kernel).
+    // inputs and outputs, const float* grad_rho, float* drho, float* xsph, float* rate
+    // (grad_rho, drho and rate may be null, as for the rates kernel).
     let mut l = s.launch_builder(&kf.f);
     l.arg(p)
         .arg(&n)
@@ -386,6 +422,7 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     opt!(l, &b.wall_surface);
     l.arg(&mut b.acc).arg(&mut b.red);
     if fused {
+        opt!(l, &b.grad_rho);
         opt!(l, &mut b.drho);
         l.arg(&mut b.xsph);
         opt!(l, &mut b.stress_rate);

@@ -112,6 +112,7 @@ impl<D: Dim> CudaSolver<D> {
             &state,
             p.n_cells.max(1) as usize,
             &setup.wall_surface,
+            p.solid_delta_sph > 0.0,
         )
         .map_err(|e| oom(n, e))?;
         k.lanes = lanes_for(D::D, n);
@@ -453,8 +454,14 @@ impl<D: Dim> Solver for CudaSolver<D> {
             let time = self.time();
             let dt = self.dt();
             let n = st.len();
-            let mut buf = Buffers::new(&self.dev.stream, &st, self.buf.n_cells, &self.wall_surface)
-                .unwrap_or_else(|e| panic!("{}", oom(n, e)));
+            let mut buf = Buffers::new(
+                &self.dev.stream,
+                &st,
+                self.buf.n_cells,
+                &self.wall_surface,
+                self.params.solid_delta_sph > 0.0,
+            )
+            .unwrap_or_else(|e| panic!("{}", oom(n, e)));
             let s = &self.dev.stream;
             let r = s
                 .memcpy_htod(&[time][..], &mut buf.time)
