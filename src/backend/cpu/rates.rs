@@ -42,7 +42,7 @@ pub fn shift_velocity<D: Dim>(p: &SphParams, grad_c: D::V, div_r: f32) -> D::V {
 /// p^H_j - p^H_i = rho0 g . (r_j - r_i), as rho0 expm1(ln(1 + p / B) / gamma) (the plain
 /// power loses the difference to rounding in f32). Twin of `hydrostatic_rho_ji` in
 /// cuda/rates.cuh.
-pub fn hydrostatic_rho_ji<D: Dim>(p: &SphParams, r: D::V) -> f32 {
+fn hydrostatic_rho_ji<D: Dim>(p: &SphParams, r: D::V) -> f32 {
     let p_ji = -p.rho0 * D::dot(D::from3(p.gravity), r);
     p.rho0 * ((p_ji / p.tait_b).ln_1p() / p.tait_gamma).exp_m1()
 }
@@ -145,7 +145,10 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                     grad_c += grad_w * (vj * (1.0 + SHIFT_ANTI_CLUMP * (f * f) * (f * f)));
                     div_r -= vj * D::dot(r, grad_w);
                 }
-                if diffuse && r2 > 0.0 && same_body(p, ki, kj, group[i], group[j]) {
+                // One material: fluid with fluid; a solid's own body, or a clamp and the solid
+                // it holds.
+                let one_body = same_body(p, ki, kj, group[i], group[j]);
+                if diffuse && r2 > 0.0 && one_body {
                     // Molteni & Colagrossi 2009 (Comput. Phys. Commun. 180, 861), the diffusive term
                     // sum_j psi_ij . grad_i W_ij V_j, psi_ij = 2 (rho_j - rho_i) r_ji / |r_ji|^2 with
                     // r_ji = r_j - r_i = -r (the sign that makes it a Laplacian of rho: with r_i - r_j
@@ -166,8 +169,7 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                     }
                     diffusion += psi * (mass[j] / rho[j]);
                 }
-                // One body: a solid's own group, or a clamp and the solid it holds.
-                if !same_body(p, ki, kj, group[i], group[j]) || ki as u32 == MF_KIND_BOUNDARY {
+                if !one_body || ki as u32 == MF_KIND_BOUNDARY {
                     return;
                 }
                 let rho_bar = 0.5 * (rhoi + rho[j]);
