@@ -39,19 +39,22 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
 MF_LANES_EACH(MF_RATES_LANES)
 
 
-// The renormalised density gradient of each solid particle within its body, for the density
-// diffusion inside bodies (Antuono, Colagrossi, Marrone & Molteni 2010, Comput. Phys. Commun.
-// 181, 532): grad_i = (sum_j V_j (x_j - x_i) (x) grad_i W_ij)^-T sum_j V_j (rho_j - rho_i)
-// grad_i W_ij, V_j = m_j / rho_j, exact for a linear density; zero for other kinds and where
-// the moment is singular (|det| <= 1e-3). One thread per particle. Twin:
-// `solid_density_gradient` in cpu/rates.rs. [M L^-d L^-1]
+// The renormalised density gradient of each particle within its material, for the density
+// diffusion in Antuono, Colagrossi, Marrone & Molteni 2010's form (Comput. Phys. Commun. 181,
+// 532): grad_i = (sum_j V_j (x_j - x_i) (x) grad_i W_ij)^-T sum_j V_j (rho_j - rho_i)
+// grad_i W_ij over the neighbours of one body (solids, solid_delta_sph > 0) or over the fluid
+// (delta_form == MF_DIFFUSION_ANTUONO), V_j = m_j / rho_j, exact for a linear density; zero
+// for other particles and where the moment is singular (|det| <= 1e-3). One thread per
+// particle. Twin: `density_gradient` in cpu/rates.rs. [M L^-d L^-1]
 template <int DIM>
-__device__ void sph_solid_grad_rho_body(const SphParams p, unsigned n, const unsigned* __restrict__ cell_start,
-                                        const float* __restrict__ pos, const float* __restrict__ vel,
-                                        const float* __restrict__ rho, const unsigned char* __restrict__ kind,
-                                        const unsigned* __restrict__ group, float* __restrict__ grad) {
+__device__ void sph_grad_rho_body(const SphParams p, unsigned n, const unsigned* __restrict__ cell_start,
+                                  const float* __restrict__ pos, const float* __restrict__ vel,
+                                  const float* __restrict__ rho, const unsigned char* __restrict__ kind,
+                                  const unsigned* __restrict__ group, float* __restrict__ grad) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
-    const bool on = i < n && kind[i] == MF_KIND_SOLID;
+    const unsigned char ki = i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY;
+    const bool on = (ki == MF_KIND_SOLID && p.solid_delta_sph > 0.0f) ||
+                    (ki == MF_KIND_FLUID && p.delta_sph > 0.0f && p.delta_form == MF_DIFFUSION_ANTUONO);
     const float rhoi = on ? rho[i] : 0.0f;
     const unsigned gi = on ? group[i] : 0u;
     Vec<DIM> g = vzero<DIM>();
@@ -59,7 +62,7 @@ __device__ void sph_solid_grad_rho_body(const SphParams p, unsigned n, const uns
     neighbour_loop<DIM, 1>(p, cell_start, pos, i, on, 0, [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
         if (j == i) return;
         const Neighbour<DIM> nb = neighbour<DIM, true>(p, j, rij, r2, pw, vel, kind);
-        if (!same_body(p, (unsigned char)MF_KIND_SOLID, nb.kind, gi, group[j])) return;
+        if (!same_body(p, ki, nb.kind, gi, group[j])) return;
         const Vec<DIM> gw = rij * nb.fw;
         const float vj = nb.m / nb.rho;
         g = g + gw * ((nb.rho - rhoi) * vj);
@@ -85,7 +88,7 @@ __device__ void sph_solid_grad_rho_body(const SphParams p, unsigned n, const uns
 #pragma unroll
     for (int a = 0; a < DIM; ++a) grad[i * DIM + a] = out.c[a];
 }
-MF_ENTRY2(sph_solid_grad_rho,
+MF_ENTRY2(sph_grad_rho,
           (const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel,
            const float* rho, const unsigned char* kind, const unsigned* group, float* grad),
           (p, n, cell_start, pos, vel, rho, kind, group, grad))

@@ -79,7 +79,7 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
     Vec<DIM> grad_c;  // shifting: sum_j V_j (1 + R f^4) grad_i W_ij
     float div_r;      // shifting: the position divergence -sum_j V_j r_ij . grad_i W_ij
     Mat<DIM> gv, mo;  // solids: velocity gradient and moment, eq. (15)
-    const float* gr;  // solids' renormalised density gradients (solid_grad_rho), or null
+    const float* gr;  // renormalised density gradients (sph_grad_rho), or null
     Vec<DIM> gri;     // particle i's
 
     // Particle i of kind k (a wall for i >= n).
@@ -110,8 +110,10 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
         vi = vel_load<DIM>(vel, i);
         rhoi = rho[i];
         gi = group[i];
-        if constexpr (SOLIDS && EXTRAS) {
-            if (solid_i && diffuse && grad_rho) {
+        // Antuono et al. 2010's correction wherever the gradients are held (zero for a
+        // particle whose material does not take it).
+        if constexpr (EXTRAS) {
+            if (diffuse && grad_rho) {
                 gr = grad_rho;
                 gri = grad_load<DIM>(gr, i);
             }
@@ -142,12 +144,11 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
             // r_ji = r_j - r_i = -r (diffusive sign, see cpu/rates.rs): 2 (rho_i - rho_j) r . gw / r^2.
             // Fourtakas et al. 2019: rho_i - rho_j less its hydrostatic part (fluid).
             float drho_ij = rhoi - rhoj;
-            if (p.delta_hydrostatic && ki == MF_KIND_FLUID) drho_ij += hydrostatic_rho_ji<DIM>(p, r);
+            if (p.delta_form == MF_DIFFUSION_FOURTAKAS && ki == MF_KIND_FLUID) drho_ij += hydrostatic_rho_ji<DIM>(p, r);
             float psi = 2.0f * drho_ij * dot(r, gw) / r2;
-            // In a body, Antuono et al. 2010's correction: less (grad rho_i + grad rho_j) . grad W.
-            if constexpr (SOLIDS) {
-                if (gr) psi -= dot(gri + grad_load<DIM>(gr, nb.j), gw);
-            }
+            // Antuono et al. 2010's correction (in a body; in the fluid under
+            // MF_DIFFUSION_ANTUONO): less (grad rho_i + grad rho_j) . grad W.
+            if (gr) psi -= dot(gri + grad_load<DIM>(gr, nb.j), gw);
             diffusion += psi * (mj / rhoj);
         }
         if (shift) {

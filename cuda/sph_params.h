@@ -40,6 +40,11 @@
                                       boundary conditions: the wall particle's velocity
                                       extrapolated across the wall surface */
 
+/* What the fluid's density diffusion acts on (`delta_form`). */
+#define MF_DIFFUSION_MOLTENI 0   /* rho_i - rho_j (Molteni & Colagrossi 2009) */
+#define MF_DIFFUSION_FOURTAKAS 1 /* its departure from hydrostatics (Fourtakas et al. 2019) */
+#define MF_DIFFUSION_ANTUONO 2   /* less the renormalised gradients' part (Antuono et al. 2010) */
+
 typedef struct SphParams {
     /* ---- geometry and neighbour grid ---- */
     int32_t dim;           /* 2 or 3 */
@@ -150,13 +155,16 @@ typedef struct SphParams {
                               Akinci, Akinci & Teschner 2013 (droplets); 0 = off */
     float delta_sph;       /* [-] delta of the density-diffusion term of Molteni & Colagrossi
                               2009 in the continuity equation; 0 = off (the paper) */
-    int32_t delta_hydrostatic; /* 1: the term diffuses the density's departure from
-                              hydrostatics (Fourtakas, Dominguez, Vacondio & Rogers 2019,
-                              Comput. Fluids 190, 346): rho_i - rho_j becomes
-                              rho_i - rho_j + rho^H_ji, rho^H_ji = rho0 ((1 + rho0 g . (r_j -
-                              r_i) / B)^(1 / gamma) - 1), so water at rest under `gravity`
-                              diffuses nothing, next to a free surface or a wall too;
-                              0: Molteni & Colagrossi's plain difference */
+    int32_t delta_form;    /* MF_DIFFUSION_*: what the fluid's term diffuses.
+                              FOURTAKAS (Fourtakas, Dominguez, Vacondio & Rogers 2019, Comput.
+                              Fluids 190, 346): rho_i - rho_j becomes rho_i - rho_j + rho^H_ji,
+                              rho^H_ji = rho0 ((1 + rho0 g . (r_j - r_i) / B)^(1 / gamma) - 1),
+                              so water at rest under `gravity` diffuses nothing, next to a free
+                              surface or a wall too. ANTUONO (Antuono, Colagrossi, Marrone &
+                              Molteni 2010, Comput. Phys. Commun. 181, 532): the pair term less
+                              (grad rho_i + grad rho_j) . grad W with renormalised gradients
+                              (`grad_rho`), zero for any linear density, whatever the
+                              direction of gravity. MOLTENI: the plain difference */
     float shifting;        /* [-] C of the particle shifting velocity
                               dv_i = -C h c0 sum_j V_j (1 + 0.2 (W_ij / W(dx))^4) grad_i W_ij
                               of fluid particles (Lind et al. 2012, with the anti-clumping term of

@@ -588,8 +588,8 @@ fn stability(a: StabilityArgs) -> anyhow::Result<()> {
 #[derive(Debug, clap::Args)]
 pub struct ChartArgs {
     /// The quick tier: two coarse resolutions and one variant per case (seconds).
-    /// Without it: four resolutions and six variants per case (minutes in a release build),
-    /// and the cylinder at Re 100 (three resolutions, six variants: for the GPU).
+    /// Without it: four resolutions and nine variants per case (minutes in a release build),
+    /// and the cylinder at Re 100 (three resolutions, nine variants: for the GPU).
     #[arg(long)]
     pub quick: bool,
     /// Where to run (repeatable: `--backend cpu --backend cuda` puts both on the charts).

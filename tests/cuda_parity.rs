@@ -20,7 +20,8 @@ use meshfree::backend::cuda::CudaSolver;
 use meshfree::dim::{Dim, D2, D3};
 use meshfree::params::MF_INTEGRATOR_SYMPLECTIC_EULER;
 use meshfree::params::{
-    self, SphParams, MF_DENSITY_CONTINUITY, MF_DENSITY_SUMMATION, MF_INTEGRATOR_EULER,
+    self, SphParams, MF_DENSITY_CONTINUITY, MF_DENSITY_SUMMATION, MF_DIFFUSION_ANTUONO,
+    MF_DIFFUSION_FOURTAKAS, MF_DIFFUSION_MOLTENI, MF_INTEGRATOR_EULER,
 };
 use meshfree::particle::{Kind, Particle};
 use meshfree::solver::{Setup, Solver};
@@ -64,8 +65,9 @@ struct Variant {
     /// Density diffusion (delta-SPH, `delta_sph` = 0.1) with a perturbed initial fluid
     /// density, so that the diffusive term is not zero from the first step.
     delta_sph: bool,
-    /// The diffusion's hydrostatic form (Fourtakas et al. 2019, `delta_hydrostatic`).
-    fourtakas: bool,
+    /// The fluid diffusion's form (`delta_form`, `MF_DIFFUSION_*`): Fourtakas et al. 2019's
+    /// hydrostatic one, or Antuono et al. 2010's with renormalised gradients.
+    delta_form: u32,
     /// Density diffusion within the solid body (`solid_delta_sph` = 0.1) with a perturbed
     /// initial solid density.
     solid_delta: bool,
@@ -78,7 +80,7 @@ const V_2D_A: Variant = Variant {
     art_stress: true,
     laminar: true,
     delta_sph: false,
-    fourtakas: false,
+    delta_form: MF_DIFFUSION_MOLTENI,
     solid_delta: false,
 };
 /// 2D: continuity, Lennard-Jones-only walls, symplectic Euler, artificial stress.
@@ -89,7 +91,7 @@ const V_2D_B: Variant = Variant {
     art_stress: true,
     laminar: false,
     delta_sph: false,
-    fourtakas: false,
+    delta_form: MF_DIFFUSION_MOLTENI,
     solid_delta: false,
 };
 /// 3D: continuity, Lennard-Jones-only walls, symplectic Euler, no artificial stress.
@@ -100,7 +102,7 @@ const V_3D_A: Variant = Variant {
     art_stress: false,
     laminar: false,
     delta_sph: false,
-    fourtakas: false,
+    delta_form: MF_DIFFUSION_MOLTENI,
     solid_delta: false,
 };
 /// 3D: continuity with dynamic walls (wall d rho/dt), forward Euler, artificial stress,
@@ -112,7 +114,7 @@ const V_3D_B: Variant = Variant {
     art_stress: true,
     laminar: true,
     delta_sph: false,
-    fourtakas: false,
+    delta_form: MF_DIFFUSION_MOLTENI,
     solid_delta: false,
 };
 /// 2D and 3D: `V_2D_B` / `V_3D_B` with density diffusion.
@@ -126,11 +128,21 @@ const V_3D_DELTA: Variant = Variant {
 };
 /// `V_2D_DELTA` / `V_3D_DELTA` with the diffusion's hydrostatic form.
 const V_2D_FOURTAKAS: Variant = Variant {
-    fourtakas: true,
+    delta_form: MF_DIFFUSION_FOURTAKAS,
     ..V_2D_DELTA
 };
 const V_3D_FOURTAKAS: Variant = Variant {
-    fourtakas: true,
+    delta_form: MF_DIFFUSION_FOURTAKAS,
+    ..V_3D_DELTA
+};
+/// `V_2D_DELTA` / `V_3D_DELTA` with the diffusion in Antuono et al.'s form (the fluid's
+/// density gradients: `sph_grad_rho`).
+const V_2D_ANTUONO: Variant = Variant {
+    delta_form: MF_DIFFUSION_ANTUONO,
+    ..V_2D_DELTA
+};
+const V_3D_ANTUONO: Variant = Variant {
+    delta_form: MF_DIFFUSION_ANTUONO,
     ..V_3D_DELTA
 };
 /// `V_2D_B` / `V_3D_B` (artificial stress) with density diffusion within the solid body.
@@ -191,7 +203,7 @@ fn scene_with(dim: usize, v: Variant, vel_amp: f32) -> Setup {
         nu: if v.laminar { 0.005 } else { 0.0 },
         xsph_eps: 0.3,
         delta_sph: if v.delta_sph { 0.1 } else { 0.0 },
-        delta_hydrostatic: v.fourtakas as i32,
+        delta_form: v.delta_form as i32,
         solid_delta_sph: if v.solid_delta { 0.1 } else { 0.0 },
         solid_rho0: 0.8,
         solid_c0: 15.0,
@@ -915,6 +927,22 @@ fn stages_3d_density_diffusion_fourtakas() {
 #[test]
 fn diagnostics_after_200_steps_3d_density_diffusion_fourtakas() {
     long_run::<D3>(3, V_3D_FOURTAKAS, 200);
+}
+#[test]
+fn stages_2d_density_diffusion_antuono() {
+    stages::<D2>(2, V_2D_ANTUONO);
+}
+#[test]
+fn stages_3d_density_diffusion_antuono() {
+    stages::<D3>(3, V_3D_ANTUONO);
+}
+#[test]
+fn stages_3d_fluid_only_density_diffusion_antuono() {
+    stages_on::<D3>("V_3D_ANTUONO fluid only", fluid_only(3, V_3D_ANTUONO));
+}
+#[test]
+fn diagnostics_after_200_steps_2d_density_diffusion_antuono() {
+    long_run::<D2>(2, V_2D_ANTUONO, 200);
 }
 #[test]
 fn stages_2d_solid_density_diffusion() {

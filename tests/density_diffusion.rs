@@ -176,3 +176,18 @@ fn the_hydrostatic_form_diffuses_nothing_in_water_at_rest() {
         "the hydrostatic form diffuses {fourtakas:.3e}, the plain form {plain:.3e}"
     );
 }
+
+#[test]
+fn the_renormalised_form_diffuses_nothing_in_water_at_rest() {
+    let plain = resting_diffusion(DiffusionForm::MolteniColagrossi);
+    let antuono = resting_diffusion(DiffusionForm::Antuono);
+    eprintln!("max |d rho/dt| at rest: Molteni & Colagrossi {plain:.3e}, Antuono {antuono:.3e}");
+    assert!(plain > 1.0, "the plain form diffused nothing ({plain:.3e})");
+    // Antuono et al. 2010's correction removes any linear density, the hydrostatic one
+    // included, where the support is cut too (renormalised gradients): what is left is the
+    // Tait law's curvature, as with Fourtakas et al.'s form.
+    assert!(
+        antuono < 0.05 * plain,
+        "the renormalised form diffuses {antuono:.3e}, the plain form {plain:.3e}"
+    );
+}

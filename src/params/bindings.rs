@@ -12,6 +12,9 @@ pub const MF_KIND_SOLID: u32 = 1;
 pub const MF_KIND_BOUNDARY: u32 = 2;
 pub const MF_NO_SLIP_WALL_VELOCITY: u32 = 0;
 pub const MF_NO_SLIP_MORRIS: u32 = 1;
+pub const MF_DIFFUSION_MOLTENI: u32 = 0;
+pub const MF_DIFFUSION_FOURTAKAS: u32 = 1;
+pub const MF_DIFFUSION_ANTUONO: u32 = 2;
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct SphParams {
@@ -125,8 +128,8 @@ pub struct SphParams {
     pub cohesion: f32,
     #[doc = " [-] delta of the density-diffusion term of Molteni & Colagrossi\n2009 in the continuity equation; 0 = off (the paper)"]
     pub delta_sph: f32,
-    #[doc = " 1: the term diffuses the density's departure from\nhydrostatics (Fourtakas, Dominguez, Vacondio & Rogers 2019,\nComput. Fluids 190, 346): rho_i - rho_j becomes\nrho_i - rho_j + rho^H_ji, rho^H_ji = rho0 ((1 + rho0 g . (r_j -\nr_i) / B)^(1 / gamma) - 1), so water at rest under `gravity`\ndiffuses nothing, next to a free surface or a wall too;\n0: Molteni & Colagrossi's plain difference"]
-    pub delta_hydrostatic: i32,
+    #[doc = " MF_DIFFUSION_*: what the fluid's term diffuses.\nFOURTAKAS (Fourtakas, Dominguez, Vacondio & Rogers 2019, Comput.\nFluids 190, 346): rho_i - rho_j becomes rho_i - rho_j + rho^H_ji,\nrho^H_ji = rho0 ((1 + rho0 g . (r_j - r_i) / B)^(1 / gamma) - 1),\nso water at rest under `gravity` diffuses nothing, next to a free\nsurface or a wall too. ANTUONO (Antuono, Colagrossi, Marrone &\nMolteni 2010, Comput. Phys. Commun. 181, 532): the pair term less\n(grad rho_i + grad rho_j) . grad W with renormalised gradients\n(`grad_rho`), zero for any linear density, whatever the\ndirection of gravity. MOLTENI: the plain difference"]
+    pub delta_form: i32,
     #[doc = " [-] C of the particle shifting velocity\ndv_i = -C h c0 sum_j V_j (1 + 0.2 (W_ij / W(dx))^4) grad_i W_ij\nof fluid particles (Lind et al. 2012, with the anti-clumping term of\nSun et al. 2017), added to the XSPH velocity of the drift; none at a\nfree surface; 0 = off (the paper)"]
     pub shifting: f32,
     #[doc = " [L/T^2]"]

@@ -30,6 +30,14 @@ pub fn lean_scheme(p: &SphParams) -> bool {
         && p.shifting <= 0.0
 }
 
+/// Whether a rates pass needs renormalised density gradients first (`grad_rho`: the density
+/// diffusion in Antuono et al. 2010's form, inside bodies or in the fluid): the CPU's
+/// `density_gradient` and the CUDA pass `sph_grad_rho` run, and the CUDA buffer is held, only
+/// where this holds.
+pub fn needs_density_gradient(p: &SphParams) -> bool {
+    p.solid_delta_sph > 0.0 || (p.delta_sph > 0.0 && p.delta_form == MF_DIFFUSION_ANTUONO as i32)
+}
+
 /// Fill the derived fields (marked "derived" in the header) from the primary ones.
 /// Needs `dim`, `kernel`, `h`, `dx`, `rho0`, `c0`, `tait_gamma`, the domain and `periodic`.
 pub fn derive(p: &mut SphParams) {

@@ -196,6 +196,10 @@ pub enum DiffusionForm {
     /// The density's departure from hydrostatics under `gravity` (Fourtakas, Dominguez,
     /// Vacondio & Rogers 2019): water at rest diffuses nothing.
     Fourtakas,
+    /// The density less its linear part, read off renormalised density gradients (Antuono,
+    /// Colagrossi, Marrone & Molteni 2010, the delta-SPH of Marrone et al. 2011): any linear
+    /// density diffuses nothing, water at rest included, at the cost of a gradient pass.
+    Antuono,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -36,7 +36,8 @@
 //! cohesion = 0.0                     # gamma, default 0 = off: Akinci et al. 2013 fluid cohesion
 //! density_diffusion = 0.1            # default 0 = off; delta-SPH (Molteni & Colagrossi 2009), continuity only
 //! density_diffusion_form = "fourtakas" # default "molteni-colagrossi"; "fourtakas": diffuse only the
-//!                                    # departure from hydrostatics (Fourtakas et al. 2019)
+//!                                    # departure from hydrostatics (Fourtakas et al. 2019); "antuono":
+//!                                    # only the departure from a linear density (Antuono et al. 2010)
 //! shifting = 0.2                     # default 0 = off; particle shifting (Lind et al. 2012, Sun et al. 2017)
 //! background_pressure = 0.0          # default 0 = off; added to eq. (9): confined flows only, no free surface
 //!
@@ -127,7 +128,9 @@ use std::path::{Path, PathBuf};
 pub use error::SceneError;
 pub use format::SceneFile;
 
-use crate::params::{self, SphParams};
+use crate::params::{
+    self, SphParams, MF_DIFFUSION_ANTUONO, MF_DIFFUSION_FOURTAKAS, MF_DIFFUSION_MOLTENI,
+};
 use crate::particle::{Kind, Particle};
 use crate::solver::Setup;
 
@@ -455,7 +458,11 @@ fn scene_params(s: &SceneFile) -> SphParams {
     p.xsph_eps = f.xsph as f32;
     p.cohesion = f.cohesion as f32;
     p.delta_sph = f.density_diffusion as f32;
-    p.delta_hydrostatic = (f.density_diffusion_form == format::DiffusionForm::Fourtakas) as i32;
+    p.delta_form = match f.density_diffusion_form {
+        format::DiffusionForm::MolteniColagrossi => MF_DIFFUSION_MOLTENI,
+        format::DiffusionForm::Fourtakas => MF_DIFFUSION_FOURTAKAS,
+        format::DiffusionForm::Antuono => MF_DIFFUSION_ANTUONO,
+    } as i32;
     p.shifting = f.shifting as f32;
     p.p_background = f.background_pressure as f32;
 

@@ -93,6 +93,13 @@ fn variants(quick: bool) -> Vec<Variant> {
             },
         },
         Variant {
+            name: "delta-SPH 0.1, Antuono",
+            edit: |s| {
+                s.file.fluid.density_diffusion = 0.1;
+                s.file.fluid.density_diffusion_form = DiffusionForm::Antuono;
+            },
+        },
+        Variant {
             name: "shifting 0.2",
             edit: |s| s.file.fluid.shifting = 0.2,
         },

@@ -12,7 +12,10 @@ use super::density::{couples, meets, same_body};
 use super::grid::Grid;
 use crate::dim::Dim;
 use crate::kernel;
-use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID};
+use crate::params::{
+    needs_density_gradient, SphParams, MF_DIFFUSION_ANTUONO, MF_DIFFUSION_FOURTAKAS,
+    MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID,
+};
 use crate::state::State;
 
 /// R of the anti-clumping factor 1 + R (W_ij / W(dx))^4 in the shifting sum (Sun et al. 2017).
@@ -54,21 +57,29 @@ struct Rates<V, M> {
     stress_rate: M,
 }
 
-/// The renormalised density gradient of each solid particle within its body, for the
-/// density diffusion inside bodies (Antuono, Colagrossi, Marrone & Molteni 2010, Comput.
-/// Phys. Commun. 181, 532): (sum_j V_j (x_j - x_i) (x) grad_i W_ij)^-T sum_j V_j (rho_j -
-/// rho_i) grad_i W_ij, V_j = m_j / rho_j, exact for a linear density; zero for other kinds and
-/// where the moment is singular. None without that diffusion. Twin: `sph_solid_grad_rho` in
-/// cuda/rates.cu. [M L^-d L^-1]
-fn solid_density_gradient<D: Dim>(p: &SphParams, grid: &Grid, s: &State<D>) -> Option<Vec<D::V>> {
-    if p.solid_delta_sph <= 0.0 || s.solid.is_none() {
+/// The renormalised density gradient of each particle within its material, for the density
+/// diffusion in Antuono, Colagrossi, Marrone & Molteni 2010's form (Comput. Phys. Commun.
+/// 181, 532): (sum_j V_j (x_j - x_i) (x) grad_i W_ij)^-T sum_j V_j (rho_j - rho_i) grad_i
+/// W_ij over the neighbours of one body (solids, `[solid] density_diffusion`) or over the
+/// fluid (`delta_form` = Antuono), V_j = m_j / rho_j, exact for a linear density; zero for
+/// other particles and where the moment is singular. None unless `needs_density_gradient`.
+/// Twin: `sph_grad_rho` in cuda/rates.cu. [M L^-d L^-1]
+fn density_gradient<D: Dim>(p: &SphParams, grid: &Grid, s: &State<D>) -> Option<Vec<D::V>> {
+    if !needs_density_gradient(p) {
         return None;
     }
+    let fluid = p.delta_sph > 0.0 && p.delta_form == MF_DIFFUSION_ANTUONO as i32;
+    let solid = p.solid_delta_sph > 0.0;
     let (pos, rho, mass, kind, group) = (&s.pos, &s.rho, &s.mass, &s.kind, &s.group);
     let g = (0..s.len())
         .into_par_iter()
         .map(|i| {
-            if kind[i] as u32 != MF_KIND_SOLID {
+            let on = match kind[i] as u32 {
+                MF_KIND_FLUID => fluid,
+                MF_KIND_SOLID => solid,
+                _ => false,
+            };
+            if !on {
                 return D::V::default();
             }
             let (mut g, mut m) = (D::V::default(), D::zero());
@@ -92,7 +103,7 @@ fn solid_density_gradient<D: Dim>(p: &SphParams, grid: &Grid, s: &State<D>) -> O
 }
 
 pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
-    let grad_rho = solid_density_gradient(p, grid, s);
+    let grad_rho = density_gradient(p, grid, s);
     let (pos, vel, rho, mass, kind, group) = (&s.pos, &s.vel, &s.rho, &s.mass, &s.kind, &s.group);
     let stress = s.solid.as_ref().map(|so| &so.stress);
     let out: Vec<Rates<D::V, D::M>> = (0..s.len())
@@ -156,15 +167,16 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                     // psi_ij . grad W = 2 (rho_i - rho_j) r . grad W / r^2; [M L^-d L^-2], times delta h c0.
                     // Fourtakas et al. 2019: rho_i - rho_j less its hydrostatic part (fluid).
                     let mut drho_ij = rhoi - rho[j];
-                    if p.delta_hydrostatic != 0 && !solid_i {
+                    if p.delta_form == MF_DIFFUSION_FOURTAKAS as i32 && !solid_i {
                         drho_ij += hydrostatic_rho_ji::<D>(p, r);
                     }
                     let mut psi = 2.0 * drho_ij * D::dot(r, grad_w) / r2;
-                    if let (true, Some(g)) = (solid_i, &grad_rho) {
-                        // In a body, Antuono et al. 2010's correction, which makes the term
-                        // vanish for a linear density (a bending plate's pressure across its
-                        // thickness) where the support is cut too: less (grad rho_i +
-                        // grad rho_j) . grad W.
+                    if let Some(g) = &grad_rho {
+                        // Antuono et al. 2010's correction (in a body; in the fluid where
+                        // `delta_form` says so, else both gradients are zero), which makes the
+                        // term vanish for a linear density (a bending plate's pressure across
+                        // its thickness, water at rest) where the support is cut too: less
+                        // (grad rho_i + grad rho_j) . grad W.
                         psi -= D::dot(g[i] + g[j], grad_w);
                     }
                     diffusion += psi * (mass[j] / rho[j]);

@@ -63,8 +63,8 @@ pub struct Buffers {
     pub drho: Option<CudaSlice<f32>>,
     pub stress_rate: Option<CudaSlice<f32>>,
     pub art: Option<CudaSlice<f32>>,
-    /// The solids' renormalised density gradients, D floats per particle; only with the
-    /// density diffusion inside bodies (`solid_delta_sph` > 0).
+    /// Renormalised density gradients (`sph_grad_rho`), D floats per particle; only with the
+    /// density diffusion in Antuono et al.'s form (`needs_density_gradient`).
     pub grad_rho: Option<CudaSlice<f32>>,
     /// `Setup::wall_surface` as float4 per boundary particle (by id - wall_first_id; not
     /// reordered by the grid); only with `no_slip`.
@@ -120,14 +120,14 @@ pub const SCAN_CELLS: usize = 4 * SCAN_BLOCK;
 
 impl Buffers {
     /// Allocate for `state`, a grid of `n_cells` and the wall surface `surface`
-    /// (`Setup::wall_surface`; none where empty), and the solids' density gradients where
-    /// `solid_diffusion`, then upload `state` and `surface`.
+    /// (`Setup::wall_surface`; none where empty), and the density gradients where
+    /// `density_gradient`, then upload `state` and `surface`.
     pub fn new<D: Dim>(
         s: &Arc<CudaStream>,
         state: &State<D>,
         n_cells: usize,
         surface: &[[f32; 4]],
-        solid_diffusion: bool,
+        density_gradient: bool,
     ) -> Result<Buffers, DriverError> {
         let n = state.len();
         let vs = vstride::<D>();
@@ -171,7 +171,7 @@ impl Buffers {
             } else {
                 None
             },
-            grad_rho: if solids && solid_diffusion {
+            grad_rho: if density_gradient {
                 Some(a.z(n * D::D)?)
             } else {
                 None

@@ -99,7 +99,7 @@ pub struct Kernels {
     forces_lean: PerLanes,
     rates_lean: PerLanes,
     forces_rates_lean: PerLanes,
-    solid_grad_rho: Kernel,
+    grad_rho: Kernel,
     /// Threads per particle in the neighbour kernels (density, forces, rates), one of
     /// `LANE_COUNTS`; set by the solver from the system size.
     pub lanes: usize,
@@ -132,7 +132,7 @@ impl Kernels {
             forces_lean: PerLanes::load(dev, "forces", "sph_forces_lean", dim)?,
             rates_lean: PerLanes::load(dev, "rates", "sph_rates_lean", dim)?,
             forces_rates_lean: PerLanes::load(dev, "forces_rates", "sph_forces_rates_lean", dim)?,
-            solid_grad_rho: Kernel::load(dev, "rates", d("sph_solid_grad_rho"))?,
+            grad_rho: Kernel::load(dev, "rates", d("sph_grad_rho"))?,
             lanes: 1,
             step_size: Kernel::load(dev, "reduce", plain("sph_step_size"))?,
             kick: Kernel::load(dev, "integrate", d("sph_kick"))?,
@@ -303,20 +303,20 @@ pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers)
     kd.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
 }
 
-/// The solids' renormalised density gradients for the density diffusion inside bodies
-/// (`Buffers::grad_rho`, held only where `solid_delta_sph` > 0), before a rates pass.
-fn solid_grad_rho(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+/// The renormalised density gradients for the density diffusion in Antuono et al.'s form
+/// (`Buffers::grad_rho`, held only where `needs_density_gradient`), before a rates pass.
+fn grad_rho(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     let Some(g) = &mut b.grad_rho else {
         return;
     };
     let n = b.n as u32;
     let c = &b.cur;
-    // SAFETY: sph_solid_grad_rho_{2,3}d(const SphParams p, unsigned n, const unsigned*
+    // SAFETY: sph_grad_rho_{2,3}d(const SphParams p, unsigned n, const unsigned*
     // cell_start, const float* pos, const float* vel, const float* rho,
     // const unsigned char* kind, const unsigned* group, float* grad); grad holds D floats per
     // particle.
-    k.solid_grad_rho.check(unsafe {
-        s.launch_builder(&k.solid_grad_rho.f)
+    k.grad_rho.check(unsafe {
+        s.launch_builder(&k.grad_rho.f)
             .arg(p)
             .arg(&n)
             .arg(&b.cell_start)
@@ -336,7 +336,7 @@ pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     if b.n == 0 {
         return;
     }
-    solid_grad_rho(k, s, p, b);
+    grad_rho(k, s, p, b);
     let n = b.n as u32;
     let c = &b.cur;
     let lanes = k.lanes;
@@ -385,7 +385,7 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
         return;
     }
     if fused {
-        solid_grad_rho(k, s, p, b);
+        grad_rho(k, s, p, b);
     }
     let n = b.n as u32;
     let c = &b.cur;

@@ -16,7 +16,7 @@ use cudarc::driver::sys;
 use crate::backend::cpu::fault;
 use crate::backend::BackendError;
 use crate::dim::Dim;
-use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
+use crate::params::{needs_density_gradient, SphParams, MF_DENSITY_CONTINUITY};
 use crate::particle::Particle;
 use crate::solver::{
     fault_codes as fc, BackendInfo, Diagnostics, Fault, Setup, Shown, Snapshot, Solver,
@@ -112,7 +112,7 @@ impl<D: Dim> CudaSolver<D> {
             &state,
             p.n_cells.max(1) as usize,
             &setup.wall_surface,
-            p.solid_delta_sph > 0.0,
+            needs_density_gradient(&p),
         )
         .map_err(|e| oom(n, e))?;
         k.lanes = lanes_for(D::D, n);
@@ -459,7 +459,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
                 &st,
                 self.buf.n_cells,
                 &self.wall_surface,
-                self.params.solid_delta_sph > 0.0,
+                needs_density_gradient(&self.params),
             )
             .unwrap_or_else(|e| panic!("{}", oom(n, e)));
             let s = &self.dev.stream;
