@@ -82,7 +82,8 @@ fn range(v: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-const COLORS: [RGBColor; 10] = [
+/// Distinct colours, in order; a figure with more series reuses them from the start.
+const COLORS: [RGBColor; 20] = [
     RGBColor(200, 30, 30),
     RGBColor(30, 80, 200),
     RGBColor(20, 140, 40),
@@ -93,18 +94,61 @@ const COLORS: [RGBColor; 10] = [
     RGBColor(140, 90, 40),
     RGBColor(240, 80, 160),
     RGBColor(120, 120, 120),
+    RGBColor(255, 170, 170),
+    RGBColor(120, 170, 255),
+    RGBColor(130, 220, 110),
+    RGBColor(210, 160, 230),
+    RGBColor(250, 200, 90),
+    RGBColor(90, 60, 20),
+    RGBColor(110, 230, 220),
+    RGBColor(60, 0, 110),
+    RGBColor(180, 180, 0),
+    RGBColor(0, 90, 70),
 ];
 
-/// Draw `series` into a 900 x 600 PNG at `path`.
+/// Above this many series the legend moves out of the plot, into a column on its right, so
+/// that it covers no data (the speed-against-accuracy charts carry up to 20).
+const LEGEND_INSIDE_MAX: usize = 8;
+/// [px] width of that column.
+const LEGEND_WIDTH: u32 = 340;
+
+/// The legend as a column of its own (`side`): each series' marker or line and its label,
+/// in the series' colours, from the top.
+fn legend_column<DB: DrawingBackend>(
+    side: &DrawingArea<DB, plotters::coord::Shift>,
+    series: &[Series],
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    for (i, s) in series.iter().enumerate() {
+        let c = COLORS[i % COLORS.len()];
+        let y = 40 + 22 * i as i32;
+        match s.style {
+            Style::Line => {
+                side.draw(&PathElement::new(vec![(8, y), (28, y)], c.stroke_width(2)))?
+            }
+            Style::Points => side.draw(&Circle::new((18, y), 4, c.filled()))?,
+        }
+        side.draw(&Text::new(s.label.as_str(), (36, y - 8), (FAMILY, 15)))?;
+    }
+    Ok(())
+}
+
+/// Draw `series` into a 900 x 600 PNG at `path` (wider by `LEGEND_WIDTH` where the legend
+/// stands beside the plot).
 pub fn plot(path: &Path, fig: &Figure, series: &[Series]) -> anyhow::Result<()> {
     register_font();
     let all = || series.iter().flat_map(|s| s.points.iter());
     let (x0, x1) = range(all().map(|p| p.0), fig.log_x);
     let (y0, y1) = range(all().map(|p| p.1), fig.log_y);
-    let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
+    let outside = series.len() > LEGEND_INSIDE_MAX;
+    let width = 900 + if outside { LEGEND_WIDTH } else { 0 };
+    let root = BitMapBackend::new(path, (width, 600)).into_drawing_area();
     let err = |e: &dyn std::fmt::Display| anyhow::anyhow!("plot {}: {e}", path.display());
     root.fill(&WHITE).map_err(|e| err(&e))?;
-    let mut builder = ChartBuilder::on(&root);
+    let (area, side) = root.split_horizontally(900);
+    if outside {
+        legend_column(&side, series).map_err(|e| err(&e))?;
+    }
+    let mut builder = ChartBuilder::on(&area);
     builder
         .caption(fig.title, (FAMILY, 22))
         .margin(15)
@@ -139,14 +183,16 @@ pub fn plot(path: &Path, fig: &Figure, series: &[Series]) -> anyhow::Result<()> 
                         .legend(move |(x, y)| Circle::new((x + 10, y), 4, c.filled())),
                 };
             }
-            chart
-                .configure_series_labels()
-                .label_font((FAMILY, 15))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()
-                .map_err(|e| err(&e))?;
+            if !outside {
+                chart
+                    .configure_series_labels()
+                    .label_font((FAMILY, 15))
+                    .background_style(WHITE.mix(0.85))
+                    .border_style(BLACK)
+                    .position(SeriesLabelPosition::UpperRight)
+                    .draw()
+                    .map_err(|e| err(&e))?;
+            }
         }};
     }
     if fig.log_x && fig.log_y {
@@ -168,4 +214,39 @@ pub fn plot(path: &Path, fig: &Figure, series: &[Series]) -> anyhow::Result<()> 
     }
     root.present().map_err(|e| err(&e))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Width and height of a PNG from its IHDR chunk.
+    fn png_size(path: &Path) -> (u32, u32) {
+        let b = std::fs::read(path).unwrap();
+        let be = |o: usize| u32::from_be_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]]);
+        (be(16), be(20))
+    }
+
+    #[test]
+    fn many_series_put_the_legend_beside_the_plot() {
+        let dir = tempfile::tempdir().unwrap();
+        let fig = Figure {
+            title: "legend",
+            x_label: "wall time [s]",
+            y_label: "error",
+            log_x: true,
+            log_y: true,
+        };
+        let series = |n: usize| -> Vec<Series> {
+            (0..n)
+                .map(|i| Series::points(format!("variant {i} (cuda)"), vec![(0.1 + i as f64, 0.5)]))
+                .collect()
+        };
+        let few = dir.path().join("few.png");
+        plot(&few, &fig, &series(LEGEND_INSIDE_MAX)).unwrap();
+        assert_eq!(png_size(&few), (900, 600));
+        let many = dir.path().join("many.png");
+        plot(&many, &fig, &series(LEGEND_INSIDE_MAX + 12)).unwrap();
+        assert_eq!(png_size(&many), (900 + LEGEND_WIDTH, 600));
+    }
 }
