@@ -286,7 +286,13 @@ pub fn run(options: &Options) -> anyhow::Result<Vec<Point>> {
     Ok(all)
 }
 
-/// The points as CSV (error empty for a failed run).
+/// A CSV text field, quoted (RFC 4180: a quote inside is doubled), since variant names and
+/// resolutions hold commas ("delta-SPH 0.1, Fourtakas", "Re 100, D / dx = 5").
+fn quoted(field: &str) -> String {
+    format!("\"{}\"", field.replace('"', "\"\""))
+}
+
+/// The points as CSV (error empty for a failed run; text fields quoted).
 pub fn to_csv(points: &[Point]) -> String {
     let mut s = String::from(
         "case,variant,resolution,backend,device,particles,wall_seconds,error,pareto,failure\n",
@@ -294,17 +300,17 @@ pub fn to_csv(points: &[Point]) -> String {
     for p in points {
         let _ = writeln!(
             s,
-            "{},{},{},{},\"{}\",{},{:.3},{},{},\"{}\"",
-            p.case,
-            p.variant,
-            p.resolution,
-            p.backend,
-            p.device,
+            "{},{},{},{},{},{},{:.3},{},{},{}",
+            quoted(&p.case),
+            quoted(&p.variant),
+            quoted(&p.resolution),
+            quoted(&p.backend),
+            quoted(&p.device),
             p.particles,
             p.wall_seconds,
             p.error.map(|e| format!("{e:.5}")).unwrap_or_default(),
             p.pareto,
-            p.failure.clone().unwrap_or_default().replace('"', "'")
+            quoted(p.failure.as_deref().unwrap_or_default())
         );
     }
     s
@@ -344,4 +350,52 @@ fn draw(options: &Options, case: &str, points: &[Point]) -> anyhow::Result<()> {
         },
         &series,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The fields of one CSV line (RFC 4180 quoting).
+    fn fields(line: &str) -> Vec<String> {
+        let (mut out, mut cur, mut quoted, mut chars) =
+            (Vec::new(), String::new(), false, line.chars().peekable());
+        while let Some(c) = chars.next() {
+            match (c, quoted) {
+                ('"', true) if chars.peek() == Some(&'"') => {
+                    cur.push('"');
+                    chars.next();
+                }
+                ('"', _) => quoted = !quoted,
+                (',', false) => out.push(std::mem::take(&mut cur)),
+                _ => cur.push(c),
+            }
+        }
+        out.push(cur);
+        out
+    }
+
+    #[test]
+    fn csv_rows_keep_their_columns_where_names_hold_commas() {
+        let p = Point {
+            case: "cylinder".into(),
+            variant: "delta-SPH 0.1, Fourtakas".into(),
+            resolution: "Re 100, D / dx = 5".into(),
+            backend: "cuda".into(),
+            device: "NVIDIA H100 80GB HBM3".into(),
+            particles: 6004,
+            wall_seconds: 3.5,
+            error: None,
+            failure: Some("fluid.density_diffusion: set \"continuity\"".into()),
+            pareto: false,
+        };
+        let csv = to_csv(&[p]);
+        let mut lines = csv.lines();
+        let header = fields(lines.next().unwrap());
+        let row = fields(lines.next().unwrap());
+        assert_eq!(row.len(), header.len(), "{row:?}");
+        assert_eq!(row[1], "delta-SPH 0.1, Fourtakas");
+        assert_eq!(row[2], "Re 100, D / dx = 5");
+        assert_eq!(row[9], "fluid.density_diffusion: set \"continuity\"");
+    }
 }
