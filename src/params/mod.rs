@@ -35,7 +35,13 @@ pub fn lean_scheme(p: &SphParams) -> bool {
 /// `density_gradient` and the CUDA pass `sph_grad_rho` run, and the CUDA buffer is held, only
 /// where this holds.
 pub fn needs_density_gradient(p: &SphParams) -> bool {
-    p.solid_delta_sph > 0.0 || (p.delta_sph > 0.0 && p.delta_form == MF_DIFFUSION_ANTUONO as i32)
+    p.solid_delta_sph > 0.0 || fluid_density_gradient(p)
+}
+
+/// Whether the fluid's particles take renormalised density gradients: its density diffusion
+/// is on and in Antuono et al.'s form (solids take them wherever `solid_delta_sph` > 0).
+pub fn fluid_density_gradient(p: &SphParams) -> bool {
+    p.delta_sph > 0.0 && p.delta_form == MF_DIFFUSION_ANTUONO as i32
 }
 
 /// Fill the derived fields (marked "derived" in the header) from the primary ones.

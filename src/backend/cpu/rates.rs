@@ -13,7 +13,7 @@ use super::grid::Grid;
 use crate::dim::Dim;
 use crate::kernel;
 use crate::params::{
-    needs_density_gradient, SphParams, MF_DIFFUSION_ANTUONO, MF_DIFFUSION_FOURTAKAS,
+    fluid_density_gradient, needs_density_gradient, SphParams, MF_DIFFUSION_FOURTAKAS,
     MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID,
 };
 use crate::state::State;
@@ -68,8 +68,7 @@ fn density_gradient<D: Dim>(p: &SphParams, grid: &Grid, s: &State<D>) -> Option<
     if !needs_density_gradient(p) {
         return None;
     }
-    let fluid = p.delta_sph > 0.0 && p.delta_form == MF_DIFFUSION_ANTUONO as i32;
-    let solid = p.solid_delta_sph > 0.0;
+    let (fluid, solid) = (fluid_density_gradient(p), p.solid_delta_sph > 0.0);
     let (pos, rho, mass, kind, group) = (&s.pos, &s.rho, &s.mass, &s.kind, &s.group);
     let g = (0..s.len())
         .into_par_iter()
