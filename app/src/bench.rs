@@ -1,0 +1,347 @@
+//! `meshfree bench`: time the step of dam-break-like blocks (a fluid block in a walled box,
+//! open at the top) in 2D and 3D at several sizes on the chosen backend. Cubic spline,
+//! support 2h, h = 1.3 dx, f32, continuity density, dynamic walls; symplectic Euler or the
+//! paper's forward Euler (`BenchOptions::integrator`; every row names its scheme). Nothing is read back inside the timed
+//! steps; each repeat ends with one read-back of the simulated time (a synchronisation).
+//! Results: `docs/performance.md`.
+
+use std::path::Path;
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use meshfree_core::backend::cpu::{CpuSolver, Grid};
+use meshfree_core::backend::{BackendChoice, BackendError};
+use meshfree_core::dim::{Dim, D2, D3};
+use meshfree_core::params::{
+    self, SphParams, MF_DENSITY_CONTINUITY, MF_INTEGRATOR_EULER, MF_INTEGRATOR_SYMPLECTIC_EULER,
+    MF_KIND_BOUNDARY,
+};
+use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::scene::format::IntegratorChoice;
+use meshfree_core::solver::{Setup, Solver};
+use meshfree_core::state::State;
+
+/// What to run.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct BenchOptions {
+    pub backend: BackendChoice,
+    /// 2 and/or 3.
+    pub dims: Vec<u32>,
+    /// Target fluid particle counts.
+    pub sizes: Vec<usize>,
+    /// Timed steps per repeat.
+    pub steps: usize,
+    /// Untimed steps first.
+    pub warmup: usize,
+    /// Repeats; the median is reported.
+    pub repeats: usize,
+    /// Count neighbours (a CPU pass over a read-back; slow for many millions).
+    pub count_neighbours: bool,
+    /// The time integrator of every run (default symplectic Euler).
+    #[serde(default)]
+    pub integrator: IntegratorChoice,
+}
+
+impl Default for BenchOptions {
+    fn default() -> Self {
+        BenchOptions {
+            backend: BackendChoice::Auto,
+            dims: vec![2, 3],
+            sizes: vec![3_000, 30_000, 300_000, 4_000_000],
+            steps: 50,
+            warmup: 10,
+            repeats: 3,
+            count_neighbours: true,
+            integrator: IntegratorChoice::SymplecticEuler,
+        }
+    }
+}
+
+/// One measured configuration.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct BenchRow {
+    pub backend: String,
+    pub device: String,
+    pub dim: u32,
+    /// All particles (fluid + wall).
+    pub particles: usize,
+    pub fluid: usize,
+    pub steps: usize,
+    /// Median over repeats.
+    pub ms_per_step: f64,
+    /// particles x steps / s, all particles counted.
+    pub particle_steps_per_s: f64,
+    /// Mean neighbours (within the support, self excluded) per fluid particle; 0 if not counted.
+    pub neighbours: f64,
+    /// Device bytes per particle (all arrays / all particles); 0 on the CPU.
+    pub bytes_per_particle: f64,
+    /// Device bytes per fluid particle.
+    pub bytes_per_fluid_particle: f64,
+    /// The scheme: "symplectic-euler" or "euler".
+    #[serde(default)]
+    pub integrator: String,
+    /// "continuity" or "summation".
+    #[serde(default)]
+    pub density: String,
+}
+
+/// The name of the integrator in `p` (the scene files' spelling).
+fn integrator_name(p: &SphParams) -> &'static str {
+    if p.integrator as u32 == MF_INTEGRATOR_EULER {
+        "euler"
+    } else {
+        "symplectic-euler"
+    }
+}
+
+/// The dam-break-like block: about `n_fluid` fluid particles, a 2:1 (height:width) column
+/// in the left half of a walled box (3 wall layers, open top).
+pub fn dam_break(dim: u32, n_fluid: usize) -> Setup {
+    let d3 = dim == 3;
+    let nx = if d3 {
+        ((n_fluid as f64 / 2.0).cbrt().round() as i32).max(2)
+    } else {
+        ((n_fluid as f64 / 2.0).sqrt().round() as i32).max(2)
+    };
+    let (ny, nz) = (2 * nx, if d3 { nx } else { 1 });
+    let dx = 1.0 / nx as f32;
+    let (bx, by) = (2 * nx, ny + 4);
+    let l = 3;
+    let g = 9.81f32;
+    let height = ny as f32 * dx;
+    let mut p = SphParams {
+        dim: dim as i32,
+        periodic: [0, 0, 0],
+        domain_min: [
+            -(l as f32) * dx,
+            -(l as f32) * dx,
+            if d3 { -(l as f32) * dx } else { 0.0 },
+        ],
+        domain_max: [
+            (bx + l) as f32 * dx,
+            by as f32 * dx,
+            if d3 { (nz + l) as f32 * dx } else { 0.0 },
+        ],
+        kernel: 0,
+        dx,
+        h: 1.3 * dx,
+        density_mode: MF_DENSITY_CONTINUITY as i32,
+        rho0: 1000.0,
+        c0: 10.0 * (2.0 * g * height).sqrt(),
+        tait_gamma: 7.0,
+        alpha: 0.02,
+        beta: 0.0,
+        xsph_eps: 0.5,
+        solid_rho0: 1000.0,
+        lj_c0: 5.0 * g * height / dx, // Monaghan's D = 5 g H, per unit r0 (an acceleration)
+        lj_r0: dx,
+        lj_p1: 12,
+        lj_p2: 6,
+        wall_pressure: 1,
+        gravity: [0.0, -g, 0.0],
+        integrator: MF_INTEGRATOR_SYMPLECTIC_EULER as i32,
+        courant: 0.2,
+        ..Default::default()
+    };
+    params::derive(&mut p);
+    let mass = p.rho0 * dx.powi(dim as i32);
+    let mut out = Vec::with_capacity((nx * ny * nz) as usize * 6 / 5);
+    let (z0, z1) = if d3 { (-l, nz + l) } else { (0, 1) };
+    for k in z0..z1 {
+        for j in -l..by {
+            for i in -l..bx + l {
+                let wall = j < 0 || i < 0 || i >= bx || (d3 && (k < 0 || k >= nz));
+                let fluid = !wall && i < nx && j < ny;
+                if !wall && !fluid {
+                    continue;
+                }
+                let z = if d3 { (k as f32 + 0.5) * dx } else { 0.0 };
+                let y = (j as f32 + 0.5) * dx;
+                // The column starts hydrostatic, eq. (9): p = rho0 g (H - y).
+                let pressure = if fluid {
+                    p.rho0 * g * (height - y)
+                } else {
+                    0.0
+                };
+                let density = p.rho0 * (1.0 + pressure / p.tait_b).powf(1.0 / p.tait_gamma);
+                out.push(Particle {
+                    id: out.len() as u32,
+                    kind: if wall { Kind::Boundary } else { Kind::Fluid },
+                    group: if wall { 0 } else { 1 },
+                    position: [(i as f32 + 0.5) * dx, y, z],
+                    density,
+                    pressure,
+                    mass,
+                    ..Default::default()
+                });
+            }
+        }
+    }
+    Setup {
+        params: p,
+        particles: out,
+        wall_surface: Vec::new(),
+    }
+}
+
+/// Mean number of neighbours (self excluded) per non-boundary particle.
+pub fn mean_neighbours<D: Dim>(p: &SphParams, particles: &[Particle]) -> f64 {
+    use rayon::prelude::*;
+    let mut s = State::<D>::from_particles(particles, false, false);
+    let mut grid = Grid::default();
+    grid.build(p, &mut s);
+    let (sum, cnt) = (0..s.len())
+        .into_par_iter()
+        .filter(|&i| s.kind[i] as u32 != MF_KIND_BOUNDARY)
+        .map(|i| {
+            let mut k = 0u64;
+            grid.for_each_neighbor::<D>(p, &s.pos, s.pos[i], |j, _, _| k += (j != i) as u64);
+            (k, 1u64)
+        })
+        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+    sum as f64 / cnt.max(1) as f64
+}
+
+/// (solver, device bytes) on `choice`.
+fn make<D: Dim>(
+    choice: BackendChoice,
+    setup: Setup,
+) -> Result<(Box<dyn Solver>, usize), BackendError> {
+    #[cfg(feature = "cuda")]
+    if choice != BackendChoice::Cpu {
+        match meshfree_core::backend::cuda::CudaSolver::<D>::new(setup.clone()) {
+            Ok(s) => {
+                let b = s.device_bytes();
+                return Ok((Box::new(s), b));
+            }
+            Err(e) if choice == BackendChoice::Cuda => return Err(e),
+            Err(_) => {}
+        }
+    }
+    #[cfg(not(feature = "cuda"))]
+    if choice == BackendChoice::Cuda {
+        return Err(BackendError::CudaUnavailable(
+            "this build has the `cuda` feature off".into(),
+        ));
+    }
+    Ok((Box::new(CpuSolver::<D>::new(setup)), 0))
+}
+
+fn run_one<D: Dim>(o: &BenchOptions, dim: u32, n: usize) -> Result<BenchRow, BackendError> {
+    let mut setup = dam_break(dim, n);
+    setup.params.integrator = match o.integrator {
+        IntegratorChoice::SymplecticEuler => MF_INTEGRATOR_SYMPLECTIC_EULER,
+        IntegratorChoice::Euler => MF_INTEGRATOR_EULER,
+    } as i32;
+    let p = setup.params;
+    let total = setup.particles.len();
+    let fluid = setup
+        .particles
+        .iter()
+        .filter(|q| q.kind == Kind::Fluid)
+        .count();
+    let (mut s, bytes) = make::<D>(o.backend, setup)?;
+    s.advance(o.warmup as u64);
+    s.time();
+    let mut ms = Vec::new();
+    for _ in 0..o.repeats.max(1) {
+        let t0 = Instant::now();
+        s.advance(o.steps as u64);
+        s.time(); // one read-back: waits for the queued steps
+        ms.push(t0.elapsed().as_secs_f64() * 1e3 / o.steps.max(1) as f64);
+    }
+    ms.sort_by(|a, b| a.total_cmp(b));
+    let med = ms[ms.len() / 2];
+    let neighbours = if o.count_neighbours {
+        mean_neighbours::<D>(&p, &s.particles())
+    } else {
+        0.0
+    };
+    if let Err(f) = s.check() {
+        eprintln!("bench {dim}D {total}: {f}");
+    }
+    let info = s.info();
+    Ok(BenchRow {
+        backend: info.backend,
+        device: info.device,
+        dim,
+        particles: total,
+        fluid,
+        steps: o.steps,
+        ms_per_step: med,
+        particle_steps_per_s: total as f64 / (med * 1e-3),
+        neighbours,
+        bytes_per_particle: bytes as f64 / total as f64,
+        bytes_per_fluid_particle: bytes as f64 / fluid.max(1) as f64,
+        integrator: integrator_name(&p).into(),
+        density: if p.density_mode as u32 == MF_DENSITY_CONTINUITY {
+            "continuity"
+        } else {
+            "summation"
+        }
+        .into(),
+    })
+}
+
+/// Run every (dim, size) of `o`; print one line per row; write `bench.csv` and
+/// `bench.json` into `out_dir` when given.
+pub fn bench(o: &BenchOptions, out_dir: Option<&Path>) -> Result<Vec<BenchRow>, BackendError> {
+    let mut rows = Vec::new();
+    for &dim in &o.dims {
+        for &n in &o.sizes {
+            let r = if dim == 2 {
+                run_one::<D2>(o, dim, n)?
+            } else {
+                run_one::<D3>(o, dim, n)?
+            };
+            println!(
+                "{}D {:>9} particles ({:>9} fluid): {:>9.4} ms/step, {:.3e} particle-steps/s, {:.1} neighbours, \
+                 {:.0} B/particle ({:.0} B/fluid particle) [{} {}; {}, {} density]",
+                r.dim,
+                r.particles,
+                r.fluid,
+                r.ms_per_step,
+                r.particle_steps_per_s,
+                r.neighbours,
+                r.bytes_per_particle,
+                r.bytes_per_fluid_particle,
+                r.backend,
+                r.device,
+                r.integrator,
+                r.density
+            );
+            rows.push(r);
+        }
+    }
+    if let Some(dir) = out_dir {
+        let _ = std::fs::create_dir_all(dir);
+        let mut csv = String::from(
+            "backend,device,dim,particles,fluid,steps,ms_per_step,particle_steps_per_s,neighbours,bytes_per_particle,bytes_per_fluid_particle,integrator,density\n",
+        );
+        for r in &rows {
+            csv += &format!(
+                "{},{},{},{},{},{},{:.6},{:.6e},{:.2},{:.1},{:.1},{},{}\n",
+                r.backend,
+                r.device.replace(',', " "),
+                r.dim,
+                r.particles,
+                r.fluid,
+                r.steps,
+                r.ms_per_step,
+                r.particle_steps_per_s,
+                r.neighbours,
+                r.bytes_per_particle,
+                r.bytes_per_fluid_particle,
+                r.integrator,
+                r.density
+            );
+        }
+        let _ = std::fs::write(dir.join("bench.csv"), csv);
+        let _ = std::fs::write(
+            dir.join("bench.json"),
+            serde_json::to_string_pretty(&rows).unwrap_or_default(),
+        );
+    }
+    Ok(rows)
+}

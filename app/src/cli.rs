@@ -1,0 +1,663 @@
+//! The command line (clap derive). `main.rs` parses `Cli` and calls `cli::main`.
+
+use std::path::PathBuf;
+
+use anyhow::Context;
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+use clap::{Parser, Subcommand};
+use serde::Serialize;
+
+use crate::run::{self, Progress, RunOptions};
+use meshfree_core::backend::BackendChoice;
+use meshfree_core::named::Named;
+use meshfree_core::scene::format::IntegratorChoice;
+use meshfree_core::scene::{self, Counts, Scene};
+
+/// The parser of a `Named` option: its values with their help in `--help`.
+fn named<T: Named>() -> impl TypedValueParser<Value = T> {
+    PossibleValuesParser::new(
+        T::ALL
+            .iter()
+            .map(|(_, n, h)| PossibleValue::new(*n).help(*h)),
+    )
+    .map(|s| T::from_name(&s).expect("clap accepted a possible value"))
+}
+
+const AFTER_HELP: &str = "\
+Examples:
+  meshfree scenes                          list the built-in scenes
+  meshfree run dam-break-2d                run a built-in scene into out/dam-break-2d
+  meshfree run my.toml --out runs/a        run a scene file
+  meshfree run tank-2d --backend cpu --steps 100 --quiet
+  meshfree check my.toml                   validate a scene and count its particles
+
+Scene files: copy one of scenes/*.toml and edit it; every key is commented there.
+Output: particles.pvd (open it in ParaView), particles_NNNNN.vtu, diagnostics.csv,
+summary.json and a copy of the scene, in the output directory.";
+
+/// meshfree: weakly compressible SPH with elastic solids on the CPU or an NVIDIA GPU
+/// (Liu, Wang, Ma & Zhang).
+#[derive(Debug, Parser)]
+#[command(name = "meshfree", version, about, long_about = None, after_help = AFTER_HELP)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run a scene and write VTK files, a diagnostics CSV and a JSON summary.
+    #[command(after_help = AFTER_HELP)]
+    Run(RunArgs),
+    /// List the built-in scenes with their particle counts by kind.
+    Scenes {
+        /// Print JSON (an array of objects) instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Validate a scene (file or built-in name) and print its particle counts; writes nothing.
+    Check {
+        /// A scene file path or a built-in scene name.
+        scene: String,
+    },
+    /// Measure speed: 2D and 3D dam-break blocks at several sizes; prints a table and writes
+    /// bench.csv and bench.json.
+    Bench(BenchArgs),
+    /// Watch a scene live in an OpenGL window (needs the `viewer` feature and a display).
+    View(ViewArgs),
+    /// Render a scene to PNG without a display (EGL), at a time or as a sequence of frames.
+    Render(RenderArgs),
+    /// Compare two particle CSV files (`run --csv`, or another code's export in the same
+    /// columns): per-field error norms and the worst particles.
+    Compare(CompareArgs),
+    /// Accuracy cases against published references (hydrostatic tank, dam break, Poiseuille,
+    /// Taylor-Green, cylinder, onset of shedding, oscillating plate, elastic gate): plots,
+    /// report.md and report.json; exits non-zero when a check fails.
+    Validate(ValidateArgs),
+    /// Stability maps: sweep the Courant number, alpha, density form, integrator,
+    /// Lennard-Jones strength, density diffusion and artificial stress; each run stable,
+    /// inaccurate or failed (with its blow-up time); heat-map PNGs, report.md, report.json,
+    /// cells.csv.
+    Stability(StabilityArgs),
+    /// Speed against accuracy: error vs wall time over resolutions, kernels, density forms,
+    /// viscosity, integrators and backends, log-log with the Pareto front; one PNG per case,
+    /// chart.csv and chart.json.
+    Chart(ChartArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct CompareArgs {
+    /// The particle CSV to check (e.g. the GPU run's).
+    pub a: PathBuf,
+    /// The reference particle CSV (e.g. the CPU run's).
+    pub b: PathBuf,
+    /// Pair particles by id (same scene) or by nearest position (different codes).
+    #[arg(long = "match", value_enum, default_value_t = crate::compare::MatchBy::Id)]
+    pub match_by: crate::compare::MatchBy,
+    /// How many of the farthest-apart pairs to list.
+    #[arg(long, default_value_t = 5)]
+    pub worst: usize,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, clap::Args)]
+#[command(args_conflicts_with_subcommands = true)]
+pub struct BenchArgs {
+    #[command(subcommand)]
+    pub mode: Option<BenchMode>,
+    /// Where to run.
+    #[arg(long, value_parser = named::<BackendChoice>(), default_value = "auto")]
+    pub backend: BackendChoice,
+    /// Dimensions to run, e.g. `2,3`.
+    #[arg(long, value_delimiter = ',', default_values_t = [2u32, 3])]
+    pub dims: Vec<u32>,
+    /// Fluid particle counts, e.g. `3000,30000,300000,4000000` [default: up to 4e6 on a GPU,
+    /// up to 3e5 on the CPU].
+    #[arg(long, value_delimiter = ',')]
+    pub sizes: Vec<f64>,
+    /// Timed steps per repeat.
+    #[arg(long, default_value_t = 50)]
+    pub steps: usize,
+    /// Repeats; the median is reported.
+    #[arg(long, default_value_t = 3)]
+    pub repeats: usize,
+    /// Skip counting neighbours (a CPU pass over a read-back, slow at many millions).
+    #[arg(long)]
+    pub no_neighbours: bool,
+    /// Time integrator: `symplectic-euler` (the scenes' default) or `euler`, the paper's
+    /// forward Euler (forces and rates from one state: one neighbour pass on the GPU).
+    /// Every result line names the scheme it ran.
+    #[arg(long, value_parser = named::<IntegratorChoice>(), default_value = "symplectic-euler")]
+    pub integrator: IntegratorChoice,
+    /// Output directory for bench.csv and bench.json.
+    #[arg(long, value_name = "DIR", default_value = "out/bench")]
+    pub out: PathBuf,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum BenchMode {
+    /// The paper's Table 1 beside ours: run the paper's five scenes on one backend and write
+    /// DIR/paper-bench.json, or (with --table) merge a CPU and a GPU result into the table.
+    Paper(PaperBenchArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct PaperBenchArgs {
+    /// Where to run.
+    #[arg(long, value_parser = named::<BackendChoice>(), default_value = "auto")]
+    pub backend: BackendChoice,
+    /// Run each scene to this fraction of its end time (the whole run is then estimated
+    /// per step, and the table says so).
+    #[arg(long, value_name = "F", conflicts_with = "t_end")]
+    pub t_end_fraction: Option<f64>,
+    /// Run every scene to this end time instead of its own.
+    #[arg(long, value_name = "T")]
+    pub t_end: Option<f64>,
+    /// Only these built-in scenes, e.g. `impinging-2d,impinging-3d` [default: all five].
+    #[arg(long, value_delimiter = ',', value_name = "A,B")]
+    pub scenes: Vec<String>,
+    /// Run the scenes in the paper's own scheme (see `meshfree run --help`).
+    #[arg(long)]
+    pub paper_exact: bool,
+    /// Output directory: paper-bench.json and each scene's run.
+    #[arg(long, value_name = "DIR", default_value = "out/paper-bench")]
+    pub out: PathBuf,
+    /// Instead of running: merge paper-bench.json files (a CPU and a CUDA run, in either
+    /// order; one alone leaves the other's columns empty) into the full table.
+    #[arg(long, num_args = 1..=2, value_names = ["A.json", "B.json"],
+          conflicts_with_all = ["t_end_fraction", "t_end", "scenes", "paper_exact"])]
+    pub table: Vec<PathBuf>,
+    /// With --table: also write the table as Markdown here (e.g. docs/paper-table1.md).
+    #[arg(long, value_name = "MD", requires = "table")]
+    pub markdown: Option<PathBuf>,
+    /// No progress output.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// What the window or the renderer shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum ShownField {
+    #[default]
+    Speed,
+    Pressure,
+    Density,
+    Kind,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct ViewArgs {
+    /// A scene file path or a built-in scene name.
+    pub scene: String,
+    /// Where to run the solver.
+    #[arg(long, value_parser = named::<BackendChoice>(), default_value = "auto")]
+    pub backend: BackendChoice,
+    /// The field that colours the particles (press `f` in the window to change it).
+    #[arg(long, value_enum, default_value_t = ShownField::Speed)]
+    pub field: ShownField,
+    /// Solver steps per drawn frame (`+`/`-` in the window).
+    #[arg(long, default_value_t = 10)]
+    pub steps_per_frame: u32,
+    /// Where the final particles and summary.json go when the window closes
+    /// [default: out/<scene name>].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Use only the paper's own equations: summation density, forward Euler at a fixed
+    /// step, artificial viscosity only, Lennard-Jones walls (docs/paper-scenes.md).
+    #[arg(long)]
+    pub paper_exact: bool,
+    /// Replace the scene's particle spacing (more or fewer particles; the wall strength
+    /// follows).
+    #[arg(long, value_name = "DX")]
+    pub spacing: Option<f64>,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct RenderArgs {
+    /// A scene file path or a built-in scene name.
+    pub scene: String,
+    /// Where to run the solver.
+    #[arg(long, value_parser = named::<BackendChoice>(), default_value = "auto")]
+    pub backend: BackendChoice,
+    /// Render at this simulated time [default: the start].
+    #[arg(long, value_name = "T", conflicts_with = "frames")]
+    pub at: Option<f64>,
+    /// Render N frames evenly spaced up to the scene's end time (or --t-end), as
+    /// OUT_0000.png, OUT_0001.png, ...
+    #[arg(long, value_name = "N")]
+    pub frames: Option<u32>,
+    /// Render at each of the scene's figure moments (`time.figures`: the moments of the
+    /// paper's figures) into the directory --out, as SCENE_tT.png.
+    #[arg(long, conflicts_with_all = ["at", "frames"])]
+    pub figures: bool,
+    /// End time for --frames (and --figures: later moments are skipped), replacing the
+    /// scene's.
+    #[arg(long, value_name = "T")]
+    pub t_end: Option<f64>,
+    /// The PNG to write (with --frames, the stem of the sequence; with --figures, a
+    /// directory).
+    #[arg(long, value_name = "PNG")]
+    pub out: PathBuf,
+    /// Image size as WIDTHxHEIGHT.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// The field that colours the particles.
+    #[arg(long, value_enum, default_value_t = ShownField::Speed)]
+    pub field: ShownField,
+    /// Draw boundary (wall) particles too (hidden by default in 3D, as in the paper).
+    #[arg(long)]
+    pub show_boundary: bool,
+    /// Replace the scene's particle spacing (more or fewer particles; the wall strength
+    /// follows).
+    #[arg(long, value_name = "DX")]
+    pub spacing: Option<f64>,
+    /// Use only the paper's own equations: summation density, forward Euler at a fixed
+    /// step, artificial viscosity only, Lennard-Jones walls (docs/paper-scenes.md).
+    #[arg(long)]
+    pub paper_exact: bool,
+    /// With --frames: solver steps between frames instead of even times, and a timing line
+    /// (frames per second, solver slow-down from drawing).
+    #[arg(long, value_name = "K", requires = "frames")]
+    pub steps_per_frame: Option<u32>,
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once('x')
+        .ok_or_else(|| format!("`{s}`: expected WIDTHxHEIGHT, e.g. 1280x720"))?;
+    let parse = |v: &str| v.parse::<u32>().ok().filter(|&n| (16..=16384).contains(&n));
+    match (parse(w), parse(h)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => Err(format!(
+            "`{s}`: width and height must be integers from 16 to 16384"
+        )),
+    }
+}
+
+#[derive(Debug, clap::Args)]
+pub struct RunArgs {
+    /// A scene file path (e.g. scenes/tank-2d.toml) or a built-in scene name (see `meshfree scenes`).
+    pub scene: String,
+    /// Where to run: `auto` takes CUDA where a driver and a device answer, else the CPU.
+    #[arg(long, value_parser = named::<BackendChoice>(), default_value = "auto")]
+    pub backend: BackendChoice,
+    /// Output directory [default: out/<scene name>].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// End time, replacing the scene's `time.end`.
+    #[arg(long, value_name = "T")]
+    pub t_end: Option<f64>,
+    /// Also write every output as a plain particle CSV (id, kind, position, velocity,
+    /// density, pressure), for `meshfree compare` and other codes.
+    #[arg(long)]
+    pub csv: bool,
+    /// Stop after N time steps (even before the end time).
+    #[arg(long, value_name = "N")]
+    pub steps: Option<u64>,
+    /// Time between outputs, replacing the scene's `time.output_interval`.
+    #[arg(long, value_name = "T")]
+    pub output_interval: Option<f64>,
+    /// Use only the paper's own equations: summation density, forward Euler at a fixed
+    /// step, artificial viscosity only, Lennard-Jones walls (docs/paper-scenes.md).
+    #[arg(long)]
+    pub paper_exact: bool,
+    /// No progress output; only errors (and the final line on stdout).
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// One row of `meshfree scenes`.
+#[derive(Debug, Serialize)]
+pub struct SceneRow {
+    pub name: String,
+    pub dimension: u32,
+    pub description: String,
+    #[serde(flatten)]
+    pub counts: Counts,
+}
+
+/// Every built-in scene, generated.
+pub fn scene_rows() -> anyhow::Result<Vec<SceneRow>> {
+    scene::builtin_names()
+        .into_iter()
+        .map(|name| {
+            let s = Scene::builtin(name)?;
+            let setup = s.setup()?;
+            Ok(SceneRow {
+                name: name.to_string(),
+                dimension: s.file.dimension,
+                description: s.file.description.clone(),
+                counts: Counts::of(&setup.particles),
+            })
+        })
+        .collect()
+}
+
+/// Carry out a parsed command line. `View` and `Render` are carried out by the binary's
+/// viewer glue (`src/view.rs`), which keeps GL out of this library.
+pub fn main(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Bench(a) => bench(a),
+        Command::Compare(a) => compare(a),
+        Command::Validate(a) => validate(a),
+        Command::Stability(a) => stability(a),
+        Command::Chart(a) => chart(a),
+        Command::View(_) | Command::Render(_) => anyhow::bail!(
+            "this build has no viewer: rebuild with the `viewer` feature (on by default)"
+        ),
+        Command::Scenes { json } => {
+            let rows = scene_rows()?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&rows)?);
+            } else {
+                println!(
+                    "{:<16} {:>3} {:>8} {:>8} {:>9} {:>8}  description",
+                    "name", "dim", "fluid", "solid", "boundary", "total"
+                );
+                for r in rows {
+                    println!(
+                        "{:<16} {:>3} {:>8} {:>8} {:>9} {:>8}  {}",
+                        r.name,
+                        r.dimension,
+                        r.counts.fluid,
+                        r.counts.solid,
+                        r.counts.boundary,
+                        r.counts.total,
+                        r.description
+                    );
+                }
+            }
+            Ok(())
+        }
+        Command::Check { scene } => {
+            let s = Scene::load(&scene)?;
+            let setup = s.setup()?;
+            let c = Counts::of(&setup.particles);
+            println!(
+                "{}: ok: {} ({}D), {} particles: {} fluid, {} solid, {} boundary; h = {}, {} neighbour cells",
+                s.origin(),
+                s.name(),
+                s.file.dimension,
+                c.total,
+                c.fluid,
+                c.solid,
+                c.boundary,
+                setup.params.h,
+                setup.params.n_cells
+            );
+            Ok(())
+        }
+        Command::Run(a) => {
+            let mut s = Scene::load(&a.scene)?;
+            if a.paper_exact {
+                s = s.with_paper_exact()?;
+            }
+            let options = RunOptions {
+                particle_csv: a.csv,
+                backend: a.backend,
+                out_dir: a.out,
+                t_end: a.t_end,
+                max_steps: a.steps,
+                output_interval: a.output_interval,
+                progress: if a.quiet {
+                    Progress::Quiet
+                } else {
+                    Progress::Auto
+                },
+            };
+            let summary = match run::run(&s, &options) {
+                Ok(summary) => summary,
+                // Scene errors already read `<file>: <field>: <reason>`.
+                Err(run::RunError::Scene(e)) => return Err(e.into()),
+                Err(e) => return Err(e).with_context(|| format!("running scene `{}`", s.name())),
+            };
+            println!(
+                "{}: {} steps to t = {:.4} on {} ({}), {:.3e} particle-steps/s; output in {}",
+                summary.scene,
+                summary.steps,
+                summary.simulated_time,
+                summary.backend,
+                summary.device,
+                summary.particle_steps_per_second,
+                summary.output_dir
+            );
+            Ok(())
+        }
+    }
+}
+
+fn bench(a: BenchArgs) -> anyhow::Result<()> {
+    if let Some(BenchMode::Paper(p)) = a.mode {
+        return paper_bench(p);
+    }
+    let mut o = crate::bench::BenchOptions {
+        backend: a.backend,
+        dims: a.dims,
+        steps: a.steps,
+        repeats: a.repeats,
+        count_neighbours: !a.no_neighbours,
+        integrator: a.integrator,
+        ..Default::default()
+    };
+    if !a.sizes.is_empty() {
+        o.sizes = a.sizes.iter().map(|&x| x as usize).collect();
+    } else if a.backend == BackendChoice::Cpu
+        || meshfree_core::backend::cuda_solver_available().is_err()
+    {
+        o.sizes = vec![3_000, 30_000, 300_000];
+    }
+    std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
+    crate::bench::bench(&o, Some(&a.out))?;
+    println!("wrote {}/bench.csv and bench.json", a.out.display());
+    Ok(())
+}
+
+fn paper_bench(a: PaperBenchArgs) -> anyhow::Result<()> {
+    use crate::paper_bench as pb;
+    if !a.table.is_empty() {
+        let (mut cpu, mut gpu) = (None, None);
+        for path in &a.table {
+            let b = pb::read(path)?;
+            let slot = if b.backend == "cuda" {
+                &mut gpu
+            } else {
+                &mut cpu
+            };
+            anyhow::ensure!(
+                slot.is_none(),
+                "--table wants one CPU and one CUDA paper-bench.json; {} is a second `{}` run",
+                path.display(),
+                b.backend
+            );
+            *slot = Some(b);
+        }
+        let rows = pb::merge(cpu.as_ref(), gpu.as_ref());
+        print!("{}", pb::text_table(&rows));
+        if let Some(md) = &a.markdown {
+            std::fs::write(md, pb::markdown(&rows, cpu.as_ref(), gpu.as_ref()))
+                .with_context(|| format!("writing {}", md.display()))?;
+            println!("wrote {}", md.display());
+        }
+        return Ok(());
+    }
+    let o = pb::PaperBenchOptions {
+        backend: a.backend,
+        span: match (a.t_end_fraction, a.t_end) {
+            (Some(f), _) => pb::Span::Fraction(f),
+            (None, Some(t)) => pb::Span::Time(t),
+            (None, None) => pb::Span::Full,
+        },
+        scenes: a.scenes,
+        paper_exact: a.paper_exact,
+        progress: if a.quiet {
+            Progress::Quiet
+        } else {
+            Progress::Auto
+        },
+    };
+    let b = pb::run_scenes(&o, &a.out)?;
+    let rows = if b.backend == "cuda" {
+        pb::merge(None, Some(&b))
+    } else {
+        pb::merge(Some(&b), None)
+    };
+    print!("{}", pb::text_table(&rows));
+    println!("wrote {}", a.out.join("paper-bench.json").display());
+    Ok(())
+}
+
+#[derive(Debug, clap::Args)]
+pub struct ValidateArgs {
+    /// The quick tier: one coarse resolution per case, robust checks (what the tests run).
+    /// Without it: the full tier, three resolutions, literature tolerances, convergence order.
+    #[arg(long)]
+    pub quick: bool,
+    /// Where to run: `auto` takes CUDA where a driver and a device answer, else the CPU.
+    #[arg(long, value_parser = named::<BackendChoice>(), default_value = "auto")]
+    pub backend: BackendChoice,
+    /// Output directory for report.md, report.json and the plots.
+    #[arg(long, value_name = "DIR", default_value = "out/validate")]
+    pub out: PathBuf,
+    /// Run only this case (repeatable): hydrostatic-tank, dam-break, poiseuille, taylor-green,
+    /// cylinder, cylinder-onset (full tier only: the quick tier skips it), plate, gate.
+    #[arg(long, value_name = "NAME")]
+    pub case: Vec<String>,
+}
+
+fn validate(a: ValidateArgs) -> anyhow::Result<()> {
+    let report = meshfree_lab::validate::run(&meshfree_lab::validate::Options {
+        tier: if a.quick {
+            meshfree_lab::validate::Tier::Quick
+        } else {
+            meshfree_lab::validate::Tier::Full
+        },
+        backend: a.backend,
+        out_dir: a.out.clone(),
+        cases: a.case,
+        verbose: true,
+    })?;
+    let failed = report.checks.iter().filter(|c| !c.pass).count();
+    println!(
+        "validate ({:?} tier): {} of {} checks pass in {:.1} s; report in {}",
+        report.tier,
+        report.checks.len() - failed,
+        report.checks.len(),
+        report.wall_seconds,
+        a.out.join("report.md").display()
+    );
+    anyhow::ensure!(failed == 0, "{failed} validation check(s) failed");
+    Ok(())
+}
+
+#[derive(Debug, clap::Args)]
+pub struct StabilityArgs {
+    /// The quick tier: two values per axis on coarse scenes (seconds; what the tests run).
+    /// Without it: five values per axis, dx = 0.04 dam break (tens of minutes on a CPU).
+    #[arg(long)]
+    pub quick: bool,
+    /// Where to run: `auto` takes CUDA where a driver and a device answer, else the CPU.
+    #[arg(long, value_parser = named::<BackendChoice>(), default_value = "auto")]
+    pub backend: BackendChoice,
+    /// Output directory for report.md, report.json, cells.csv and the heat maps.
+    #[arg(long, value_name = "DIR", default_value = "out/stability")]
+    pub out: PathBuf,
+    /// Run only the maps whose name contains this (repeatable), e.g. `elastic-strip`.
+    #[arg(long, value_name = "NAME")]
+    pub map: Vec<String>,
+}
+
+fn stability(a: StabilityArgs) -> anyhow::Result<()> {
+    use meshfree_lab::stability::{self, Class};
+    let report = stability::run(&stability::Options {
+        tier: if a.quick {
+            stability::Tier::Quick
+        } else {
+            stability::Tier::Full
+        },
+        backend: a.backend,
+        out_dir: a.out.clone(),
+        maps: a.map,
+        verbose: true,
+    })?;
+    for m in &report.maps {
+        let n = |k: Class| m.cells.iter().filter(|c| c.class == k).count();
+        println!(
+            "{}: {} stable, {} inaccurate, {} failed",
+            m.def.name,
+            n(Class::Stable),
+            n(Class::Inaccurate),
+            n(Class::Failed)
+        );
+    }
+    println!(
+        "stability ({:?} tier) in {:.1} s; report in {}",
+        report.tier,
+        report.wall_seconds,
+        a.out.join("report.md").display()
+    );
+    Ok(())
+}
+
+#[derive(Debug, clap::Args)]
+pub struct ChartArgs {
+    /// The quick tier: two coarse resolutions and one variant per case (seconds).
+    /// Without it: four resolutions and nine variants per case (minutes in a release build),
+    /// and the cylinder at Re 100 (three resolutions, nine variants: for the GPU).
+    #[arg(long)]
+    pub quick: bool,
+    /// Where to run (repeatable: `--backend cpu --backend cuda` puts both on the charts).
+    #[arg(long, value_parser = named::<BackendChoice>(), default_values = ["auto"])]
+    pub backend: Vec<BackendChoice>,
+    /// Output directory for chart-<case>.png, chart.csv and chart.json.
+    #[arg(long, value_name = "DIR", default_value = "out/chart")]
+    pub out: PathBuf,
+}
+
+fn chart(a: ChartArgs) -> anyhow::Result<()> {
+    use meshfree_lab::chart;
+    use meshfree_lab::validate::Tier;
+    let points = chart::run(&chart::Options {
+        tier: if a.quick { Tier::Quick } else { Tier::Full },
+        backends: a.backend,
+        out_dir: a.out.clone(),
+        verbose: true,
+    })?;
+    let failed = points.iter().filter(|p| p.error.is_none()).count();
+    println!(
+        "chart: {} runs ({failed} failed, {} on the Pareto front); charts in {}",
+        points.len(),
+        points.iter().filter(|p| p.pareto).count(),
+        a.out.display()
+    );
+    Ok(())
+}
+
+fn compare(a: CompareArgs) -> anyhow::Result<()> {
+    let c = crate::compare::compare_files(&a.a, &a.b, a.match_by, a.worst)
+        .map_err(anyhow::Error::msg)?;
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&c)?);
+        return Ok(());
+    }
+    println!(
+        "{} pairs matched by {:?}; {} particles only in A, {} only in B",
+        c.matched, a.match_by, c.only_in_a, c.only_in_b
+    );
+    println!(
+        "{:<9} {:>12} {:>12} {:>12} {:>9}",
+        "field", "max |A-B|", "rms", "rel. L2", "worst id"
+    );
+    for f in &c.fields {
+        println!(
+            "{:<9} {:>12.4e} {:>12.4e} {:>12.4e} {:>9}",
+            f.field, f.max_abs, f.rms, f.rel_l2, f.worst_id
+        );
+    }
+    println!("farthest pairs (id in A, id in B, distance):");
+    for (ia, ib, d) in &c.worst_positions {
+        println!("  {ia:>8} {ib:>8} {d:.4e}");
+    }
+    Ok(())
+}

@@ -1,0 +1,11 @@
+//! The `meshfree` binary's library: the command line, the run driver and its output,
+//! monitors' files, analyses of particle sets, benchmarks and comparisons. The solver is
+//! `meshfree_core`; validation, stability maps and charts are `meshfree_lab`.
+pub mod analysis;
+pub mod bench;
+pub mod cli;
+pub mod compare;
+pub mod monitors;
+pub mod output;
+pub mod paper_bench;
+pub mod run;

@@ -1,0 +1,105 @@
+//! The scene's force monitors during a run (`[[monitors]]`): when each samples next, its
+//! samples and its `<name>.csv`. The force itself is `meshfree_core::monitor::wall_force`.
+
+use std::path::{Path, PathBuf};
+
+use meshfree_core::monitor::{wall_force, ForceSample, MonitorSummary};
+use meshfree_core::scene::{format, Scene};
+use meshfree_core::solver::Solver;
+use meshfree_core::step::reached;
+
+use crate::output::ForcesCsv;
+
+/// The scene's monitors during a run: when each samples next, its samples and its CSV.
+pub struct Monitors {
+    list: Vec<Active>,
+    /// [M L^-d] rho0 of the coefficients.
+    rho0: f64,
+    dim: i32,
+    /// [L] domain extent along y, for the blockage ratio.
+    height: f64,
+}
+
+struct Active {
+    spec: format::Monitor,
+    group: u32,
+    next: f64,
+    samples: Vec<ForceSample>,
+    csv: ForcesCsv,
+    path: PathBuf,
+}
+
+impl Monitors {
+    /// Open `<name>.csv` in `dir` for each of the scene's monitors.
+    pub fn create(scene: &Scene, dir: &Path) -> Result<Monitors, (PathBuf, std::io::Error)> {
+        let f = &scene.file;
+        let mut list = Vec::new();
+        for m in &f.monitors {
+            let path = dir.join(format!("{}.csv", m.name));
+            let csv = ForcesCsv::create(&path).map_err(|e| (path.clone(), e))?;
+            list.push(Active {
+                spec: m.clone(),
+                group: scene.wall_group(m.wall),
+                next: 0.0,
+                samples: Vec::new(),
+                csv,
+                path,
+            });
+        }
+        Ok(Monitors {
+            list,
+            rho0: f.fluid.density,
+            dim: f.dimension as i32,
+            height: f.domain.max[1] - f.domain.min[1],
+        })
+    }
+
+    /// The time of the next sample, if there is a monitor.
+    pub fn next_time(&self) -> Option<f64> {
+        self.list.iter().map(|m| m.next).min_by(f64::total_cmp)
+    }
+
+    /// Sample every monitor whose time the clock reached (`step::reached`): one particle
+    /// read-back for all of them.
+    pub fn sample_due(&mut self, solver: &mut dyn Solver) -> Result<(), (PathBuf, std::io::Error)> {
+        let t = solver.time();
+        if self.next_time().is_none_or(|n| !reached(t, n)) {
+            return Ok(());
+        }
+        let particles = solver.particles();
+        let p = *solver.params();
+        let surface = solver.wall_surface();
+        for m in self.list.iter_mut().filter(|m| reached(t, m.next)) {
+            let force = wall_force(&p, &particles, surface, m.group);
+            let (u, d) = (m.spec.reference_velocity, m.spec.reference_length);
+            let q = 0.5 * self.rho0 * u * u * d.powi(self.dim - 1);
+            let s = ForceSample {
+                t,
+                force,
+                cd: force[0] / q,
+                cl: force[1] / q,
+            };
+            m.csv.write(&s).map_err(|e| (m.path.clone(), e))?;
+            m.samples.push(s);
+            m.next = ((t / m.spec.interval + 1e-9).floor() + 1.0) * m.spec.interval;
+        }
+        Ok(())
+    }
+
+    /// The statistics of every monitor (`MonitorSummary::of`).
+    pub fn summaries(&self) -> Vec<MonitorSummary> {
+        self.list
+            .iter()
+            .map(|m| {
+                MonitorSummary::of(
+                    &m.spec.name,
+                    m.spec.wall,
+                    &m.samples,
+                    m.spec.reference_velocity,
+                    m.spec.reference_length,
+                    m.spec.reference_length / self.height,
+                )
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,547 @@
+//! Bad scene files: each error names the file, the field and the reason; nothing panics;
+//! no output directory is created.
+
+use std::path::{Path, PathBuf};
+
+use meshfree::run::{self, Progress, RunOptions};
+use meshfree_core::scene::{Scene, SceneError};
+
+const BASE: &str = r#"
+dimension = 2
+name = "tiny"
+gravity = [0.0, -9.81]
+
+[domain]
+min = [-0.2, -0.2]
+max = [1.2, 1.2]
+
+[discretisation]
+spacing = 0.05
+
+[time]
+end = 0.01
+output_interval = 0.005
+
+[fluid]
+density = 1000.0
+sound_speed = 30.0
+alpha = 0.02
+
+[boundary]
+strength = 100.0
+
+[[fluid_blocks]]
+min = [0.0, 0.0]
+max = [0.5, 0.5]
+hydrostatic = true
+
+[[walls]]
+shape = "box-container"
+min = [0.0, 0.0]
+max = [1.0, 1.0]
+"#;
+
+/// Write `text` as a scene file in a fresh directory; return (dir, file).
+fn write(text: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bad scene.toml");
+    std::fs::write(&path, text).unwrap();
+    (dir, path)
+}
+
+/// Load `text` from a file; it must fail with the file's path, `field` and `reason` in the
+/// message. Also runs it through `run::run` and checks that no output directory appears.
+fn expect_error(text: &str, field: &str, reason: &str) -> SceneError {
+    let (dir, path) = write(text);
+    let err = Scene::from_file(&path).expect_err("the scene should be refused");
+    let msg = err.to_string();
+    assert!(
+        msg.starts_with(&path.display().to_string()),
+        "no file in `{msg}`"
+    );
+    assert!(
+        msg.contains(&format!(": {field}: ")),
+        "no field `{field}` in `{msg}`"
+    );
+    assert!(msg.contains(reason), "no reason `{reason}` in `{msg}`");
+    assert_eq!(err.field(), Some(field));
+    // Through the command line: non-zero exit, `error: <file>: <field>: <reason>`, no output.
+    let out = dir.path().join("out");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_meshfree"))
+        .arg("run")
+        .arg(&path)
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.starts_with(&format!("error: {}: {field}: ", path.display())),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    err
+}
+
+fn with(old: &str, new: &str) -> String {
+    assert!(BASE.contains(old), "BASE lacks `{old}`");
+    BASE.replacen(old, new, 1)
+}
+
+#[test]
+fn base_scene_is_valid() {
+    let s = Scene::from_toml(BASE, "base").unwrap();
+    let setup = s.setup().unwrap();
+    assert_eq!(
+        setup
+            .particles
+            .iter()
+            .filter(|p| p.kind == meshfree_core::particle::Kind::Fluid)
+            .count(),
+        100
+    );
+}
+
+#[test]
+fn unknown_key() {
+    let e = expect_error(
+        &with("alpha = 0.02", "alpha = 0.02\nalfa = 0.1"),
+        "fluid.alfa",
+        "unknown field `alfa`, expected one of",
+    );
+    match e {
+        SceneError::Parse { line, column, .. } => assert_eq!((line, column), (21, 1)),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn unknown_key_in_array_of_tables() {
+    expect_error(
+        &with(
+            "hydrostatic = true",
+            "hydrostatic = true\ncolour = \"blue\"",
+        ),
+        "fluid_blocks[0].colour",
+        "unknown field `colour`",
+    );
+}
+
+#[test]
+fn wrong_type() {
+    expect_error(
+        &with("spacing = 0.05", "spacing = \"fine\""),
+        "discretisation.spacing",
+        "invalid type",
+    );
+}
+
+#[test]
+fn wrong_enum_value() {
+    expect_error(
+        &with("spacing = 0.05", "spacing = 0.05\nkernel = \"gaussian\""),
+        "discretisation.kernel",
+        "unknown variant `gaussian`",
+    );
+}
+
+#[test]
+fn wrong_array_length() {
+    expect_error(
+        &with("max = [0.5, 0.5]", "max = [0.5, 0.5, 0.5]"),
+        "fluid_blocks[0].max",
+        "expected 2 numbers",
+    );
+}
+
+#[test]
+fn min_not_below_max() {
+    expect_error(
+        &with("max = [0.5, 0.5]", "max = [0.5, -0.5]"),
+        "fluid_blocks[0].max",
+        "not greater than min[1]",
+    );
+}
+
+#[test]
+fn spacing_not_positive() {
+    expect_error(
+        &with("spacing = 0.05", "spacing = 0.0"),
+        "discretisation.spacing",
+        "must be a positive number",
+    );
+}
+
+#[test]
+fn density_diffusion_out_of_range_or_with_summation() {
+    expect_error(
+        &with("alpha = 0.02", "alpha = 0.02\ndensity_diffusion = 1.5"),
+        "fluid.density_diffusion",
+        "must lie in [0, 1]",
+    );
+    expect_error(
+        &with(
+            "alpha = 0.02",
+            "alpha = 0.02\ndensity_diffusion = 0.1\ndensity_form = \"summation\"",
+        ),
+        "fluid.density_diffusion",
+        "acts on the continuity equation",
+    );
+}
+
+#[test]
+fn shifting_and_background_pressure_out_of_range() {
+    expect_error(
+        &with("alpha = 0.02", "alpha = 0.02\nshifting = 1.5"),
+        "fluid.shifting",
+        "must lie in [0, 1]",
+    );
+    expect_error(
+        &with("alpha = 0.02", "alpha = 0.02\nbackground_pressure = -1.0"),
+        "fluid.background_pressure",
+        "",
+    );
+    expect_error(
+        &with("alpha = 0.02", "alpha = 0.02\nbackground_pressure = 1e12"),
+        "fluid.background_pressure",
+        "must not exceed the Tait stiffness",
+    );
+}
+
+#[test]
+fn object_outside_domain() {
+    expect_error(
+        &with("max = [0.5, 0.5]", "max = [1.5, 0.5]"),
+        "fluid_blocks[0]",
+        "beyond domain.max[0]",
+    );
+}
+
+#[test]
+fn wall_layers_outside_domain() {
+    let t = with("min = [-0.2, -0.2]", "min = [-0.1, -0.1]")
+        .replace("spacing = 0.05", "spacing = 0.05\nh_factor = 1.3");
+    let t = t.replacen("max = [1.0, 1.0]", "max = [1.0, 1.0]\nlayers = 3", 1);
+    expect_error(&t, "walls[0]", "below domain.min[0]");
+}
+
+#[test]
+fn solid_without_material() {
+    let t = format!("{BASE}\n[[solids]]\nshape = \"disc\"\ncenter = [0.7, 0.7]\nradius = 0.1\n");
+    expect_error(&t, "solid", "no [solid] material table");
+}
+
+#[test]
+fn sphere_in_2d() {
+    let t = format!(
+        "{BASE}\n[solid]\ndensity = 600.0\nsound_speed = 30.0\nshear_modulus = 1e4\n\n[[solids]]\nshape = \"sphere\"\ncenter = [0.7, 0.7]\nradius = 0.1\n"
+    );
+    expect_error(&t, "solids[0].shape", "a \"sphere\" is a 3D shape");
+}
+
+#[test]
+fn wall_contact_is_checked() {
+    let solid = "\n[solid]\ndensity = 600.0\nsound_speed = 30.0\nshear_modulus = 1e4\n";
+    let body = "\n[[solids]]\nshape = \"disc\"\ncenter = [0.7, 0.7]\nradius = 0.1\n";
+    let t = format!("{BASE}{solid}wall_contact = \"no\"\n{body}");
+    expect_error(&t, "solid.wall_contact", "invalid type");
+    // Without walls there is nothing to skip.
+    let walls = BASE.find("[[walls]]").unwrap();
+    let t = format!("{}{solid}wall_contact = false\n{body}", &BASE[..walls]);
+    expect_error(&t, "solid.wall_contact", "the scene has no [[walls]]");
+    // With walls it is accepted and reaches the parameters.
+    let t = format!("{BASE}{solid}wall_contact = false\n{body}");
+    assert_eq!(
+        Scene::from_toml(&t, "ok")
+            .unwrap()
+            .params()
+            .solid_skips_walls,
+        1
+    );
+    let t = format!("{BASE}{solid}{body}");
+    assert_eq!(
+        Scene::from_toml(&t, "ok")
+            .unwrap()
+            .params()
+            .solid_skips_walls,
+        0
+    );
+}
+
+#[test]
+fn periodic_axis_too_short() {
+    let t = with(
+        "max = [1.2, 1.2]",
+        "max = [1.2, 1.2]\nperiodic = [false, true]",
+    )
+    .replace("spacing = 0.05", "spacing = 0.2");
+    expect_error(&t, "domain.periodic[1]", "at least 3 neighbour cells");
+}
+
+#[test]
+fn toml_syntax_error() {
+    let e = expect_error(
+        &with("density = 1000.0", "density = = 1000.0"),
+        "(document)",
+        "invalid",
+    );
+    match e {
+        SceneError::Parse { line, column, .. } => {
+            assert_eq!(line, 18);
+            assert!(column > 1);
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn missing_key() {
+    expect_error(&with("end = 0.01\n", ""), "time", "missing field `end`");
+}
+
+#[test]
+fn dimension_out_of_range() {
+    expect_error(
+        &with("dimension = 2", "dimension = 4"),
+        "dimension",
+        "must be 2 or 3",
+    );
+}
+
+#[test]
+fn no_particles() {
+    // A block thinner than the spacing holds no particle.
+    let t = with("max = [0.5, 0.5]", "max = [0.5, 0.01]").replace(
+        "[[walls]]\nshape = \"box-container\"\nmin = [0.0, 0.0]\nmax = [1.0, 1.0]\n",
+        "",
+    );
+    let s = Scene::from_toml(&t, "thin.toml").unwrap();
+    let e = s.setup().unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("thin.toml: fluid_blocks: the scene generates no fluid"),
+        "{e}"
+    );
+}
+
+#[test]
+fn missing_file() {
+    let e = Scene::from_file(Path::new("/nonexistent/scene.toml")).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("/nonexistent/scene.toml: cannot read the file"),
+        "{e}"
+    );
+}
+
+#[test]
+fn unknown_builtin() {
+    let e = Scene::builtin("dam-brake-2d").unwrap_err();
+    assert!(e.to_string().contains("known: dam-break-2d"), "{e}");
+}
+
+#[test]
+fn bad_override_creates_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let s = Scene::from_toml(BASE, "base.toml").unwrap();
+    let options = RunOptions {
+        particle_csv: false,
+        out_dir: Some(out.clone()),
+        t_end: Some(-1.0),
+        progress: Progress::Quiet,
+        ..Default::default()
+    };
+    let e = run::run(&s, &options).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("base.toml: time.end: must be a positive number"),
+        "{e}"
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn two_driven_objects() {
+    let two = format!(
+        "{BASE}\n[[walls]]\nshape = \"box\"\nmin = [0.0, 0.6]\nmax = [0.1, 0.9]\nmotion = [1.0, 0.0]\n\
+         \n[[walls]]\nshape = \"box\"\nmin = [0.8, 0.6]\nmax = [0.9, 0.9]\nmotion = [-1.0, 0.0]\n"
+    );
+    expect_error(&two, "walls[2].motion", "at most one driven object");
+}
+
+#[test]
+fn driven_motion_wrong_length() {
+    let bad = format!(
+        "{BASE}\n[[walls]]\nshape = \"box\"\nmin = [0.0, 0.6]\nmax = [0.1, 0.9]\nmotion = [1.0]\n"
+    );
+    expect_error(&bad, "walls[1].motion", "expected 2 numbers");
+}
+
+#[test]
+fn driven_solid_with_velocity_too() {
+    let bad = format!(
+        "{BASE}\n[solid]\ndensity = 500.0\nsound_speed = 30.0\nshear_modulus = 1e4\n\n[[solids]]\n\
+         shape = \"box\"\nmin = [0.6, 0.6]\nmax = [0.8, 0.8]\nvelocity = [1.0, 0.0]\nmotion = [0.0, 0.0]\n"
+    );
+    expect_error(
+        &bad,
+        "solids[0].velocity",
+        "give motion or velocity, not both",
+    );
+}
+
+#[test]
+fn clamp_off_the_lattice_of_the_solid_it_holds() {
+    // The clamp's min corner is 0.03 from the plate's: not a whole number of spacings 0.05.
+    let solids = "\n[solid]\ndensity = 500.0\nsound_speed = 30.0\nshear_modulus = 1e4\n\n\
+         [[solids]]\nshape = \"box\"\nmin = [0.57, 0.6]\nmax = [0.7, 0.7]\nmotion = [0.0, 0.0]\n\n\
+         [[solids]]\nshape = \"box\"\nmin = [0.6, 0.6]\nmax = [0.9, 0.7]\n";
+    expect_error(
+        &format!("{BASE}{solids}"),
+        "solids[0].min",
+        "must sit on its particle lattice: min[0] differs by -0.03",
+    );
+    // On the lattice (0.55 = 0.6 - 1 dx) it is accepted.
+    let ok = format!("{BASE}{}", solids.replace("0.57", "0.55"));
+    Scene::from_toml(&ok, "clamp-ok").expect("a clamp on the plate's lattice");
+}
+
+#[test]
+fn negative_cohesion() {
+    expect_error(
+        &with("alpha = 0.02", "alpha = 0.02\ncohesion = -1.0"),
+        "fluid.cohesion",
+        "must be zero or positive",
+    );
+}
+
+/// BASE with an inflow band `band` (TOML lines of the [inflow] table).
+fn with_inflow(band: &str) -> String {
+    format!("{BASE}\n[inflow]\n{band}\n")
+}
+
+#[test]
+fn inflow_band_is_checked() {
+    let ok = with_inflow("axis = \"x\"\nmin = 0.0\nmax = 0.2\nvelocity = [1.0, 0.0]");
+    let s = Scene::from_toml(&ok, "ok").unwrap();
+    let p = s.params();
+    assert_eq!(
+        (p.inflow, p.inflow_axis, p.inflow_lo, p.inflow_hi),
+        (1, 0, 0.0, 0.2)
+    );
+    assert_eq!(p.inflow_velocity, [1.0, 0.0, 0.0]);
+    expect_error(
+        &with_inflow("axis = \"z\"\nmin = 0.0\nmax = 0.2\nvelocity = [1.0, 0.0]"),
+        "inflow.axis",
+        "does not exist in a 2D scene",
+    );
+    expect_error(
+        &with_inflow("axis = \"x\"\nmin = 0.2\nmax = 0.2\nvelocity = [1.0, 0.0]"),
+        "inflow.max",
+        "needs min < max",
+    );
+    expect_error(
+        &with_inflow("axis = \"y\"\nmin = 0.0\nmax = 2.0\nvelocity = [1.0, 0.0]"),
+        "inflow",
+        "reaches outside the domain",
+    );
+    expect_error(
+        &with_inflow("axis = \"x\"\nmin = 0.0\nmax = 0.2\nvelocity = [1.0, 0.0, 0.0]"),
+        "inflow.velocity",
+        "expected 2 numbers",
+    );
+}
+
+#[test]
+fn segment_wall_too_short() {
+    let bad =
+        format!("{BASE}\n[[walls]]\nshape = \"segment\"\nfrom = [0.2, 0.6]\nto = [0.22, 0.6]\n");
+    expect_error(&bad, "walls[1].to", "shorter than one spacing");
+}
+
+#[test]
+fn monitors_are_checked() {
+    let m = |body: &str| format!("{BASE}\n[[monitors]]\n{body}\n");
+    let good = "wall = 0\ninterval = 0.01\nreference_velocity = 1.0\nreference_length = 0.2";
+    assert!(Scene::from_toml(&m(good), "ok").is_ok());
+    expect_error(
+        &m(&good.replace("wall = 0", "wall = 1")),
+        "monitors[0].wall",
+        "wall 1 does not exist: the scene has 1 wall(s)",
+    );
+    expect_error(
+        &m(&good.replace("interval = 0.01", "interval = 0.0")),
+        "monitors[0].interval",
+        "must be a positive number",
+    );
+    expect_error(
+        &m(&good.replace("reference_length = 0.2", "reference_length = -1.0")),
+        "monitors[0].reference_length",
+        "must be a positive number",
+    );
+    expect_error(
+        &m(&format!("{good}\nname = \"a/b\"")),
+        "monitors[0].name",
+        "file name of letters",
+    );
+    expect_error(
+        &format!("{}\n[[monitors]]\n{good}\n", m(good)),
+        "monitors[1].name",
+        "names an earlier monitor",
+    );
+}
+
+#[test]
+fn figure_moments_must_increase() {
+    expect_error(
+        &with(
+            "output_interval = 0.005",
+            "output_interval = 0.005\nfigures = [0.0, 0.5, 0.5]",
+        ),
+        "time.figures[2]",
+        "must increase",
+    );
+    expect_error(
+        &with(
+            "output_interval = 0.005",
+            "output_interval = 0.005\nfigures = [-1.0]",
+        ),
+        "time.figures[0]",
+        "zero or positive",
+    );
+    // Moments past the end time are fine: a shortened run renders the ones it reaches.
+    Scene::from_toml(
+        &with(
+            "output_interval = 0.005",
+            "output_interval = 0.005\nfigures = [0.0, 5.0]",
+        ),
+        "x",
+    )
+    .unwrap();
+}
+
+#[test]
+fn solid_density_diffusion_out_of_range_or_with_summation() {
+    let solid = "\n[solid]\ndensity = 600.0\nsound_speed = 30.0\nshear_modulus = 1e4\n";
+    let body = "\n[[solids]]\nshape = \"disc\"\ncenter = [0.7, 0.7]\nradius = 0.1\n";
+    let t = format!("{BASE}{solid}density_diffusion = -0.1\n{body}");
+    expect_error(&t, "solid.density_diffusion", "");
+    let t = format!("{BASE}{solid}density_diffusion = 1.5\n{body}");
+    expect_error(&t, "solid.density_diffusion", "must lie in [0, 1]");
+    let t = format!(
+        "{}{solid}density_diffusion = 0.02\n{body}",
+        with("alpha = 0.02", "alpha = 0.02\ndensity_form = \"summation\"")
+    );
+    expect_error(
+        &t,
+        "solid.density_diffusion",
+        "acts on the continuity equation",
+    );
+    // In range with the continuity density it reaches the parameters.
+    let t = format!("{BASE}{solid}density_diffusion = 0.02\n{body}");
+    let p = Scene::from_toml(&t, "ok").unwrap().setup().unwrap().params;
+    assert_eq!(p.solid_delta_sph, 0.02);
+}

@@ -1,0 +1,95 @@
+//! Backends and the one place that builds a solver: `create`.
+pub mod cpu;
+#[cfg(feature = "cuda")]
+pub mod cuda;
+
+use crate::dim::{D2, D3};
+use crate::solver::{Setup, Solver};
+
+/// Which backend to run on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BackendChoice {
+    /// CUDA where a driver and a device answer, else the CPU.
+    #[default]
+    Auto,
+    /// rayon on every core.
+    Cpu,
+    /// NVIDIA GPU; an error where none is usable.
+    Cuda,
+}
+
+impl crate::named::Named for BackendChoice {
+    const ALL: &'static [(Self, &'static str, &'static str)] = &[
+        (
+            BackendChoice::Auto,
+            "auto",
+            "CUDA where a driver and a device answer, else the CPU",
+        ),
+        (BackendChoice::Cpu, "cpu", "rayon on every core"),
+        (
+            BackendChoice::Cuda,
+            "cuda",
+            "NVIDIA GPU; an error where none is usable",
+        ),
+    ];
+}
+
+/// Why a solver could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum BackendError {
+    #[error("the CUDA backend is unavailable: {0}")]
+    CudaUnavailable(String),
+    #[error("CUDA error: {0}")]
+    Cuda(String),
+}
+
+/// Build the solver for `setup` on `choice`, in the scene's dimension.
+pub fn create(choice: BackendChoice, setup: Setup) -> Result<Box<dyn Solver>, BackendError> {
+    match choice {
+        BackendChoice::Cpu => Ok(cpu_solver(setup)),
+        BackendChoice::Cuda => cuda_solver(setup),
+        // CUDA where a driver, a device and PTX answer; otherwise the CPU (`Solver::info`
+        // says which was taken).
+        BackendChoice::Auto => cuda_solver(setup.clone()).or_else(|_| Ok(cpu_solver(setup))),
+    }
+}
+
+/// The CUDA solver in the scene's dimension, or why there is none.
+pub fn cuda_solver(setup: Setup) -> Result<Box<dyn Solver>, BackendError> {
+    #[cfg(feature = "cuda")]
+    {
+        cuda::create(setup)
+    }
+    #[cfg(not(feature = "cuda"))]
+    {
+        let _ = setup;
+        Err(BackendError::CudaUnavailable(
+            "this build has the `cuda` feature off".into(),
+        ))
+    }
+}
+
+/// Whether the CUDA backend can start here (a driver, a device and PTX), without building a
+/// solver; the error says why not.
+pub fn cuda_solver_available() -> Result<(), BackendError> {
+    #[cfg(feature = "cuda")]
+    {
+        cuda::available().map(|_| ())
+    }
+    #[cfg(not(feature = "cuda"))]
+    {
+        Err(BackendError::CudaUnavailable(
+            "this build has the `cuda` feature off".into(),
+        ))
+    }
+}
+
+/// The CPU solver in the scene's dimension.
+pub fn cpu_solver(setup: Setup) -> Box<dyn Solver> {
+    if setup.params.dim == 2 {
+        Box::new(cpu::CpuSolver::<D2>::new(setup))
+    } else {
+        Box::new(cpu::CpuSolver::<D3>::new(setup))
+    }
+}

@@ -1,0 +1,282 @@
+//! Force monitors (`[[monitors]]` in a scene): the force the fluid and solids exert on one
+//! wall object, its drag and lift coefficients, and the Strouhal number of the lift.
+//!
+//! The force is computed from a particle read-back (`Solver::particles`, either backend)
+//! with the pair functions of the CPU force stage (`src/backend/cpu/forces.rs`): for every
+//! wall particle j of the object and every fluid or solid neighbour i, the acceleration
+//! that j contributes to i (Lennard-Jones eq. (17); with dynamic walls also the pressure
+//! term of eqs. (7)/(16) with the wall cut-off, the artificial viscosity eq. (10) and the
+//! laminar viscosity of Morris, Fox & Zhu 1997). By Newton's third law the wall feels
+//! F = - sum_i m_i a_i(from wall). [M L T^-2] (per unit depth in 2D: [M T^-2]).
+//! Pressures are the Tait / solid EOS of the read-back density, as the next force stage
+//! would take them.
+
+use crate::backend::cpu::{
+    artificial_viscosity, couples, laminar, laminar_velocity, lennard_jones, meets, pressure,
+    same_body, wall_pair_stress, whole_stress_pair, Grid,
+};
+use crate::dim::{Dim, D2, D3};
+use crate::kernel;
+use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID};
+use crate::particle::{Kind, Particle};
+use crate::state::State;
+
+/// The force [M L T^-2] that fluid and solid particles exert on the boundary particles of
+/// scene group `group`, as three numbers (z = 0 in 2D). `surface`: the solver's
+/// `Setup::wall_surface` (`Solver::wall_surface`; empty unless `no_slip`).
+pub fn wall_force(
+    p: &SphParams,
+    particles: &[Particle],
+    surface: &[[f32; 4]],
+    group: u32,
+) -> [f64; 3] {
+    let near = near_wall(p, particles, group);
+    let particles = near.as_deref().unwrap_or(particles);
+    if p.dim == 2 {
+        wall_force_d::<D2>(p, particles, surface, group)
+    } else {
+        wall_force_d::<D3>(p, particles, surface, group)
+    }
+}
+
+/// The particles within one support radius of the wall group's bounding box: the only
+/// ones that interact with it (the force is the same, the grid and sums far smaller in a
+/// large domain). None (take all) when the widened box crosses a periodic boundary.
+fn near_wall(p: &SphParams, particles: &[Particle], group: u32) -> Option<Vec<Particle>> {
+    let d = p.dim as usize;
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for q in particles
+        .iter()
+        .filter(|q| q.kind == Kind::Boundary && q.group == group)
+    {
+        for a in 0..d {
+            lo[a] = lo[a].min(q.position[a]);
+            hi[a] = hi[a].max(q.position[a]);
+        }
+    }
+    for a in 0..d {
+        lo[a] -= p.support;
+        hi[a] += p.support;
+        if lo[a] > hi[a]
+            || (p.periodic[a] != 0 && (lo[a] < p.domain_min[a] || hi[a] > p.domain_max[a]))
+        {
+            return None;
+        }
+    }
+    Some(
+        particles
+            .iter()
+            .filter(|q| (0..d).all(|a| q.position[a] >= lo[a] && q.position[a] <= hi[a]))
+            .copied()
+            .collect(),
+    )
+}
+
+fn wall_force_d<D: Dim>(
+    p: &SphParams,
+    particles: &[Particle],
+    surface: &[[f32; 4]],
+    group: u32,
+) -> [f64; 3] {
+    let mut s = State::<D>::from_particles(particles, false, false);
+    for i in 0..s.len() {
+        s.p[i] = pressure(p, s.kind[i], s.rho[i]); // eq. (9)
+    }
+    let mut grid = Grid::default();
+    grid.build(p, &mut s);
+    let stress = s.solid.as_ref().map(|so| &so.stress);
+    let mut force = [0.0f64; 3];
+    for j in 0..s.len() {
+        if s.kind[j] as u32 != MF_KIND_BOUNDARY || s.group[j] != group {
+            continue;
+        }
+        let (kj, vj, rhoj, pj) = (s.kind[j], s.vel[j], s.rho[j], s.p[j]);
+        grid.for_each_neighbor::<D>(p, &s.pos, s.pos[j], |i, r_ji, r2| {
+            let ki = s.kind[i];
+            if ki as u32 == MF_KIND_BOUNDARY || !meets(p, ki, kj) {
+                return;
+            }
+            // The same pair terms, in the same order, as forces.rs adds for a wall j.
+            let r = -r_ji; // r_ij = x_i - x_j
+            let (vi, rhoi, pi) = (s.vel[i], s.rho[i], s.p[i]);
+            let rr = r2.sqrt();
+            let fw = kernel::f(p, rr);
+            let grad_w = r * fw;
+            let mut acc = lennard_jones::<D>(p, r, rr); // eq. (17)
+            if couples(p, kj) {
+                // Across two objects (a body and this wall) the pressure part only, unless
+                // the scene passes the whole stress (`whole_stress_pair`, as forces.rs).
+                let whole = whole_stress_pair(p, same_body(p, ki, kj, s.group[i], s.group[j]));
+                let deviatoric = |k: usize| match stress {
+                    Some(st) if whole => st[k],
+                    _ => D::zero(),
+                };
+                let sig_i = (deviatoric(i) - D::identity() * pi) * (1.0 / (rhoi * rhoi));
+                let sig_j = (deviatoric(j) - D::identity() * pj) * (1.0 / (rhoj * rhoj));
+                let sig = wall_pair_stress::<D>(sig_i, sig_j, pi, pj, rhoi, rhoj);
+                acc += D::mat_vec(sig, grad_w) * s.mass[j]; // eqs. (7), (16)
+                let vij = vi - vj;
+                let vr = D::dot(vij, r);
+                let c_bar = 0.5 * (p.sound_speed(ki) + p.sound_speed(kj));
+                let rho_bar = 0.5 * (rhoi + rhoj);
+                let pi_ij = artificial_viscosity(p, vr, r2, c_bar, rho_bar); // eq. (10)
+                acc -= grad_w * (s.mass[j] * pi_ij);
+                if p.nu > 0.0 && ki as u32 == MF_KIND_FLUID {
+                    let v_visc = laminar_velocity::<D>(p, surface, kj, s.id[j], r, vij);
+                    acc += v_visc * (s.mass[j] * laminar(p, r2, fw, rhoi, rhoj));
+                }
+            }
+            let a = D::to3(acc);
+            for (f, a) in force.iter_mut().zip(a) {
+                *f -= s.mass[i] as f64 * a as f64;
+            }
+        });
+    }
+    force
+}
+
+/// One sample of a monitor.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ForceSample {
+    /// [T]
+    pub t: f64,
+    /// [M L T^-2]
+    pub force: [f64; 3],
+    /// Drag coefficient Fx / (0.5 rho0 U^2 D^(d-1)).
+    pub cd: f64,
+    /// Lift coefficient Fy / (0.5 rho0 U^2 D^(d-1)).
+    pub cl: f64,
+}
+
+/// The frequency [1/T] of the largest peak of the Hann-windowed discrete Fourier transform
+/// of `x(t)` (mean removed), evaluated directly on the sample times (they need not be
+/// evenly spaced): a scan in steps of 1 / (4 T) between 1.5 / T (at least one and a half
+/// periods in the record of length T) and the Nyquist frequency of the mean spacing, then
+/// a scan in steps of 1 / (256 T) around the best coarse frequency. None with fewer than 8
+/// samples or a constant signal.
+pub fn dominant_frequency(t: &[f64], x: &[f64]) -> Option<f64> {
+    let n = t.len().min(x.len());
+    if n < 8 {
+        return None;
+    }
+    let (t0, span) = (t[0], t[n - 1] - t[0]);
+    if span <= 0.0 {
+        return None;
+    }
+    let mean = x[..n].iter().sum::<f64>() / n as f64;
+    let tau = 2.0 * std::f64::consts::PI;
+    let w: Vec<f64> = (0..n)
+        .map(|k| (0.5 - 0.5 * (tau * (t[k] - t0) / span).cos()) * (x[k] - mean))
+        .collect();
+    if w.iter().all(|v| v.abs() < 1e-300) {
+        return None;
+    }
+    let power = |f: f64| {
+        let (mut re, mut im) = (0.0, 0.0);
+        for k in 0..n {
+            let ph = tau * f * (t[k] - t0);
+            re += w[k] * ph.cos();
+            im -= w[k] * ph.sin();
+        }
+        re * re + im * im
+    };
+    let best_on = |lo: f64, hi: f64, df: f64| {
+        let steps = ((hi - lo) / df).floor().max(0.0) as usize;
+        (0..=steps)
+            .map(|k| lo + k as f64 * df)
+            .map(|f| (f, power(f)))
+            .fold(None, |b: Option<(f64, f64)>, c| match b {
+                Some(b) if b.1 >= c.1 => Some(b),
+                _ => Some(c),
+            })
+    };
+    let (f_lo, nyquist) = (1.5 / span, 0.5 * (n - 1) as f64 / span);
+    if nyquist <= f_lo {
+        return None;
+    }
+    let coarse = best_on(f_lo, nyquist, 0.25 / span)?.0;
+    let lo = (coarse - 0.25 / span).max(f_lo);
+    let hi = (coarse + 0.25 / span).min(nyquist);
+    best_on(lo, hi, 1.0 / (256.0 * span)).map(|b| b.0)
+}
+
+/// What a monitor reports at the end of a run (summary.json, end-of-run line).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct MonitorSummary {
+    pub name: String,
+    /// Index of the wall in `[[walls]]`.
+    pub wall: usize,
+    pub samples: usize,
+    /// [T] the statistics below are over t >= window_start: the second half of the record.
+    pub window_start: f64,
+    /// f D / U from the lift's dominant frequency (`dominant_frequency`); None when the
+    /// window holds too few samples or the lift is constant.
+    pub strouhal: Option<f64>,
+    pub mean_cd: f64,
+    pub mean_cl: f64,
+    /// Root mean square of Cl about its mean.
+    pub rms_cl: f64,
+    /// D / H, H the domain's extent along y (the lift axis).
+    pub blockage_ratio: f64,
+}
+
+impl MonitorSummary {
+    /// Statistics over the second half (in time) of `samples`.
+    pub fn of(
+        name: &str,
+        wall: usize,
+        samples: &[ForceSample],
+        reference_velocity: f64,
+        reference_length: f64,
+        blockage_ratio: f64,
+    ) -> MonitorSummary {
+        let (first, last) = match (samples.first(), samples.last()) {
+            (Some(a), Some(b)) => (a.t, b.t),
+            _ => (0.0, 0.0),
+        };
+        let window_start = 0.5 * (first + last);
+        let win: Vec<&ForceSample> = samples.iter().filter(|s| s.t >= window_start).collect();
+        let m = win.len().max(1) as f64;
+        let mean_cd = win.iter().map(|s| s.cd).sum::<f64>() / m;
+        let mean_cl = win.iter().map(|s| s.cl).sum::<f64>() / m;
+        let rms_cl = (win.iter().map(|s| (s.cl - mean_cl).powi(2)).sum::<f64>() / m).sqrt();
+        let t: Vec<f64> = win.iter().map(|s| s.t).collect();
+        let cl: Vec<f64> = win.iter().map(|s| s.cl).collect();
+        let strouhal =
+            dominant_frequency(&t, &cl).map(|f| f * reference_length / reference_velocity);
+        MonitorSummary {
+            name: name.to_string(),
+            wall,
+            samples: samples.len(),
+            window_start,
+            strouhal,
+            mean_cd,
+            mean_cl,
+            rms_cl,
+            blockage_ratio,
+        }
+    }
+}
+
+impl std::fmt::Display for MonitorSummary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let st = self
+            .strouhal
+            .map_or("n/a (too few samples or no oscillation)".to_string(), |s| {
+                format!("{s:.4}")
+            });
+        write!(
+            f,
+            "monitor {} (wall {}): {} samples; over t >= {:.3}: Strouhal {st} (lift DFT peak), \
+             mean Cd {:.4}, rms Cl {:.4}, mean Cl {:.4}, blockage D/H {:.3}",
+            self.name,
+            self.wall,
+            self.samples,
+            self.window_start,
+            self.mean_cd,
+            self.rms_cl,
+            self.mean_cl,
+            self.blockage_ratio
+        )
+    }
+}

@@ -1,0 +1,110 @@
+//! Small particle sets built directly (no scene file), for the unit-level tests.
+#![allow(dead_code)]
+
+use meshfree_core::params::{
+    self, SphParams, MF_DENSITY_CONTINUITY, MF_INTEGRATOR_SYMPLECTIC_EULER,
+};
+use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::scene::format::NoSlip;
+use meshfree_core::scene::Scene;
+
+/// Parameters for spacing `dx` in `dim` dimensions over the box [lo, hi].
+pub fn params(dim: i32, dx: f32, lo: [f32; 3], hi: [f32; 3], periodic: [i32; 3]) -> SphParams {
+    let mut p = SphParams {
+        dim,
+        periodic,
+        domain_min: lo,
+        domain_max: hi,
+        dx,
+        h: 1.3 * dx,
+        density_mode: MF_DENSITY_CONTINUITY as i32,
+        rho0: 1000.0,
+        c0: 20.0,
+        tait_gamma: 7.0,
+        alpha: 0.05,
+        beta: 0.0,
+        xsph_eps: 0.0,
+        solid_rho0: 600.0,
+        solid_c0: 20.0,
+        shear_modulus: 1.0e5,
+        art_stress_n: 4.0,
+        lj_c0: 10.0,
+        lj_r0: dx,
+        lj_p1: 12,
+        lj_p2: 6,
+        wall_pressure: 1,
+        integrator: MF_INTEGRATOR_SYMPLECTIC_EULER as i32,
+        courant: 0.2,
+        ..Default::default()
+    };
+    params::derive(&mut p);
+    p
+}
+
+/// Lattice points (i + 0.5) dx inside [lo, hi) on the first `dim` axes.
+pub fn lattice(dim: usize, dx: f32, lo: [f32; 3], hi: [f32; 3]) -> Vec<[f32; 3]> {
+    let n: Vec<usize> = (0..3)
+        .map(|a| {
+            if a < dim {
+                ((hi[a] - lo[a]) / dx).round() as usize
+            } else {
+                1
+            }
+        })
+        .collect();
+    let mut out = Vec::new();
+    for k in 0..n[2] {
+        for j in 0..n[1] {
+            for i in 0..n[0] {
+                let c = [i, j, k];
+                let mut x = [0.0; 3];
+                for a in 0..dim {
+                    x[a] = lo[a] + (c[a] as f32 + 0.5) * dx;
+                }
+                out.push(x);
+            }
+        }
+    }
+    out
+}
+
+/// Append particles of `kind` at `points` (mass = rho dx^dim, at rest, density rho).
+pub fn add(
+    out: &mut Vec<Particle>,
+    points: &[[f32; 3]],
+    kind: Kind,
+    group: u32,
+    rho: f32,
+    p: &SphParams,
+) {
+    let m = rho * p.dx.powi(p.dim);
+    for x in points {
+        out.push(Particle {
+            id: out.len() as u32,
+            kind,
+            group,
+            position: *x,
+            density: rho,
+            mass: m,
+            ..Default::default()
+        });
+    }
+}
+
+/// A simple deterministic pseudo-random number in [0, 1) (xorshift).
+pub fn rand01(state: &mut u64) -> f32 {
+    *state ^= *state << 13;
+    *state ^= *state >> 7;
+    *state ^= *state << 17;
+    (*state >> 40) as f32 / (1u64 << 24) as f32
+}
+
+/// The built-in `tank-2d` at spacing `dx` [L] with laminar viscosity nu = 0.01 [L^2/T] and
+/// the no-slip walls of Morris, Fox & Zhu 1997 (`[boundary] no_slip = "morris"`).
+pub fn tank_2d_morris(dx: f64) -> Scene {
+    let mut scene = Scene::builtin("tank-2d").unwrap().with_spacing(dx).unwrap();
+    scene.file.fluid.viscosity = 0.01;
+    scene.file.boundary.as_mut().unwrap().no_slip = NoSlip::Morris;
+    scene.revalidate().unwrap();
+    scene
+}

@@ -1,0 +1,1268 @@
+//! CPU vs CUDA, stage by stage (`src/backend/cpu/*.rs` <-> `cuda/*.cu`), in 2D and 3D with
+//! fluid, an elastic body, wall particles and a periodic axis, in four variants (dynamic
+//! walls / Lennard-Jones-only walls, summation / continuity density, forward / symplectic
+//! Euler, with / without artificial stress, with / without density diffusion; two also
+//! with an inflow band); the stages run in the order of `Solver::step` for the variant's
+//! integrator (forward Euler: the GPU's fused `forces_and_rates` pass against the CPU's two
+//! stages). Then diagnostics after 200 steps; the fused pass against the GPU's two separate
+//! passes, bit for bit; and the `SphParams` layout as nvcc sees it. Morris's no-slip walls
+//! (`no_slip`) run in five stage scenes, a long run and the fused-pass check.
+//!
+//! Without a usable GPU each test prints why and passes; with `MESHFREE_REQUIRE_CUDA=1` it
+//! fails instead.
+//!
+//! Each stage starts from identical inputs: after comparing a stage, the CPU state is
+//! uploaded to the GPU (`CudaSolver::upload_state`), so differences do not carry over.
+#![cfg(feature = "cuda")]
+
+use meshfree_core::backend::cpu::CpuSolver;
+use meshfree_core::backend::cuda::CudaSolver;
+use meshfree_core::dim::{Dim, D2, D3};
+use meshfree_core::params::MF_INTEGRATOR_SYMPLECTIC_EULER;
+use meshfree_core::params::{
+    self, SphParams, MF_DENSITY_CONTINUITY, MF_DENSITY_SUMMATION, MF_DIFFUSION_ANTUONO,
+    MF_DIFFUSION_FOURTAKAS, MF_DIFFUSION_MOLTENI, MF_INTEGRATOR_EULER,
+};
+use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::solver::{Setup, Solver};
+use meshfree_core::state::State;
+
+fn gpu<D: Dim>(setup: &Setup) -> Option<CudaSolver<D>> {
+    match CudaSolver::<D>::new(setup.clone()) {
+        Ok(s) => Some(s),
+        Err(e) => {
+            if std::env::var("MESHFREE_REQUIRE_CUDA").is_ok_and(|v| v == "1") {
+                panic!("MESHFREE_REQUIRE_CUDA=1 but the CUDA backend is unusable: {e}");
+            }
+            eprintln!("SKIPPED (no usable CUDA device): {e}");
+            None
+        }
+    }
+}
+
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f32 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn sym(&mut self, a: f32) -> f32 {
+        a * (2.0 * self.next() - 1.0)
+    }
+}
+
+/// What a parity scene switches on.
+#[derive(Clone, Copy, Debug)]
+struct Variant {
+    /// Dynamic walls (`wall_pressure`): boundary particles carry density and pressure.
+    dynamic_walls: bool,
+    continuity: bool,
+    symplectic: bool,
+    art_stress: bool,
+    laminar: bool,
+    /// Density diffusion (delta-SPH, `delta_sph` = 0.1) with a perturbed initial fluid
+    /// density, so that the diffusive term is not zero from the first step.
+    delta_sph: bool,
+    /// The fluid diffusion's form (`delta_form`, `MF_DIFFUSION_*`): Fourtakas et al. 2019's
+    /// hydrostatic one, or Antuono et al. 2010's with renormalised gradients.
+    delta_form: u32,
+    /// Density diffusion within the solid body (`solid_delta_sph` = 0.1) with a perturbed
+    /// initial solid density.
+    solid_delta: bool,
+}
+/// 2D: summation, dynamic walls, forward Euler, artificial stress, laminar viscosity.
+const V_2D_A: Variant = Variant {
+    dynamic_walls: true,
+    continuity: false,
+    symplectic: false,
+    art_stress: true,
+    laminar: true,
+    delta_sph: false,
+    delta_form: MF_DIFFUSION_MOLTENI,
+    solid_delta: false,
+};
+/// 2D: continuity, Lennard-Jones-only walls, symplectic Euler, artificial stress.
+const V_2D_B: Variant = Variant {
+    dynamic_walls: false,
+    continuity: true,
+    symplectic: true,
+    art_stress: true,
+    laminar: false,
+    delta_sph: false,
+    delta_form: MF_DIFFUSION_MOLTENI,
+    solid_delta: false,
+};
+/// 3D: continuity, Lennard-Jones-only walls, symplectic Euler, no artificial stress.
+const V_3D_A: Variant = Variant {
+    dynamic_walls: false,
+    continuity: true,
+    symplectic: true,
+    art_stress: false,
+    laminar: false,
+    delta_sph: false,
+    delta_form: MF_DIFFUSION_MOLTENI,
+    solid_delta: false,
+};
+/// 3D: continuity with dynamic walls (wall d rho/dt), forward Euler, artificial stress,
+/// laminar viscosity.
+const V_3D_B: Variant = Variant {
+    dynamic_walls: true,
+    continuity: true,
+    symplectic: false,
+    art_stress: true,
+    laminar: true,
+    delta_sph: false,
+    delta_form: MF_DIFFUSION_MOLTENI,
+    solid_delta: false,
+};
+/// 2D and 3D: `V_2D_B` / `V_3D_B` with density diffusion.
+const V_2D_DELTA: Variant = Variant {
+    delta_sph: true,
+    ..V_2D_B
+};
+const V_3D_DELTA: Variant = Variant {
+    delta_sph: true,
+    ..V_3D_B
+};
+/// `V_2D_DELTA` / `V_3D_DELTA` with the diffusion's hydrostatic form.
+const V_2D_FOURTAKAS: Variant = Variant {
+    delta_form: MF_DIFFUSION_FOURTAKAS,
+    ..V_2D_DELTA
+};
+const V_3D_FOURTAKAS: Variant = Variant {
+    delta_form: MF_DIFFUSION_FOURTAKAS,
+    ..V_3D_DELTA
+};
+/// `V_2D_DELTA` / `V_3D_DELTA` with the diffusion in Antuono et al.'s form (the fluid's
+/// density gradients: `sph_grad_rho`).
+const V_2D_ANTUONO: Variant = Variant {
+    delta_form: MF_DIFFUSION_ANTUONO,
+    ..V_2D_DELTA
+};
+const V_3D_ANTUONO: Variant = Variant {
+    delta_form: MF_DIFFUSION_ANTUONO,
+    ..V_3D_DELTA
+};
+/// `V_2D_B` / `V_3D_B` (artificial stress) with density diffusion within the solid body.
+const V_2D_SOLID_DELTA: Variant = Variant {
+    solid_delta: true,
+    ..V_2D_B
+};
+const V_3D_SOLID_DELTA: Variant = Variant {
+    solid_delta: true,
+    ..V_3D_B
+};
+/// 2D and 3D: dynamic walls, continuity, forward Euler and nothing beyond the paper's fluid
+/// scheme: as fluid-only scenes, the lean kernels' cases (`params::lean_scheme`), the
+/// scheme `meshfree bench` times.
+const V_2D_LEAN: Variant = Variant {
+    dynamic_walls: true,
+    symplectic: false,
+    ..V_2D_B
+};
+const V_3D_LEAN: Variant = Variant {
+    laminar: false,
+    ..V_3D_B
+};
+
+/// A fluid lattice over a wall (3 layers, bottom; in 3D also the two z faces), periodic in
+/// x, with an elastic disc / sphere inside; jittered positions, random velocities and
+/// initial solid stress so that every term is exercised.
+fn scene(dim: usize, v: Variant) -> Setup {
+    scene_with(dim, v, 0.3)
+}
+
+/// `scene` with random initial velocities of amplitude `vel_amp` [L/T].
+fn scene_with(dim: usize, v: Variant, vel_amp: f32) -> Setup {
+    let dx = 0.1f32;
+    let d3 = dim == 3;
+    let nx = if d3 { 12 } else { 40 };
+    let lx = nx as f32 * dx;
+    let (fy, fz) = if d3 { (8, 12) } else { (15, 1) };
+    let lz = fz as f32 * dx;
+    let mut p = SphParams {
+        dim: dim as i32,
+        periodic: [1, 0, 0],
+        domain_min: [0.0, -3.0 * dx, if d3 { -3.0 * dx } else { 0.0 }],
+        domain_max: [lx, 3.0, if d3 { lz + 3.0 * dx } else { 0.0 }],
+        kernel: 0,
+        dx,
+        h: 1.3 * dx,
+        density_mode: if v.continuity {
+            MF_DENSITY_CONTINUITY
+        } else {
+            MF_DENSITY_SUMMATION
+        } as i32,
+        rho0: 1.0,
+        c0: 15.0,
+        tait_gamma: 7.0,
+        alpha: 0.1,
+        beta: 0.1,
+        nu: if v.laminar { 0.005 } else { 0.0 },
+        xsph_eps: 0.3,
+        delta_sph: if v.delta_sph { 0.1 } else { 0.0 },
+        delta_form: v.delta_form as i32,
+        solid_delta_sph: if v.solid_delta { 0.1 } else { 0.0 },
+        solid_rho0: 0.8,
+        solid_c0: 15.0,
+        shear_modulus: 50.0,
+        art_stress_eps: if v.art_stress { 0.3 } else { 0.0 },
+        art_stress_n: 4.0,
+        lj_c0: 2.0,
+        lj_r0: dx,
+        lj_p1: 12,
+        lj_p2: 6,
+        lj_attractive: 0,
+        wall_pressure: v.dynamic_walls as i32,
+        gravity: [0.0, -1.0, 0.0],
+        integrator: if v.symplectic {
+            MF_INTEGRATOR_SYMPLECTIC_EULER
+        } else {
+            MF_INTEGRATOR_EULER
+        } as i32,
+        courant: 0.25,
+        dt_fixed: 0.0,
+        ..Default::default()
+    };
+    params::derive(&mut p);
+    let mut rng = Rng(0x9e3779b97f4a7c15);
+    let mut out: Vec<Particle> = Vec::new();
+    let centre = [0.5 * lx, 0.5 * fy as f32 * dx, 0.5 * lz];
+    let radius = if d3 { 0.25 } else { 0.35 };
+    let push = |out: &mut Vec<Particle>, x: [f32; 3], kind: Kind, group: u32, rng: &mut Rng| {
+        let rho = if kind == Kind::Solid {
+            p.solid_rho0
+        } else {
+            p.rho0
+        };
+        let mut q = Particle {
+            id: out.len() as u32,
+            kind,
+            group,
+            position: x,
+            density: rho,
+            mass: rho * dx.powi(dim as i32),
+            ..Default::default()
+        };
+        if kind != Kind::Boundary {
+            for a in 0..dim {
+                q.position[a] += rng.sym(0.1 * dx);
+                q.velocity[a] = rng.sym(vel_amp);
+            }
+        }
+        if (v.delta_sph && kind == Kind::Fluid) || (v.solid_delta && kind == Kind::Solid) {
+            q.density *= 1.0 + rng.sym(0.01);
+        }
+        if kind == Kind::Solid {
+            for c in 0..6 {
+                q.stress[c] = rng.sym(0.5);
+            }
+        }
+        out.push(q);
+    };
+    let zs: Vec<i32> = if d3 { (-3..fz + 3).collect() } else { vec![0] };
+    for &k in &zs {
+        for j in -3..fy.max(12) {
+            for i in 0..nx {
+                let x = [
+                    (i as f32 + 0.5) * dx,
+                    (j as f32 + 0.5) * dx,
+                    if d3 { (k as f32 + 0.5) * dx } else { 0.0 },
+                ];
+                let wall = j < 0 || (d3 && (k < 0 || k >= fz));
+                if wall {
+                    push(&mut out, x, Kind::Boundary, 0, &mut rng);
+                } else if j < fy {
+                    let r2: f32 = (0..dim).map(|a| (x[a] - centre[a]).powi(2)).sum();
+                    if r2 < radius * radius {
+                        push(&mut out, x, Kind::Solid, 2, &mut rng);
+                    } else {
+                        push(&mut out, x, Kind::Fluid, 1, &mut rng);
+                    }
+                }
+            }
+        }
+    }
+    Setup {
+        params: p,
+        particles: out,
+        wall_surface: Vec::new(),
+    }
+}
+
+/// |gpu - cpu| <= atol + rtol |cpu| for every entry; the message names the worst slot.
+fn close(what: &str, ids: &[u32], width: usize, cpu: &[f32], gpu: &[f32], rtol: f32, atol: f32) {
+    assert_eq!(cpu.len(), gpu.len(), "{what}: lengths differ");
+    let mut worst: Option<(f32, usize)> = None;
+    let mut bad = 0usize;
+    for (k, (a, b)) in cpu.iter().zip(gpu).enumerate() {
+        let tol = atol + rtol * a.abs();
+        let err = (a - b).abs();
+        if err.is_nan() || err > tol {
+            bad += 1;
+            let excess = if err.is_nan() {
+                f32::INFINITY
+            } else {
+                err / tol.max(f32::MIN_POSITIVE)
+            };
+            if worst.is_none_or(|w| excess > w.0) {
+                worst = Some((excess, k));
+            }
+        }
+    }
+    let mut ratio = 0.0f32;
+    for (a, b) in cpu.iter().zip(gpu) {
+        ratio = ratio.max((a - b).abs() / (atol + rtol * a.abs()).max(f32::MIN_POSITIVE));
+    }
+    if let Some((_, k)) = worst {
+        let slot = k / width;
+        panic!(
+            "{what}: {bad} entries out of tolerance; worst at slot {slot} (particle id {}), component {}: cpu {} gpu {} \
+             (|diff| {:e} > tol {:e} = {atol:e} + {rtol:e} |cpu|)",
+            ids[slot],
+            k % width,
+            cpu[k],
+            gpu[k],
+            (cpu[k] - gpu[k]).abs(),
+            atol + rtol * cpu[k].abs()
+        );
+    }
+    eprintln!(
+        "  {what}: ok ({} values, rtol {rtol:e}, atol {atol:e}; worst |diff|/tol {ratio:.3})",
+        cpu.len()
+    );
+}
+
+fn flat_v<D: Dim>(v: &[D::V]) -> Vec<f32> {
+    v.iter().flat_map(|x| D::to3(*x)[..D::D].to_vec()).collect()
+}
+fn flat_m<D: Dim>(v: &[D::M]) -> Vec<f32> {
+    v.iter().flat_map(|m| D::sym_to6(*m)).collect()
+}
+fn max_abs(v: &[f32]) -> f32 {
+    v.iter().fold(0.0f32, |m, x| m.max(x.abs()))
+}
+/// Vectors: absolute tolerance `scale` x the largest entry of the CPU array.
+fn close_v<D: Dim>(what: &str, ids: &[u32], cpu: &[D::V], gpu: &[D::V], scale: f32, atol: f32) {
+    let (a, b) = (flat_v::<D>(cpu), flat_v::<D>(gpu));
+    let m = max_abs(&a);
+    close(what, ids, D::D, &a, &b, scale, atol + scale * m);
+}
+fn close_m<D: Dim>(what: &str, ids: &[u32], cpu: &[D::M], gpu: &[D::M], scale: f32) {
+    let (a, b) = (flat_m::<D>(cpu), flat_m::<D>(gpu));
+    let m = max_abs(&a);
+    close(what, ids, 6, &a, &b, scale, scale * m);
+}
+
+fn cmp_density<D: Dim>(c: &CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u32], p: &SphParams) {
+    let gs = g.download_state();
+    close("density rho", ids, 1, &c.state().rho, &gs.rho, 2e-5, 0.0);
+    close(
+        "density pressure",
+        ids,
+        1,
+        &c.state().p,
+        &gs.p,
+        1e-4,
+        2e-5 * p.tait_b * p.tait_gamma,
+    );
+    if let (Some(a), Some(b)) = (&c.state().solid, &gs.solid) {
+        if let (Some(a), Some(b)) = (&a.art_stress, &b.art_stress) {
+            close_m::<D>("density artificial stress R", ids, a, b, 1e-4);
+        }
+    }
+    g.upload_state(c.state());
+}
+
+fn check_rates<D: Dim>(cs: &State<D>, gs: &State<D>, ids: &[u32]) {
+    close_v::<D>("rates xsph", ids, &cs.xsph, &gs.xsph, 1e-4, 0.0);
+    if let (Some(a), Some(b)) = (&cs.drho, &gs.drho) {
+        close("rates drho/dt", ids, 1, a, b, 1e-4, 1e-4 * max_abs(a));
+    }
+    if let (Some(a), Some(b)) = (&cs.solid, &gs.solid) {
+        close_m::<D>("rates dS/dt", ids, &a.stress_rate, &b.stress_rate, 2e-4);
+    }
+}
+
+fn check_forces<D: Dim>(cs: &State<D>, gs: &State<D>, ids: &[u32]) {
+    close_v::<D>("forces acc", ids, &cs.acc, &gs.acc, 1e-4, 0.0);
+}
+
+fn cmp_rates<D: Dim>(c: &CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u32]) {
+    check_rates(c.state(), &g.download_state(), ids);
+    g.upload_state(c.state());
+}
+
+fn cmp_forces<D: Dim>(c: &CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u32]) {
+    check_forces(c.state(), &g.download_state(), ids);
+    g.upload_state(c.state());
+}
+
+/// After `forces_and_rates` (one download: the upload would overwrite both outputs).
+fn cmp_forces_and_rates<D: Dim>(c: &CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u32]) {
+    let gs = g.download_state();
+    check_rates(c.state(), &gs, ids);
+    check_forces(c.state(), &gs, ids);
+    g.upload_state(c.state());
+}
+
+fn cmp_time_step<D: Dim>(c: &mut CpuSolver<D>, g: &mut CudaSolver<D>) {
+    c.time_step();
+    g.time_step();
+    let (dc, dg) = (c.dt(), g.dt());
+    assert!(
+        (dc - dg).abs() <= 1e-5 * dc,
+        "time_step: dt cpu {dc} gpu {dg} (rtol 1e-5)"
+    );
+    eprintln!("  time_step: dt cpu {dc} gpu {dg}");
+}
+
+fn cmp_kick<D: Dim>(c: &CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u32]) {
+    let gs = g.download_state();
+    close_v::<D>("kick vel", ids, &c.state().vel, &gs.vel, 1e-5, 0.0);
+    g.upload_state(c.state());
+}
+
+fn check_drift<D: Dim>(c: &mut CpuSolver<D>, g: &mut CudaSolver<D>, gs: &State<D>, ids: &[u32]) {
+    let cs = c.state();
+    close_v::<D>("drift pos", ids, &cs.pos, &gs.pos, 0.0, 2e-6);
+    close("drift rho", ids, 1, &cs.rho, &gs.rho, 1e-6, 0.0);
+    if let (Some(a), Some(b)) = (&cs.solid, &gs.solid) {
+        close_m::<D>("drift stress", ids, &a.stress, &b.stress, 1e-5);
+    }
+    let (tc, tg) = (c.time(), g.time());
+    assert!((tc - tg).abs() <= 1e-5 * tc, "time: cpu {tc} gpu {tg}");
+}
+
+fn cmp_drift<D: Dim>(c: &mut CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u32]) {
+    let gs = g.download_state();
+    check_drift(c, g, &gs, ids);
+    g.upload_state(c.state());
+}
+
+/// After `drift_kick` (one kernel on the GPU; the CPU's drift then kick).
+fn cmp_drift_kick<D: Dim>(c: &mut CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u32]) {
+    let gs = g.download_state();
+    check_drift(c, g, &gs, ids);
+    close_v::<D>("kick vel", ids, &c.state().vel, &gs.vel, 1e-5, 0.0);
+    g.upload_state(c.state());
+}
+
+fn stages<D: Dim>(dim: usize, v: Variant) {
+    stages_on::<D>(&format!("{v:?}"), scene(dim, v));
+}
+
+/// `scene(dim, v)` with an inflow band across the periodic x axis: fluid in
+/// 0.4 <= x < 0.8 moves at (1.5, -0.5, 0.25) (src/backend/cpu/integrate.rs::kick).
+fn with_inflow_band(dim: usize, v: Variant) -> Setup {
+    let mut setup = scene(dim, v);
+    let p = &mut setup.params;
+    p.inflow = 1;
+    p.inflow_axis = 0;
+    p.inflow_lo = 0.4;
+    p.inflow_hi = 0.8;
+    p.inflow_velocity = [1.5, -0.5, 0.25];
+    setup
+}
+
+/// `scene(dim, v)` with the solid body turned into fluid (rest density, no stress): the only
+/// scenes that take the fluid-only entries of forces and rates (`sph_forces_fluid_*`,
+/// `sph_rates_fluid_*`: batches of 8 candidates at one lane, and the neighbour's kind read
+/// from the sign of its vel.w, `vel_load` in cuda/common.cuh).
+fn fluid_only(dim: usize, v: Variant) -> Setup {
+    fluid_only_of(scene(dim, v))
+}
+
+/// `setup` with its solid body turned into fluid.
+fn fluid_only_of(mut setup: Setup) -> Setup {
+    let dim = setup.params.dim;
+    let (rho0, dx) = (setup.params.rho0, setup.params.dx);
+    for q in setup.particles.iter_mut().filter(|q| q.kind == Kind::Solid) {
+        q.kind = Kind::Fluid;
+        q.group = 1;
+        q.density = rho0;
+        q.mass = rho0 * dx.powi(dim);
+        q.stress = Default::default();
+    }
+    setup
+}
+
+/// The stage comparison on any parity scene (`what` names it in the log).
+fn stages_on<D: Dim>(what: &str, setup: Setup) {
+    let dim = setup.params.dim;
+    let Some(mut g) = gpu::<D>(&setup) else {
+        return;
+    };
+    let mut c = CpuSolver::<D>::new(setup.clone());
+    let p = setup.params;
+    eprintln!(
+        "{dim}D parity {what}: {} particles ({} solid), on {}",
+        c.len(),
+        setup
+            .particles
+            .iter()
+            .filter(|q| q.kind == Kind::Solid)
+            .count(),
+        g.info().device
+    );
+    let euler = p.integrator as u32 == MF_INTEGRATOR_EULER;
+    for lanes in [8, 4, 2, 1] {
+        // Each entry of the neighbour kernels: loops split over 8, 4 or 2 lanes per particle
+        // (small systems use 4 in 2D and 8 in 3D; large ones fewer), and one thread per
+        // particle, the CPU's exact order.
+        g.set_lanes(Some(lanes));
+        eprintln!(" round with {lanes} lanes per particle");
+        // Grid: the (cell, id) order must be identical.
+        c.build_grid();
+        g.build_grid();
+        let gs = g.download_state();
+        let cs = c.state().clone();
+        assert_eq!(cs.id, gs.id, "build_grid: storage order (ids) differs");
+        assert_eq!(
+            flat_v::<D>(&cs.pos),
+            flat_v::<D>(&gs.pos),
+            "build_grid: positions differ after the reorder"
+        );
+        eprintln!("  build_grid: identical order of {} ids", cs.id.len());
+        let ids = cs.id.clone();
+        // With the continuity density (no artificial stress) the reorder applied the
+        // equation of state: its pressures must be the CPU density stage's.
+        let grid_pressure = g.grid_applied_eos().then(|| gs.p.clone());
+        g.upload_state(&cs);
+
+        c.density();
+        g.density();
+        if let Some(pg) = grid_pressure {
+            let pc = &c.state().p;
+            close(
+                "build_grid pressure (eq. 9)",
+                &ids,
+                1,
+                pc,
+                &pg,
+                1e-4,
+                2e-5 * p.tait_b * p.tait_gamma,
+            );
+            eprintln!(
+                "  build_grid: equation of state as the CPU's on {} particles",
+                pc.len()
+            );
+        }
+        cmp_density(&c, &mut g, &ids, &p);
+        // The order of `Solver::step`.
+        if euler {
+            // The CPU runs rates then forces (the trait's default); the GPU one fused pass
+            // (cuda/forces_rates.cu).
+            c.forces_and_rates();
+            g.forces_and_rates();
+            cmp_forces_and_rates(&c, &mut g, &ids);
+            cmp_time_step(&mut c, &mut g);
+            c.drift_kick();
+            g.drift_kick();
+            cmp_drift_kick(&mut c, &mut g, &ids);
+        } else {
+            c.forces();
+            g.forces();
+            cmp_forces(&c, &mut g, &ids);
+            cmp_time_step(&mut c, &mut g);
+            c.kick();
+            g.kick();
+            cmp_kick(&c, &mut g, &ids);
+            c.rates();
+            g.rates();
+            cmp_rates(&c, &mut g, &ids);
+            c.drift();
+            g.drift();
+            cmp_drift(&mut c, &mut g, &ids);
+        }
+    }
+    // Health check and read-back by id.
+    assert!(
+        g.check().is_ok(),
+        "GPU health check reports a fault on a healthy state"
+    );
+    let (pc, pg) = (c.particles(), g.particles());
+    assert_eq!(
+        pc.iter().map(|q| q.id).collect::<Vec<_>>(),
+        pg.iter().map(|q| q.id).collect::<Vec<_>>()
+    );
+}
+
+/// Diagnostics after `steps` steps of the whole `Solver::step` from one start. A calmer
+/// start than the stage tests (velocity amplitude 0.05 instead of 0.3): the stage tests'
+/// violent start splashes and the runs diverge chaotically from f32 rounding alone.
+fn long_run<D: Dim>(dim: usize, v: Variant, steps: usize) {
+    long_run_on::<D>(&format!("{v:?}"), scene_with(dim, v, 0.05), steps);
+}
+
+/// `long_run` on any scene (`what` names it in the log).
+fn long_run_on<D: Dim>(what: &str, setup: Setup, steps: usize) {
+    let dim = setup.params.dim;
+    let Some(mut g) = gpu::<D>(&setup) else {
+        return;
+    };
+    let mut c = CpuSolver::<D>::new(setup);
+    let t0 = std::time::Instant::now();
+    for _ in 0..steps {
+        c.step();
+    }
+    let tc = t0.elapsed();
+    let t0 = std::time::Instant::now();
+    for _ in 0..steps {
+        g.step();
+    }
+    let tt = g.time();
+    let tg = t0.elapsed();
+    let (dc, dg) = (c.diagnostics(), g.diagnostics());
+    eprintln!("{dim}D {what} after {steps} steps (cpu {tc:?}, gpu {tg:?}, t = {tt:.5}):\n  cpu {dc:?}\n  gpu {dg:?}");
+    assert!(
+        c.check().is_ok() && g.check().is_ok(),
+        "a blow-up in the {steps}-step run"
+    );
+    assert_eq!(
+        (dc.fluid, dc.solid, dc.boundary),
+        (dg.fluid, dg.solid, dg.boundary)
+    );
+    assert_eq!(dc.step, dg.step);
+    let rel = |a: f64, b: f64| (a - b).abs() / a.abs().max(1e-30);
+    assert!(
+        rel(dc.time, dg.time) < 1e-3,
+        "time: cpu {} gpu {} (rtol 1e-3)",
+        dc.time,
+        dg.time
+    );
+    assert!(
+        rel(dc.kinetic_energy, dg.kinetic_energy) < 2e-2,
+        "kinetic energy: cpu {} gpu {} (rtol 2e-2)",
+        dc.kinetic_energy,
+        dg.kinetic_energy
+    );
+    assert!(
+        rel(dc.max_speed as f64, dg.max_speed as f64) < 5e-2,
+        "max speed: cpu {} gpu {} (rtol 5e-2)",
+        dc.max_speed,
+        dg.max_speed
+    );
+    assert!(
+        (dc.density_error - dg.density_error).abs() < 5e-3,
+        "density error: cpu {} gpu {} (atol 5e-3)",
+        dc.density_error,
+        dg.density_error
+    );
+}
+
+/// `scene(dim, v)` with a driven group (`group` 0: the wall, moving as a piston; 2: the
+/// elastic body, a moving clamp) and fluid cohesion (Akinci et al. 2013) switched on.
+fn driven_cohesive(dim: usize, v: Variant, group: i32, u: [f32; 3]) -> Setup {
+    let mut setup = scene(dim, v);
+    let p = &mut setup.params;
+    p.driven = 1;
+    p.driven_group = group;
+    p.driven_velocity = u;
+    p.cohesion = 2.0;
+    setup
+}
+
+#[test]
+fn stages_2d_driven_wall_cohesion_continuity_symplectic() {
+    let setup = driven_cohesive(2, V_2D_B, 0, [0.5, 0.0, 0.0]);
+    stages_on::<D2>("V_2D_B + driven wall + cohesion", setup);
+}
+#[test]
+fn stages_2d_driven_solid_cohesion_summation_euler() {
+    let setup = driven_cohesive(2, V_2D_A, 2, [0.0, 0.0, 0.0]);
+    stages_on::<D2>("V_2D_A + clamped disc + cohesion", setup);
+}
+#[test]
+fn stages_3d_driven_solid_cohesion_continuity_euler() {
+    let setup = driven_cohesive(3, V_3D_B, 2, [0.2, -0.3, 0.1]);
+    stages_on::<D3>("V_3D_B + driven sphere + cohesion", setup);
+}
+
+/// `scene(dim, v)` where elastic bodies touch each other and the wall: the disc / sphere
+/// split in two bodies at its centre plane (group 3 the +x half), and a layer of solid
+/// (group 4, with stress) on the wall under the left part of the fluid. Pairs across two
+/// objects take the pressure part of the stress only, or with `whole` the whole stress
+/// (`interface_stress`, `whole_stress_pair` in forces.rs / forces.cu).
+fn bodies_in_contact(dim: usize, v: Variant, whole: bool) -> Setup {
+    let mut setup = scene(dim, v);
+    setup.params.interface_stress = whole as i32;
+    let p = setup.params;
+    let xc = 0.5 * p.domain_max[0];
+    let vol = p.dx.powi(dim as i32);
+    for (k, q) in setup.particles.iter_mut().enumerate() {
+        if q.kind == Kind::Solid && q.position[0] > xc {
+            q.group = 3;
+        } else if q.kind == Kind::Fluid && q.position[1] < 1.5 * p.dx && q.position[0] < xc {
+            q.kind = Kind::Solid;
+            q.group = 4;
+            q.density = p.solid_rho0;
+            q.mass = p.solid_rho0 * vol;
+            for c in 0..6 {
+                q.stress[c] = 0.1 * ((k * 7 + c * 3) % 11) as f32 - 0.5;
+            }
+        }
+    }
+    setup
+}
+
+/// `scene(dim, v)` with its elastic body cut in two across x at its centre: the half with
+/// x below the mean a clamp (group 2, driven, held fixed), the rest a free body (group 3)
+/// bonded to it (`same_body`): XSPH, the velocity gradient and the artificial stress cross
+/// the cut.
+fn clamped_body(dim: usize, v: Variant) -> Setup {
+    let mut setup = scene(dim, v);
+    let solid: Vec<f32> = (setup.particles.iter())
+        .filter(|q| q.kind == Kind::Solid)
+        .map(|q| q.position[0])
+        .collect();
+    let mid = solid.iter().sum::<f32>() / solid.len() as f32;
+    for q in setup.particles.iter_mut() {
+        if q.kind == Kind::Solid && q.position[0] >= mid {
+            q.group = 3;
+        }
+    }
+    let p = &mut setup.params;
+    p.driven = 1;
+    p.driven_group = 2;
+    p.driven_velocity = [0.0; 3];
+    setup
+}
+
+#[test]
+fn stages_2d_bodies_in_contact_dynamic_walls() {
+    stages_on::<D2>(
+        "V_2D_A + bodies in contact",
+        bodies_in_contact(2, V_2D_A, false),
+    );
+}
+#[test]
+fn stages_3d_bodies_in_contact_dynamic_walls() {
+    stages_on::<D3>(
+        "V_3D_B + bodies in contact",
+        bodies_in_contact(3, V_3D_B, false),
+    );
+}
+#[test]
+fn stages_2d_bodies_in_contact_lj_walls_whole_stress() {
+    let setup = bodies_in_contact(2, V_2D_B, true);
+    stages_on::<D2>("V_2D_B + bodies in contact, whole stress", setup);
+}
+/// `bodies_in_contact` where bodies and walls skip each other (`[solid] wall_contact =
+/// false`, `solid_skips_walls`; `meets` in cpu/density.rs / common.cuh): the solid layer on
+/// the wall feels no Lennard-Jones force or wall pressure, and neither enters the other's
+/// density (summation in V_2D_A, the walls' continuity in V_3D_B).
+fn bodies_skipping_walls(dim: usize, v: Variant) -> Setup {
+    let mut setup = bodies_in_contact(dim, v, false);
+    setup.params.solid_skips_walls = 1;
+    setup
+}
+#[test]
+fn stages_2d_bodies_skipping_walls_summation() {
+    let setup = bodies_skipping_walls(2, V_2D_A);
+    stages_on::<D2>("V_2D_A + bodies in contact, skipping the walls", setup);
+}
+#[test]
+fn stages_3d_bodies_skipping_walls_continuity() {
+    let setup = bodies_skipping_walls(3, V_3D_B);
+    stages_on::<D3>("V_3D_B + bodies in contact, skipping the walls", setup);
+}
+#[test]
+fn stages_2d_clamp_bonded_to_its_body() {
+    stages_on::<D2>(
+        "V_2D_A + clamp holding half the disc",
+        clamped_body(2, V_2D_A),
+    );
+}
+#[test]
+fn stages_3d_clamp_bonded_to_its_body() {
+    stages_on::<D3>(
+        "V_3D_B + clamp holding half the sphere",
+        clamped_body(3, V_3D_B),
+    );
+}
+/// `clamped_body` with the artificial stress taken from the deviatoric stress alone
+/// (`[solid] artificial_stress_from = "deviatoric"`, `art_stress_deviatoric`; `art_pressure`
+/// in stress.rs, `artificial_stress` in density.cu).
+#[test]
+fn stages_2d_clamp_deviatoric_artificial_stress() {
+    let mut setup = clamped_body(2, V_2D_B);
+    setup.params.art_stress_deviatoric = 1;
+    stages_on::<D2>("V_2D_B + clamp, deviatoric artificial stress", setup);
+}
+
+#[test]
+fn stages_2d_dynamic_walls_summation_euler() {
+    stages::<D2>(2, V_2D_A);
+}
+#[test]
+fn stages_2d_lj_walls_continuity_symplectic() {
+    stages::<D2>(2, V_2D_B);
+}
+#[test]
+fn stages_3d_lj_walls_continuity_symplectic() {
+    stages::<D3>(3, V_3D_A);
+}
+#[test]
+fn stages_3d_dynamic_walls_continuity_euler() {
+    stages::<D3>(3, V_3D_B);
+}
+#[test]
+fn stages_2d_inflow_band_symplectic() {
+    stages_on::<D2>("V_2D_B + inflow band", with_inflow_band(2, V_2D_B));
+}
+#[test]
+fn stages_3d_inflow_band_euler() {
+    stages_on::<D3>("V_3D_B + inflow band", with_inflow_band(3, V_3D_B));
+}
+#[test]
+fn stages_2d_fluid_only_dynamic_walls_summation_euler() {
+    stages_on::<D2>("V_2D_A fluid only", fluid_only(2, V_2D_A));
+}
+#[test]
+fn stages_3d_fluid_only_lj_walls_continuity_symplectic() {
+    stages_on::<D3>("V_3D_A fluid only", fluid_only(3, V_3D_A));
+}
+#[test]
+fn stages_3d_fluid_only_dynamic_walls_continuity_euler() {
+    stages_on::<D3>("V_3D_B fluid only", fluid_only(3, V_3D_B));
+}
+/// `setup` with no periodic axis: the neighbour loops' other specialisation (the minimum
+/// image compiled out, cuda/common.cuh `neighbour_loop`). Particles at the open x ends just
+/// have fewer neighbours.
+fn not_periodic(mut setup: Setup) -> Setup {
+    setup.params.periodic = [0; 3];
+    params::derive(&mut setup.params);
+    setup
+}
+#[test]
+fn stages_2d_no_periodic_axis_with_a_body_symplectic() {
+    stages_on::<D2>("V_2D_B, no periodic axis", not_periodic(scene(2, V_2D_B)));
+}
+#[test]
+fn stages_3d_fluid_only_no_periodic_axis_euler() {
+    stages_on::<D3>(
+        "V_3D_B fluid only, no periodic axis",
+        not_periodic(fluid_only(3, V_3D_B)),
+    );
+}
+#[test]
+fn stages_2d_fluid_only_no_periodic_axis_symplectic() {
+    stages_on::<D2>(
+        "V_2D_B fluid only, no periodic axis",
+        not_periodic(fluid_only(2, V_2D_B)),
+    );
+}
+#[test]
+fn stages_3d_fluid_only_no_periodic_axis_symplectic() {
+    stages_on::<D3>(
+        "V_3D_A fluid only, no periodic axis",
+        not_periodic(fluid_only(3, V_3D_A)),
+    );
+}
+/// Which parity scenes take the lean kernels: pinned, so that the lean and the full
+/// fluid-only kernels both stay covered.
+#[test]
+fn lean_kernels_are_covered() {
+    for (dim, v) in [(2, V_2D_LEAN), (3, V_3D_LEAN), (3, V_3D_A), (2, V_2D_B)] {
+        assert!(
+            params::lean_scheme(&fluid_only(dim, v).params),
+            "{dim}D {v:?}"
+        );
+    }
+    for (dim, v) in [(2, V_2D_A), (3, V_3D_B), (2, V_2D_DELTA), (3, V_3D_DELTA)] {
+        assert!(
+            !params::lean_scheme(&fluid_only(dim, v).params),
+            "{dim}D {v:?}"
+        );
+    }
+}
+#[test]
+fn stages_2d_lean_dynamic_walls_euler() {
+    stages_on::<D2>("V_2D_LEAN fluid only", fluid_only(2, V_2D_LEAN));
+}
+#[test]
+fn stages_3d_lean_dynamic_walls_euler() {
+    stages_on::<D3>("V_3D_LEAN fluid only", fluid_only(3, V_3D_LEAN));
+}
+#[test]
+fn stages_3d_lean_no_periodic_axis_euler() {
+    stages_on::<D3>(
+        "V_3D_LEAN fluid only, no periodic axis",
+        not_periodic(fluid_only(3, V_3D_LEAN)),
+    );
+}
+#[test]
+fn diagnostics_after_200_steps_2d_lean_euler() {
+    let setup = fluid_only_of(scene_with(2, V_2D_LEAN, 0.05));
+    long_run_on::<D2>("V_2D_LEAN fluid only", setup, 200);
+}
+#[test]
+fn diagnostics_after_200_steps_3d_lean_euler() {
+    let setup = fluid_only_of(scene_with(3, V_3D_LEAN, 0.05));
+    long_run_on::<D3>("V_3D_LEAN fluid only", setup, 200);
+}
+#[test]
+fn stages_2d_density_diffusion() {
+    stages::<D2>(2, V_2D_DELTA);
+}
+#[test]
+fn stages_3d_density_diffusion() {
+    stages::<D3>(3, V_3D_DELTA);
+}
+#[test]
+fn diagnostics_after_200_steps_2d_density_diffusion() {
+    long_run::<D2>(2, V_2D_DELTA, 200);
+}
+#[test]
+fn stages_2d_density_diffusion_fourtakas() {
+    stages::<D2>(2, V_2D_FOURTAKAS);
+}
+#[test]
+fn stages_3d_density_diffusion_fourtakas() {
+    stages::<D3>(3, V_3D_FOURTAKAS);
+}
+#[test]
+fn diagnostics_after_200_steps_3d_density_diffusion_fourtakas() {
+    long_run::<D3>(3, V_3D_FOURTAKAS, 200);
+}
+#[test]
+fn stages_2d_density_diffusion_antuono() {
+    stages::<D2>(2, V_2D_ANTUONO);
+}
+#[test]
+fn stages_3d_density_diffusion_antuono() {
+    stages::<D3>(3, V_3D_ANTUONO);
+}
+#[test]
+fn stages_3d_fluid_only_density_diffusion_antuono() {
+    stages_on::<D3>("V_3D_ANTUONO fluid only", fluid_only(3, V_3D_ANTUONO));
+}
+#[test]
+fn diagnostics_after_200_steps_2d_density_diffusion_antuono() {
+    long_run::<D2>(2, V_2D_ANTUONO, 200);
+}
+#[test]
+fn stages_2d_solid_density_diffusion() {
+    stages::<D2>(2, V_2D_SOLID_DELTA);
+}
+#[test]
+fn stages_3d_solid_density_diffusion() {
+    stages::<D3>(3, V_3D_SOLID_DELTA);
+}
+#[test]
+fn diagnostics_after_200_steps_2d_solid_density_diffusion() {
+    long_run::<D2>(2, V_2D_SOLID_DELTA, 200);
+}
+#[test]
+fn diagnostics_after_200_steps_2d_dynamic_walls_euler() {
+    long_run::<D2>(2, V_2D_A, 200);
+}
+#[test]
+fn diagnostics_after_200_steps_2d_lj_walls_symplectic() {
+    long_run::<D2>(2, V_2D_B, 200);
+}
+#[test]
+fn diagnostics_after_200_steps_3d_lj_walls_symplectic() {
+    long_run::<D3>(3, V_3D_A, 200);
+}
+#[test]
+fn diagnostics_after_200_steps_3d_dynamic_walls_euler() {
+    long_run::<D3>(3, V_3D_B, 200);
+}
+
+#[test]
+fn diagnostics_after_200_steps_2d_fluid_only_euler() {
+    // Forward Euler without solids: every step through the fused fluid-only kernel.
+    let setup = fluid_only_of(scene_with(2, V_2D_A, 0.05));
+    long_run_on::<D2>("V_2D_A fluid only", setup, 200);
+}
+#[test]
+fn diagnostics_after_200_steps_3d_fluid_only_euler() {
+    let setup = fluid_only_of(scene_with(3, V_3D_B, 0.05));
+    long_run_on::<D3>("V_3D_B fluid only", setup, 200);
+}
+
+/// `setup` with the no-slip walls of Morris, Fox & Zhu 1997 (`no_slip`, cap `beta_max`):
+/// the wall surface of the parity scenes is the fluid's box, y >= 0 (and 0 <= z <= lz in
+/// 3D), so each wall particle faces the nearest point of it (diagonally at the 3D edges).
+/// The parity scenes number walls among the fluid, so `wall_surface` spans the smallest to
+/// the largest wall id with unused entries between.
+fn with_no_slip(mut setup: Setup, beta_max: f32) -> Setup {
+    let p = &mut setup.params;
+    p.no_slip = params::MF_NO_SLIP_MORRIS as i32;
+    p.no_slip_beta_max = beta_max;
+    let d3 = p.dim == 3;
+    let lz = p.domain_max[2] - 3.0 * p.dx; // `scene_with`: the domain's z runs to lz + 3 dx
+    let lo = [f32::NEG_INFINITY, 0.0, 0.0];
+    let hi = [f32::INFINITY, f32::INFINITY, if d3 { lz } else { 0.0 }];
+    let walls = || setup.particles.iter().filter(|q| q.kind == Kind::Boundary);
+    let first = walls().map(|q| q.id).min().expect("walls");
+    let last = walls().map(|q| q.id).max().expect("walls");
+    let mut surface = vec![[0.0f32; 4]; (last - first) as usize + 1];
+    for q in walls() {
+        let x = q.position;
+        let v: [f32; 3] = std::array::from_fn(|a| x[a].clamp(lo[a], hi[a]) - x[a]);
+        let d = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        surface[(q.id - first) as usize] = [v[0] / d, v[1] / d, v[2] / d, d];
+    }
+    setup.params.wall_first_id = first;
+    setup.wall_surface = surface;
+    setup
+}
+
+/// Symplectic Euler (the separate forces kernel) with dynamic walls and laminar viscosity.
+const V_2D_SYMPLECTIC_LAMINAR: Variant = Variant {
+    dynamic_walls: true,
+    laminar: true,
+    ..V_2D_B
+};
+
+#[test]
+fn stages_2d_no_slip_walls_summation_euler() {
+    let setup = with_no_slip(scene(2, V_2D_A), 2.0);
+    stages_on::<D2>("V_2D_A + Morris no-slip walls", setup);
+}
+#[test]
+fn stages_2d_no_slip_driven_wall_symplectic() {
+    // A moving wall (v_w != 0) under the separate forces kernel.
+    let setup = driven_cohesive(2, V_2D_SYMPLECTIC_LAMINAR, 0, [0.5, 0.0, 0.0]);
+    let setup = with_no_slip(setup, 2.0);
+    stages_on::<D2>("2D symplectic + driven Morris no-slip wall", setup);
+}
+#[test]
+fn stages_3d_no_slip_walls_continuity_euler() {
+    let setup = with_no_slip(scene(3, V_3D_B), 2.0);
+    stages_on::<D3>("V_3D_B + Morris no-slip walls", setup);
+}
+#[test]
+fn stages_3d_fluid_only_no_slip_walls_continuity_euler() {
+    let setup = with_no_slip(fluid_only(3, V_3D_B), 2.0);
+    stages_on::<D3>("V_3D_B fluid only + Morris no-slip walls", setup);
+}
+#[test]
+fn stages_2d_fluid_only_no_slip_walls_symplectic() {
+    let setup = with_no_slip(fluid_only(2, V_2D_SYMPLECTIC_LAMINAR), 2.0);
+    stages_on::<D2>("2D symplectic fluid only + Morris no-slip walls", setup);
+}
+#[test]
+fn diagnostics_after_200_steps_2d_no_slip_walls_euler() {
+    let setup = with_no_slip(scene_with(2, V_2D_A, 0.05), 2.0);
+    long_run_on::<D2>("V_2D_A + Morris no-slip walls", setup, 200);
+}
+
+/// The fused `forces_and_rates` pass against `rates` then `forces` on the GPU, from one
+/// state, at every lane count: each sum runs over the same neighbours in the same order, so
+/// accelerations, rates and the step size agree bit for bit.
+fn fused_equals_two_passes<D: Dim>(what: &str, setup: Setup) {
+    let Some(mut g) = gpu::<D>(&setup) else {
+        return;
+    };
+    g.build_grid();
+    g.density();
+    let start = g.download_state();
+    for lanes in [8, 4, 2, 1] {
+        g.set_lanes(Some(lanes));
+        g.upload_state(&start);
+        g.rates();
+        g.forces();
+        g.time_step();
+        let (two, dt2) = (g.download_state(), g.dt());
+        g.upload_state(&start);
+        g.forces_and_rates();
+        g.time_step();
+        let (one, dt1) = (g.download_state(), g.dt());
+        assert_eq!(
+            flat_v::<D>(&two.acc),
+            flat_v::<D>(&one.acc),
+            "{what}, {lanes} lanes: acc"
+        );
+        assert_eq!(
+            flat_v::<D>(&two.xsph),
+            flat_v::<D>(&one.xsph),
+            "{what}, {lanes} lanes: xsph"
+        );
+        assert_eq!(two.drho, one.drho, "{what}, {lanes} lanes: drho");
+        if let (Some(a), Some(b)) = (&two.solid, &one.solid) {
+            assert_eq!(
+                flat_m::<D>(&a.stress_rate),
+                flat_m::<D>(&b.stress_rate),
+                "{what}, {lanes} lanes: stress rate"
+            );
+        }
+        assert_eq!(dt2, dt1, "{what}, {lanes} lanes: dt");
+    }
+    eprintln!("{what}: fused pass = rates + forces, bit for bit, at 8, 4, 2 and 1 lanes");
+}
+
+#[test]
+fn fused_pass_equals_two_passes_2d() {
+    fused_equals_two_passes::<D2>("2D V_2D_A", scene(2, V_2D_A));
+    fused_equals_two_passes::<D2>("2D V_2D_DELTA fluid only", fluid_only(2, V_2D_DELTA));
+}
+#[test]
+fn fused_pass_equals_two_passes_3d() {
+    fused_equals_two_passes::<D3>("3D V_3D_B", scene(3, V_3D_B));
+    fused_equals_two_passes::<D3>("3D V_3D_B fluid only", fluid_only(3, V_3D_B));
+    fused_equals_two_passes::<D3>("3D V_3D_A fluid only", fluid_only(3, V_3D_A));
+}
+#[test]
+fn fused_pass_equals_two_passes_no_slip_walls() {
+    let (s2, s3) = (scene(2, V_2D_A), fluid_only(3, V_3D_B));
+    fused_equals_two_passes::<D2>("2D V_2D_A + no-slip walls", with_no_slip(s2, 2.0));
+    fused_equals_two_passes::<D3>("3D V_3D_B fluid only + no-slip", with_no_slip(s3, 2.0));
+}
+
+#[test]
+fn params_layout_matches_nvcc() {
+    let setup = scene(3, V_3D_A);
+    let Some(mut g) = gpu::<D3>(&setup) else {
+        return;
+    };
+    let l = g.params_layout();
+    let rust = [
+        std::mem::size_of::<SphParams>() as u32,
+        std::mem::offset_of!(SphParams, dt_fixed) as u32,
+        std::mem::offset_of!(SphParams, gravity) as u32,
+        3,
+    ];
+    assert_eq!(
+        l, rust,
+        "nvcc (sizeof, offsetof dt_fixed, offsetof gravity, dim) vs Rust"
+    );
+    eprintln!("SphParams layout: nvcc {l:?} == rust {rust:?}");
+}
+
+#[test]
+fn state_round_trip_through_device() {
+    let setup = scene(2, V_2D_A);
+    let Some(mut g) = gpu::<D2>(&setup) else {
+        return;
+    };
+    let s: State<D2> = g.download_state();
+    let host = State::<D2>::from_particles(&setup.particles, false, true);
+    assert_eq!(s.id, host.id);
+    assert_eq!(flat_v::<D2>(&s.pos), flat_v::<D2>(&host.pos));
+    let back = g.particles();
+    assert_eq!(back.len(), setup.particles.len());
+    assert!(back
+        .iter()
+        .zip(&setup.particles)
+        .all(|(a, b)| a.id == b.id && a.position == b.position && a.mass == b.mass));
+}
+
+/// `advance` (two steps captured as a CUDA graph, replayed) against the same number of
+/// single `step` calls on the GPU: the same kernels on the same inputs, so the same state bit
+/// for bit (odd counts end with single steps).
+fn graph_replay<D: Dim>(dim: usize, v: Variant) {
+    let setup = scene_with(dim, v, 0.05);
+    let (Some(mut a), Some(mut b)) = (gpu::<D>(&setup), gpu::<D>(&setup)) else {
+        return;
+    };
+    for n in [7u64, 10, 1] {
+        a.advance(n);
+        for _ in 0..n {
+            b.step();
+        }
+    }
+    assert_eq!(a.steps(), b.steps());
+    assert_eq!(a.time(), b.time(), "simulated time after advance vs step");
+    let (pa, pb) = (a.particles(), b.particles());
+    for (x, y) in pa.iter().zip(&pb) {
+        assert_eq!(x.id, y.id);
+        assert_eq!(
+            (x.position, x.velocity, x.density),
+            (y.position, y.velocity, y.density),
+            "particle {} differs between graph replay and single steps",
+            x.id
+        );
+    }
+}
+
+#[test]
+fn graph_replay_matches_single_steps_2d() {
+    graph_replay::<D2>(2, V_2D_B);
+}
+#[test]
+fn graph_replay_matches_single_steps_3d() {
+    graph_replay::<D3>(3, V_3D_B);
+}
+
+/// `setup` with particle shifting (`shifting` = 0.2): the shift velocity joins the XSPH
+/// velocity in rates and moves the particles in the drift.
+fn shifted(mut setup: Setup) -> Setup {
+    setup.params.shifting = 0.2;
+    setup
+}
+#[test]
+fn stages_2d_shifting_with_a_body() {
+    stages_on::<D2>("V_2D_B shifting", shifted(scene(2, V_2D_B)));
+}
+#[test]
+fn stages_3d_fluid_only_shifting_dynamic_walls() {
+    stages_on::<D3>("V_3D_B fluid only shifting", shifted(fluid_only(3, V_3D_B)));
+}
+#[test]
+fn stages_2d_background_pressure_dynamic_walls() {
+    let mut setup = scene(2, V_2D_A);
+    setup.params.p_background = 2.0;
+    stages_on::<D2>("V_2D_A background pressure", setup);
+}
+
+/// `setup` with the dynamic walls' continuity density held at >= rho0 (`wall_rho_floor`,
+/// DualSPHysics' DBC; `wall_density_floor` in src/backend/cpu/integrate.rs): the random
+/// velocities dilate some wall particles, so the drift's clamp binds.
+fn with_wall_density_floor(mut setup: Setup) -> Setup {
+    setup.params.wall_rho_floor = 1;
+    setup
+}
+#[test]
+fn stages_2d_wall_density_floor_continuity_symplectic() {
+    let setup = with_wall_density_floor(scene(2, V_2D_SYMPLECTIC_LAMINAR));
+    stages_on::<D2>("V_2D_SYMPLECTIC_LAMINAR wall density floor", setup);
+}
+#[test]
+fn stages_3d_wall_density_floor_continuity_euler() {
+    let setup = with_wall_density_floor(scene(3, V_3D_B));
+    stages_on::<D3>("V_3D_B wall density floor", setup);
+}
+#[test]
+fn diagnostics_after_200_steps_2d_wall_density_floor() {
+    let setup = with_wall_density_floor(scene_with(2, V_2D_SYMPLECTIC_LAMINAR, 0.05));
+    long_run_on::<D2>("V_2D_SYMPLECTIC_LAMINAR wall density floor", setup, 200);
+}
+
+/// `scene(dim, v)` in a domain reaching `y_max` [L] up, so that the grid has several blocks
+/// of the GPU's cell scan (4096 cells each; the other scenes have one): the scan of the
+/// block totals (`sph_scan_top`) and cell ranges that cross blocks.
+fn with_tall_domain(mut setup: Setup, y_max: f32) -> Setup {
+    setup.params.domain_max[1] = y_max;
+    params::derive(&mut setup.params);
+    assert!(
+        setup.params.n_cells > 3 * 4096,
+        "only {} cells",
+        setup.params.n_cells
+    );
+    setup
+}
+#[test]
+fn stages_2d_lean_many_scan_blocks() {
+    stages_on::<D2>(
+        "V_2D_LEAN, tall domain",
+        with_tall_domain(scene(2, V_2D_LEAN), 60.0),
+    );
+}
+#[test]
+fn stages_3d_lean_many_scan_blocks() {
+    stages_on::<D3>(
+        "V_3D_LEAN, tall domain",
+        with_tall_domain(scene(3, V_3D_LEAN), 30.0),
+    );
+}
+#[test]
+fn diagnostics_after_200_steps_3d_many_scan_blocks() {
+    let setup = with_tall_domain(scene_with(3, V_3D_LEAN, 0.05), 30.0);
+    long_run_on::<D3>("V_3D_LEAN, tall domain", setup, 200);
+}

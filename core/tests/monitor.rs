@@ -1,0 +1,249 @@
+//! Force monitors (`src/monitor.rs`): the Strouhal estimator on synthetic signals, the
+//! end-of-run statistics, the wall force against the CPU force stage, and on a resting tank
+//! (the fluid's weight).
+
+mod common;
+
+use meshfree_core::backend::cpu::CpuSolver;
+use meshfree_core::backend::cpu_solver;
+use meshfree_core::dim::{Dim, D2};
+use meshfree_core::monitor::{dominant_frequency, wall_force, ForceSample, MonitorSummary};
+use meshfree_core::particle::Kind;
+use meshfree_core::scene::Scene;
+use meshfree_core::solver::Solver;
+use meshfree_core::step::Stepper;
+
+/// A sine of frequency 1.37 with an offset, noise and a drag-like second harmonic, sampled
+/// at jittered times over 9 periods: the DFT peak is the sine's frequency within 1 %.
+#[test]
+fn dominant_frequency_of_a_noisy_sine() {
+    let f0 = 1.37;
+    let mut seed = 12345u64;
+    let mut rnd = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let (mut t, mut x) = (Vec::new(), Vec::new());
+    let mut tk = 3.0;
+    while tk < 3.0 + 9.0 / f0 {
+        t.push(tk);
+        let w = 2.0 * std::f64::consts::PI * f0 * tk;
+        x.push(0.4 + 0.3 * (w + 0.7).sin() + 0.1 * (2.0 * w).sin() + 0.1 * rnd());
+        tk += 0.02 * (1.0 + 0.3 * rnd());
+    }
+    let f = dominant_frequency(&t, &x).expect("a frequency");
+    assert!((f - f0).abs() < 0.01 * f0, "found {f}, expected {f0}");
+    // Too short or constant signals give none.
+    assert_eq!(dominant_frequency(&t[..5], &x[..5]), None);
+    assert_eq!(dominant_frequency(&t, &vec![2.0; t.len()]), None);
+}
+
+/// The statistics over the second half of the record: St = f D / U, mean Cd, rms Cl.
+#[test]
+fn monitor_summary_of_a_synthetic_record() {
+    let (u, d, f0) = (15.0, 2.0, 1.35);
+    let samples: Vec<ForceSample> = (0..1000)
+        .map(|k| {
+            let t = k as f64 * 0.02;
+            // Transient in the first half (ignored): a larger drag, no lift.
+            let (cd, cl) = if t < 10.0 {
+                (3.0, 0.0)
+            } else {
+                (1.4, 0.5 * (2.0 * std::f64::consts::PI * f0 * t).sin())
+            };
+            ForceSample {
+                t,
+                force: [cd, cl, 0.0],
+                cd,
+                cl,
+            }
+        })
+        .collect();
+    let s = MonitorSummary::of("forces", 0, &samples, u, d, 0.25);
+    let st = s.strouhal.expect("a Strouhal number");
+    assert!((st - f0 * d / u).abs() < 0.005 * st, "St {st}");
+    assert!((s.window_start - 9.99).abs() < 1e-9);
+    assert!((s.mean_cd - 1.4).abs() < 1e-9, "mean Cd {}", s.mean_cd);
+    assert!(
+        (s.rms_cl - 0.5 / 2f64.sqrt()).abs() < 0.01,
+        "rms Cl {}",
+        s.rms_cl
+    );
+    assert_eq!(s.samples, 1000);
+    assert_eq!(s.blockage_ratio, 0.25);
+    let line = s.to_string();
+    assert!(
+        line.contains("Strouhal 0.18") && line.contains("blockage D/H 0.250"),
+        "{line}"
+    );
+}
+
+/// A resting tank: the fluid's weight rests on the container, so the time-averaged force
+/// of the fluid on the wall object is M g (down) within 2 %, and nothing sideways.
+#[test]
+fn resting_tank_wall_carries_the_fluid_weight() {
+    let scene = Scene::builtin("tank-2d")
+        .unwrap()
+        .with_spacing(0.05)
+        .unwrap();
+    let setup = scene.setup().unwrap();
+    let p = setup.params;
+    let mass: f64 = setup
+        .particles
+        .iter()
+        .filter(|q| q.kind == Kind::Fluid)
+        .map(|q| q.mass as f64)
+        .sum();
+    let weight = mass * p.gravity[1] as f64; // negative: down
+    let group = scene.wall_group(0);
+    let mut s = cpu_solver(setup);
+    let mut stepper = Stepper::default();
+    stepper.advance_to(s.as_mut(), 0.3).unwrap();
+    // Averaged over 0.5: the force rings by +-15 % with a period of about 0.1.
+    let n = 50;
+    let mut mean = [0.0f64; 3];
+    for k in 1..=n {
+        stepper
+            .advance_to(s.as_mut(), 0.3 + 0.5 * k as f64 / n as f64)
+            .unwrap();
+        let f = wall_force(&p, &s.particles(), s.wall_surface(), group);
+        for a in 0..3 {
+            mean[a] += f[a] / n as f64;
+        }
+    }
+    eprintln!("mean wall force {mean:?}, weight {weight}");
+    assert!(
+        (mean[1] - weight).abs() < 0.02 * weight.abs(),
+        "vertical force {} vs the weight {weight}",
+        mean[1]
+    );
+    assert!(
+        mean[0].abs() < 0.01 * weight.abs(),
+        "sideways force {}",
+        mean[0]
+    );
+}
+
+/// Runs `scene` 200 steps on the CPU, recomputes the forces, and checks that the monitor's
+/// force on wall 0 is - sum_i m_i (a_i - g) over every particle that is no wall, within
+/// 1e-4 of the vertical force; returns the solver for further checks.
+fn check_monitor_against_force_stage(scene: &Scene) -> CpuSolver<D2> {
+    let setup = scene.setup().unwrap();
+    let p = setup.params;
+    let mut c = CpuSolver::<D2>::new(setup);
+    for _ in 0..200 {
+        c.step();
+    }
+    c.build_grid();
+    c.density();
+    c.forces();
+    let s = c.state();
+    let g = D2::from3(p.gravity);
+    let mut expect = [0.0f64; 2];
+    for i in 0..s.len() {
+        if s.kind[i] != Kind::Boundary.code() {
+            let a = D2::to3(s.acc[i] - g);
+            for k in 0..2 {
+                expect[k] -= s.mass[i] as f64 * a[k] as f64;
+            }
+        }
+    }
+    let f = wall_force(&p, &c.particles(), c.wall_surface(), scene.wall_group(0));
+    let scale = expect[1].abs();
+    eprintln!("monitor {f:?}, force stage {expect:?}");
+    for k in 0..2 {
+        assert!(
+            (f[k] - expect[k]).abs() < 1e-4 * scale,
+            "axis {k}: monitor {} vs force stage {}",
+            f[k],
+            expect[k]
+        );
+    }
+    c
+}
+
+/// The monitor's force is exactly the wall part of the force stage: fluid-fluid pair terms
+/// cancel in sum m_i a_i, so - sum_i m_i (a_i - g) over the fluid is the force on the walls
+/// (tank-2d after 200 steps, with laminar viscosity switched on as well).
+#[test]
+fn wall_force_is_the_wall_part_of_the_force_stage() {
+    let mut scene = Scene::builtin("tank-2d")
+        .unwrap()
+        .with_spacing(0.05)
+        .unwrap();
+    scene.file.fluid.viscosity = 0.01;
+    scene.revalidate().unwrap();
+    check_monitor_against_force_stage(&scene);
+}
+
+/// The same with the no-slip walls of Morris et al. 1997 (`[boundary] no_slip = "morris"`):
+/// the monitor takes the wall particles' extrapolated velocity as the force stage does.
+#[test]
+fn wall_force_is_the_wall_part_of_the_force_stage_with_no_slip_walls() {
+    let scene = common::tank_2d_morris(0.05);
+    check_monitor_against_force_stage(&scene);
+}
+
+/// The same identity with an elastic block standing on the monitored floor: a body meets a
+/// wall through its pressure only (`[solid] interface = "pressure"`, `whole_stress_pair`),
+/// in the force stage and in the monitor alike; body-body and body-fluid pair terms cancel
+/// in sum m_i a_i as fluid-fluid ones do.
+#[test]
+fn wall_force_with_a_body_on_the_wall_is_the_wall_part_of_the_force_stage() {
+    let text = r#"dimension = 2
+name = "block-on-floor"
+gravity = [0.0, -9.81]
+
+[domain]
+min = [-0.2, -0.2]
+max = [1.2, 1.3]
+
+[discretisation]
+spacing = 0.05
+
+[time]
+end = 1.0
+output_interval = 0.1
+
+[fluid]
+density = 1000.0
+sound_speed = 45.0
+alpha = 0.02
+
+[solid]
+density = 1200.0
+sound_speed = 60.0
+shear_modulus = 2.0e5
+
+[boundary]
+strength = 1962.0
+wall_coupling = "dynamic"
+
+[[fluid_blocks]]
+min = [0.0, 0.0]
+max = [0.5, 0.5]
+hydrostatic = true
+
+[[solids]]
+shape = "box"
+min = [0.6, 0.0]
+max = [0.9, 0.3]
+
+[[walls]]
+shape = "box-container"
+min = [0.0, 0.0]
+max = [1.0, 1.2]
+layers = 3
+"#;
+    let scene = Scene::from_toml(text, "tests/monitor.rs").unwrap();
+    let c = check_monitor_against_force_stage(&scene);
+    assert!(
+        c.state().solid.as_ref().is_some_and(|so| so
+            .stress
+            .iter()
+            .any(|m| !m.abs_diff_eq(Default::default(), 1.0))),
+        "the block carries a deviatoric stress after 200 steps"
+    );
+}

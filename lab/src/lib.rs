@@ -1,0 +1,8 @@
+//! meshfree-lab: the laboratory. `validate` (one case per file, against experiments and
+//! analytic solutions), `stability` (maps of stable / inaccurate / failed runs over two swept
+//! parameters), `chart` (error against wall time, the Pareto front) and the plots they draw.
+//! Every case steps through the solver's one stepping path, `meshfree_core::step`.
+pub mod chart;
+pub mod plot;
+pub mod stability;
+pub mod validate;
