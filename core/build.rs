@@ -36,6 +36,30 @@ fn main() {
     println!("cargo::rustc-check-cfg=cfg(meshfree_ptx)");
     bindings(&out);
     ptx(&out);
+    commit();
+}
+
+/// `MESHFREE_COMMIT`: the checkout's commit (`build_info::COMMIT`), rebuilt when HEAD moves.
+fn commit() {
+    let git = |args: &[&str]| {
+        Command::new("git")
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    if let Some(dir) = git(&["rev-parse", "--git-dir"]) {
+        println!("cargo:rerun-if-changed={dir}/HEAD");
+    }
+    if let (Some(common), Some(head)) = (
+        git(&["rev-parse", "--git-common-dir"]),
+        git(&["symbolic-ref", "-q", "HEAD"]),
+    ) {
+        println!("cargo:rerun-if-changed={common}/{head}");
+    }
+    let hash = git(&["rev-parse", "--short=7", "HEAD"]).unwrap_or_else(|| "unknown".into());
+    println!("cargo:rustc-env=MESHFREE_COMMIT={hash}");
 }
 
 /// bindgen's output for the header, or `None` where libclang cannot be loaded.

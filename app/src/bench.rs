@@ -85,6 +85,12 @@ pub struct BenchRow {
     /// "continuity" or "summation".
     #[serde(default)]
     pub density: String,
+    /// The day of the run, `YYYY-MM-DD` (UTC).
+    #[serde(default)]
+    pub date: String,
+    /// The build's commit (`meshfree_core::build_info::COMMIT`).
+    #[serde(default)]
+    pub commit: String,
 }
 
 /// The name of the integrator in `p` (the scene files' spelling).
@@ -284,6 +290,8 @@ fn run_one<D: Dim>(o: &BenchOptions, dim: u32, n: usize) -> Result<BenchRow, Bac
             "summation"
         }
         .into(),
+        date: meshfree_core::build_info::today(),
+        commit: meshfree_core::build_info::COMMIT.into(),
     })
 }
 

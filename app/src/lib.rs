@@ -5,6 +5,7 @@ pub mod analysis;
 pub mod bench;
 pub mod cli;
 pub mod compare;
+pub mod docs;
 pub mod monitors;
 pub mod output;
 pub mod paper_bench;

@@ -379,6 +379,12 @@ pub fn csv_rows(text: &str) -> Vec<Vec<String>> {
 pub struct Report {
     pub tier: Tier,
     pub machine: String,
+    /// The day of the run, `YYYY-MM-DD` (UTC).
+    #[serde(default)]
+    pub date: String,
+    /// The build's commit (`meshfree_core::build_info::COMMIT`).
+    #[serde(default)]
+    pub commit: String,
     pub wall_seconds: f64,
     pub pass: bool,
     pub checks: Vec<Check>,
@@ -484,6 +490,8 @@ pub fn run(options: &Options) -> anyhow::Result<Report> {
     let report = Report {
         tier: options.tier,
         machine: machine(),
+        date: meshfree_core::build_info::today(),
+        commit: meshfree_core::build_info::COMMIT.into(),
         wall_seconds: started.elapsed().as_secs_f64(),
         pass: checks.iter().all(|c| c.pass),
         checks,
@@ -510,8 +518,10 @@ pub fn markdown(r: &Report) -> String {
     let _ = writeln!(s, "# meshfree validation report ({:?} tier)\n", r.tier);
     let _ = writeln!(
         s,
-        "Machine: {}. Total wall time {:.1} s. Result: **{}** ({} of {} checks pass).\n",
+        "Machine: {}. Build {}, run {}. Total wall time {:.1} s. Result: **{}** ({} of {} checks pass).\n",
         r.machine,
+        r.commit,
+        r.date,
         r.wall_seconds,
         if r.pass { "PASS" } else { "FAIL" },
         r.checks.iter().filter(|c| c.pass).count(),
