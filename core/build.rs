@@ -8,6 +8,10 @@
 //!   `MESHFREE_REQUIRE_NVCC=1` turns that into an error (CI sets it).
 //!   `MESHFREE_CUDA_ARCH` overrides the virtual architecture (default `compute_75`, Turing:
 //!   the driver JIT-compiles it for any newer GPU).
+//! * Test cfgs: `MESHFREE_REQUIRE_CUDA=1` sets `meshfree_require_cuda`, under which the GPU
+//!   tests (`tests/cuda_parity.rs`) are not `#[ignore]`d and fail without a usable GPU;
+//!   `MESHFREE_REQUIRE_LIBCLANG=1` sets `meshfree_require_libclang`, and bindings made by
+//!   bindgen set `meshfree_bindgen`: `tests/bindings.rs` is ignored under neither.
 
 use std::env;
 use std::fs;
@@ -30,10 +34,22 @@ fn main() {
         "MESHFREE_REQUIRE_NVCC",
         "MESHFREE_CUDA_ARCH",
         "MESHFREE_NVCC_FLAGS",
+        "MESHFREE_REQUIRE_CUDA",
+        "MESHFREE_REQUIRE_LIBCLANG",
     ] {
         println!("cargo:rerun-if-env-changed={var}");
     }
     println!("cargo::rustc-check-cfg=cfg(meshfree_ptx)");
+    for (var, cfg) in [
+        ("MESHFREE_REQUIRE_CUDA", "meshfree_require_cuda"),
+        ("MESHFREE_REQUIRE_LIBCLANG", "meshfree_require_libclang"),
+    ] {
+        println!("cargo::rustc-check-cfg=cfg({cfg})");
+        if env::var(var).is_ok_and(|v| v == "1") {
+            println!("cargo:rustc-cfg={cfg}");
+        }
+    }
+    println!("cargo::rustc-check-cfg=cfg(meshfree_bindgen)");
     bindings(&out);
     ptx(&out);
     commit();
@@ -100,6 +116,9 @@ fn bindings(out: &Path) {
     }
     fs::write(out.join("sph_params.rs"), text).expect("write bindings");
     println!("cargo:rustc-env=MESHFREE_BINDINGS_SOURCE={source}");
+    if source == "bindgen" {
+        println!("cargo:rustc-cfg=meshfree_bindgen");
+    }
 }
 
 fn find_nvcc() -> Option<PathBuf> {
@@ -172,7 +191,7 @@ fn ptx(out: &Path) {
         let mut cmd = Command::new(&nvcc);
         // -ftz=true: denormal floats flush to zero, so that a reciprocal, reciprocal root or
         // division in the pair sums is one instruction, not a range test and rescale around it
-        // (3D step 8 % shorter on the H100, docs/performance.md, session 6). No SPH quantity
+        // (3D step 8 % shorter on the H100, docs/performance.md, "-ftz=true"). No SPH quantity
         // of a scene comes near 1e-38 in SI units; the parity tests hold unchanged.
         cmd.args([
             "--ptx",

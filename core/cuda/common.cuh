@@ -471,14 +471,14 @@ __device__ __forceinline__ void call_neighbour(const SphParams& p, const float* 
     ENTRY(name##_lean_##L##_3d, 3, false, false, L)
 
 // Candidates per batch in the neighbour loops (batch_accept, queued_neighbours): their
-// position loads are in flight together. 4 (H100, 4M, docs/performance.md, session 7: with
+// position loads are in flight together. 4 (H100, 4M particles, docs/performance.md: with
 // the queue, 8 spilled the batch at 64 registers and was 24 % slower in 3D, 2 was 1.5 %
 // slower).
 #ifndef MF_NB_BATCH
 #define MF_NB_BATCH 4
 #endif
 // Blocks of MF_BLOCK per SM that the fluid-only forces, rates and fused kernels are bounded
-// to (4: 64 registers; 3 was slower, session 7).
+// to (4: 64 registers; 3 was slower on the H100, docs/performance.md).
 #ifndef MF_FLUID_BLOCKS
 #define MF_FLUID_BLOCKS 4
 #endif
@@ -502,7 +502,7 @@ __device__ __forceinline__ void for_each_neighbor_split(const SphParams& p, cons
 // MF_QUEUE entries (first candidate, mask of the accepted ones among the 32 from there) per
 // thread in shared memory, entry e of thread t at [e * MF_BLOCK + t]; MF_QUEUE 0: no queue
 // (batch_accept's pair sums after each batch). 8 entries of 8 B: 16 KB per block of 256; more
-// takes L1 cache from the candidate loads and was slower (docs/performance.md, session 7).
+// takes L1 cache from the candidate loads and was slower (H100, docs/performance.md).
 #ifndef MF_QUEUE
 #define MF_QUEUE 8
 #endif
@@ -537,7 +537,7 @@ __device__ __forceinline__ void queued_neighbours(const SphParams& p, const unsi
                         unsigned mask = 0;
                         // batch_accept's test, written out: sharing it through a helper
                         // returning the batch's mask (shifted by b here) compiled 1 % slower
-                        // at 4M in 2D and 3D (H100, session 7).
+                        // at 4M in 2D and 3D (H100).
                         for (int b = 0; b < 32 && c + b < e; b += B) {
                             const unsigned base = c + (unsigned)b;
                             Vec<DIM> xj[B];

@@ -8,8 +8,9 @@
 //! passes, bit for bit; and the `SphParams` layout as nvcc sees it. Morris's no-slip walls
 //! (`no_slip`) run in five stage scenes, a long run and the fused-pass check.
 //!
-//! Without a usable GPU each test prints why and passes; with `MESHFREE_REQUIRE_CUDA=1` it
-//! fails instead.
+//! The tests that need a GPU are `#[ignore]`d unless the build had `MESHFREE_REQUIRE_CUDA=1`
+//! (`build.rs` turns it into the cfg `meshfree_require_cuda`); `-- --include-ignored` runs
+//! them too. A test that runs fails without a usable GPU: it never passes by skipping.
 //!
 //! Each stage starts from identical inputs: after comparing a stage, the CPU state is
 //! uploaded to the GPU (`CudaSolver::upload_state`), so differences do not carry over.
@@ -27,17 +28,14 @@ use meshfree_core::particle::{Kind, Particle};
 use meshfree_core::solver::{Setup, Solver};
 use meshfree_core::state::State;
 
-fn gpu<D: Dim>(setup: &Setup) -> Option<CudaSolver<D>> {
-    match CudaSolver::<D>::new(setup.clone()) {
-        Ok(s) => Some(s),
-        Err(e) => {
-            if std::env::var("MESHFREE_REQUIRE_CUDA").is_ok_and(|v| v == "1") {
-                panic!("MESHFREE_REQUIRE_CUDA=1 but the CUDA backend is unusable: {e}");
-            }
-            eprintln!("SKIPPED (no usable CUDA device): {e}");
-            None
-        }
-    }
+/// The GPU solver for `setup`; without a usable GPU the test fails (it was asked to run).
+fn gpu<D: Dim>(setup: &Setup) -> CudaSolver<D> {
+    CudaSolver::<D>::new(setup.clone()).unwrap_or_else(|e| {
+        panic!(
+            "this GPU test needs a usable CUDA device: {e} (it ran because the build had \
+             MESHFREE_REQUIRE_CUDA=1, or because of --ignored / --include-ignored)"
+        )
+    })
 }
 
 struct Rng(u64);
@@ -492,9 +490,7 @@ fn fluid_only_of(mut setup: Setup) -> Setup {
 /// The stage comparison on any parity scene (`what` names it in the log).
 fn stages_on<D: Dim>(what: &str, setup: Setup) {
     let dim = setup.params.dim;
-    let Some(mut g) = gpu::<D>(&setup) else {
-        return;
-    };
+    let mut g = gpu::<D>(&setup);
     let mut c = CpuSolver::<D>::new(setup.clone());
     let p = setup.params;
     eprintln!(
@@ -600,9 +596,7 @@ fn long_run<D: Dim>(dim: usize, v: Variant, steps: usize) {
 /// `long_run` on any scene (`what` names it in the log).
 fn long_run_on<D: Dim>(what: &str, setup: Setup, steps: usize) {
     let dim = setup.params.dim;
-    let Some(mut g) = gpu::<D>(&setup) else {
-        return;
-    };
+    let mut g = gpu::<D>(&setup);
     let mut c = CpuSolver::<D>::new(setup);
     let t0 = std::time::Instant::now();
     for _ in 0..steps {
@@ -666,16 +660,28 @@ fn driven_cohesive(dim: usize, v: Variant, group: i32, u: [f32; 3]) -> Setup {
 }
 
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_driven_wall_cohesion_continuity_symplectic() {
     let setup = driven_cohesive(2, V_2D_B, 0, [0.5, 0.0, 0.0]);
     stages_on::<D2>("V_2D_B + driven wall + cohesion", setup);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_driven_solid_cohesion_summation_euler() {
     let setup = driven_cohesive(2, V_2D_A, 2, [0.0, 0.0, 0.0]);
     stages_on::<D2>("V_2D_A + clamped disc + cohesion", setup);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_driven_solid_cohesion_continuity_euler() {
     let setup = driven_cohesive(3, V_3D_B, 2, [0.2, -0.3, 0.1]);
     stages_on::<D3>("V_3D_B + driven sphere + cohesion", setup);
@@ -732,6 +738,10 @@ fn clamped_body(dim: usize, v: Variant) -> Setup {
 }
 
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_bodies_in_contact_dynamic_walls() {
     stages_on::<D2>(
         "V_2D_A + bodies in contact",
@@ -739,6 +749,10 @@ fn stages_2d_bodies_in_contact_dynamic_walls() {
     );
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_bodies_in_contact_dynamic_walls() {
     stages_on::<D3>(
         "V_3D_B + bodies in contact",
@@ -746,6 +760,10 @@ fn stages_3d_bodies_in_contact_dynamic_walls() {
     );
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_bodies_in_contact_lj_walls_whole_stress() {
     let setup = bodies_in_contact(2, V_2D_B, true);
     stages_on::<D2>("V_2D_B + bodies in contact, whole stress", setup);
@@ -760,16 +778,28 @@ fn bodies_skipping_walls(dim: usize, v: Variant) -> Setup {
     setup
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_bodies_skipping_walls_summation() {
     let setup = bodies_skipping_walls(2, V_2D_A);
     stages_on::<D2>("V_2D_A + bodies in contact, skipping the walls", setup);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_bodies_skipping_walls_continuity() {
     let setup = bodies_skipping_walls(3, V_3D_B);
     stages_on::<D3>("V_3D_B + bodies in contact, skipping the walls", setup);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_clamp_bonded_to_its_body() {
     stages_on::<D2>(
         "V_2D_A + clamp holding half the disc",
@@ -777,6 +807,10 @@ fn stages_2d_clamp_bonded_to_its_body() {
     );
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_clamp_bonded_to_its_body() {
     stages_on::<D3>(
         "V_3D_B + clamp holding half the sphere",
@@ -787,6 +821,10 @@ fn stages_3d_clamp_bonded_to_its_body() {
 /// (`[solid] artificial_stress_from = "deviatoric"`, `art_stress_deviatoric`; `art_pressure`
 /// in stress.rs, `artificial_stress` in density.cu).
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_clamp_deviatoric_artificial_stress() {
     let mut setup = clamped_body(2, V_2D_B);
     setup.params.art_stress_deviatoric = 1;
@@ -794,38 +832,74 @@ fn stages_2d_clamp_deviatoric_artificial_stress() {
 }
 
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_dynamic_walls_summation_euler() {
     stages::<D2>(2, V_2D_A);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_lj_walls_continuity_symplectic() {
     stages::<D2>(2, V_2D_B);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_lj_walls_continuity_symplectic() {
     stages::<D3>(3, V_3D_A);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_dynamic_walls_continuity_euler() {
     stages::<D3>(3, V_3D_B);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_inflow_band_symplectic() {
     stages_on::<D2>("V_2D_B + inflow band", with_inflow_band(2, V_2D_B));
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_inflow_band_euler() {
     stages_on::<D3>("V_3D_B + inflow band", with_inflow_band(3, V_3D_B));
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_fluid_only_dynamic_walls_summation_euler() {
     stages_on::<D2>("V_2D_A fluid only", fluid_only(2, V_2D_A));
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_fluid_only_lj_walls_continuity_symplectic() {
     stages_on::<D3>("V_3D_A fluid only", fluid_only(3, V_3D_A));
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_fluid_only_dynamic_walls_continuity_euler() {
     stages_on::<D3>("V_3D_B fluid only", fluid_only(3, V_3D_B));
 }
@@ -838,10 +912,18 @@ fn not_periodic(mut setup: Setup) -> Setup {
     setup
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_no_periodic_axis_with_a_body_symplectic() {
     stages_on::<D2>("V_2D_B, no periodic axis", not_periodic(scene(2, V_2D_B)));
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_fluid_only_no_periodic_axis_euler() {
     stages_on::<D3>(
         "V_3D_B fluid only, no periodic axis",
@@ -849,6 +931,10 @@ fn stages_3d_fluid_only_no_periodic_axis_euler() {
     );
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_fluid_only_no_periodic_axis_symplectic() {
     stages_on::<D2>(
         "V_2D_B fluid only, no periodic axis",
@@ -856,6 +942,10 @@ fn stages_2d_fluid_only_no_periodic_axis_symplectic() {
     );
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_fluid_only_no_periodic_axis_symplectic() {
     stages_on::<D3>(
         "V_3D_A fluid only, no periodic axis",
@@ -880,14 +970,26 @@ fn lean_kernels_are_covered() {
     }
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_lean_dynamic_walls_euler() {
     stages_on::<D2>("V_2D_LEAN fluid only", fluid_only(2, V_2D_LEAN));
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_lean_dynamic_walls_euler() {
     stages_on::<D3>("V_3D_LEAN fluid only", fluid_only(3, V_3D_LEAN));
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_lean_no_periodic_axis_euler() {
     stages_on::<D3>(
         "V_3D_LEAN fluid only, no periodic axis",
@@ -895,91 +997,175 @@ fn stages_3d_lean_no_periodic_axis_euler() {
     );
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn diagnostics_after_200_steps_2d_lean_euler() {
     let setup = fluid_only_of(scene_with(2, V_2D_LEAN, 0.05));
     long_run_on::<D2>("V_2D_LEAN fluid only", setup, 200);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn diagnostics_after_200_steps_3d_lean_euler() {
     let setup = fluid_only_of(scene_with(3, V_3D_LEAN, 0.05));
     long_run_on::<D3>("V_3D_LEAN fluid only", setup, 200);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_density_diffusion() {
     stages::<D2>(2, V_2D_DELTA);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_density_diffusion() {
     stages::<D3>(3, V_3D_DELTA);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn diagnostics_after_200_steps_2d_density_diffusion() {
     long_run::<D2>(2, V_2D_DELTA, 200);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_density_diffusion_fourtakas() {
     stages::<D2>(2, V_2D_FOURTAKAS);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_density_diffusion_fourtakas() {
     stages::<D3>(3, V_3D_FOURTAKAS);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn diagnostics_after_200_steps_3d_density_diffusion_fourtakas() {
     long_run::<D3>(3, V_3D_FOURTAKAS, 200);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_density_diffusion_antuono() {
     stages::<D2>(2, V_2D_ANTUONO);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_density_diffusion_antuono() {
     stages::<D3>(3, V_3D_ANTUONO);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_fluid_only_density_diffusion_antuono() {
     stages_on::<D3>("V_3D_ANTUONO fluid only", fluid_only(3, V_3D_ANTUONO));
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn diagnostics_after_200_steps_2d_density_diffusion_antuono() {
     long_run::<D2>(2, V_2D_ANTUONO, 200);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_solid_density_diffusion() {
     stages::<D2>(2, V_2D_SOLID_DELTA);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_solid_density_diffusion() {
     stages::<D3>(3, V_3D_SOLID_DELTA);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn diagnostics_after_200_steps_2d_solid_density_diffusion() {
     long_run::<D2>(2, V_2D_SOLID_DELTA, 200);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn diagnostics_after_200_steps_2d_dynamic_walls_euler() {
     long_run::<D2>(2, V_2D_A, 200);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn diagnostics_after_200_steps_2d_lj_walls_symplectic() {
     long_run::<D2>(2, V_2D_B, 200);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn diagnostics_after_200_steps_3d_lj_walls_symplectic() {
     long_run::<D3>(3, V_3D_A, 200);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn diagnostics_after_200_steps_3d_dynamic_walls_euler() {
     long_run::<D3>(3, V_3D_B, 200);
 }
 
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn diagnostics_after_200_steps_2d_fluid_only_euler() {
     // Forward Euler without solids: every step through the fused fluid-only kernel.
     let setup = fluid_only_of(scene_with(2, V_2D_A, 0.05));
     long_run_on::<D2>("V_2D_A fluid only", setup, 200);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn diagnostics_after_200_steps_3d_fluid_only_euler() {
     let setup = fluid_only_of(scene_with(3, V_3D_B, 0.05));
     long_run_on::<D3>("V_3D_B fluid only", setup, 200);
@@ -1021,11 +1207,19 @@ const V_2D_SYMPLECTIC_LAMINAR: Variant = Variant {
 };
 
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_no_slip_walls_summation_euler() {
     let setup = with_no_slip(scene(2, V_2D_A), 2.0);
     stages_on::<D2>("V_2D_A + Morris no-slip walls", setup);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_no_slip_driven_wall_symplectic() {
     // A moving wall (v_w != 0) under the separate forces kernel.
     let setup = driven_cohesive(2, V_2D_SYMPLECTIC_LAMINAR, 0, [0.5, 0.0, 0.0]);
@@ -1033,21 +1227,37 @@ fn stages_2d_no_slip_driven_wall_symplectic() {
     stages_on::<D2>("2D symplectic + driven Morris no-slip wall", setup);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_no_slip_walls_continuity_euler() {
     let setup = with_no_slip(scene(3, V_3D_B), 2.0);
     stages_on::<D3>("V_3D_B + Morris no-slip walls", setup);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_fluid_only_no_slip_walls_continuity_euler() {
     let setup = with_no_slip(fluid_only(3, V_3D_B), 2.0);
     stages_on::<D3>("V_3D_B fluid only + Morris no-slip walls", setup);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_fluid_only_no_slip_walls_symplectic() {
     let setup = with_no_slip(fluid_only(2, V_2D_SYMPLECTIC_LAMINAR), 2.0);
     stages_on::<D2>("2D symplectic fluid only + Morris no-slip walls", setup);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn diagnostics_after_200_steps_2d_no_slip_walls_euler() {
     let setup = with_no_slip(scene_with(2, V_2D_A, 0.05), 2.0);
     long_run_on::<D2>("V_2D_A + Morris no-slip walls", setup, 200);
@@ -1057,9 +1267,7 @@ fn diagnostics_after_200_steps_2d_no_slip_walls_euler() {
 /// state, at every lane count: each sum runs over the same neighbours in the same order, so
 /// accelerations, rates and the step size agree bit for bit.
 fn fused_equals_two_passes<D: Dim>(what: &str, setup: Setup) {
-    let Some(mut g) = gpu::<D>(&setup) else {
-        return;
-    };
+    let mut g = gpu::<D>(&setup);
     g.build_grid();
     g.density();
     let start = g.download_state();
@@ -1098,17 +1306,29 @@ fn fused_equals_two_passes<D: Dim>(what: &str, setup: Setup) {
 }
 
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn fused_pass_equals_two_passes_2d() {
     fused_equals_two_passes::<D2>("2D V_2D_A", scene(2, V_2D_A));
     fused_equals_two_passes::<D2>("2D V_2D_DELTA fluid only", fluid_only(2, V_2D_DELTA));
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn fused_pass_equals_two_passes_3d() {
     fused_equals_two_passes::<D3>("3D V_3D_B", scene(3, V_3D_B));
     fused_equals_two_passes::<D3>("3D V_3D_B fluid only", fluid_only(3, V_3D_B));
     fused_equals_two_passes::<D3>("3D V_3D_A fluid only", fluid_only(3, V_3D_A));
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn fused_pass_equals_two_passes_no_slip_walls() {
     let (s2, s3) = (scene(2, V_2D_A), fluid_only(3, V_3D_B));
     fused_equals_two_passes::<D2>("2D V_2D_A + no-slip walls", with_no_slip(s2, 2.0));
@@ -1116,11 +1336,13 @@ fn fused_pass_equals_two_passes_no_slip_walls() {
 }
 
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn params_layout_matches_nvcc() {
     let setup = scene(3, V_3D_A);
-    let Some(mut g) = gpu::<D3>(&setup) else {
-        return;
-    };
+    let mut g = gpu::<D3>(&setup);
     let l = g.params_layout();
     let rust = [
         std::mem::size_of::<SphParams>() as u32,
@@ -1136,11 +1358,13 @@ fn params_layout_matches_nvcc() {
 }
 
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn state_round_trip_through_device() {
     let setup = scene(2, V_2D_A);
-    let Some(mut g) = gpu::<D2>(&setup) else {
-        return;
-    };
+    let mut g = gpu::<D2>(&setup);
     let s: State<D2> = g.download_state();
     let host = State::<D2>::from_particles(&setup.particles, false, true);
     assert_eq!(s.id, host.id);
@@ -1158,9 +1382,7 @@ fn state_round_trip_through_device() {
 /// for bit (odd counts end with single steps).
 fn graph_replay<D: Dim>(dim: usize, v: Variant) {
     let setup = scene_with(dim, v, 0.05);
-    let (Some(mut a), Some(mut b)) = (gpu::<D>(&setup), gpu::<D>(&setup)) else {
-        return;
-    };
+    let (mut a, mut b) = (gpu::<D>(&setup), gpu::<D>(&setup));
     for n in [7u64, 10, 1] {
         a.advance(n);
         for _ in 0..n {
@@ -1182,10 +1404,18 @@ fn graph_replay<D: Dim>(dim: usize, v: Variant) {
 }
 
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn graph_replay_matches_single_steps_2d() {
     graph_replay::<D2>(2, V_2D_B);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn graph_replay_matches_single_steps_3d() {
     graph_replay::<D3>(3, V_3D_B);
 }
@@ -1197,14 +1427,26 @@ fn shifted(mut setup: Setup) -> Setup {
     setup
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_shifting_with_a_body() {
     stages_on::<D2>("V_2D_B shifting", shifted(scene(2, V_2D_B)));
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_fluid_only_shifting_dynamic_walls() {
     stages_on::<D3>("V_3D_B fluid only shifting", shifted(fluid_only(3, V_3D_B)));
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_background_pressure_dynamic_walls() {
     let mut setup = scene(2, V_2D_A);
     setup.params.p_background = 2.0;
@@ -1219,16 +1461,28 @@ fn with_wall_density_floor(mut setup: Setup) -> Setup {
     setup
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_wall_density_floor_continuity_symplectic() {
     let setup = with_wall_density_floor(scene(2, V_2D_SYMPLECTIC_LAMINAR));
     stages_on::<D2>("V_2D_SYMPLECTIC_LAMINAR wall density floor", setup);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_wall_density_floor_continuity_euler() {
     let setup = with_wall_density_floor(scene(3, V_3D_B));
     stages_on::<D3>("V_3D_B wall density floor", setup);
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn diagnostics_after_200_steps_2d_wall_density_floor() {
     let setup = with_wall_density_floor(scene_with(2, V_2D_SYMPLECTIC_LAMINAR, 0.05));
     long_run_on::<D2>("V_2D_SYMPLECTIC_LAMINAR wall density floor", setup, 200);
@@ -1248,6 +1502,10 @@ fn with_tall_domain(mut setup: Setup, y_max: f32) -> Setup {
     setup
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_lean_many_scan_blocks() {
     stages_on::<D2>(
         "V_2D_LEAN, tall domain",
@@ -1255,6 +1513,10 @@ fn stages_2d_lean_many_scan_blocks() {
     );
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_3d_lean_many_scan_blocks() {
     stages_on::<D3>(
         "V_3D_LEAN, tall domain",
@@ -1262,6 +1524,10 @@ fn stages_3d_lean_many_scan_blocks() {
     );
 }
 #[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn diagnostics_after_200_steps_3d_many_scan_blocks() {
     let setup = with_tall_domain(scene_with(3, V_3D_LEAN, 0.05), 30.0);
     long_run_on::<D3>("V_3D_LEAN, tall domain", setup, 200);

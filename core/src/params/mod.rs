@@ -21,7 +21,7 @@ pub const BINDINGS_SOURCE: &str = env!("MESHFREE_BINDINGS_SOURCE");
 /// viscosity, cohesion, Morris's no-slip walls, density diffusion or shifting. Fluid-only
 /// scenes where this holds run the lean CUDA kernels (`EXTRAS = false` in cuda/forces.cuh
 /// and cuda/rates.cuh), which compile those terms out instead of testing them per pair: the
-/// same results with fewer registers and branches (docs/performance.md, session 6).
+/// same results with fewer registers and branches (docs/performance.md, "lean fluid kernels").
 pub fn lean_scheme(p: &SphParams) -> bool {
     p.nu <= 0.0
         && p.cohesion == 0.0

@@ -12,7 +12,7 @@
 //! the paper's (neither), whose rows are informational: without diffusion the continuity
 //! density carries particle-scale noise that does not shrink with dx, and without shifting
 //! the resting cubic-spline lattice pairs at dx = H/80 (nearest neighbours at 0.3 dx, drift
-//! 1.6 dx; docs/accuracy.md, "Hydrostatic tank: the diagnosis" and session 8).
+//! 1.6 dx; docs/accuracy.md, "Hydrostatic tank: the diagnosis").
 
 use super::{convergence, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
@@ -41,9 +41,9 @@ pub struct Scheme {
 
 /// The checked scheme: delta-SPH, delta = 0.1 (the value DualSPHysics takes by default), in
 /// the hydrostatic form of Fourtakas et al. 2019 (its layer-mean and RMS pressure errors are
-/// 20-40 % below the plain form's at every resolution; session 9, docs/accuracy.md), and
+/// 20-40 % below the plain form's at every resolution; docs/accuracy.md), and
 /// particle shifting C = 0.1, which keeps the resting lattice from pairing (0.1 drifted less
-/// than 0.2 at every resolution: H100 host CPUs, session 8).
+/// than 0.2 at every resolution, on the H100 host's CPUs).
 pub const CHECKED: Scheme = Scheme {
     label: "delta-SPH 0.1 (Fourtakas), shifting 0.1",
     density_diffusion: 0.1,
