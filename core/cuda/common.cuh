@@ -4,9 +4,8 @@
 // division and norm of the pair terms.
 // Parity test: tests/cuda_parity.rs.
 #pragma once
+#include "sph_consts.h"
 #include "sph_params.h"
-
-#define MF_BLOCK 256
 
 // Positions, velocities, accelerations: float2 in 2D, float4 (w unused) in 3D, so one
 // aligned load per particle; the layout is glam's Vec2 / Vec3A.
@@ -345,10 +344,6 @@ __device__ __forceinline__ Vec<DIM> separation(const SphParams& p, Vec<DIM> xi, 
     return r;
 }
 
-// Relative slack of the cell pruning in `rows`: a cell is skipped only when it is farther
-// than (1 + slack) x the support, so rounding never drops a neighbour.
-#define MF_PRUNE_SLACK 1e-4f
-
 // Squared distance from coordinate x to the slab of (unwrapped) cell c on axis a.
 __device__ __forceinline__ float slab_gap2(const SphParams& p, int a, int c, float x) {
     const float lo = p.domain_min[a] + (float)c * p.cell_size[a];
@@ -450,14 +445,6 @@ __device__ __forceinline__ void call_neighbour(const SphParams& p, const float* 
     const Vec<DIM> r = separation<DIM, PERIODIC>(p, xi, vload_w<DIM>(pos, j, wj));
     f(j, r, dot(r, r), wj);
 }
-
-// Lanes per particle in the neighbour kernels (density, forces, rates): each particle's
-// candidate ranges are split over L consecutive threads (lane l takes every L-th candidate,
-// so a warp's loads are contiguous), then the partial sums are combined by shuffles in a
-// fixed order. Deterministic; the summation order differs from the CPU's only in this
-// split. Every kernel has one entry per L in MF_LANES_EACH (`name_L_2d`, `name_L_3d`); the
-// launcher (src/backend/cuda/launch.rs) picks L by system size.
-#define MF_LANES_EACH(X) X(1) X(2) X(4) X(8)
 
 // The schemes of the forces and rates kernels, for one lane count L: ENTRY(entry name, DIM,
 // SOLIDS, EXTRAS, L) for `name_L_{2,3}d` (with solids), `name_fluid_L_{2,3}d` (fluid-only)

@@ -3,10 +3,6 @@
 // Twin: src/backend/cpu/grid.rs; parity test: tests/cuda_parity.rs.
 #include "common.cuh"
 
-#define MF_SCAN_BLOCK 1024
-#define MF_SCAN_ITEMS 4
-#define MF_SCAN_CELLS (MF_SCAN_BLOCK * MF_SCAN_ITEMS)
-
 // 1. Cell of every particle and the count of every cell; skipped where the last drift did
 // it (hist_one in common.cuh).
 template <int DIM>

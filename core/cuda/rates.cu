@@ -44,7 +44,7 @@ MF_LANES_EACH(MF_RATES_LANES)
 // 532): grad_i = (sum_j V_j (x_j - x_i) (x) grad_i W_ij)^-T sum_j V_j (rho_j - rho_i)
 // grad_i W_ij over the neighbours of one body (solids, solid_delta_sph > 0) or over the fluid
 // (delta_form == MF_DIFFUSION_ANTUONO), V_j = m_j / rho_j, exact for a linear density; zero
-// for other particles and where the moment is singular (|det| <= 1e-3). One thread per
+// for other particles and where the moment is singular (|det| <= MF_MOMENT_DET_MIN). One thread per
 // particle. Twin: `density_gradient` in cpu/rates.rs. [M L^-d L^-1]
 template <int DIM>
 __device__ void sph_grad_rho_body(const SphParams p, unsigned n, const unsigned* __restrict__ cell_start,
@@ -74,7 +74,7 @@ __device__ void sph_grad_rho_body(const SphParams p, unsigned n, const unsigned*
     if (i >= n) return;
     Vec<DIM> out = vzero<DIM>();
     const float d = det<DIM>(m);
-    if (on && fabsf(d) > 1e-3f) {
+    if (on && fabsf(d) > MF_MOMENT_DET_MIN) {
         const Mat<DIM> inv = inverse<DIM>(m, d);
         // (M^T)^-1 g = (M^-1)^T g.
 #pragma unroll

@@ -4,6 +4,7 @@
 //! line, plotting or progress bars: those live in the `meshfree` binary (`app/`) and the
 //! laboratory (`lab/`). See `ARCHITECTURE.md`.
 pub mod backend;
+pub mod consts;
 pub mod dim;
 pub mod kernel;
 pub mod monitor;

@@ -9,6 +9,7 @@ use std::sync::Arc;
 
 use cudarc::driver::{CudaSlice, CudaStream, DeviceRepr, DriverError, ValidAsZeroBits};
 
+use crate::consts::MF_SCAN_CELLS;
 use crate::dim::Dim;
 use crate::params::MF_KIND_BOUNDARY;
 use crate::state::{SolidState, State};
@@ -113,11 +114,6 @@ impl Alloc<'_> {
     }
 }
 
-/// The scan's block width and the cells each block scans (MF_SCAN_BLOCK, MF_SCAN_CELLS in
-/// `cuda/grid.cu`).
-pub const SCAN_BLOCK: usize = 1024;
-pub const SCAN_CELLS: usize = 4 * SCAN_BLOCK;
-
 impl Buffers {
     /// Allocate for `state`, a grid of `n_cells` and the wall surface `surface`
     /// (`Setup::wall_surface`; none where empty), and the density gradients where
@@ -148,7 +144,7 @@ impl Buffers {
         };
         let cur = persistent(&mut a)?;
         let alt = persistent(&mut a)?;
-        let n_blocks = (n_cells + 1).div_ceil(SCAN_CELLS);
+        let n_blocks = (n_cells + 1).div_ceil(MF_SCAN_CELLS as usize);
         let mut b = Buffers {
             n,
             n_cells,

@@ -7,9 +7,10 @@ use cudarc::driver::{
     CudaFunction, CudaSlice, CudaStream, DeviceRepr, DriverError, LaunchConfig, PushKernelArg,
 };
 
-use super::buffers::{Buffers, SCAN_BLOCK, SCAN_CELLS};
+use super::buffers::Buffers;
 use super::device::Device;
 use crate::backend::BackendError;
+use crate::consts::{MF_BLOCK, MF_LANES_MAX, MF_SCAN_BLOCK, MF_SCAN_CELLS};
 use crate::params::{lean_scheme, SphParams, MF_DENSITY_CONTINUITY};
 
 // SAFETY: SphParams is the bindgen image of the C struct in `cuda/sph_params.h` (repr(C),
@@ -20,13 +21,10 @@ unsafe impl DeviceRepr for SphParams {}
 /// Null for optional array arguments (the kernels test the pointer).
 static NULL: u64 = 0;
 
-/// MF_BLOCK in `cuda/common.cuh`.
-const BLOCK: u32 = 256;
-
 fn cfg(n: usize) -> LaunchConfig {
     LaunchConfig {
-        grid_dim: ((n as u32).div_ceil(BLOCK).max(1), 1, 1),
-        block_dim: (BLOCK, 1, 1),
+        grid_dim: ((n as u32).div_ceil(MF_BLOCK).max(1), 1, 1),
+        block_dim: (MF_BLOCK, 1, 1),
         shared_mem_bytes: 0,
     }
 }
@@ -56,8 +54,17 @@ impl Kernel {
     }
 }
 
-/// Lane counts with kernel entries (`MF_LANES_EACH` in `cuda/common.cuh`), in index order.
-pub const LANE_COUNTS: [usize; 4] = [1, 2, 4, 8];
+/// Lane counts with kernel entries, in index order: the powers of two from 1 to
+/// `MF_LANES_MAX` (`MF_LANES_EACH` in `cuda/sph_consts.h`).
+pub const LANE_COUNTS: [usize; MF_LANES_MAX.trailing_zeros() as usize + 1] = {
+    let mut l = [1; MF_LANES_MAX.trailing_zeros() as usize + 1];
+    let mut k = 1;
+    while k < l.len() {
+        l[k] = 2 * l[k - 1];
+        k += 1;
+    }
+    l
+};
 
 /// The neighbour kernels of one family, one per lane count of `LANE_COUNTS`.
 pub struct PerLanes([Kernel; 4]);
@@ -171,7 +178,7 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     let nc = b.n_cells as u32;
     // The scan runs over n_cells + 1 counts (the last, 0, closes the last cell's range).
     let n_scan = nc + 1;
-    let nb = n_scan.div_ceil(SCAN_CELLS as u32);
+    let nb = n_scan.div_ceil(MF_SCAN_CELLS);
     if n == 0 {
         return;
     }
@@ -192,7 +199,8 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
         });
     }
     // SAFETY: sph_scan_local(unsigned n_cells, const unsigned* count, unsigned* local,
-    // unsigned* bsum), over n_scan entries; grid of ceil(n_scan/4096) blocks of 1024, bsum
+    // unsigned* bsum), over n_scan entries; grid of ceil(n_scan / MF_SCAN_CELLS) blocks of
+    // MF_SCAN_BLOCK, bsum
     // has that many, local n_scan (16-byte aligned, as count).
     k.scan_local.check(unsafe {
         s.launch_builder(&k.scan_local.f)
@@ -202,19 +210,19 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
             .arg(&mut b.bsum)
             .launch(LaunchConfig {
                 grid_dim: (nb, 1, 1),
-                block_dim: (SCAN_BLOCK as u32, 1, 1),
+                block_dim: (MF_SCAN_BLOCK, 1, 1),
                 shared_mem_bytes: 0,
             })
             .map(|_| ())
     });
-    // SAFETY: sph_scan_top(unsigned n_blocks, unsigned* bsum); one block of 1024.
+    // SAFETY: sph_scan_top(unsigned n_blocks, unsigned* bsum); one block of MF_SCAN_BLOCK.
     k.scan_top.check(unsafe {
         s.launch_builder(&k.scan_top.f)
             .arg(&nb)
             .arg(&mut b.bsum)
             .launch(LaunchConfig {
                 grid_dim: (1, 1, 1),
-                block_dim: (SCAN_BLOCK as u32, 1, 1),
+                block_dim: (MF_SCAN_BLOCK, 1, 1),
                 shared_mem_bytes: 0,
             })
             .map(|_| ())

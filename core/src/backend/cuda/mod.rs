@@ -15,12 +15,14 @@ use cudarc::driver::sys;
 
 use crate::backend::cpu::fault;
 use crate::backend::BackendError;
+use crate::consts::{
+    MF_FAULT_ESCAPED, MF_FAULT_NON_FINITE_POSITION, MF_FAULT_NON_FINITE_VELOCITY,
+    MF_FAULT_SLOT_SHIFT,
+};
 use crate::dim::Dim;
 use crate::params::{needs_density_gradient, SphParams, MF_DENSITY_CONTINUITY};
 use crate::particle::Particle;
-use crate::solver::{
-    fault_codes as fc, BackendInfo, Diagnostics, Fault, Setup, Shown, Snapshot, Solver,
-};
+use crate::solver::{BackendInfo, Diagnostics, Fault, Setup, Shown, Snapshot, Solver};
 use crate::state::State;
 
 pub use device::{driver_version, NVCC_VERSION};
@@ -335,22 +337,24 @@ impl<D: Dim> Solver for CudaSolver<D> {
         if first == u64::MAX {
             return Ok(());
         }
-        let (slot, code) = ((first >> 8) as usize, (first & 0xff) as u32);
+        // (slot << MF_FAULT_SLOT_SHIFT) | fault class, from sph_check.
+        let slot = (first >> MF_FAULT_SLOT_SHIFT) as usize;
+        let code = (first & ((1 << MF_FAULT_SLOT_SHIFT) - 1)) as u32;
         let st = self.download_state();
         let x = D::to3(st.pos[slot]);
         let v = D::to3(st.vel[slot]);
         let value = match code {
-            fc::NON_FINITE_POSITION => x
+            MF_FAULT_NON_FINITE_POSITION => x
                 .iter()
                 .copied()
                 .find(|c| !c.is_finite())
                 .unwrap_or(f32::NAN),
-            fc::NON_FINITE_VELOCITY => v
+            MF_FAULT_NON_FINITE_VELOCITY => v
                 .iter()
                 .copied()
                 .find(|c| !c.is_finite())
                 .unwrap_or(f32::NAN),
-            fc::ESCAPED => (0..D::D)
+            MF_FAULT_ESCAPED => (0..D::D)
                 .find(|&a| {
                     self.params.periodic[a] == 0
                         && (x[a] < self.params.domain_min[a] || x[a] > self.params.domain_max[a])
