@@ -2,7 +2,14 @@
 // of solids (Gray, Monaghan & Swift 2001), fused: one kernel per stage.
 // Twin: src/backend/cpu/density.rs (+ update_artificial_stress in stress.rs);
 // parity test: tests/cuda_parity.rs.
-#include "common.cuh"
+#include "device/entries.cuh"
+#include "device/kernel.cuh"
+#include "device/neighbours.cuh"
+#include "device/packing.cuh"
+#include "device/pairs.cuh"
+#include "device/particle.cuh"
+#include "device/reductions.cuh"
+#include "device/vectors.cuh"
 
 // Eigen-decomposition of the symmetric upper-left d x d block by cyclic Jacobi rotations:
 // line for line the CPU's jacobi_eigen (stress.rs).
@@ -101,7 +108,7 @@ __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __re
         pi = pressure(p, ki, r);  // eq. (9)
         pr[i] = pi;
     }
-    // The density in the velocity's w slot (see vel_load in common.cuh), every particle.
+    // The density in the velocity's w slot (see vel_load in device/packing.cuh), every particle.
     reinterpret_cast<float4*>(vel)[i].w = vel_w(ki, active ? r : rho[i]);
     if (art) {
         if (ki == MF_KIND_SOLID) {

@@ -4,7 +4,12 @@
 // neighbour loops. Twin: src/backend/cpu/forces.rs (+ extremes in reduce.rs);
 // parity test: tests/cuda_parity.rs.
 #pragma once
-#include "common.cuh"
+#include "device/neighbours.cuh"
+#include "device/packing.cuh"
+#include "device/pairs.cuh"
+#include "device/particle.cuh"
+#include "device/reductions.cuh"
+#include "device/vectors.cuh"
 
 // Lennard-Jones boundary force per unit mass, eq. (17).
 template <int DIM> __device__ __forceinline__ Vec<DIM> lennard_jones(const SphParams& p, Vec<DIM> r, float rr) {
@@ -214,7 +219,7 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct ForceSum {
         if constexpr (L == 1) {
             // One lane per particle (large systems): per warp, not per block, so that no
             // warp waits at a barrier for the slowest of its block (H100, 4M: forward Euler
-            // steps 0.6-0.8 % shorter, docs/performance.md, session 7).
+            // steps 0.6-0.8 % shorter, docs/performance.md).
             vmax = warp_max(vmax);
             amax = warp_max(amax);
             cmax = warp_max(cmax);

@@ -1,6 +1,9 @@
 // Rates from the current velocities (RateSum in rates.cuh): d rho/dt, XSPH and, with solids,
 // the Jaumann stress rate. Twin: src/backend/cpu/rates.rs; parity test: tests/cuda_parity.rs.
 #include "rates.cuh"
+#include "device/entries.cuh"
+#include "device/neighbours.cuh"
+#include "device/pairs.cuh"
 
 // drho: null without the continuity density; stress, rate: null without solids.
 template <int DIM, bool SOLIDS, bool EXTRAS, int L>

@@ -7,7 +7,12 @@
 // (forces_rates.cu) run in their neighbour loops.
 // Twin: src/backend/cpu/rates.rs; parity test: tests/cuda_parity.rs.
 #pragma once
-#include "common.cuh"
+#include "sph_consts.h"
+#include "device/neighbours.cuh"
+#include "device/packing.cuh"
+#include "device/pairs.cuh"
+#include "device/reductions.cuh"
+#include "device/vectors.cuh"
 
 template <int DIM> __device__ __forceinline__ float det(const Mat<DIM>& a) {
     if constexpr (DIM == 2) {

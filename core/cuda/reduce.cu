@@ -1,7 +1,11 @@
 // Reductions: the step size on the device (eq. (19) with force and viscous limits),
 // diagnostics, the health check, and the SphParams layout probe.
 // Twin: src/backend/cpu/reduce.rs; parity test: tests/cuda_parity.rs.
-#include "common.cuh"
+#include "device/entries.cuh"
+#include "device/packing.cuh"
+#include "device/particle.cuh"
+#include "device/reductions.cuh"
+#include "device/vectors.cuh"
 #include <stddef.h>
 
 // red = (max |v|, max |a|, max c) as float bits, filled by sph_forces_*. Writes dt, clears red.

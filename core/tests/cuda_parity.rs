@@ -470,7 +470,7 @@ fn with_inflow_band(dim: usize, v: Variant) -> Setup {
 /// `scene(dim, v)` with the solid body turned into fluid (rest density, no stress): the only
 /// scenes that take the fluid-only entries of forces and rates (`sph_forces_fluid_*`,
 /// `sph_rates_fluid_*`: batches of 8 candidates at one lane, and the neighbour's kind read
-/// from the sign of its vel.w, `vel_load` in cuda/common.cuh).
+/// from the sign of its vel.w, `vel_load` in cuda/device/packing.cuh).
 fn fluid_only(dim: usize, v: Variant) -> Setup {
     fluid_only_of(scene(dim, v))
 }
@@ -830,7 +830,7 @@ fn stages_3d_fluid_only_dynamic_walls_continuity_euler() {
     stages_on::<D3>("V_3D_B fluid only", fluid_only(3, V_3D_B));
 }
 /// `setup` with no periodic axis: the neighbour loops' other specialisation (the minimum
-/// image compiled out, cuda/common.cuh `neighbour_loop`). Particles at the open x ends just
+/// image compiled out, cuda/device/neighbours.cuh `neighbour_loop`). Particles at the open x ends just
 /// have fewer neighbours.
 fn not_periodic(mut setup: Setup) -> Setup {
     setup.params.periodic = [0; 3];

@@ -126,7 +126,7 @@ fn slab_gap2(p: &SphParams, a: usize, c: i32, x: f32) -> f32 {
 /// slab lies beyond the support, calls `row(first cell index of the row, x0, x1)` with the
 /// x cells x0..=x1 (unwrapped on a periodic x axis) that the support's cross-section at
 /// that row reaches. Within a row the cells are contiguous in storage. Twin of `rows` in
-/// `cuda/common.cuh`: both backends visit the same candidates in the same order.
+/// `cuda/device/grid.cuh`: both backends visit the same candidates in the same order.
 #[inline]
 pub fn rows<D: Dim>(p: &SphParams, xi: D::V, mut row: impl FnMut(u32, i32, i32)) {
     let reach = MF_CELL_REACH as i32;
