@@ -12,9 +12,10 @@
 //! would take them.
 
 use crate::backend::cpu::{
-    artificial_viscosity, couples, laminar, laminar_velocity, lennard_jones, meets, pressure,
-    same_body, wall_pair_stress, whole_stress_pair, Grid,
+    artificial_viscosity, laminar, laminar_velocity, lennard_jones, pressure, wall_pair_stress,
+    whole_stress_pair, Grid,
 };
+use crate::backend::pair::{couples, meets, same_body};
 use crate::dim::{Dim, D2, D3};
 use crate::kernel;
 use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID};

@@ -751,7 +751,7 @@ fn stages_2d_bodies_in_contact_lj_walls_whole_stress() {
     stages_on::<D2>("V_2D_B + bodies in contact, whole stress", setup);
 }
 /// `bodies_in_contact` where bodies and walls skip each other (`[solid] wall_contact =
-/// false`, `solid_skips_walls`; `meets` in cpu/density.rs / common.cuh): the solid layer on
+/// false`, `solid_skips_walls`; `meets` in backend/pair.rs / pairs.cuh): the solid layer on
 /// the wall feels no Lennard-Jones force or wall pressure, and neither enters the other's
 /// density (summation in V_2D_A, the walls' continuity in V_3D_B).
 fn bodies_skipping_walls(dim: usize, v: Variant) -> Setup {

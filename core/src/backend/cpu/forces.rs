@@ -3,8 +3,8 @@
 
 use rayon::prelude::*;
 
-use super::density::{couples, meets, same_body};
 use super::grid::Grid;
+use crate::backend::pair::{couples, meets, same_body};
 use crate::dim::Dim;
 use crate::kernel;
 use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID, MF_NO_SLIP_MORRIS};

@@ -9,7 +9,7 @@ mod rates;
 mod reduce;
 mod stress;
 
-pub use density::{couples, meets, pressure, same_body};
+pub use density::pressure;
 pub use forces::{
     artificial_viscosity, cohesion_over_r, laminar, laminar_velocity, lennard_jones,
     no_slip_factor, wall_pair_stress, whole_stress_pair,

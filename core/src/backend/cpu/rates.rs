@@ -8,8 +8,8 @@
 
 use rayon::prelude::*;
 
-use super::density::{couples, meets, same_body};
 use super::grid::Grid;
+use crate::backend::pair::{couples, meets, same_body};
 use crate::consts::{MF_MOMENT_DET_MIN, MF_SHIFT_ANTI_CLUMP, MF_SHIFT_SURFACE_MARGIN};
 use crate::dim::Dim;
 use crate::kernel;
