@@ -11,9 +11,9 @@
 #include "device/reductions.cuh"
 #include "device/vectors.cuh"
 
-// Lennard-Jones boundary force per unit mass, eq. (17).
+// Lennard-Jones boundary force per unit mass, eq. (17), for r < lj_range.
 template <int DIM> __device__ __forceinline__ Vec<DIM> lennard_jones(const SphParams& p, Vec<DIM> r, float rr) {
-    if (rr <= 0.0f || rr >= (p.lj_attractive ? p.support : p.lj_r0)) return vzero<DIM>();
+    if (rr <= 0.0f || rr >= p.lj_range) return vzero<DIM>();
     float q = p.lj_r0 / rr;
     float mag = p.lj_c0 * (powf(q, (float)p.lj_p1) - powf(q, (float)p.lj_p2));
     return r * (mag / rr);

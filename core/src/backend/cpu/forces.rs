@@ -12,17 +12,10 @@ use crate::state::State;
 
 /// Lennard-Jones boundary force per unit mass, eq. (17): C0 [(r0/r)^p1 - (r0/r)^p2] r_ij/r,
 /// acting for r < r0 (repulsive), or within the support where the scene asks for the
-/// attractive branch. [L/T^2]
+/// attractive branch (`lj_range`). [L/T^2]
 #[inline]
 pub fn lennard_jones<D: Dim>(p: &SphParams, r: D::V, rr: f32) -> D::V {
-    if rr <= 0.0
-        || rr
-            >= if p.lj_attractive != 0 {
-                p.support
-            } else {
-                p.lj_r0
-            }
-    {
+    if rr <= 0.0 || rr >= p.lj_range {
         return D::V::default();
     }
     let q = p.lj_r0 / rr;

@@ -14,8 +14,8 @@ use crate::consts::{MF_MOMENT_DET_MIN, MF_SHIFT_ANTI_CLUMP, MF_SHIFT_SURFACE_MAR
 use crate::dim::Dim;
 use crate::kernel;
 use crate::params::{
-    fluid_density_gradient, needs_density_gradient, SphParams, MF_DIFFUSION_FOURTAKAS,
-    MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID,
+    needs_density_gradient, SphParams, MF_DIFFUSION_FOURTAKAS, MF_KIND_BOUNDARY, MF_KIND_FLUID,
+    MF_KIND_SOLID,
 };
 use crate::state::State;
 
@@ -62,7 +62,7 @@ fn density_gradient<D: Dim>(p: &SphParams, grid: &Grid, s: &State<D>) -> Option<
     if !needs_density_gradient(p) {
         return None;
     }
-    let (fluid, solid) = (fluid_density_gradient(p), p.solid_delta_sph > 0.0);
+    let (fluid, solid) = (p.fluid_density_gradient != 0, p.solid_delta_sph > 0.0);
     let (pos, rho, mass, kind, group) = (&s.pos, &s.rho, &s.mass, &s.kind, &s.group);
     let g = (0..s.len())
         .into_par_iter()
