@@ -72,7 +72,7 @@ __device__ __forceinline__ bool whole_stress_pair(const SphParams& p, bool same_
 // neighbour j != i (in the neighbour loop's order), then `finish` (all threads of the block).
 // EXTRAS = false compiles out the terms beyond the paper's fluid scheme (laminar viscosity,
 // Morris's no-slip walls, cohesion), for the lean kernels that run where all are off
-// (`lean_scheme` in src/backend/cuda/launch.rs).
+// (`params::lean_scheme`; `Scheme::of` in src/backend/cuda/kernels.rs).
 template <int DIM, bool SOLIDS, bool EXTRAS = true> struct ForceSum {
     bool on;  // i < n and i is no wall: walls get a = 0
     unsigned char ki;

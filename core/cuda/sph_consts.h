@@ -28,7 +28,7 @@
  * fixed order. Deterministic; the summation order differs from the CPU's only in this
  * split. Every power of two L from 1 to MF_LANES_MAX has its own kernel entries
  * (`name_L_2d`, `name_L_3d`), which MF_LANES_EACH lists for the CUDA entry macros; the
- * launcher (src/backend/cuda/kernels.rs) picks L by system size. */
+ * solver picks L by system size (`lanes_for` in src/backend/cuda/mod.rs). */
 #define MF_LANES_MAX 8
 #define MF_LANES_EACH(X) X(1) X(2) X(4) X(8)
 

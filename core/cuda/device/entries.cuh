@@ -1,7 +1,7 @@
 // The kernels' extern "C" entry points: one per dimension (MF_ENTRY2), per scheme of the
 // forces and rates (MF_SCHEMES) and, with MF_LANES_EACH (sph_consts.h), per lane count; and
-// the launch bounds of the fluid-only schemes (MF_FLUID_BLOCKS). Twin: the loading and
-// picking of entries in src/backend/cuda/launch.rs.
+// the launch bounds of the fluid-only schemes (MF_FLUID_BLOCKS). Twin: the table of kernel
+// families in src/backend/cuda/kernels.rs, which names, loads and picks the entries.
 #pragma once
 #include "sph_consts.h"
 

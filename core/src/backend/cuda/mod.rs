@@ -7,6 +7,7 @@
 
 mod buffers;
 mod device;
+mod kernels;
 mod launch;
 
 use std::marker::PhantomData;
@@ -29,7 +30,8 @@ pub use device::{driver_version, NVCC_VERSION};
 
 use buffers::Buffers;
 use device::Device;
-use launch::{Kernels, StepGraph};
+use kernels::{Kernels, LANE_COUNTS};
+use launch::StepGraph;
 
 /// Whether a usable CUDA device answers (driver, device 0, PTX in this build).
 pub fn available() -> Result<String, BackendError> {
@@ -49,11 +51,11 @@ pub const SPLIT_LANES: [usize; 2] = [4, 8];
 pub const LARGE_LANES: [usize; 2] = [1, 1];
 
 /// Lanes per particle for a system of `n` particles in `dim` dimensions: the size rule,
-/// or `MESHFREE_CUDA_LANES` (one of 1, 2, 4, 8) at every size where set, and the threshold
+/// or `MESHFREE_CUDA_LANES` (one of `LANE_COUNTS`) at every size where set, and the threshold
 /// `MESHFREE_CUDA_SPLIT_BELOW` where set (both for measurements).
 pub fn lanes_for(dim: usize, n: usize) -> usize {
     let env = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<usize>().ok());
-    if let Some(l) = env("MESHFREE_CUDA_LANES").filter(|l| launch::LANE_COUNTS.contains(l)) {
+    if let Some(l) = env("MESHFREE_CUDA_LANES").filter(|l| LANE_COUNTS.contains(l)) {
         return l;
     }
     let d = usize::from(dim == 3);
@@ -169,14 +171,13 @@ impl<D: Dim> CudaSolver<D> {
             .unwrap_or_else(|e| self.sync_err("reading dt", e))[0]
     }
 
-    /// Force (`Some(lanes)`, one of 1, 2, 4, 8) or reset to the size rule (`None`) the
-    /// threads per particle of the neighbour kernels. For tests and benchmarks.
+    /// Force (`Some(lanes)`, one of `LANE_COUNTS`: 1, 2, 4, 8) or reset to the size rule
+    /// (`None`) the threads per particle of the neighbour kernels. For tests and benchmarks.
     pub fn set_lanes(&mut self, lanes: Option<usize>) {
         let l = lanes.unwrap_or_else(|| lanes_for(D::D, self.buf.n));
         assert!(
-            launch::LANE_COUNTS.contains(&l),
-            "set_lanes: {l} lanes has no kernel entry (have {:?})",
-            launch::LANE_COUNTS
+            LANE_COUNTS.contains(&l),
+            "set_lanes: {l} lanes has no kernel entry (have {LANE_COUNTS:?})"
         );
         self.k.lanes = l;
         self.graph = None;
