@@ -209,6 +209,6 @@ pub trait Solver: Send {
     /// Remove every particle of a scene group (opening a gate). Returns how many went.
     fn remove_group(&mut self, group: u32) -> usize;
     /// `Setup::wall_surface` as the solver took it (empty unless `no_slip`), for the force
-    /// monitors, which repeat the wall pair terms of the force stage.
+    /// monitors, which take the wall pair terms from the CPU force stage.
     fn wall_surface(&self) -> &[[f32; 4]];
 }

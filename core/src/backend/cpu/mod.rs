@@ -10,10 +10,7 @@ mod reduce;
 mod stress;
 
 pub use density::pressure;
-pub use forces::{
-    artificial_viscosity, cohesion_over_r, laminar, laminar_velocity, lennard_jones,
-    no_slip_factor, wall_pair_stress, whole_stress_pair,
-};
+pub use forces::{cohesion_over_r, ForceSum};
 pub use grid::{cell_coords, cell_index, separation, Grid};
 pub use rates::shift_velocity;
 pub use reduce::step_size;
