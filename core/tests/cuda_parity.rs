@@ -830,8 +830,8 @@ fn stages_3d_fluid_only_dynamic_walls_continuity_euler() {
     stages_on::<D3>("V_3D_B fluid only", fluid_only(3, V_3D_B));
 }
 /// `setup` with no periodic axis: the neighbour loops' other specialisation (the minimum
-/// image compiled out, cuda/device/neighbours.cuh `neighbour_loop`). Particles at the open x ends just
-/// have fewer neighbours.
+/// image compiled out, `neighbour_loop` in cuda/device/neighbours.cuh). Particles at the
+/// open x ends just have fewer neighbours.
 fn not_periodic(mut setup: Setup) -> Setup {
     setup.params.periodic = [0; 3];
     params::derive(&mut setup.params);

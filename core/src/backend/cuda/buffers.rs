@@ -224,7 +224,8 @@ impl Buffers {
         s.memcpy_htod(&st.id, &mut c.id)?;
         s.memcpy_htod(&st.kind, &mut c.kind)?;
         s.memcpy_htod(&st.group, &mut c.group)?;
-        // Mass and density (negated on walls) in the spare slots (`vel_load` in cuda/device/packing.cuh).
+        // Mass and density (negated on walls) in the spare slots (`vel_load` in
+        // cuda/device/packing.cuh).
         let wall = |i: usize| st.kind[i] as u32 == MF_KIND_BOUNDARY;
         let pos = flat_v::<D>(&st.pos, |i| st.mass[i]);
         let vel = flat_vel::<D>(&st.vel, &st.mass, |i| {
@@ -329,7 +330,8 @@ fn flat_v<D: Dim>(v: &[D::V], w: impl Fn(usize) -> f32) -> Vec<f32> {
     }
     out
 }
-/// Velocities -> float4 (`vel_load` in cuda/device/packing.cuh): w = `w(i)`, and in 2D z = the mass.
+/// Velocities -> float4 (`vel_load` in cuda/device/packing.cuh): w = `w(i)`, and in 2D z =
+/// the mass.
 fn flat_vel<D: Dim>(v: &[D::V], mass: &[f32], w: impl Fn(usize) -> f32) -> Vec<f32> {
     let mut out = vec![0.0f32; v.len() * VEL_STRIDE];
     for (i, x) in v.iter().enumerate() {
