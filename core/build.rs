@@ -1,13 +1,17 @@
-//! Build script: Rust bindings of `cuda/sph_params.h` (bindgen) and PTX of every `cuda/*.cu`
-//! (nvcc). It never probes a GPU.
+//! Build script: Rust bindings of `cuda/sph_params.h` and `cuda/sph_consts.h` (bindgen) and
+//! PTX of every `cuda/*.cu` (nvcc). It never probes a GPU.
 //!
-//! * Bindings: generated with bindgen where libclang loads; elsewhere the committed copy
-//!   `src/params/bindings.rs` is used (a test checks that the two agree where libclang exists).
+//! * Bindings: generated with bindgen where libclang loads; elsewhere the committed copies
+//!   (`src/params/bindings.rs`, `src/consts/bindings.rs`) are used (`tests/bindings.rs` checks
+//!   that they agree with bindgen's where libclang exists).
 //! * PTX: nvcc is looked up in `NVCC`, `CUDA_HOME`/`CUDA_PATH` (`bin/nvcc`), then `PATH`.
 //!   Without nvcc the crate builds the CPU backend only and says so once;
 //!   `MESHFREE_REQUIRE_NVCC=1` turns that into an error (CI sets it).
 //!   `MESHFREE_CUDA_ARCH` overrides the virtual architecture (default `compute_75`, Turing:
 //!   the driver JIT-compiles it for any newer GPU).
+//!   Modules are the `cuda/*.cu` files only; the headers they include (`cuda/*.h`,
+//!   `cuda/device/*.cuh`) are not compiled on their own, but a change to any file under
+//!   `cuda/` (nested folders included) reruns the build.
 //! * Test cfgs: `MESHFREE_REQUIRE_CUDA=1` sets `meshfree_require_cuda`, under which the GPU
 //!   tests (`tests/cuda_parity.rs`) are not `#[ignore]`d and fail without a usable GPU;
 //!   `MESHFREE_REQUIRE_LIBCLANG=1` sets `meshfree_require_libclang`, and bindings made by
@@ -18,13 +22,41 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-const HEADER: &str = "cuda/sph_params.h";
-const COMMITTED_BINDINGS: &str = "src/params/bindings.rs";
+/// A header that bindgen turns into Rust.
+struct Header {
+    /// The C header, relative to the crate.
+    path: &'static str,
+    /// The bindings' file name in OUT_DIR (the crate includes it from there).
+    out: &'static str,
+    /// The committed copy, used where libclang cannot be loaded.
+    committed: &'static str,
+    /// A C type to bind besides the `MF_*` constants.
+    ty: Option<&'static str>,
+}
+
+const HEADERS: [Header; 2] = [
+    Header {
+        path: "cuda/sph_params.h",
+        out: "sph_params.rs",
+        committed: "src/params/bindings.rs",
+        ty: Some("SphParams"),
+    },
+    Header {
+        path: "cuda/sph_consts.h",
+        out: "sph_consts.rs",
+        committed: "src/consts/bindings.rs",
+        ty: None,
+    },
+];
 
 fn main() {
     let out = PathBuf::from(env::var("OUT_DIR").expect("OUT_DIR"));
-    println!("cargo:rerun-if-changed={HEADER}");
-    println!("cargo:rerun-if-changed={COMMITTED_BINDINGS}");
+    for h in &HEADERS {
+        println!("cargo:rerun-if-changed={}", h.path);
+        println!("cargo:rerun-if-changed={}", h.committed);
+    }
+    // A directory: cargo reruns the script when any file under it changes, in nested
+    // folders too (cuda/device/*.cuh).
     println!("cargo:rerun-if-changed=cuda");
     for var in [
         "NVCC",
@@ -50,7 +82,18 @@ fn main() {
         }
     }
     println!("cargo::rustc-check-cfg=cfg(meshfree_bindgen)");
-    bindings(&out);
+    // Every header's bindings are written (no short cut): either all from bindgen or, where
+    // libclang does not load, all committed.
+    let generated: Vec<bool> = HEADERS.iter().map(|h| bindings(&out, h)).collect();
+    let source = if generated.iter().all(|&g| g) {
+        "bindgen"
+    } else {
+        "committed"
+    };
+    println!("cargo:rustc-env=MESHFREE_BINDINGS_SOURCE={source}");
+    if source == "bindgen" {
+        println!("cargo:rustc-cfg=meshfree_bindgen");
+    }
     ptx(&out);
     commit();
 }
@@ -78,13 +121,14 @@ fn commit() {
     println!("cargo:rustc-env=MESHFREE_COMMIT={hash}");
 }
 
-/// bindgen's output for the header, or `None` where libclang cannot be loaded.
-fn generate_bindings() -> Option<String> {
+/// bindgen's output for header `h`, or `None` where libclang cannot be loaded.
+fn generate_bindings(h: &Header) -> Option<String> {
     let generate = || {
-        bindgen::Builder::default()
-            .header(HEADER)
-            .allowlist_type("SphParams")
-            .allowlist_var("MF_.*")
+        let mut b = bindgen::Builder::default().header(h.path);
+        if let Some(ty) = h.ty {
+            b = b.allowlist_type(ty);
+        }
+        b.allowlist_var("MF_.*")
             .derive_default(true)
             .derive_debug(true)
             .derive_copy(true)
@@ -101,24 +145,24 @@ fn generate_bindings() -> Option<String> {
     }
 }
 
-fn bindings(out: &Path) {
-    let committed = fs::read_to_string(COMMITTED_BINDINGS).unwrap_or_default();
-    let (text, source) = match generate_bindings() {
-        Some(fresh) => (fresh, "bindgen"),
-        None => (committed.clone(), "committed"),
-    };
-    if source == "bindgen" && text != committed {
+/// Writes the bindings of `h` to OUT_DIR: bindgen's (true) or, where libclang cannot be
+/// loaded, the committed copy (false).
+fn bindings(out: &Path, h: &Header) -> bool {
+    let committed = fs::read_to_string(h.committed).unwrap_or_default();
+    let fresh = generate_bindings(h);
+    let dst = out.join(h.out);
+    if fresh.as_ref().is_some_and(|f| *f != committed) {
         println!(
-            "cargo:warning=the committed {COMMITTED_BINDINGS} differs from bindgen's output for \
-             {HEADER}: copy $OUT_DIR/sph_params.rs over it (the test `bindings_match_header` fails \
-             until then)"
+            "cargo:warning=the committed {} differs from bindgen's output for {}: copy {} over \
+             it (tests/bindings.rs fails until then)",
+            h.committed,
+            h.path,
+            dst.display()
         );
     }
-    fs::write(out.join("sph_params.rs"), text).expect("write bindings");
-    println!("cargo:rustc-env=MESHFREE_BINDINGS_SOURCE={source}");
-    if source == "bindgen" {
-        println!("cargo:rustc-cfg=meshfree_bindgen");
-    }
+    let generated = fresh.is_some();
+    fs::write(&dst, fresh.unwrap_or(committed)).expect("write bindings");
+    generated
 }
 
 fn find_nvcc() -> Option<PathBuf> {

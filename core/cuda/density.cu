@@ -2,22 +2,29 @@
 // of solids (Gray, Monaghan & Swift 2001), fused: one kernel per stage.
 // Twin: src/backend/cpu/density.rs (+ update_artificial_stress in stress.rs);
 // parity test: tests/cuda_parity.rs.
-#include "common.cuh"
+#include "device/entries.cuh"
+#include "device/kernel.cuh"
+#include "device/neighbours.cuh"
+#include "device/packing.cuh"
+#include "device/pairs.cuh"
+#include "device/particle.cuh"
+#include "device/reductions.cuh"
+#include "device/vectors.cuh"
 
 // Eigen-decomposition of the symmetric upper-left d x d block by cyclic Jacobi rotations:
 // line for line the CPU's jacobi_eigen (stress.rs).
 __device__ void jacobi_eigen(float a[3][3], int d, float lambda[3], float v[3][3]) {
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) v[r][c] = r == c ? 1.0f : 0.0f;
-    for (int sweep = 0; sweep < 8; ++sweep) {
+    for (int sweep = 0; sweep < MF_JACOBI_SWEEPS; ++sweep) {
         float off = 0.0f;
         for (int pp = 0; pp < d; ++pp)
             for (int qq = pp + 1; qq < d; ++qq) off += fabsf(a[pp][qq]);
-        if (off <= 1e-20f) break;
+        if (off <= MF_JACOBI_OFF_MIN) break;
         for (int pp = 0; pp < d; ++pp) {
             for (int qq = pp + 1; qq < d; ++qq) {
                 float apq = a[pp][qq];
-                if (fabsf(apq) <= 1e-30f) continue;
+                if (fabsf(apq) <= MF_JACOBI_PIVOT_MIN) continue;
                 float theta = (a[qq][qq] - a[pp][pp]) / (2.0f * apq);
                 float sg = copysignf(1.0f, theta);  // Rust's f32::signum
                 float t = sg / (fabsf(theta) + sqrtf(theta * theta + 1.0f));
@@ -101,7 +108,7 @@ __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __re
         pi = pressure(p, ki, r);  // eq. (9)
         pr[i] = pi;
     }
-    // The density in the velocity's w slot (see vel_load in common.cuh), every particle.
+    // The density in the velocity's w slot (see vel_load in device/packing.cuh), every particle.
     reinterpret_cast<float4*>(vel)[i].w = vel_w(ki, active ? r : rho[i]);
     if (art) {
         if (ki == MF_KIND_SOLID) {

@@ -3,6 +3,8 @@
 // order). Twin: src/backend/cpu/forces.rs (+ extremes in reduce.rs); parity test:
 // tests/cuda_parity.rs.
 #include "forces.cuh"
+#include "device/entries.cuh"
+#include "device/neighbours.cuh"
 
 template <int DIM, bool SOLIDS, bool EXTRAS, int L>
 __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,

@@ -4,11 +4,16 @@
 // neighbour loops. Twin: src/backend/cpu/forces.rs (+ extremes in reduce.rs);
 // parity test: tests/cuda_parity.rs.
 #pragma once
-#include "common.cuh"
+#include "device/neighbours.cuh"
+#include "device/packing.cuh"
+#include "device/pairs.cuh"
+#include "device/particle.cuh"
+#include "device/reductions.cuh"
+#include "device/vectors.cuh"
 
-// Lennard-Jones boundary force per unit mass, eq. (17).
+// Lennard-Jones boundary force per unit mass, eq. (17), for r < lj_range.
 template <int DIM> __device__ __forceinline__ Vec<DIM> lennard_jones(const SphParams& p, Vec<DIM> r, float rr) {
-    if (rr <= 0.0f || rr >= (p.lj_attractive ? p.support : p.lj_r0)) return vzero<DIM>();
+    if (rr <= 0.0f || rr >= p.lj_range) return vzero<DIM>();
     float q = p.lj_r0 / rr;
     float mag = p.lj_c0 * (powf(q, (float)p.lj_p1) - powf(q, (float)p.lj_p2));
     return r * (mag / rr);
@@ -67,7 +72,7 @@ __device__ __forceinline__ bool whole_stress_pair(const SphParams& p, bool same_
 // neighbour j != i (in the neighbour loop's order), then `finish` (all threads of the block).
 // EXTRAS = false compiles out the terms beyond the paper's fluid scheme (laminar viscosity,
 // Morris's no-slip walls, cohesion), for the lean kernels that run where all are off
-// (`lean_scheme` in src/backend/cuda/launch.rs).
+// (`params::lean_scheme`; `Scheme::of` in src/backend/cuda/kernels.rs).
 template <int DIM, bool SOLIDS, bool EXTRAS = true> struct ForceSum {
     bool on;  // i < n and i is no wall: walls get a = 0
     unsigned char ki;

@@ -7,6 +7,8 @@
 // runs them one after the other); parity test: tests/cuda_parity.rs.
 #include "forces.cuh"
 #include "rates.cuh"
+#include "device/entries.cuh"
+#include "device/neighbours.cuh"
 
 template <int DIM, bool SOLIDS, bool EXTRAS, int L>
 __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,

@@ -1,14 +1,14 @@
 // Neighbour grid: cell index, deterministic counting sort by (cell, id) fused with the
 // reorder.
 // Twin: src/backend/cpu/grid.rs; parity test: tests/cuda_parity.rs.
-#include "common.cuh"
-
-#define MF_SCAN_BLOCK 1024
-#define MF_SCAN_ITEMS 4
-#define MF_SCAN_CELLS (MF_SCAN_BLOCK * MF_SCAN_ITEMS)
+#include "device/entries.cuh"
+#include "device/grid.cuh"
+#include "device/packing.cuh"
+#include "device/particle.cuh"
+#include "device/vectors.cuh"
 
 // 1. Cell of every particle and the count of every cell; skipped where the last drift did
-// it (hist_one in common.cuh).
+// it (hist_one in device/grid.cuh).
 template <int DIM>
 __device__ void sph_grid_hist_body(const SphParams p, unsigned n, const float* __restrict__ pos,
                                    unsigned* __restrict__ cell, unsigned* __restrict__ count) {
@@ -130,8 +130,8 @@ sph_grid_scatter(unsigned n, const unsigned* __restrict__ cell, const unsigned* 
 // and the lanes of a warp mostly share one cell, so the segment's loads are broadcasts),
 // which makes the order (cell, id) as on the CPU; the particle goes straight to its sorted
 // slot, moving every persistent array (the mass travels in pos.w / vel.z, mass_of in
-// common.cuh). The first n_cells + 1 threads also write the cell ranges the neighbour loops
-// read (cell_start, n_cells + 1 entries); grid: max(n, n_cells + 1) threads.
+// device/packing.cuh). The first n_cells + 1 threads also write the cell ranges the
+// neighbour loops read (cell_start, n_cells + 1 entries); grid: max(n, n_cells + 1) threads.
 // eos != 0 (continuity density without artificial stress, where the density pass has
 // nothing else to do): the equation of state eq. (9) is applied here, from the density
 // the particle carries, and the velocity's w slot set (vel_w): the density pass is skipped.

@@ -3,9 +3,13 @@
 // rho += dt d rho/dt; S += dt dS/dt; the device clock; the next grid build's cell counts). dt is read on the device (written
 // by sph_step_size): no host round trip per step.
 // Twin: src/backend/cpu/integrate.rs; parity test: tests/cuda_parity.rs.
-#include "common.cuh"
+#include "device/entries.cuh"
+#include "device/grid.cuh"
+#include "device/packing.cuh"
+#include "device/particle.cuh"
+#include "device/vectors.cuh"
 
-// The driven group: `is_driven` in common.cuh. The group array is read only where a group
+// The driven group: `is_driven` in device/particle.cuh. The group array is read only where a group
 // is driven (its one use here; 4 B per particle less in every other scene).
 __device__ __forceinline__ unsigned driven_test_group(const SphParams& p, const unsigned* __restrict__ group,
                                                       unsigned i) {
@@ -90,7 +94,7 @@ __device__ __forceinline__ Vec<DIM> drift_one(const SphParams& p, unsigned n, un
             else if (x.c[d] >= hi) x.c[d] -= hi - lo;
         }
     }
-    vstore_keep_w<DIM>(pos, i, x);  // w: the mass in 3D (vel_load in common.cuh)
+    vstore_keep_w<DIM>(pos, i, x);  // w: the mass in 3D (vel_load in device/packing.cuh)
     if (stress && k == MF_KIND_SOLID) {
 #pragma unroll
         for (int c = 0; c < Sym<DIM>::N; ++c) stress[c * n + i] += rate[c * n + i] * dt;

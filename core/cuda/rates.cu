@@ -1,6 +1,9 @@
 // Rates from the current velocities (RateSum in rates.cuh): d rho/dt, XSPH and, with solids,
 // the Jaumann stress rate. Twin: src/backend/cpu/rates.rs; parity test: tests/cuda_parity.rs.
 #include "rates.cuh"
+#include "device/entries.cuh"
+#include "device/neighbours.cuh"
+#include "device/pairs.cuh"
 
 // drho: null without the continuity density; stress, rate: null without solids.
 template <int DIM, bool SOLIDS, bool EXTRAS, int L>
@@ -43,8 +46,8 @@ MF_LANES_EACH(MF_RATES_LANES)
 // diffusion in Antuono, Colagrossi, Marrone & Molteni 2010's form (Comput. Phys. Commun. 181,
 // 532): grad_i = (sum_j V_j (x_j - x_i) (x) grad_i W_ij)^-T sum_j V_j (rho_j - rho_i)
 // grad_i W_ij over the neighbours of one body (solids, solid_delta_sph > 0) or over the fluid
-// (delta_form == MF_DIFFUSION_ANTUONO), V_j = m_j / rho_j, exact for a linear density; zero
-// for other particles and where the moment is singular (|det| <= 1e-3). One thread per
+// (fluid_density_gradient), V_j = m_j / rho_j, exact for a linear density; zero
+// for other particles and where the moment is singular (|det| <= MF_MOMENT_DET_MIN). One thread per
 // particle. Twin: `density_gradient` in cpu/rates.rs. [M L^-d L^-1]
 template <int DIM>
 __device__ void sph_grad_rho_body(const SphParams p, unsigned n, const unsigned* __restrict__ cell_start,
@@ -54,7 +57,7 @@ __device__ void sph_grad_rho_body(const SphParams p, unsigned n, const unsigned*
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
     const unsigned char ki = i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY;
     const bool on = (ki == MF_KIND_SOLID && p.solid_delta_sph > 0.0f) ||
-                    (ki == MF_KIND_FLUID && p.delta_sph > 0.0f && p.delta_form == MF_DIFFUSION_ANTUONO);
+                    (ki == MF_KIND_FLUID && p.fluid_density_gradient != 0);
     const float rhoi = on ? rho[i] : 0.0f;
     const unsigned gi = on ? group[i] : 0u;
     Vec<DIM> g = vzero<DIM>();
@@ -74,7 +77,7 @@ __device__ void sph_grad_rho_body(const SphParams p, unsigned n, const unsigned*
     if (i >= n) return;
     Vec<DIM> out = vzero<DIM>();
     const float d = det<DIM>(m);
-    if (on && fabsf(d) > 1e-3f) {
+    if (on && fabsf(d) > MF_MOMENT_DET_MIN) {
         const Mat<DIM> inv = inverse<DIM>(m, d);
         // (M^T)^-1 g = (M^-1)^T g.
 #pragma unroll

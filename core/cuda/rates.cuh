@@ -7,7 +7,12 @@
 // (forces_rates.cu) run in their neighbour loops.
 // Twin: src/backend/cpu/rates.rs; parity test: tests/cuda_parity.rs.
 #pragma once
-#include "common.cuh"
+#include "sph_consts.h"
+#include "device/neighbours.cuh"
+#include "device/packing.cuh"
+#include "device/pairs.cuh"
+#include "device/reductions.cuh"
+#include "device/vectors.cuh"
 
 template <int DIM> __device__ __forceinline__ float det(const Mat<DIM>& a) {
     if constexpr (DIM == 2) {
@@ -18,7 +23,7 @@ template <int DIM> __device__ __forceinline__ float det(const Mat<DIM>& a) {
                a.m[0][2] * (a.m[1][0] * a.m[2][1] - a.m[1][1] * a.m[2][0]);
     }
 }
-// Inverse by the adjugate (the caller has checked |det| > 1e-3).
+// Inverse by the adjugate (the caller has checked |det| > MF_MOMENT_DET_MIN).
 template <int DIM> __device__ __forceinline__ Mat<DIM> inverse(const Mat<DIM>& a, float d) {
     Mat<DIM> r;
     const float s = 1.0f / d;
@@ -39,11 +44,6 @@ template <int DIM> __device__ __forceinline__ Mat<DIM> inverse(const Mat<DIM>& a
     }
     return r;
 }
-
-// R of the anti-clumping factor 1 + R (W_ij / W(dx))^4 of the shifting sum, and the margin of
-// its free-surface test (twins of SHIFT_ANTI_CLUMP and SHIFT_SURFACE_MARGIN in cpu/rates.rs).
-#define MF_SHIFT_ANTI_CLUMP 0.2f
-#define MF_SHIFT_SURFACE_MARGIN 0.5f
 
 // rho^H_j - rho^H_i of water at rest under gravity, r = r_i - r_j (Fourtakas et al. 2019): the
 // Tait density of p^H_j - p^H_i = rho0 g . (r_j - r_i); twin of hydrostatic_rho_ji in
@@ -223,7 +223,7 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
             // Kernel-gradient correction (Randles & Libersky 1996; Bonet & Lok 1999): G = G_raw A^-1,
             // skipped where A is singular.
             const float d = det<DIM>(mo);
-            if (fabsf(d) > 1e-3f) {
+            if (fabsf(d) > MF_MOMENT_DET_MIN) {
                 const Mat<DIM> inv = inverse<DIM>(mo, d);
                 Mat<DIM> g2;
 #pragma unroll

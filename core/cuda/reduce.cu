@@ -1,7 +1,11 @@
 // Reductions: the step size on the device (eq. (19) with force and viscous limits),
 // diagnostics, the health check, and the SphParams layout probe.
 // Twin: src/backend/cpu/reduce.rs; parity test: tests/cuda_parity.rs.
-#include "common.cuh"
+#include "device/entries.cuh"
+#include "device/packing.cuh"
+#include "device/particle.cuh"
+#include "device/reductions.cuh"
+#include "device/vectors.cuh"
 #include <stddef.h>
 
 // red = (max |v|, max |a|, max c) as float bits, filled by sph_forces_*. Writes dt, clears red.
@@ -16,7 +20,7 @@ extern "C" __global__ void sph_step_size(const SphParams p, unsigned* __restrict
     float dt = p.h / (c_max + v_max);  // eq. (19)
     if (a_max > 0.0f) dt = fminf(dt, sqrtf(p.h / a_max));
     dt *= p.courant;
-    if (p.nu > 0.0f) dt = fminf(dt, 0.125f * p.h * p.h / p.nu);
+    if (p.nu > 0.0f) dt = fminf(dt, MF_VISCOUS_DT * p.h * p.h / p.nu);
     *dt_out = dt;
 }
 
@@ -69,8 +73,8 @@ MF_ENTRY2(sph_diagnostics,
            const float* rho, double* sums, unsigned* maxes, unsigned* counts),
           (p, n, kind, pos, vel, rho, sums, maxes, counts))
 
-// Health check: the first unhealthy slot, as atomicMin of (slot << 8 | fault code)
-// (solver::fault_codes) into *first (the caller sets it to ~0).
+// Health check: the first unhealthy slot, as atomicMin of (slot << MF_FAULT_SLOT_SHIFT) |
+// fault class (MF_FAULT_* in sph_consts.h) into *first (the caller sets it to ~0).
 template <int DIM>
 __device__ void sph_check_body(const SphParams p, unsigned n, const unsigned char* __restrict__ kind,
                                const float* __restrict__ pos, const float* __restrict__ vel,
@@ -82,16 +86,16 @@ __device__ void sph_check_body(const SphParams p, unsigned n, const unsigned cha
     const Vec<DIM> x = vload<DIM>(pos, i), v = vel_load<DIM>(vel, i);
     unsigned code = 0;
     for (int a = 0; a < DIM && !code; ++a)
-        if (!isfinite(x.c[a])) code = 1;  // NON_FINITE_POSITION
+        if (!isfinite(x.c[a])) code = MF_FAULT_NON_FINITE_POSITION;
     for (int a = 0; a < DIM && !code; ++a)
-        if (!isfinite(v.c[a])) code = 2;  // NON_FINITE_VELOCITY
+        if (!isfinite(v.c[a])) code = MF_FAULT_NON_FINITE_VELOCITY;
     const float r = rho[i];
-    if (!code && !isfinite(r)) code = 3;  // NON_FINITE_DENSITY
+    if (!code && !isfinite(r)) code = MF_FAULT_NON_FINITE_DENSITY;
     const float r0 = rest_density(p, k);
-    if (!code && (r < 0.1f * r0 || r > 2.0f * r0)) code = 4;  // DENSITY_RANGE (solver.rs bounds)
+    if (!code && (r < MF_DENSITY_SANE_LOW * r0 || r > MF_DENSITY_SANE_HIGH * r0)) code = MF_FAULT_DENSITY_RANGE;
     for (int a = 0; a < DIM && !code; ++a)
-        if (!p.periodic[a] && (x.c[a] < p.domain_min[a] || x.c[a] > p.domain_max[a])) code = 5;  // ESCAPED
-    if (code) atomicMin(first, ((unsigned long long)i << 8) | code);
+        if (!p.periodic[a] && (x.c[a] < p.domain_min[a] || x.c[a] > p.domain_max[a])) code = MF_FAULT_ESCAPED;
+    if (code) atomicMin(first, ((unsigned long long)i << MF_FAULT_SLOT_SHIFT) | code);
 }
 MF_ENTRY2(sph_check,
           (const SphParams p, unsigned n, const unsigned char* kind, const float* pos, const float* vel,

@@ -116,6 +116,8 @@ typedef struct SphParams {
     int32_t lj_p1;         /* 12 */
     int32_t lj_p2;         /* 6 */
     int32_t lj_attractive; /* 1: the force acts for r < support (cohesive beyond r0); 0: r < r0 */
+    float lj_range;        /* derived: [L] the force acts for r < lj_range: support where
+                              lj_attractive, else lj_r0 */
     int32_t wall_pressure; /* 1: dynamic walls (Crespo 2007): boundary particles carry density
                               and Tait pressure, enter the pressure and viscosity sums (no
                               leaks, no-slip); 0: the paper's form, Lennard-Jones only */
@@ -165,6 +167,10 @@ typedef struct SphParams {
                               (grad rho_i + grad rho_j) . grad W with renormalised gradients
                               (`grad_rho`), zero for any linear density, whatever the
                               direction of gravity. MOLTENI: the plain difference */
+    int32_t fluid_density_gradient; /* derived: 1 where the fluid's particles take renormalised
+                                       density gradients (`grad_rho`) for their diffusion:
+                                       delta_sph > 0 and delta_form == MF_DIFFUSION_ANTUONO;
+                                       else 0 (solids take them wherever solid_delta_sph > 0) */
     float shifting;        /* [-] C of the particle shifting velocity
                               dv_i = -C h c0 sum_j V_j (1 + 0.2 (W_ij / W(dx))^4) grad_i W_ij
                               of fluid particles (Lind et al. 2012, with the anti-clumping term of

@@ -1,5 +1,5 @@
 //! Smoothing kernels W(r, h), eqs. (1)-(4). The paper does not name its kernel; both
-//! offered here have support radius 2h. Twin: `cuda/common.cuh` (`kernel_wf`, `kernel_w`).
+//! offered here have support radius 2h. Twin: `cuda/device/kernel.cuh` (`kernel_wf`, `kernel_w`).
 //!
 //! `w` is W [L^-d]; `f` is (dW/dr) / r [L^-(d+2)], so that grad_i W_ij = f(r) r_ij with
 //! r_ij = r_i - r_j (no division by r, finite at r = 0).

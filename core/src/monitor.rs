@@ -2,22 +2,18 @@
 //! wall object, its drag and lift coefficients, and the Strouhal number of the lift.
 //!
 //! The force is computed from a particle read-back (`Solver::particles`, either backend)
-//! with the pair functions of the CPU force stage (`src/backend/cpu/forces.rs`): for every
-//! wall particle j of the object and every fluid or solid neighbour i, the acceleration
-//! that j contributes to i (Lennard-Jones eq. (17); with dynamic walls also the pressure
-//! term of eqs. (7)/(16) with the wall cut-off, the artificial viscosity eq. (10) and the
-//! laminar viscosity of Morris, Fox & Zhu 1997). By Newton's third law the wall feels
-//! F = - sum_i m_i a_i(from wall). [M L T^-2] (per unit depth in 2D: [M T^-2]).
+//! by the CPU force stage's own pair sum (`ForceSum` in `src/backend/cpu/forces.rs`): for
+//! every wall particle j of the object and every fluid or solid neighbour i, the
+//! acceleration that j contributes to i (Lennard-Jones eq. (17); with dynamic walls also the
+//! pressure term of eqs. (7)/(16) with the wall cut-off, the artificial viscosity eq. (10)
+//! and the laminar viscosity of Morris, Fox & Zhu 1997). By Newton's third law the wall
+//! feels F = - sum_i m_i a_i(from wall). [M L T^-2] (per unit depth in 2D: [M T^-2]).
 //! Pressures are the Tait / solid EOS of the read-back density, as the next force stage
 //! would take them.
 
-use crate::backend::cpu::{
-    artificial_viscosity, couples, laminar, laminar_velocity, lennard_jones, meets, pressure,
-    same_body, wall_pair_stress, whole_stress_pair, Grid,
-};
+use crate::backend::cpu::{pressure, ForceSum, Grid};
 use crate::dim::{Dim, D2, D3};
-use crate::kernel;
-use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID};
+use crate::params::{SphParams, MF_KIND_BOUNDARY};
 use crate::particle::{Kind, Particle};
 use crate::state::State;
 
@@ -84,49 +80,20 @@ fn wall_force_d<D: Dim>(
     }
     let mut grid = Grid::default();
     grid.build(p, &mut s);
-    let stress = s.solid.as_ref().map(|so| &so.stress);
     let mut force = [0.0f64; 3];
     for j in 0..s.len() {
         if s.kind[j] as u32 != MF_KIND_BOUNDARY || s.group[j] != group {
             continue;
         }
-        let (kj, vj, rhoj, pj) = (s.kind[j], s.vel[j], s.rho[j], s.p[j]);
         grid.for_each_neighbor::<D>(p, &s.pos, s.pos[j], |i, r_ji, r2| {
-            let ki = s.kind[i];
-            if ki as u32 == MF_KIND_BOUNDARY || !meets(p, ki, kj) {
+            // The force stage computes no acceleration of a wall particle.
+            if s.kind[i] as u32 == MF_KIND_BOUNDARY {
                 return;
             }
-            // The same pair terms, in the same order, as forces.rs adds for a wall j.
-            let r = -r_ji; // r_ij = x_i - x_j
-            let (vi, rhoi, pi) = (s.vel[i], s.rho[i], s.p[i]);
-            let rr = r2.sqrt();
-            let fw = kernel::f(p, rr);
-            let grad_w = r * fw;
-            let mut acc = lennard_jones::<D>(p, r, rr); // eq. (17)
-            if couples(p, kj) {
-                // Across two objects (a body and this wall) the pressure part only, unless
-                // the scene passes the whole stress (`whole_stress_pair`, as forces.rs).
-                let whole = whole_stress_pair(p, same_body(p, ki, kj, s.group[i], s.group[j]));
-                let deviatoric = |k: usize| match stress {
-                    Some(st) if whole => st[k],
-                    _ => D::zero(),
-                };
-                let sig_i = (deviatoric(i) - D::identity() * pi) * (1.0 / (rhoi * rhoi));
-                let sig_j = (deviatoric(j) - D::identity() * pj) * (1.0 / (rhoj * rhoj));
-                let sig = wall_pair_stress::<D>(sig_i, sig_j, pi, pj, rhoi, rhoj);
-                acc += D::mat_vec(sig, grad_w) * s.mass[j]; // eqs. (7), (16)
-                let vij = vi - vj;
-                let vr = D::dot(vij, r);
-                let c_bar = 0.5 * (p.sound_speed(ki) + p.sound_speed(kj));
-                let rho_bar = 0.5 * (rhoi + rhoj);
-                let pi_ij = artificial_viscosity(p, vr, r2, c_bar, rho_bar); // eq. (10)
-                acc -= grad_w * (s.mass[j] * pi_ij);
-                if p.nu > 0.0 && ki as u32 == MF_KIND_FLUID {
-                    let v_visc = laminar_velocity::<D>(p, surface, kj, s.id[j], r, vij);
-                    acc += v_visc * (s.mass[j] * laminar(p, r2, fw, rhoi, rhoj));
-                }
-            }
-            let a = D::to3(acc);
+            // The force stage's pair term of wall particle j on particle i, alone.
+            let mut f = ForceSum::new(p, &s, surface, i, D::V::default());
+            f.add(p, j, -r_ji, r2); // r_ij = x_i - x_j
+            let a = D::to3(f.acc);
             for (f, a) in force.iter_mut().zip(a) {
                 *f -= s.mass[i] as f64 * a as f64;
             }

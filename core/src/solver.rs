@@ -91,20 +91,6 @@ pub struct Fault {
     pub reason: String,
 }
 
-/// Fault classes shared by every backend's health check (`Solver::check`).
-pub mod fault_codes {
-    pub const NON_FINITE_POSITION: u32 = 1;
-    pub const NON_FINITE_VELOCITY: u32 = 2;
-    pub const NON_FINITE_DENSITY: u32 = 3;
-    pub const DENSITY_RANGE: u32 = 4;
-    pub const ESCAPED: u32 = 5;
-}
-
-/// Density outside [LOW, HIGH] x reference density counts as a blow-up. LOW is loose
-/// because summation density, eq. (8), gives an isolated splash particle about 0.27 rho0.
-pub const DENSITY_SANE_LOW: f32 = 0.1;
-pub const DENSITY_SANE_HIGH: f32 = 2.0;
-
 /// The particle quantity a snapshot carries for display.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Shown {
@@ -223,6 +209,6 @@ pub trait Solver: Send {
     /// Remove every particle of a scene group (opening a gate). Returns how many went.
     fn remove_group(&mut self, group: u32) -> usize;
     /// `Setup::wall_surface` as the solver took it (empty unless `no_slip`), for the force
-    /// monitors, which repeat the wall pair terms of the force stage.
+    /// monitors, which take the wall pair terms from the CPU force stage.
     fn wall_surface(&self) -> &[[f32; 4]];
 }

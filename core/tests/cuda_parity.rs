@@ -468,7 +468,7 @@ fn with_inflow_band(dim: usize, v: Variant) -> Setup {
 /// `scene(dim, v)` with the solid body turned into fluid (rest density, no stress): the only
 /// scenes that take the fluid-only entries of forces and rates (`sph_forces_fluid_*`,
 /// `sph_rates_fluid_*`: batches of 8 candidates at one lane, and the neighbour's kind read
-/// from the sign of its vel.w, `vel_load` in cuda/common.cuh).
+/// from the sign of its vel.w, `vel_load` in cuda/device/packing.cuh).
 fn fluid_only(dim: usize, v: Variant) -> Setup {
     fluid_only_of(scene(dim, v))
 }
@@ -769,7 +769,7 @@ fn stages_2d_bodies_in_contact_lj_walls_whole_stress() {
     stages_on::<D2>("V_2D_B + bodies in contact, whole stress", setup);
 }
 /// `bodies_in_contact` where bodies and walls skip each other (`[solid] wall_contact =
-/// false`, `solid_skips_walls`; `meets` in cpu/density.rs / common.cuh): the solid layer on
+/// false`, `solid_skips_walls`; `meets` in backend/pair.rs / pairs.cuh): the solid layer on
 /// the wall feels no Lennard-Jones force or wall pressure, and neither enters the other's
 /// density (summation in V_2D_A, the walls' continuity in V_3D_B).
 fn bodies_skipping_walls(dim: usize, v: Variant) -> Setup {
@@ -904,8 +904,8 @@ fn stages_3d_fluid_only_dynamic_walls_continuity_euler() {
     stages_on::<D3>("V_3D_B fluid only", fluid_only(3, V_3D_B));
 }
 /// `setup` with no periodic axis: the neighbour loops' other specialisation (the minimum
-/// image compiled out, cuda/common.cuh `neighbour_loop`). Particles at the open x ends just
-/// have fewer neighbours.
+/// image compiled out, `neighbour_loop` in cuda/device/neighbours.cuh). Particles at the
+/// open x ends just have fewer neighbours.
 fn not_periodic(mut setup: Setup) -> Setup {
     setup.params.periodic = [0; 3];
     params::derive(&mut setup.params);

@@ -2,6 +2,7 @@
 pub mod cpu;
 #[cfg(feature = "cuda")]
 pub mod cuda;
+pub mod pair;
 
 use crate::dim::{D2, D3};
 use crate::solver::{Setup, Solver};

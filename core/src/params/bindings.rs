@@ -98,6 +98,8 @@ pub struct SphParams {
     pub lj_p2: i32,
     #[doc = " 1: the force acts for r < support (cohesive beyond r0); 0: r < r0"]
     pub lj_attractive: i32,
+    #[doc = " derived: [L] the force acts for r < lj_range: support where\nlj_attractive, else lj_r0"]
+    pub lj_range: f32,
     #[doc = " 1: dynamic walls (Crespo 2007): boundary particles carry density\nand Tait pressure, enter the pressure and viscosity sums (no\nleaks, no-slip); 0: the paper's form, Lennard-Jones only"]
     pub wall_pressure: i32,
     #[doc = " MF_NO_SLIP_*: the laminar term between a fluid particle A and a\ndynamic wall particle B. MORRIS (Morris, Fox & Zhu 1997): B\ntakes the velocity v_w - (d_B / d_A) (v_A - v_w), with d_A, d_B\nthe distances of A and B from the wall surface and v_w the\nwall's velocity, so v_AB = beta (v_A - v_w),\nbeta = min(no_slip_beta_max, 1 + d_B / d_A); needs\nSetup::wall_surface. The laminar term only: pressure, density\nand artificial viscosity see v_w"]
@@ -130,6 +132,8 @@ pub struct SphParams {
     pub delta_sph: f32,
     #[doc = " MF_DIFFUSION_*: what the fluid's term diffuses.\nFOURTAKAS (Fourtakas, Dominguez, Vacondio & Rogers 2019, Comput.\nFluids 190, 346): rho_i - rho_j becomes rho_i - rho_j + rho^H_ji,\nrho^H_ji = rho0 ((1 + rho0 g . (r_j - r_i) / B)^(1 / gamma) - 1),\nso water at rest under `gravity` diffuses nothing, next to a free\nsurface or a wall too. ANTUONO (Antuono, Colagrossi, Marrone &\nMolteni 2010, Comput. Phys. Commun. 181, 532): the pair term less\n(grad rho_i + grad rho_j) . grad W with renormalised gradients\n(`grad_rho`), zero for any linear density, whatever the\ndirection of gravity. MOLTENI: the plain difference"]
     pub delta_form: i32,
+    #[doc = " derived: 1 where the fluid's particles take renormalised\ndensity gradients (`grad_rho`) for their diffusion:\ndelta_sph > 0 and delta_form == MF_DIFFUSION_ANTUONO;\nelse 0 (solids take them wherever solid_delta_sph > 0)"]
+    pub fluid_density_gradient: i32,
     #[doc = " [-] C of the particle shifting velocity\ndv_i = -C h c0 sum_j V_j (1 + 0.2 (W_ij / W(dx))^4) grad_i W_ij\nof fluid particles (Lind et al. 2012, with the anti-clumping term of\nSun et al. 2017), added to the XSPH velocity of the drift; none at a\nfree surface; 0 = off (the paper)"]
     pub shifting: f32,
     #[doc = " [L/T^2]"]

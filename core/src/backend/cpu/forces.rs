@@ -3,8 +3,8 @@
 
 use rayon::prelude::*;
 
-use super::density::{couples, meets, same_body};
 use super::grid::Grid;
+use crate::backend::pair::{couples, meets, same_body};
 use crate::dim::Dim;
 use crate::kernel;
 use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID, MF_NO_SLIP_MORRIS};
@@ -12,17 +12,10 @@ use crate::state::State;
 
 /// Lennard-Jones boundary force per unit mass, eq. (17): C0 [(r0/r)^p1 - (r0/r)^p2] r_ij/r,
 /// acting for r < r0 (repulsive), or within the support where the scene asks for the
-/// attractive branch. [L/T^2]
+/// attractive branch (`lj_range`). [L/T^2]
 #[inline]
 pub fn lennard_jones<D: Dim>(p: &SphParams, r: D::V, rr: f32) -> D::V {
-    if rr <= 0.0
-        || rr
-            >= if p.lj_attractive != 0 {
-                p.support
-            } else {
-                p.lj_r0
-            }
-    {
+    if rr <= 0.0 || rr >= p.lj_range {
         return D::V::default();
     }
     let q = p.lj_r0 / rr;
@@ -142,91 +135,148 @@ pub fn wall_pair_stress<D: Dim>(
     sig_i + sig_j - D::identity() * (neg_i + neg_j)
 }
 
+/// The acceleration of particle i summed over its neighbours, as the force stage takes it:
+/// `new`, then `add` for every neighbour j != i in the neighbour loop's order; `acc` is the
+/// sum. The force monitors (`crate::monitor`) take the wall pairs from it one by one. Twin:
+/// `ForceSum` in `cuda/forces.cuh`.
+pub struct ForceSum<'a, D: Dim> {
+    s: &'a State<D>,
+    /// `Setup::wall_surface` (empty unless `no_slip`).
+    surface: &'a [[f32; 4]],
+    /// The deviatoric stress and the artificial stress, where the state holds them.
+    stress: Option<&'a Vec<D::M>>,
+    art: Option<&'a Vec<D::M>>,
+    i: usize,
+    ki: u8,
+    vi: D::V,
+    rhoi: f32,
+    pi: f32,
+    ci: f32,
+    /// sigma_i / rho_i^2 with sigma = -P I + S, eq. (11); S = 0 for fluid.
+    sig_i: D::M,
+    /// Its pressure part alone, for pairs across two objects (`whole_stress_pair`).
+    sig_i_p: D::M,
+    /// The acceleration so far [L/T^2].
+    pub acc: D::V,
+}
+
+impl<'a, D: Dim> ForceSum<'a, D> {
+    /// Particle i (no wall particle) of state `s`, its sum started at `acc` (gravity in the
+    /// force stage). Pressures are those of `s.p`.
+    pub fn new(
+        p: &SphParams,
+        s: &'a State<D>,
+        surface: &'a [[f32; 4]],
+        i: usize,
+        acc: D::V,
+    ) -> Self {
+        let ki = s.kind[i];
+        let (vi, rhoi, pi) = (s.vel[i], s.rho[i], s.p[i]);
+        let stress = s.solid.as_ref().map(|so| &so.stress);
+        let si = stress.map_or(D::zero(), |st| st[i]);
+        ForceSum {
+            s,
+            surface,
+            stress,
+            art: s.solid.as_ref().and_then(|so| so.art_stress.as_ref()),
+            i,
+            ki,
+            vi,
+            rhoi,
+            pi,
+            ci: p.sound_speed(ki),
+            sig_i: (si - D::identity() * pi) * (1.0 / (rhoi * rhoi)),
+            sig_i_p: (D::zero() - D::identity() * pi) * (1.0 / (rhoi * rhoi)),
+            acc,
+        }
+    }
+
+    /// Adds what neighbour j (j != i, r = x_i - x_j, r2 = |r|^2 within the support) exerts on
+    /// particle i.
+    #[inline]
+    pub fn add(&mut self, p: &SphParams, j: usize, r: D::V, r2: f32) {
+        let s = self.s;
+        let (vel, rho, pr, mass, kind, group, id) =
+            (&s.vel, &s.rho, &s.p, &s.mass, &s.kind, &s.group, &s.id);
+        let (stress, art) = (self.stress, self.art);
+        let (i, ki, vi, rhoi, pi, ci) = (self.i, self.ki, self.vi, self.rhoi, self.pi, self.ci);
+        let acc = &mut self.acc;
+        let kj = kind[j];
+        let rr = r2.sqrt();
+        let fw = kernel::f(p, rr);
+        let grad_w = r * fw; // grad_i W_ij
+        if kj as u32 == MF_KIND_BOUNDARY {
+            // A body that skips walls (`meets`) feels nothing of them.
+            if !meets(p, ki, kj) {
+                return;
+            }
+            *acc += lennard_jones::<D>(p, r, rr); // eq. (17)
+            if !couples(p, kj) {
+                return;
+            }
+        }
+        let (vj, rhoj, kj32) = (vel[j], rho[j], kj as u32);
+        let vij = vi - vj;
+        let vr = D::dot(vij, r);
+        let bonded = same_body(p, ki, kj, group[i], group[j]);
+        // Stress term, eq. (16) (eq. (7) when both are fluid: sigma = -P I); across
+        // two objects the pressure part only (`whole_stress_pair`).
+        let whole = whole_stress_pair(p, bonded);
+        let sj = match stress {
+            Some(st) if whole => st[j],
+            _ => D::zero(),
+        };
+        let sig_i = if whole { self.sig_i } else { self.sig_i_p };
+        let sig_j = (sj - D::identity() * pr[j]) * (1.0 / (rhoj * rhoj));
+        if kj as u32 == MF_KIND_BOUNDARY {
+            let sig = wall_pair_stress::<D>(sig_i, sig_j, pi, pr[j], rhoi, rhoj);
+            *acc += D::mat_vec(sig, grad_w) * mass[j];
+        } else {
+            *acc += D::mat_vec(sig_i + sig_j, grad_w) * mass[j];
+        }
+        // Artificial viscosity, eq. (10).
+        let c_bar = 0.5 * (ci + p.sound_speed(kj));
+        let rho_bar = 0.5 * (rhoi + rhoj);
+        let pi_ij = artificial_viscosity(p, vr, r2, c_bar, rho_bar);
+        *acc -= grad_w * (mass[j] * pi_ij);
+        // Laminar viscosity wherever fluid meets fluid, a solid or a wall (no-slip; a
+        // wall's velocity extrapolated under `no_slip`, Morris et al. 1997).
+        if p.nu > 0.0 && (ki as u32 == MF_KIND_FLUID || kj32 == MF_KIND_FLUID) {
+            let v_visc = laminar_velocity::<D>(p, self.surface, kj, id[j], r, vij);
+            *acc += v_visc * (mass[j] * laminar(p, r2, fw, rhoi, rhoj));
+        }
+        // Cohesion between fluid particles, Akinci et al. 2013, eq. (2) (no curvature
+        // term): -gamma m_j C(r) r_ij / r. A uniform branch: nothing when gamma = 0.
+        if p.cohesion != 0.0 && ki as u32 == MF_KIND_FLUID && kj32 == MF_KIND_FLUID {
+            *acc -= r * (p.cohesion * mass[j] * cohesion_over_r(p.support, rr));
+        }
+        if let Some(r_art) = art {
+            if bonded && ki as u32 == MF_KIND_SOLID {
+                // Gray, Monaghan & Swift 2001: f_ij^n (R_i + R_j) . grad W.
+                let fij = (kernel::w(p, rr) * p.inv_w_dx).powf(p.art_stress_n);
+                *acc += D::mat_vec(r_art[i] + r_art[j], grad_w) * (mass[j] * fij);
+            }
+        }
+    }
+}
+
 /// `surface`: `Setup::wall_surface` (empty unless `no_slip`).
 pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, surface: &[[f32; 4]], s: &mut State<D>) {
     let g = D::from3(p.gravity);
-    let (pos, vel, rho, pr, mass, kind, group, id) = (
-        &s.pos, &s.vel, &s.rho, &s.p, &s.mass, &s.kind, &s.group, &s.id,
-    );
-    let stress = s.solid.as_ref().map(|so| &so.stress);
-    let art = s.solid.as_ref().and_then(|so| so.art_stress.as_ref());
-    let acc: Vec<D::V> = (0..s.len())
+    let st: &State<D> = s;
+    let acc: Vec<D::V> = (0..st.len())
         .into_par_iter()
         .map(|i| {
-            let ki = kind[i];
-            if ki as u32 == MF_KIND_BOUNDARY {
+            if st.kind[i] as u32 == MF_KIND_BOUNDARY {
                 return D::V::default();
             }
-            let (xi, vi, rhoi, pi) = (pos[i], vel[i], rho[i], pr[i]);
-            let ci = p.sound_speed(ki);
-            // sigma_i / rho_i^2 with sigma = -P I + S, eq. (11); S = 0 for fluid.
-            let si = stress.map_or(D::zero(), |st| st[i]);
-            let sig_i = (si - D::identity() * pi) * (1.0 / (rhoi * rhoi));
-            // Its pressure part alone, for pairs across two objects (`whole_stress_pair`).
-            let sig_i_p = (D::zero() - D::identity() * pi) * (1.0 / (rhoi * rhoi));
-            let mut acc = g;
-            grid.for_each_neighbor::<D>(p, pos, xi, |j, r, r2| {
-                if j == i {
-                    return;
-                }
-                let kj = kind[j];
-                let rr = r2.sqrt();
-                let fw = kernel::f(p, rr);
-                let grad_w = r * fw; // grad_i W_ij
-                if kj as u32 == MF_KIND_BOUNDARY {
-                    // A body that skips walls (`meets`) feels nothing of them.
-                    if !meets(p, ki, kj) {
-                        return;
-                    }
-                    acc += lennard_jones::<D>(p, r, rr); // eq. (17)
-                    if !couples(p, kj) {
-                        return;
-                    }
-                }
-                let (vj, rhoj, kj32) = (vel[j], rho[j], kj as u32);
-                let vij = vi - vj;
-                let vr = D::dot(vij, r);
-                let bonded = same_body(p, ki, kj, group[i], group[j]);
-                // Stress term, eq. (16) (eq. (7) when both are fluid: sigma = -P I); across
-                // two objects the pressure part only (`whole_stress_pair`).
-                let whole = whole_stress_pair(p, bonded);
-                let sj = match stress {
-                    Some(st) if whole => st[j],
-                    _ => D::zero(),
-                };
-                let sig_i = if whole { sig_i } else { sig_i_p };
-                let sig_j = (sj - D::identity() * pr[j]) * (1.0 / (rhoj * rhoj));
-                if kj as u32 == MF_KIND_BOUNDARY {
-                    let sig = wall_pair_stress::<D>(sig_i, sig_j, pi, pr[j], rhoi, rhoj);
-                    acc += D::mat_vec(sig, grad_w) * mass[j];
-                } else {
-                    acc += D::mat_vec(sig_i + sig_j, grad_w) * mass[j];
-                }
-                // Artificial viscosity, eq. (10).
-                let c_bar = 0.5 * (ci + p.sound_speed(kj));
-                let rho_bar = 0.5 * (rhoi + rhoj);
-                let pi_ij = artificial_viscosity(p, vr, r2, c_bar, rho_bar);
-                acc -= grad_w * (mass[j] * pi_ij);
-                // Laminar viscosity wherever fluid meets fluid, a solid or a wall (no-slip; a
-                // wall's velocity extrapolated under `no_slip`, Morris et al. 1997).
-                if p.nu > 0.0 && (ki as u32 == MF_KIND_FLUID || kj32 == MF_KIND_FLUID) {
-                    let v_visc = laminar_velocity::<D>(p, surface, kj, id[j], r, vij);
-                    acc += v_visc * (mass[j] * laminar(p, r2, fw, rhoi, rhoj));
-                }
-                // Cohesion between fluid particles, Akinci et al. 2013, eq. (2) (no curvature
-                // term): -gamma m_j C(r) r_ij / r. A uniform branch: nothing when gamma = 0.
-                if p.cohesion != 0.0 && ki as u32 == MF_KIND_FLUID && kj32 == MF_KIND_FLUID {
-                    acc -= r * (p.cohesion * mass[j] * cohesion_over_r(p.support, rr));
-                }
-                if let Some(r_art) = art {
-                    if bonded && ki as u32 == MF_KIND_SOLID {
-                        // Gray, Monaghan & Swift 2001: f_ij^n (R_i + R_j) . grad W.
-                        let fij = (kernel::w(p, rr) * p.inv_w_dx).powf(p.art_stress_n);
-                        acc += D::mat_vec(r_art[i] + r_art[j], grad_w) * (mass[j] * fij);
-                    }
+            let mut f = ForceSum::new(p, st, surface, i, g);
+            grid.for_each_neighbor::<D>(p, &st.pos, st.pos[i], |j, r, r2| {
+                if j != i {
+                    f.add(p, j, r, r2);
                 }
             });
-            acc
+            f.acc
         })
         .collect();
     s.acc = acc;

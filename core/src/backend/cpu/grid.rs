@@ -6,6 +6,7 @@
 
 use rayon::prelude::*;
 
+use crate::consts::MF_PRUNE_SLACK;
 use crate::dim::Dim;
 use crate::params::{SphParams, MF_CELL_REACH};
 use crate::state::State;
@@ -112,10 +113,6 @@ impl Grid {
     }
 }
 
-/// Relative slack of the cell pruning in [`rows`]: a cell is skipped only when it is
-/// farther than (1 + SLACK) x the support, so rounding never drops a neighbour.
-const PRUNE_SLACK: f32 = 1e-4;
-
 /// Squared distance [L^2] from coordinate `x` to the slab of (unwrapped) cell `c` on axis `a`.
 #[inline]
 fn slab_gap2(p: &SphParams, a: usize, c: i32, x: f32) -> f32 {
@@ -129,7 +126,7 @@ fn slab_gap2(p: &SphParams, a: usize, c: i32, x: f32) -> f32 {
 /// slab lies beyond the support, calls `row(first cell index of the row, x0, x1)` with the
 /// x cells x0..=x1 (unwrapped on a periodic x axis) that the support's cross-section at
 /// that row reaches. Within a row the cells are contiguous in storage. Twin of `rows` in
-/// `cuda/common.cuh`: both backends visit the same candidates in the same order.
+/// `cuda/device/grid.cuh`: both backends visit the same candidates in the same order.
 #[inline]
 pub fn rows<D: Dim>(p: &SphParams, xi: D::V, mut row: impl FnMut(u32, i32, i32)) {
     let reach = MF_CELL_REACH as i32;
@@ -138,6 +135,8 @@ pub fn rows<D: Dim>(p: &SphParams, xi: D::V, mut row: impl FnMut(u32, i32, i32))
     let rz = if D::D == 3 { reach } else { 0 };
     let x = D::comp(xi, 0);
     let nx = p.grid_dims[0];
+    // The pruning's relative slack: rounding never drops a neighbour.
+    let slack = MF_PRUNE_SLACK as f32;
     for dz in -rz..=rz {
         let Some(cz) = wrap_cell(p, 2, ci[2] + dz) else {
             continue;
@@ -152,11 +151,11 @@ pub fn rows<D: Dim>(p: &SphParams, xi: D::V, mut row: impl FnMut(u32, i32, i32))
                 continue;
             };
             let d2 = gz + slab_gap2(p, 1, ci[1] + dy, D::comp(xi, 1));
-            if d2 > r2max * (1.0 + PRUNE_SLACK) {
+            if d2 > r2max * (1.0 + slack) {
                 continue;
             }
             // Half-width of the support's cross-section at this row, then the x cells it spans.
-            let w = (r2max - d2).max(0.0).sqrt() + PRUNE_SLACK * p.support;
+            let w = (r2max - d2).max(0.0).sqrt() + slack * p.support;
             let cell_of = |v: f32| ((v - p.domain_min[0]) / p.cell_size[0]).floor() as i32;
             let mut x0 = (ci[0] - reach).max(cell_of(x - w));
             let mut x1 = (ci[0] + reach).min(cell_of(x + w));

@@ -9,20 +9,21 @@ mod rates;
 mod reduce;
 mod stress;
 
-pub use density::{couples, meets, pressure, same_body};
-pub use forces::{
-    artificial_viscosity, cohesion_over_r, laminar, laminar_velocity, lennard_jones,
-    no_slip_factor, wall_pair_stress, whole_stress_pair,
-};
+pub use density::pressure;
+pub use forces::{cohesion_over_r, ForceSum};
 pub use grid::{cell_coords, cell_index, separation, Grid};
 pub use rates::shift_velocity;
 pub use reduce::step_size;
 pub use stress::{artificial_stress, jacobi_eigen};
 
+use crate::consts::{
+    MF_DENSITY_SANE_HIGH, MF_DENSITY_SANE_LOW, MF_FAULT_DENSITY_RANGE, MF_FAULT_ESCAPED,
+    MF_FAULT_NON_FINITE_DENSITY, MF_FAULT_NON_FINITE_POSITION, MF_FAULT_NON_FINITE_VELOCITY,
+};
 use crate::dim::Dim;
 use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
 use crate::particle::Particle;
-use crate::solver::{fault_codes as fc, BackendInfo, Diagnostics, Fault, Setup, Solver};
+use crate::solver::{BackendInfo, Diagnostics, Fault, Setup, Solver};
 use crate::state::State;
 
 /// The whole state in host memory, worked on by rayon.
@@ -161,22 +162,21 @@ impl<D: Dim> Solver for CpuSolver<D> {
     }
 }
 
-/// The `Fault` for particle `p` with fault `code` (`solver::fault_codes`); shared by both
-/// backends so that they report blow-ups alike.
+/// The `Fault` for particle `p` with fault class `code` (`MF_FAULT_*` in
+/// `cuda/sph_consts.h`); shared by both backends so that they report blow-ups alike.
 pub fn fault(step: u64, time: f64, p: Particle, code: u32, value: f32) -> Fault {
     let (quantity, reason) = match code {
-        fc::NON_FINITE_POSITION => ("position", "not finite".to_string()),
-        fc::NON_FINITE_VELOCITY => ("velocity", "not finite".to_string()),
-        fc::NON_FINITE_DENSITY => ("density", "not finite".to_string()),
-        fc::DENSITY_RANGE => (
+        MF_FAULT_NON_FINITE_POSITION => ("position", "not finite".to_string()),
+        MF_FAULT_NON_FINITE_VELOCITY => ("velocity", "not finite".to_string()),
+        MF_FAULT_NON_FINITE_DENSITY => ("density", "not finite".to_string()),
+        MF_FAULT_DENSITY_RANGE => (
             "density",
             format!(
                 "outside [{}, {}] x the reference density",
-                crate::solver::DENSITY_SANE_LOW,
-                crate::solver::DENSITY_SANE_HIGH
+                MF_DENSITY_SANE_LOW as f32, MF_DENSITY_SANE_HIGH as f32
             ),
         ),
-        fc::ESCAPED => ("position", "outside the domain".to_string()),
+        MF_FAULT_ESCAPED => ("position", "outside the domain".to_string()),
         _ => ("unknown", format!("fault code {code}")),
     };
     Fault {

@@ -8,32 +8,26 @@
 
 use rayon::prelude::*;
 
-use super::density::{couples, meets, same_body};
 use super::grid::Grid;
+use crate::backend::pair::{couples, meets, same_body};
+use crate::consts::{MF_MOMENT_DET_MIN, MF_SHIFT_ANTI_CLUMP, MF_SHIFT_SURFACE_MARGIN};
 use crate::dim::Dim;
 use crate::kernel;
 use crate::params::{
-    fluid_density_gradient, needs_density_gradient, SphParams, MF_DIFFUSION_FOURTAKAS,
-    MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID,
+    needs_density_gradient, SphParams, MF_DIFFUSION_FOURTAKAS, MF_KIND_BOUNDARY, MF_KIND_FLUID,
+    MF_KIND_SOLID,
 };
 use crate::state::State;
-
-/// R of the anti-clumping factor 1 + R (W_ij / W(dx))^4 in the shifting sum (Sun et al. 2017).
-const SHIFT_ANTI_CLUMP: f32 = 0.2;
-
-/// The free-surface test of the shifting: a fluid particle whose position divergence
-/// -sum_j V_j r_ij . grad_i W_ij (d inside the fluid, about half of it at a free surface) is
-/// below d - 0.5 is not shifted (Lind, Xu, Stansby & Rogers 2012 take 1.5 in 2D).
-const SHIFT_SURFACE_MARGIN: f32 = 0.5;
 
 /// The particle shifting velocity [L/T] of a fluid particle, added to its XSPH velocity so
 /// that the drift moves it by dt dv (Lind et al. 2012, J. Comput. Phys. 231, 1499; the
 /// anti-clumping factor of Sun, Colagrossi, Marrone & Zhang 2017, the delta+-SPH):
 /// dv_i = -C h c0 grad C_i with grad C_i = sum_j V_j (1 + R (W_ij / W(dx))^4) grad_i W_ij,
 /// so that dt dv ~ C Courant h^2 grad C; `grad_c` is that sum and `div_r` the position
-/// divergence; zero at a free surface, where the sum points out of the fluid.
+/// divergence; zero at a free surface, where the sum points out of the fluid (position
+/// divergence below d - `MF_SHIFT_SURFACE_MARGIN`).
 pub fn shift_velocity<D: Dim>(p: &SphParams, grad_c: D::V, div_r: f32) -> D::V {
-    if div_r < D::D as f32 - SHIFT_SURFACE_MARGIN {
+    if div_r < D::D as f32 - MF_SHIFT_SURFACE_MARGIN as f32 {
         return D::V::default();
     }
     grad_c * (-p.shifting * p.h * p.c0)
@@ -68,7 +62,7 @@ fn density_gradient<D: Dim>(p: &SphParams, grid: &Grid, s: &State<D>) -> Option<
     if !needs_density_gradient(p) {
         return None;
     }
-    let (fluid, solid) = (fluid_density_gradient(p), p.solid_delta_sph > 0.0);
+    let (fluid, solid) = (p.fluid_density_gradient != 0, p.solid_delta_sph > 0.0);
     let (pos, rho, mass, kind, group) = (&s.pos, &s.rho, &s.mass, &s.kind, &s.group);
     let g = (0..s.len())
         .into_par_iter()
@@ -91,7 +85,7 @@ fn density_gradient<D: Dim>(p: &SphParams, grid: &Grid, s: &State<D>) -> Option<
                 g += gw * ((rho[j] - rho[i]) * vj);
                 m += D::outer(-r, gw) * vj;
             });
-            if D::determinant(m).abs() > 1e-3 {
+            if D::determinant(m).abs() > MF_MOMENT_DET_MIN as f32 {
                 D::mat_vec(D::inverse(D::transpose(m)), g)
             } else {
                 D::V::default()
@@ -152,7 +146,8 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                     // support, so a fluid particle is not shifted into a wall or a body.
                     let vj = mass[j] / rho[j];
                     let f = kernel::w(p, rr) * p.inv_w_dx;
-                    grad_c += grad_w * (vj * (1.0 + SHIFT_ANTI_CLUMP * (f * f) * (f * f)));
+                    let anti_clump = 1.0 + MF_SHIFT_ANTI_CLUMP as f32 * (f * f) * (f * f);
+                    grad_c += grad_w * (vj * anti_clump);
                     div_r -= vj * D::dot(r, grad_w);
                 }
                 // One material: fluid with fluid; a solid's own body, or a clamp and the solid
@@ -207,7 +202,7 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 // for v = G x the sum above gives G A with A = sum_j V_j (x_j - x_i) (x)
                 // grad W, which is I inside a body but not at its surface, where rigid
                 // rotation would otherwise read as strain. Skipped where A is singular.
-                if D::determinant(moment).abs() > 1e-3 {
+                if D::determinant(moment).abs() > MF_MOMENT_DET_MIN as f32 {
                     grad_v = grad_v * D::inverse(moment);
                 }
                 let gt = D::transpose(grad_v);

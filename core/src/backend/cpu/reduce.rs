@@ -5,15 +5,20 @@
 
 use rayon::prelude::*;
 
+use crate::consts::{
+    MF_DENSITY_SANE_HIGH, MF_DENSITY_SANE_LOW, MF_FAULT_DENSITY_RANGE, MF_FAULT_ESCAPED,
+    MF_FAULT_NON_FINITE_DENSITY, MF_FAULT_NON_FINITE_POSITION, MF_FAULT_NON_FINITE_VELOCITY,
+    MF_VISCOUS_DT,
+};
 use crate::dim::Dim;
 use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID};
 use crate::particle::Kind;
-use crate::solver::{fault_codes as fc, Diagnostics, DENSITY_SANE_HIGH, DENSITY_SANE_LOW};
+use crate::solver::Diagnostics;
 use crate::state::State;
 
 /// The step size [T] from the largest speed [L/T], acceleration [L/T^2] and sound speed:
-/// courant * min(h / (c + |v|max), sqrt(h / |a|max)), and 0.125 h^2 / nu with laminar
-/// viscosity; eq. (19) is the first bound. A fixed dt overrides all.
+/// courant * min(h / (c + |v|max), sqrt(h / |a|max)), and `MF_VISCOUS_DT` h^2 / nu (0.125)
+/// with laminar viscosity; eq. (19) is the first bound. A fixed dt overrides all.
 pub fn step_size(p: &SphParams, c_max: f32, v_max: f32, a_max: f32) -> f32 {
     if p.dt_fixed > 0.0 {
         return p.dt_fixed;
@@ -24,7 +29,7 @@ pub fn step_size(p: &SphParams, c_max: f32, v_max: f32, a_max: f32) -> f32 {
     }
     dt *= p.courant;
     if p.nu > 0.0 {
-        dt = dt.min(0.125 * p.h * p.h / p.nu);
+        dt = dt.min(MF_VISCOUS_DT as f32 * p.h * p.h / p.nu);
     }
     dt
 }
@@ -82,21 +87,23 @@ pub fn first_fault<D: Dim>(p: &SphParams, s: &State<D>) -> Option<(usize, u32, f
         let x = D::to3(s.pos[i]);
         let v = D::to3(s.vel[i]);
         if let Some(c) = x.iter().find(|c| !c.is_finite()) {
-            return Some((i, fc::NON_FINITE_POSITION, *c));
+            return Some((i, MF_FAULT_NON_FINITE_POSITION, *c));
         }
         if let Some(c) = v.iter().find(|c| !c.is_finite()) {
-            return Some((i, fc::NON_FINITE_VELOCITY, *c));
+            return Some((i, MF_FAULT_NON_FINITE_VELOCITY, *c));
         }
         if !s.rho[i].is_finite() {
-            return Some((i, fc::NON_FINITE_DENSITY, s.rho[i]));
+            return Some((i, MF_FAULT_NON_FINITE_DENSITY, s.rho[i]));
         }
         let rho0 = p.rest_density(s.kind[i]);
-        if s.rho[i] < DENSITY_SANE_LOW * rho0 || s.rho[i] > DENSITY_SANE_HIGH * rho0 {
-            return Some((i, fc::DENSITY_RANGE, s.rho[i]));
+        if s.rho[i] < MF_DENSITY_SANE_LOW as f32 * rho0
+            || s.rho[i] > MF_DENSITY_SANE_HIGH as f32 * rho0
+        {
+            return Some((i, MF_FAULT_DENSITY_RANGE, s.rho[i]));
         }
         for a in 0..D::D {
             if p.periodic[a] == 0 && (x[a] < p.domain_min[a] || x[a] > p.domain_max[a]) {
-                return Some((i, fc::ESCAPED, x[a]));
+                return Some((i, MF_FAULT_ESCAPED, x[a]));
             }
         }
         None

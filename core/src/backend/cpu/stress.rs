@@ -5,6 +5,7 @@
 
 use rayon::prelude::*;
 
+use crate::consts::{MF_JACOBI_OFF_MIN, MF_JACOBI_PIVOT_MIN, MF_JACOBI_SWEEPS};
 use crate::dim::Dim;
 use crate::params::{SphParams, MF_KIND_SOLID};
 use crate::state::State;
@@ -82,20 +83,20 @@ pub fn jacobi_eigen(mut a: [[f32; 3]; 3], d: usize) -> ([f32; 3], [[f32; 3]; 3])
     for (k, row) in v.iter_mut().enumerate() {
         row[k] = 1.0;
     }
-    for _sweep in 0..8 {
+    for _sweep in 0..MF_JACOBI_SWEEPS {
         let mut off = 0.0f32;
         for pp in 0..d {
             for qq in pp + 1..d {
                 off += a[pp][qq].abs();
             }
         }
-        if off <= 1e-20 {
+        if off <= MF_JACOBI_OFF_MIN as f32 {
             break;
         }
         for pp in 0..d {
             for qq in pp + 1..d {
                 let apq = a[pp][qq];
-                if apq.abs() <= 1e-30 {
+                if apq.abs() <= MF_JACOBI_PIVOT_MIN as f32 {
                     continue;
                 }
                 let theta = (a[qq][qq] - a[pp][pp]) / (2.0 * apq);

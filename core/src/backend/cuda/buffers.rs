@@ -2,13 +2,14 @@
 
 //! and the kernels' layout: vectors as float2 (2D) / float4 (3D; position w = mass, others
 //! w = 0), except velocities, float4 in both (w = density negated on walls; 2D z = mass;
-//! `vel_load` in `cuda/common.cuh`; the mass has no array of its own), symmetric tensors as
+//! `vel_load` in `cuda/device/packing.cuh`; the mass has no array of its own), symmetric tensors as
 //! 3 (2D: xx, yy, xy) or 6 (3D: xx, yy, zz, xy, xz, yz) planes.
 
 use std::sync::Arc;
 
 use cudarc::driver::{CudaSlice, CudaStream, DeviceRepr, DriverError, ValidAsZeroBits};
 
+use crate::consts::MF_SCAN_CELLS;
 use crate::dim::Dim;
 use crate::params::MF_KIND_BOUNDARY;
 use crate::state::{SolidState, State};
@@ -21,7 +22,7 @@ pub fn vstride<D: Dim>() -> usize {
         4
     }
 }
-/// Floats per stored velocity (float4 in both dimensions: `vel_load` in `cuda/common.cuh`).
+/// Floats per stored velocity (float4 in both dimensions: `vel_load` in `cuda/device/packing.cuh`).
 pub const VEL_STRIDE: usize = 4;
 /// Stored components of a symmetric tensor.
 pub fn nsym<D: Dim>() -> usize {
@@ -113,11 +114,6 @@ impl Alloc<'_> {
     }
 }
 
-/// The scan's block width and the cells each block scans (MF_SCAN_BLOCK, MF_SCAN_CELLS in
-/// `cuda/grid.cu`).
-pub const SCAN_BLOCK: usize = 1024;
-pub const SCAN_CELLS: usize = 4 * SCAN_BLOCK;
-
 impl Buffers {
     /// Allocate for `state`, a grid of `n_cells` and the wall surface `surface`
     /// (`Setup::wall_surface`; none where empty), and the density gradients where
@@ -148,7 +144,7 @@ impl Buffers {
         };
         let cur = persistent(&mut a)?;
         let alt = persistent(&mut a)?;
-        let n_blocks = (n_cells + 1).div_ceil(SCAN_CELLS);
+        let n_blocks = (n_cells + 1).div_ceil(MF_SCAN_CELLS as usize);
         let mut b = Buffers {
             n,
             n_cells,
@@ -228,7 +224,8 @@ impl Buffers {
         s.memcpy_htod(&st.id, &mut c.id)?;
         s.memcpy_htod(&st.kind, &mut c.kind)?;
         s.memcpy_htod(&st.group, &mut c.group)?;
-        // Mass and density (negated on walls) in the spare slots (`vel_load` in cuda/common.cuh).
+        // Mass and density (negated on walls) in the spare slots (`vel_load` in
+        // cuda/device/packing.cuh).
         let wall = |i: usize| st.kind[i] as u32 == MF_KIND_BOUNDARY;
         let pos = flat_v::<D>(&st.pos, |i| st.mass[i]);
         let vel = flat_vel::<D>(&st.vel, &st.mass, |i| {
@@ -311,7 +308,7 @@ impl Buffers {
 }
 
 /// The masses from the flat positions and velocities: pos.w in 3D, vel.z in 2D (no array of
-/// their own on the device; `mass_of` in cuda/common.cuh).
+/// their own on the device; `mass_of` in cuda/device/packing.cuh).
 fn mass_of<D: Dim>(pos: &[f32], vel: &[f32], n: usize) -> Vec<f32> {
     if D::D == 3 {
         (0..n).map(|i| pos[i * vstride::<D>() + 3]).collect()
@@ -333,7 +330,8 @@ fn flat_v<D: Dim>(v: &[D::V], w: impl Fn(usize) -> f32) -> Vec<f32> {
     }
     out
 }
-/// Velocities -> float4 (`vel_load` in cuda/common.cuh): w = `w(i)`, and in 2D z = the mass.
+/// Velocities -> float4 (`vel_load` in cuda/device/packing.cuh): w = `w(i)`, and in 2D z =
+/// the mass.
 fn flat_vel<D: Dim>(v: &[D::V], mass: &[f32], w: impl Fn(usize) -> f32) -> Vec<f32> {
     let mut out = vec![0.0f32; v.len() * VEL_STRIDE];
     for (i, x) in v.iter().enumerate() {

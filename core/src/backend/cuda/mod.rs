@@ -7,6 +7,7 @@
 
 mod buffers;
 mod device;
+mod kernels;
 mod launch;
 
 use std::marker::PhantomData;
@@ -15,19 +16,22 @@ use cudarc::driver::sys;
 
 use crate::backend::cpu::fault;
 use crate::backend::BackendError;
+use crate::consts::{
+    MF_FAULT_ESCAPED, MF_FAULT_NON_FINITE_POSITION, MF_FAULT_NON_FINITE_VELOCITY,
+    MF_FAULT_SLOT_SHIFT,
+};
 use crate::dim::Dim;
 use crate::params::{needs_density_gradient, SphParams, MF_DENSITY_CONTINUITY};
 use crate::particle::Particle;
-use crate::solver::{
-    fault_codes as fc, BackendInfo, Diagnostics, Fault, Setup, Shown, Snapshot, Solver,
-};
+use crate::solver::{BackendInfo, Diagnostics, Fault, Setup, Shown, Snapshot, Solver};
 use crate::state::State;
 
 pub use device::{driver_version, NVCC_VERSION};
 
 use buffers::Buffers;
 use device::Device;
-use launch::{Kernels, StepGraph};
+use kernels::{Kernels, LANE_COUNTS};
+use launch::StepGraph;
 
 /// Whether a usable CUDA device answers (driver, device 0, PTX in this build).
 pub fn available() -> Result<String, BackendError> {
@@ -47,11 +51,11 @@ pub const SPLIT_LANES: [usize; 2] = [4, 8];
 pub const LARGE_LANES: [usize; 2] = [1, 1];
 
 /// Lanes per particle for a system of `n` particles in `dim` dimensions: the size rule,
-/// or `MESHFREE_CUDA_LANES` (one of 1, 2, 4, 8) at every size where set, and the threshold
+/// or `MESHFREE_CUDA_LANES` (one of `LANE_COUNTS`) at every size where set, and the threshold
 /// `MESHFREE_CUDA_SPLIT_BELOW` where set (both for measurements).
 pub fn lanes_for(dim: usize, n: usize) -> usize {
     let env = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<usize>().ok());
-    if let Some(l) = env("MESHFREE_CUDA_LANES").filter(|l| launch::LANE_COUNTS.contains(l)) {
+    if let Some(l) = env("MESHFREE_CUDA_LANES").filter(|l| LANE_COUNTS.contains(l)) {
         return l;
     }
     let d = usize::from(dim == 3);
@@ -167,14 +171,13 @@ impl<D: Dim> CudaSolver<D> {
             .unwrap_or_else(|e| self.sync_err("reading dt", e))[0]
     }
 
-    /// Force (`Some(lanes)`, one of 1, 2, 4, 8) or reset to the size rule (`None`) the
-    /// threads per particle of the neighbour kernels. For tests and benchmarks.
+    /// Force (`Some(lanes)`, one of `LANE_COUNTS`: 1, 2, 4, 8) or reset to the size rule
+    /// (`None`) the threads per particle of the neighbour kernels. For tests and benchmarks.
     pub fn set_lanes(&mut self, lanes: Option<usize>) {
         let l = lanes.unwrap_or_else(|| lanes_for(D::D, self.buf.n));
         assert!(
-            launch::LANE_COUNTS.contains(&l),
-            "set_lanes: {l} lanes has no kernel entry (have {:?})",
-            launch::LANE_COUNTS
+            LANE_COUNTS.contains(&l),
+            "set_lanes: {l} lanes has no kernel entry (have {LANE_COUNTS:?})"
         );
         self.k.lanes = l;
         self.graph = None;
@@ -335,22 +338,24 @@ impl<D: Dim> Solver for CudaSolver<D> {
         if first == u64::MAX {
             return Ok(());
         }
-        let (slot, code) = ((first >> 8) as usize, (first & 0xff) as u32);
+        // (slot << MF_FAULT_SLOT_SHIFT) | fault class, from sph_check.
+        let slot = (first >> MF_FAULT_SLOT_SHIFT) as usize;
+        let code = (first & ((1 << MF_FAULT_SLOT_SHIFT) - 1)) as u32;
         let st = self.download_state();
         let x = D::to3(st.pos[slot]);
         let v = D::to3(st.vel[slot]);
         let value = match code {
-            fc::NON_FINITE_POSITION => x
+            MF_FAULT_NON_FINITE_POSITION => x
                 .iter()
                 .copied()
                 .find(|c| !c.is_finite())
                 .unwrap_or(f32::NAN),
-            fc::NON_FINITE_VELOCITY => v
+            MF_FAULT_NON_FINITE_VELOCITY => v
                 .iter()
                 .copied()
                 .find(|c| !c.is_finite())
                 .unwrap_or(f32::NAN),
-            fc::ESCAPED => (0..D::D)
+            MF_FAULT_ESCAPED => (0..D::D)
                 .find(|&a| {
                     self.params.periodic[a] == 0
                         && (x[a] < self.params.domain_min[a] || x[a] > self.params.domain_max[a])

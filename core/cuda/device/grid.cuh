@@ -1,0 +1,117 @@
+// The neighbour grid: cell coordinates and index, a particle filed in its cell (hist_one),
+// the minimum-image separation, and the candidate rows of cells around a position (rows,
+// row_ranges). Twin: src/backend/cpu/grid.rs; parity test: tests/cuda_parity.rs.
+#pragma once
+#include "sph_consts.h"
+#include "sph_params.h"
+#include "vectors.cuh"
+
+template <int DIM> __device__ __forceinline__ void cell_coords(const SphParams& p, Vec<DIM> x, int c[3]) {
+    c[0] = c[1] = c[2] = 0;
+#pragma unroll
+    for (int a = 0; a < DIM; ++a) {
+        int v = (int)floorf((x.c[a] - p.domain_min[a]) / p.cell_size[a]);
+        c[a] = min(max(v, 0), p.grid_dims[a] - 1);
+    }
+}
+__device__ __forceinline__ unsigned cell_index(const SphParams& p, const int c[3]) {
+    return (unsigned)(c[0] + p.grid_dims[0] * (c[1] + p.grid_dims[1] * c[2]));
+}
+// The grid build's first step for particle i at x (grid.cu): its cell, counted. The drift
+// does it for the next build, from the positions it writes (`Buffers::hist_done`).
+template <int DIM>
+__device__ __forceinline__ void hist_one(const SphParams& p, unsigned i, Vec<DIM> x, unsigned* __restrict__ cell,
+                                         unsigned* __restrict__ count) {
+    int c[3];
+    cell_coords<DIM>(p, x, c);
+    const unsigned k = cell_index(p, c);
+    cell[i] = k;
+    atomicAdd(&count[k], 1u);
+}
+// Minimum-image r_i - r_j on periodic axes; PERIODIC = false: the scene has none (the
+// neighbour loops test that once, not per candidate: see neighbour_loop).
+template <int DIM, bool PERIODIC = true>
+__device__ __forceinline__ Vec<DIM> separation(const SphParams& p, Vec<DIM> xi, Vec<DIM> xj) {
+    Vec<DIM> r = xi - xj;
+    if constexpr (PERIODIC) {
+#pragma unroll
+        for (int a = 0; a < DIM; ++a) {
+            if (p.periodic[a]) {
+                float len = p.domain_max[a] - p.domain_min[a];
+                float d = r.c[a];
+                if (d > 0.5f * len) r.c[a] = d - len;
+                else if (d < -0.5f * len) r.c[a] = d + len;
+            }
+        }
+    }
+    return r;
+}
+
+// Squared distance from coordinate x to the slab of (unwrapped) cell c on axis a.
+__device__ __forceinline__ float slab_gap2(const SphParams& p, int a, int c, float x) {
+    const float lo = p.domain_min[a] + (float)c * p.cell_size[a];
+    const float g = fmaxf(fmaxf(lo - x, x - (lo + p.cell_size[a])), 0.0f);
+    return g * g;
+}
+
+// The neighbour candidates of xi as rows of cells: for each (z, y) cell offset within
+// MF_CELL_REACH (z outer, then y), skipping rows whose slab lies beyond the support, calls
+// row(first cell index of the row, x0, x1) with the x cells x0..x1 (unwrapped on a periodic
+// x axis) that the support's cross-section at that row reaches. Twin of `rows` in
+// src/backend/cpu/grid.rs: same candidates, same order. `plane_rows` visits the rows of one
+// z offset dz (ci: the cell of xi, from cell_coords).
+template <int DIM, class R>
+__device__ __forceinline__ void plane_rows(const SphParams& p, Vec<DIM> xi, const int ci[3], int dz, R&& row) {
+    const int reach = MF_CELL_REACH;
+    const int nx = p.grid_dims[0];
+    const float r2max = p.support2;
+    int cz = ci[2] + dz;
+    if (cz < 0 || cz >= p.grid_dims[2]) {
+        if (!p.periodic[2]) return;
+        cz = (cz + p.grid_dims[2]) % p.grid_dims[2];
+    }
+    float gz = 0.0f;
+    if constexpr (DIM == 3) gz = slab_gap2(p, 2, ci[2] + dz, xi.c[2]);
+    for (int dy = -reach; dy <= reach; ++dy) {
+        int cy = ci[1] + dy;
+        if (cy < 0 || cy >= p.grid_dims[1]) {
+            if (!p.periodic[1]) continue;
+            cy = (cy + p.grid_dims[1]) % p.grid_dims[1];
+        }
+        const float d2 = gz + slab_gap2(p, 1, ci[1] + dy, xi.c[1]);
+        if (d2 > r2max * (1.0f + MF_PRUNE_SLACK)) continue;
+        // Half-width of the support's cross-section at this row, then the x cells it spans.
+        const float w = sqrtf(fmaxf(r2max - d2, 0.0f)) + MF_PRUNE_SLACK * p.support;
+        int x0 = max(ci[0] - reach, (int)floorf((xi.c[0] - w - p.domain_min[0]) / p.cell_size[0]));
+        int x1 = min(ci[0] + reach, (int)floorf((xi.c[0] + w - p.domain_min[0]) / p.cell_size[0]));
+        if (!p.periodic[0]) {
+            x0 = max(x0, 0);
+            x1 = min(x1, nx - 1);
+        }
+        if (x0 > x1) continue;
+        row((unsigned)(nx * (cy + p.grid_dims[1] * cz)), x0, x1);
+    }
+}
+template <int DIM, class R> __device__ __forceinline__ void rows(const SphParams& p, Vec<DIM> xi, R&& row) {
+    int ci[3];
+    cell_coords<DIM>(p, xi, ci);
+    const int rz = DIM == 3 ? MF_CELL_REACH : 0;
+    for (int dz = -rz; dz <= rz; ++dz) plane_rows<DIM>(p, xi, ci, dz, row);
+}
+
+// The candidate ranges of one row (see `rows`): a row that does not wrap around a periodic x
+// axis is one contiguous range of storage (cells are x-fastest and the storage is sorted by
+// cell); a wrapping row is taken cell by cell, in the same order. Calls range(s, e) for each.
+template <class F>
+__device__ __forceinline__ void row_ranges(const SphParams& p, const unsigned* __restrict__ cell_start,
+                                           unsigned row, int x0, int x1, F&& range) {
+    const int nx = p.grid_dims[0];
+    if (x0 >= 0 && x1 < nx) {
+        range(cell_start[row + x0], cell_start[row + x1 + 1]);
+        return;
+    }
+    for (int cx = x0; cx <= x1; ++cx) {
+        const unsigned c = row + (unsigned)((cx + nx) % nx);
+        range(cell_start[c], cell_start[c + 1]);
+    }
+}

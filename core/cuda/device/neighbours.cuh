@@ -1,0 +1,211 @@
+// The neighbour loops: the candidates of `rows` tested against the support in batches
+// (batch_accept), split over L lanes (for_each_neighbor_split) or, at one lane, queued per
+// plane of rows (queued_neighbours); and the `Neighbour` record the pair sums of forces and
+// rates take. Twin: Grid::for_each_neighbor in src/backend/cpu/grid.rs (same neighbours, same
+// order); parity test: tests/cuda_parity.rs.
+#pragma once
+#include "sph_consts.h"
+#include "sph_params.h"
+#include "grid.cuh"
+#include "kernel.cuh"
+#include "packing.cuh"
+#include "vectors.cuh"
+
+// The neighbour's kind: in fluid-only scenes from the sign of its vel.w, else from the kind
+// array.
+template <int DIM, bool SOLIDS>
+__device__ __forceinline__ unsigned char neighbour_kind(const unsigned char* __restrict__ kind, unsigned j, float vw) {
+    if constexpr (!SOLIDS)
+        return vel_w_boundary(vw) ? (unsigned char)MF_KIND_BOUNDARY : (unsigned char)MF_KIND_FLUID;
+    else
+        return kind[j];
+}
+
+// A neighbour j of particle i as the pair sums (ForceSum in forces.cuh, RateSum in
+// rates.cuh) take it: loaded and its kernel gradient computed once, whichever sums run.
+template <int DIM> struct Neighbour {
+    unsigned j;
+    unsigned char kind;
+    Vec<DIM> r;    // x_i - x_j (minimum image) [L]
+    float r2, rr;  // |r|^2 [L^2], |r| [L]
+    float fw;      // (dW/dr)/r at |r| (kernel_wf): grad_i W_ij = fw r [L^-(d+2)]
+    float w;       // W_ij [L^-d]
+    Vec<DIM> v;    // v_j [L/T]
+    float m, rho;  // m_j [M], rho_j [M L^-d]
+};
+// j at r = x_i - x_j (r2 = |r|^2), pw the w slot of its stored position (3D: m_j): v_j,
+// m_j, rho_j and (fluid-only scenes) the kind from the spare slots of its position and
+// velocity (see vel_load), else the kind array.
+template <int DIM, bool SOLIDS>
+__device__ __forceinline__ Neighbour<DIM> neighbour(const SphParams& p, unsigned j, Vec<DIM> r, float r2, float pw,
+                                                    const float* __restrict__ vel,
+                                                    const unsigned char* __restrict__ kind) {
+    Neighbour<DIM> nb;
+    float vm, vw;
+    nb.j = j;
+    nb.r = r;
+    nb.r2 = r2;
+    nb.v = vel_load<DIM>(vel, j, vm, vw);
+    nb.kind = neighbour_kind<DIM, SOLIDS>(kind, j, vw);
+    nb.rr = fast_norm(r2);
+    kernel_wf(p, nb.rr, nb.w, nb.fw);
+    nb.m = DIM == 3 ? pw : vm;
+    nb.rho = fabsf(vw);
+    return nb;
+}
+
+// Candidates s + lane, s + lane + L, ... < e in batches of B: the B position loads issued
+// before any is used (in flight together), then accept(j) for the accepted ones
+// (|x_i - x_j| < support) in candidate order.
+template <int DIM, int L, int B, bool PERIODIC, class F>
+__device__ __forceinline__ void batch_accept(const SphParams& p, const float* __restrict__ pos, Vec<DIM> xi,
+                                             unsigned s, unsigned e, int lane, F&& accept) {
+    for (unsigned base = s + lane; base < e; base += B * L) {
+        Vec<DIM> xj[B];
+#pragma unroll
+        for (int k = 0; k < B; ++k) xj[k] = vload<DIM>(pos, min(base + k * L, e - 1));
+        unsigned mask = 0;
+#pragma unroll
+        for (int k = 0; k < B; ++k) {
+            const Vec<DIM> r = separation<DIM, PERIODIC>(p, xi, xj[k]);
+            if (base + k * L < e && dot(r, r) < p.support2) mask |= 1u << k;
+        }
+        while (mask) {
+            const int k = __ffs(mask) - 1;
+            mask &= mask - 1;
+            accept(base + k * L);
+        }
+    }
+}
+
+// f(j, r_ij, r_ij^2, w_j) for candidate j, which passed the support test.
+template <int DIM, bool PERIODIC, class F>
+__device__ __forceinline__ void call_neighbour(const SphParams& p, const float* __restrict__ pos, Vec<DIM> xi,
+                                               unsigned j, F&& f) {
+    float wj;
+    const Vec<DIM> r = separation<DIM, PERIODIC>(p, xi, vload_w<DIM>(pos, j, wj));
+    f(j, r, dot(r, r), wj);
+}
+
+// Candidates per batch in the neighbour loops (batch_accept, queued_neighbours): their
+// position loads are in flight together. 4 (H100, 4M, docs/performance.md: with
+// the queue, 8 spilled the batch at 64 registers and was 24 % slower in 3D, 2 was 1.5 %
+// slower).
+#ifndef MF_NB_BATCH
+#define MF_NB_BATCH 4
+#endif
+
+// Calls f(j, r_ij, r_ij^2, w_j) for every j (i included) within the support of xi (w_j: the
+// w slot of j's stored position, its mass in 3D; 0 in 2D), the candidates of `rows` split
+// over L lanes (lane l takes every L-th), in candidate order.
+template <int DIM, int L, int B = MF_NB_BATCH, bool PERIODIC = true, class F>
+__device__ __forceinline__ void for_each_neighbor_split(const SphParams& p, const unsigned* __restrict__ cell_start,
+                                                        const float* __restrict__ pos, Vec<DIM> xi, int lane,
+                                                        F&& f) {
+    rows<DIM>(p, xi, [&](unsigned row, int x0, int x1) {
+        row_ranges(p, cell_start, row, x0, x1, [&](unsigned s, unsigned e) {
+            batch_accept<DIM, L, B, PERIODIC>(p, pos, xi, s, e, lane,
+                                              [&](unsigned j) { call_neighbour<DIM, PERIODIC>(p, pos, xi, j, f); });
+        });
+    });
+}
+
+// The accepted-candidate queue of the one-lane neighbour loop (queued_neighbours): up to
+// MF_QUEUE entries (first candidate, mask of the accepted ones among the 32 from there) per
+// thread in shared memory, entry e of thread t at [e * MF_BLOCK + t]; MF_QUEUE 0: no queue
+// (batch_accept's pair sums after each batch). 8 entries of 8 B: 16 KB per block of 256; more
+// takes L1 cache from the candidate loads and was slower (docs/performance.md).
+#ifndef MF_QUEUE
+#define MF_QUEUE 8
+#endif
+
+// The one-lane neighbour loop in two phases per plane of rows, for the pair sums' SIMT
+// efficiency: the lanes of a warp accept different numbers of candidates from each batch
+// and row, and a warp runs a pair sum while any lane has one, so summing after each batch
+// (batch_accept) runs the sum for the maximum over the lanes of every batch. Here the
+// candidates of one plane of rows (one z offset; 2D: all rows) are only tested (B position
+// loads in flight, as batch_accept), each chunk of 32 consecutive candidates with an accepted
+// one leaving (first, mask) in the queue q; then one loop takes one accepted neighbour per
+// pass, from whichever entry the lane is at, so that the warp runs the pair sum for the
+// maximum over the lanes of their plane totals. A plane with more than MF_QUEUE such chunks
+// (a dense cluster) is tested again from its next unqueued chunk after each drain, so that
+// the fill and the pair sum each stay one site in the code (a second copy of the inlined
+// pair sum cost registers). Same neighbours, same order as for_each_neighbor_split with
+// L = 1: the same results bit for bit.
+template <int DIM, int B, bool PERIODIC, class F>
+__device__ __forceinline__ void queued_neighbours(const SphParams& p, const unsigned* __restrict__ cell_start,
+                                                  const float* __restrict__ pos, Vec<DIM> xi, uint2* q, F&& f) {
+    static_assert(32 % B == 0, "batches must tile the 32-candidate chunks");
+    const unsigned t = threadIdx.x;
+    int ci[3];
+    cell_coords<DIM>(p, xi, ci);
+    const int rz = DIM == 3 ? MF_CELL_REACH : 0;
+    for (int dz = -rz; dz <= rz; ++dz) {
+        for (int skip = 0;; skip += MF_QUEUE) {
+            int seen = 0;  // chunks with an accepted candidate, this pass
+            plane_rows<DIM>(p, xi, ci, dz, [&](unsigned row, int x0, int x1) {
+                row_ranges(p, cell_start, row, x0, x1, [&](unsigned s, unsigned e) {
+                    for (unsigned c = s; c < e; c += 32) {
+                        unsigned mask = 0;
+                        // batch_accept's test, written out: sharing it through a helper
+                        // returning the batch's mask (shifted by b here) compiled 1 % slower
+                        // at 4M in 2D and 3D (H100).
+                        for (int b = 0; b < 32 && c + b < e; b += B) {
+                            const unsigned base = c + (unsigned)b;
+                            Vec<DIM> xj[B];
+#pragma unroll
+                            for (int k = 0; k < B; ++k) xj[k] = vload<DIM>(pos, min(base + k, e - 1));
+#pragma unroll
+                            for (int k = 0; k < B; ++k) {
+                                const Vec<DIM> r = separation<DIM, PERIODIC>(p, xi, xj[k]);
+                                if (base + k < e && dot(r, r) < p.support2) mask |= 1u << (b + k);
+                            }
+                        }
+                        if (mask == 0u) continue;
+                        const int slot = seen - skip;
+                        if (slot >= 0 && slot < MF_QUEUE) q[slot * MF_BLOCK + t] = make_uint2(c, mask);
+                        ++seen;
+                    }
+                });
+            });
+            const int ne = min(seen - skip, MF_QUEUE);
+            // Next accepted neighbour: a short loop over empty-handed entries, then the sum.
+            int k = 0;
+            uint2 en = ne > 0 ? q[t] : make_uint2(0u, 0u);
+            for (;;) {
+                while (en.y == 0u && ++k < ne) en = q[k * MF_BLOCK + t];
+                if (en.y == 0u) break;
+                const int bit = __ffs(en.y) - 1;
+                en.y &= en.y - 1u;
+                call_neighbour<DIM, PERIODIC>(p, pos, xi, en.x + (unsigned)bit, f);
+            }
+            if (seen - skip <= MF_QUEUE) break;
+        }
+    }
+}
+
+// The neighbour loop of the forces and rates kernels (for_each_neighbor_split, or
+// queued_neighbours for one lane), with the minimum image compiled in only where the scene
+// has a periodic axis: tested once here, not per candidate. on: whether this lane sums for
+// particle i.
+template <int DIM, int L, class F>
+__device__ __forceinline__ void neighbour_loop(const SphParams& p, const unsigned* __restrict__ cell_start,
+                                               const float* __restrict__ pos, unsigned i, bool on, int lane,
+                                               F&& f) {
+#if MF_QUEUE > 0
+    if constexpr (L == 1) {
+        __shared__ uint2 q[MF_QUEUE * MF_BLOCK];
+        if (!on) return;
+        if (p.periodic[0] || p.periodic[1] || p.periodic[2])
+            queued_neighbours<DIM, MF_NB_BATCH, true>(p, cell_start, pos, vload<DIM>(pos, i), q, f);
+        else
+            queued_neighbours<DIM, MF_NB_BATCH, false>(p, cell_start, pos, vload<DIM>(pos, i), q, f);
+        return;
+    }
+#endif
+    if (!on) return;
+    if (p.periodic[0] || p.periodic[1] || p.periodic[2])
+        for_each_neighbor_split<DIM, L, MF_NB_BATCH, true>(p, cell_start, pos, vload<DIM>(pos, i), lane, f);
+    else
+        for_each_neighbor_split<DIM, L, MF_NB_BATCH, false>(p, cell_start, pos, vload<DIM>(pos, i), lane, f);
+}

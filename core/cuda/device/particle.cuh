@@ -1,0 +1,33 @@
+// What one particle's kind and group make of the parameters: its pressure (equation of
+// state), sound speed, rest density, and whether it is driven. Twins: `pressure` in
+// src/backend/cpu/density.rs, SphParams::sound_speed / rest_density in src/params/mod.rs,
+// `driven_velocity` in src/backend/cpu/integrate.rs; parity test: tests/cuda_parity.rs.
+#pragma once
+#include "sph_params.h"
+
+// Tait eq. (9) for fluid and dynamic wall particles; P = c_s^2 (rho - rho0_s) for solids
+// (Gray & Monaghan 2001); 0 for the paper's walls.
+// [P] from rho [M/L^3]; the density pass and the continuity scheme's reorder (grid.cu).
+__device__ __forceinline__ float pressure(const SphParams& p, unsigned char kind, float rho) {
+    if (kind == MF_KIND_SOLID) return p.solid_c0 * p.solid_c0 * (rho - p.solid_rho0);
+    // eq. (9) plus the background pressure (cpu/density.rs `pressure`).
+    if (kind == MF_KIND_FLUID || p.wall_pressure != 0)
+        return p.tait_b * (powf(rho / p.rho0, p.tait_gamma) - 1.0f) + p.p_background;
+    return 0.0f;
+}
+
+__device__ __forceinline__ float sound_speed(const SphParams& p, unsigned char kind) {
+    if (kind == MF_KIND_SOLID)
+        return sqrtf(p.solid_c0 * p.solid_c0 +
+                     4.0f / 3.0f * p.shear_modulus / fmaxf(p.solid_rho0, 1.17549435e-38f));
+    return p.c0;
+}
+__device__ __forceinline__ float rest_density(const SphParams& p, unsigned char kind) {
+    return kind == MF_KIND_SOLID ? p.solid_rho0 : p.rho0;
+}
+
+// The driven group (a piston, a clamp; any kind): moves at driven_velocity whatever the
+// forces (twin: `driven_velocity` in cpu/integrate.rs).
+__device__ __forceinline__ bool is_driven(const SphParams& p, unsigned group) {
+    return p.driven != 0 && group == (unsigned)p.driven_group;
+}

@@ -1,0 +1,481 @@
+//! The one table of the CUDA backend's kernels (`Family::spec`): for every family, the
+//! module that holds it, how its entries are named (per dimension, per lane count and, for
+//! forces and rates, per scheme: the entry macros of `cuda/device/entries.cuh`), and the C
+//! parameter list every entry of the family shares. Loading (`Kernels::load`), selection
+//! (`Kernels::neighbour`) and the SAFETY comments of `launch.rs` all go by it; a test checks
+//! it against the PTX (every entry present, nothing more, each parameter of the right kind).
+
+use cudarc::driver::{CudaFunction, DriverError};
+
+use super::device::Device;
+use crate::backend::BackendError;
+use crate::consts::MF_LANES_MAX;
+use crate::params::{lean_scheme, SphParams};
+
+/// Lane counts with kernel entries, in index order: the powers of two from 1 to
+/// `MF_LANES_MAX` (`MF_LANES_EACH` in `cuda/sph_consts.h`).
+pub const LANE_COUNTS: [usize; MF_LANES_MAX.trailing_zeros() as usize + 1] = {
+    let mut l = [1; MF_LANES_MAX.trailing_zeros() as usize + 1];
+    let mut k = 1;
+    while k < l.len() {
+        l[k] = 2 * l[k - 1];
+        k += 1;
+    }
+    l
+};
+
+/// The schemes of the forces and rates kernels (`MF_SCHEMES` in `cuda/device/entries.cuh`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scheme {
+    /// With solids: the stress and artificial stress terms.
+    Solids,
+    /// Fluid-only: no tensor registers; a neighbour's kind from the sign of its vel.w.
+    Fluid,
+    /// Fluid-only with the terms beyond the paper's fluid scheme compiled out
+    /// (`params::lean_scheme`).
+    Lean,
+}
+
+impl Scheme {
+    pub const ALL: [Scheme; 3] = [Scheme::Solids, Scheme::Fluid, Scheme::Lean];
+
+    /// The scheme a scene runs: with solids where it has any (`solids`), else lean where
+    /// `lean_scheme` holds, else fluid-only.
+    pub fn of(solids: bool, p: &SphParams) -> Scheme {
+        match (solids, lean_scheme(p)) {
+            (true, _) => Scheme::Solids,
+            (false, false) => Scheme::Fluid,
+            (false, true) => Scheme::Lean,
+        }
+    }
+
+    /// What the scheme adds to an entry's stem: `sph_rates_4_2d`, `sph_rates_fluid_4_2d`,
+    /// `sph_rates_lean_4_2d`.
+    fn infix(self) -> &'static str {
+        match self {
+            Scheme::Solids => "",
+            Scheme::Fluid => "_fluid",
+            Scheme::Lean => "_lean",
+        }
+    }
+}
+
+/// How a family's entries are named.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shape {
+    /// One entry, `stem` (`extern "C"` in the `.cu`).
+    One,
+    /// One per dimension, `stem_2d` and `stem_3d` (`MF_ENTRY2`).
+    Dims,
+    /// One per lane count and dimension, `stem_L_2d` (`MF_LANES_EACH`).
+    Lanes,
+    /// One per scheme, lane count and dimension, `stem{,_fluid,_lean}_L_2d` (`MF_SCHEMES`).
+    Schemes,
+}
+
+/// A family of kernels: the entries of one `.cu` function, all with one signature.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Family {
+    GridHist,
+    ScanLocal,
+    ScanTop,
+    GridScatter,
+    GridGather,
+    Density,
+    GradRho,
+    Forces,
+    Rates,
+    ForcesRates,
+    StepSize,
+    Kick,
+    Drift,
+    DriftKick,
+    Diagnostics,
+    Check,
+    ParamsLayout,
+}
+
+/// What the table says of a family.
+pub struct Spec {
+    /// The PTX module, `cuda/<module>.cu`.
+    pub module: &'static str,
+    /// The entry names' stem.
+    pub stem: &'static str,
+    pub shape: Shape,
+    /// The C parameter list of every entry; `launch.rs` pushes the arguments in this order.
+    pub signature: &'static str,
+}
+
+/// The parameters of the forces kernels, which the fused forces-and-rates kernels follow
+/// with theirs (`more`).
+macro_rules! forces_params {
+    ($($more:literal)?) => {
+        concat!(
+            "const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, \
+             const float* vel, const float* rho, const float* pr, const unsigned char* kind, \
+             const unsigned* group, const float* stress, const float* art, const unsigned* id, \
+             const float* surf, float* acc, unsigned* red"
+            $(, ", ", $more)?
+        )
+    };
+}
+
+impl Family {
+    /// Every family, in the order of the discriminants.
+    pub const ALL: [Family; 17] = [
+        Family::GridHist,
+        Family::ScanLocal,
+        Family::ScanTop,
+        Family::GridScatter,
+        Family::GridGather,
+        Family::Density,
+        Family::GradRho,
+        Family::Forces,
+        Family::Rates,
+        Family::ForcesRates,
+        Family::StepSize,
+        Family::Kick,
+        Family::Drift,
+        Family::DriftKick,
+        Family::Diagnostics,
+        Family::Check,
+        Family::ParamsLayout,
+    ];
+
+    /// The table.
+    pub const fn spec(self) -> Spec {
+        use Shape::*;
+        let (module, stem, shape, signature) = match self {
+            Family::GridHist => (
+                "grid",
+                "sph_grid_hist",
+                Dims,
+                "const SphParams p, unsigned n, const float* pos, unsigned* cell, unsigned* count",
+            ),
+            Family::ScanLocal => (
+                "grid",
+                "sph_scan_local",
+                One,
+                "unsigned n_cells, const unsigned* count, unsigned* local, unsigned* bsum",
+            ),
+            Family::ScanTop => (
+                "grid",
+                "sph_scan_top",
+                One,
+                "unsigned n_blocks, unsigned* bsum",
+            ),
+            Family::GridScatter => (
+                "grid",
+                "sph_grid_scatter",
+                One,
+                "unsigned n, const unsigned* cell, const unsigned* local, const unsigned* bsum, \
+                 unsigned* count, unsigned* order",
+            ),
+            Family::GridGather => (
+                "grid",
+                "sph_grid_gather",
+                Dims,
+                "const SphParams p, unsigned n, unsigned n_cells, unsigned eos, \
+                 const unsigned* order, const unsigned* local, const unsigned* bsum, \
+                 unsigned* cell_start, const unsigned* id, const unsigned char* kind, \
+                 const unsigned* group, const float* pos, const float* vel, const float* rho, \
+                 const float* pr, const float* stress, unsigned* id2, unsigned char* kind2, \
+                 unsigned* group2, float* pos2, float* vel2, float* rho2, float* pr2, \
+                 float* stress2",
+            ),
+            Family::Density => (
+                "density",
+                "sph_density",
+                Lanes,
+                "const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, \
+                 float* vel, const unsigned char* kind, float* rho, float* pr, \
+                 const float* stress, float* art",
+            ),
+            Family::GradRho => (
+                "rates",
+                "sph_grad_rho",
+                Dims,
+                "const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, \
+                 const float* vel, const float* rho, const unsigned char* kind, \
+                 const unsigned* group, float* grad",
+            ),
+            Family::Forces => ("forces", "sph_forces", Schemes, forces_params!()),
+            Family::Rates => (
+                "rates",
+                "sph_rates",
+                Schemes,
+                "const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, \
+                 const float* vel, const float* rho, const unsigned char* kind, \
+                 const unsigned* group, const float* stress, const float* grad_rho, \
+                 float* drho, float* xsph, float* rate",
+            ),
+            Family::ForcesRates => (
+                "forces_rates",
+                "sph_forces_rates",
+                Schemes,
+                forces_params!("const float* grad_rho, float* drho, float* xsph, float* rate"),
+            ),
+            Family::StepSize => (
+                "reduce",
+                "sph_step_size",
+                One,
+                "const SphParams p, unsigned* red, float* dt_out",
+            ),
+            Family::Kick => (
+                "integrate",
+                "sph_kick",
+                Dims,
+                "const SphParams p, unsigned n, const float* dt_dev, const unsigned char* kind, \
+                 const unsigned* group, const float* pos, float* vel, const float* acc",
+            ),
+            Family::Drift => (
+                "integrate",
+                "sph_drift",
+                Dims,
+                "const SphParams p, unsigned n, const float* dt_dev, double* time, \
+                 const unsigned char* kind, const unsigned* group, float* pos, \
+                 const float* vel, const float* xsph, float* rho, const float* drho, \
+                 float* stress, const float* rate, unsigned* cell, unsigned* count",
+            ),
+            Family::DriftKick => (
+                "integrate",
+                "sph_drift_kick",
+                Dims,
+                "const SphParams p, unsigned n, const float* dt_dev, double* time, \
+                 const unsigned char* kind, const unsigned* group, float* pos, float* vel, \
+                 const float* xsph, float* rho, const float* drho, float* stress, \
+                 const float* rate, const float* acc, unsigned* cell, unsigned* count",
+            ),
+            Family::Diagnostics => (
+                "reduce",
+                "sph_diagnostics",
+                Dims,
+                "const SphParams p, unsigned n, const unsigned char* kind, const float* pos, \
+                 const float* vel, const float* rho, double* sums, unsigned* maxes, \
+                 unsigned* counts",
+            ),
+            Family::Check => (
+                "reduce",
+                "sph_check",
+                Dims,
+                "const SphParams p, unsigned n, const unsigned char* kind, const float* pos, \
+                 const float* vel, const float* rho, unsigned long long* first",
+            ),
+            Family::ParamsLayout => (
+                "reduce",
+                "sph_params_layout",
+                One,
+                "const SphParams p, unsigned* out",
+            ),
+        };
+        Spec {
+            module,
+            stem,
+            shape,
+            signature,
+        }
+    }
+
+    /// The family's entries in dimension `dim`, in storage order (scheme, then lane count).
+    pub fn entries(self, dim: usize) -> Vec<String> {
+        let Spec { stem, shape, .. } = self.spec();
+        let lanes = |infix: &str| -> Vec<String> {
+            LANE_COUNTS
+                .iter()
+                .map(|l| format!("{stem}{infix}_{l}_{dim}d"))
+                .collect()
+        };
+        match shape {
+            Shape::One => vec![stem.to_string()],
+            Shape::Dims => vec![format!("{stem}_{dim}d")],
+            Shape::Lanes => lanes(""),
+            Shape::Schemes => Scheme::ALL.iter().flat_map(|s| lanes(s.infix())).collect(),
+        }
+    }
+}
+
+/// One loaded kernel, where it came from and its signature (for error messages).
+pub struct Kernel {
+    pub(super) f: CudaFunction,
+    module: &'static str,
+    name: String,
+    signature: &'static str,
+}
+
+impl Kernel {
+    /// Panics with the kernel's name and module where a launch failed.
+    pub(super) fn check(&self, r: Result<(), DriverError>) {
+        if let Err(e) = r {
+            panic!(
+                "CUDA launch of kernel `{}({})` (module `{}`) failed: {e:?}",
+                self.name, self.signature, self.module
+            );
+        }
+    }
+}
+
+/// Every kernel of one dimension, loaded by the table.
+pub struct Kernels {
+    /// Per family (`Family as usize`), its entries in `Family::entries` order.
+    entries: Vec<Vec<Kernel>>,
+    /// Threads per particle in the neighbour kernels (density, forces, rates), one of
+    /// `LANE_COUNTS`; set by the solver from the system size.
+    pub lanes: usize,
+}
+
+impl Kernels {
+    pub fn load(dev: &Device, dim: usize) -> Result<Kernels, BackendError> {
+        let mut entries = Vec::with_capacity(Family::ALL.len());
+        for (i, f) in Family::ALL.into_iter().enumerate() {
+            debug_assert_eq!(f as usize, i, "Family::ALL is out of order");
+            let Spec {
+                module, signature, ..
+            } = f.spec();
+            let loaded = f
+                .entries(dim)
+                .into_iter()
+                .map(|name| {
+                    Ok(Kernel {
+                        f: dev.function(module, &name)?,
+                        module,
+                        name,
+                        signature,
+                    })
+                })
+                .collect::<Result<Vec<_>, BackendError>>()?;
+            entries.push(loaded);
+        }
+        Ok(Kernels { entries, lanes: 1 })
+    }
+
+    /// The one entry of a family without lane counts (`Shape::One` or `Shape::Dims`).
+    pub fn get(&self, f: Family) -> &Kernel {
+        debug_assert!(matches!(f.spec().shape, Shape::One | Shape::Dims));
+        &self.entries[f as usize][0]
+    }
+
+    /// The entry of neighbour family `f` at the current lane count, for a scene of scheme
+    /// `s` (a family without schemes has one entry for all of them).
+    pub fn neighbour(&self, f: Family, s: Scheme) -> &Kernel {
+        let l = LANE_COUNTS
+            .iter()
+            .position(|&l| l == self.lanes)
+            .unwrap_or_else(|| {
+                panic!(
+                    "no kernel entry for {} lanes (have {LANE_COUNTS:?})",
+                    self.lanes
+                )
+            });
+        let i = match f.spec().shape {
+            Shape::Lanes => l,
+            Shape::Schemes => s as usize * LANE_COUNTS.len() + l,
+            shape => panic!("{f:?} has no lane counts ({shape:?})"),
+        };
+        &self.entries[f as usize][i]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeSet;
+
+    mod ptx {
+        include!(concat!(env!("OUT_DIR"), "/ptx.rs"));
+    }
+
+    /// The parameter list of entry `name` in PTX `text`, as the kinds of its parameters:
+    /// "b8[size]" (a struct by value), "u32", "u64" (a pointer).
+    fn ptx_params(text: &str, name: &str) -> Option<Vec<String>> {
+        let start = text.find(&format!(".entry {name}("))?;
+        let list = &text[start..start + text[start..].find(')')?];
+        Some(
+            list.lines()
+                .filter_map(|l| l.trim().strip_prefix(".param "))
+                .map(|p| {
+                    let w: Vec<&str> = p.split_whitespace().collect();
+                    match w.as_slice() {
+                        [".align", _, ".b8", arr] => {
+                            let size = arr
+                                .split('[')
+                                .nth(1)
+                                .unwrap_or("")
+                                .trim_end_matches([']', ',']);
+                            format!("b8[{size}]")
+                        }
+                        [ty, ..] => ty.trim_start_matches('.').to_string(),
+                        [] => String::new(),
+                    }
+                })
+                .collect(),
+        )
+    }
+
+    /// The parameter kinds a C signature gives in PTX.
+    fn c_params(signature: &str) -> Vec<String> {
+        signature
+            .split(',')
+            .map(|a| {
+                let a = a.trim();
+                if a.contains('*') {
+                    "u64".to_string()
+                } else if a.starts_with("const SphParams") {
+                    format!("b8[{}]", std::mem::size_of::<SphParams>())
+                } else if a.starts_with("unsigned ") {
+                    "u32".to_string()
+                } else {
+                    panic!("no PTX kind for `{a}`")
+                }
+            })
+            .collect()
+    }
+
+    /// Every entry the table names is in its module's PTX with the table's parameters (so the
+    /// SAFETY comments of launch.rs, which go by the table, hold argument for argument: count,
+    /// pointer or not, and SphParams by value at Rust's size); and every entry of the PTX is
+    /// in the table.
+    #[test]
+    fn table_matches_ptx() {
+        if ptx::MODULES.is_empty() {
+            println!("SKIPPED: this build carries no PTX (no nvcc at build time)");
+            return;
+        }
+        for (module, text) in ptx::MODULES {
+            let in_ptx: BTreeSet<String> = text
+                .lines()
+                .filter_map(|l| l.strip_prefix(".visible .entry "))
+                .map(|l| l.trim_end_matches('(').to_string())
+                .collect();
+            let mut in_table = BTreeSet::new();
+            for f in Family::ALL
+                .into_iter()
+                .filter(|f| f.spec().module == *module)
+            {
+                let want = c_params(f.spec().signature);
+                for dim in [2, 3] {
+                    for name in f.entries(dim) {
+                        let got = ptx_params(text, &name).unwrap_or_else(|| {
+                            panic!("{f:?}: entry `{name}` is not in module `{module}`")
+                        });
+                        assert_eq!(got, want, "{f:?}: the parameters of `{name}`");
+                        in_table.insert(name);
+                    }
+                }
+            }
+            assert_eq!(
+                in_ptx, in_table,
+                "module `{module}`: the PTX's entries (left) and the table's (right)"
+            );
+        }
+        for (i, f) in Family::ALL.into_iter().enumerate() {
+            assert_eq!(f as usize, i, "Family::ALL is out of order at {f:?}");
+        }
+    }
+
+    #[test]
+    fn lane_counts_are_the_powers_of_two_to_the_maximum() {
+        assert_eq!(LANE_COUNTS.first(), Some(&1));
+        assert_eq!(LANE_COUNTS.last().copied(), Some(MF_LANES_MAX as usize));
+        assert!(LANE_COUNTS.windows(2).all(|w| w[1] == 2 * w[0]));
+    }
+}

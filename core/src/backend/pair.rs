@@ -1,0 +1,44 @@
+//! Twin: `cuda/device/pairs.cuh`; parity test `tests/cuda_parity.rs`.
+//! The pair predicates that the CPU stages (density, forces, rates) and the force monitors
+//! share: whether a neighbour enters a particle's sums (`couples`), whether two kinds meet at
+//! all (`meets`), and whether two particles count as one body (`same_body`).
+
+use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID};
+
+/// Whether particle j of kind `kj` enters the SPH sums of another particle: boundary
+/// particles only with dynamic walls (`wall_pressure`, Crespo et al. 2007: wall particles
+/// carry density and pressure like fluid but do not move); with the paper's walls they act
+/// through the Lennard-Jones force alone.
+#[inline]
+pub fn couples(p: &SphParams, kj: u8) -> bool {
+    kj as u32 != MF_KIND_BOUNDARY || p.wall_pressure != 0
+}
+
+/// Whether particles of kinds `ki` and `kj` meet at all: a solid and a wall particle skip
+/// each other, both ways, where the scene says so (`[solid] wall_contact = false`,
+/// `solid_skips_walls`): no Lennard-Jones force, eq. (17), no wall pressure, and neither
+/// enters the other's density (continuity or summation). A body that meets only the fluid
+/// and other bodies: the free end of a gate standing on the tank floor, whose continuity
+/// density read the foot leaving the floor's wall particles as a dilatation
+/// (docs/accuracy.md, elastic gate).
+#[inline]
+pub fn meets(p: &SphParams, ki: u8, kj: u8) -> bool {
+    let (s, b) = (MF_KIND_SOLID, MF_KIND_BOUNDARY);
+    let (ki, kj) = (ki as u32, kj as u32);
+    p.solid_skips_walls == 0 || !((ki == s && kj == b) || (ki == b && kj == s))
+}
+
+/// Whether particles i (kind `ki`, scene group `gi`) and j count as one body for the terms
+/// that act only within a body: XSPH, eq. (18), the velocity gradient of eq. (15) (so the
+/// Jaumann stress rate, eq. (12)) and the artificial stress. All fluid is one body; a solid
+/// is its own scene group; and a driven solid (a clamp: the `driven_group`, held by its
+/// `motion`) is bonded to every solid particle it neighbours, so the held part takes up
+/// strain and passes stress into the body it holds (a cantilever's root).
+#[inline]
+pub fn same_body(p: &SphParams, ki: u8, kj: u8, gi: u32, gj: u32) -> bool {
+    let clamp = |g: u32| p.driven != 0 && g == p.driven_group as u32;
+    ki == kj
+        && (ki as u32 == MF_KIND_FLUID
+            || gi == gj
+            || (ki as u32 == MF_KIND_SOLID && (clamp(gi) || clamp(gj))))
+}
