@@ -1,12 +1,13 @@
 //! The registry of the scheme's keys (`meshfree_core::scheme`, issue #18): every field of the
 //! parameter struct is a key's or listed as set from the scene or derived; every key writes
-//! the field it declares and reads its declared default; every switch has a paper value; the
-//! committed reference is current.
+//! the field it declares and reads its declared default; every switch has a paper value and
+//! `--paper-exact` sets every one of them; the committed reference is current.
 
 use std::collections::{BTreeMap, BTreeSet};
 
 use meshfree_core::params::SphParams;
-use meshfree_core::scene::Scene;
+use meshfree_core::scene::paper_exact::{ALPHA_MIN, DT_FRACTION};
+use meshfree_core::scene::{builtin_names, Scene, SceneFile, SceneSource};
 use meshfree_core::scheme::{self, reference, Key, KeyDefault, Paper, Param, DERIVED, FROM_SCENE};
 
 /// The fields of the parameter struct with their values, from its `Debug` form
@@ -44,6 +45,15 @@ fn example() -> Scene {
     let start = text.find("```toml\n").expect("an example") + "```toml\n".len();
     let end = start + text[start..].find("```").expect("its end");
     Scene::from_toml(&text[start..end], "the reference's example").expect("the example parses")
+}
+
+/// A scene of `file` as it is, unvalidated (the test sets values no scene would combine).
+fn scene_of(file: SceneFile) -> Scene {
+    Scene {
+        file,
+        source: SceneSource::Text("test".into()),
+        text: String::new(),
+    }
 }
 
 /// Another value of key `k` than `v` (absent: a number).
@@ -214,6 +224,67 @@ fn every_switch_has_a_paper_value_and_every_value_a_reason_to_stay() {
         }
     }
     assert!(switches >= 20, "{switches} switches");
+}
+
+/// Every switch of `s` (in the tables it has) reads its paper value after `--paper-exact`,
+/// and the two computed ones are the paper's.
+fn assert_paper_exact(s: &Scene, what: &str) {
+    let p = s
+        .with_paper_exact()
+        .unwrap_or_else(|e| panic!("{what}: --paper-exact refused: {e}"));
+    for k in scheme::keys() {
+        match &k.paper {
+            Paper::Is { value, .. } if (k.get)(&s.file).is_some() => {
+                assert_eq!((k.get)(&p.file), Some(value()), "{what}: {}", k.path)
+            }
+            Paper::Scene(_) => {
+                assert_eq!((k.get)(&p.file), (k.get)(&s.file), "{what}: {}", k.path)
+            }
+            _ => {}
+        }
+    }
+    let f = &s.file;
+    let h = f.discretisation.spacing * f.discretisation.h_factor;
+    let c = f.solid.as_ref().map_or(f.fluid.sound_speed, |m| {
+        m.sound_speed.max(f.fluid.sound_speed)
+    });
+    assert_eq!(p.file.time.dt, Some(DT_FRACTION * h / c), "{what}: time.dt");
+    assert!(p.file.fluid.alpha >= ALPHA_MIN, "{what}: fluid.alpha");
+    assert!(p.file.fluid.alpha >= f.fluid.alpha, "{what}: fluid.alpha");
+}
+
+#[test]
+fn paper_exact_sets_every_switch() {
+    for name in builtin_names() {
+        assert_paper_exact(&Scene::builtin(name).unwrap(), name);
+    }
+    // Every switch away from its paper value, in a scene with every table.
+    let mut s = example();
+    for k in scheme::keys() {
+        if let Paper::Is { value, .. } = &k.paper {
+            let v = other(k, Some(value()));
+            (k.set)(&mut s.file, v).unwrap_or_else(|e| panic!("{}: {e}", k.path));
+        }
+    }
+    assert_paper_exact(&scene_of(s.file), "every switch off the paper's value");
+}
+
+#[test]
+fn the_nozzle_under_paper_exact_has_no_cohesion() {
+    let nozzle = Scene::builtin("nozzle").unwrap();
+    assert!(nozzle.file.fluid.cohesion > 0.0);
+    let p = nozzle.with_paper_exact().unwrap();
+    assert_eq!(p.file.fluid.cohesion, 0.0);
+    assert_eq!(p.params().cohesion, 0.0);
+}
+
+#[test]
+fn a_solid_density_diffusion_is_mapped_under_paper_exact_not_refused() {
+    let mut s = example();
+    s.file.solid.as_mut().unwrap().density_diffusion = 0.02;
+    s.revalidate().unwrap();
+    let p = s.with_paper_exact().unwrap();
+    assert_eq!(p.file.solid.unwrap().density_diffusion, 0.0);
 }
 
 #[test]
