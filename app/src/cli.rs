@@ -31,7 +31,8 @@ Examples:
   meshfree run tank-2d --backend cpu --steps 100 --quiet
   meshfree check my.toml                   validate a scene and count its particles
 
-Scene files: copy one of scenes/*.toml and edit it; every key is commented there.
+Scene files: copy one of scenes/*.toml and edit it; every key is commented there, and
+`meshfree scenes --reference` (docs/reference/scene.md) describes them all.
 Output: particles.pvd (open it in ParaView), particles_NNNNN.vtu, diagnostics.csv,
 summary.json and a copy of the scene, in the output directory.";
 
@@ -49,11 +50,17 @@ pub enum Command {
     /// Run a scene and write VTK files, a diagnostics CSV and a JSON summary.
     #[command(after_help = AFTER_HELP)]
     Run(RunArgs),
-    /// List the built-in scenes with their particle counts by kind.
+    /// List the built-in scenes with their particle counts by kind, or print the reference
+    /// of every scene key.
     Scenes {
         /// Print JSON (an array of objects) instead of a table.
         #[arg(long)]
         json: bool,
+        /// Print the scene reference instead (Markdown: every key with its type, default and
+        /// the reason for it, its value under --paper-exact, its check and the parameter
+        /// field it sets), as committed in docs/reference/scene.md.
+        #[arg(long, conflicts_with = "json")]
+        reference: bool,
     },
     /// Validate a scene (file or built-in name) and print its particle counts; writes nothing.
     Check {
@@ -351,7 +358,13 @@ pub fn main(cli: Cli) -> anyhow::Result<()> {
         Command::View(_) | Command::Render(_) => anyhow::bail!(
             "this build has no viewer: rebuild with the `viewer` feature (on by default)"
         ),
-        Command::Scenes { json } => {
+        Command::Scenes {
+            reference: true, ..
+        } => {
+            print!("{}", meshfree_core::scheme::reference::markdown());
+            Ok(())
+        }
+        Command::Scenes { json, .. } => {
             let rows = scene_rows()?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&rows)?);

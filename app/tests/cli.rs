@@ -58,6 +58,20 @@ fn scenes_json_parses() {
 }
 
 #[test]
+fn scenes_reference_is_the_committed_one() {
+    let o = meshfree(&["scenes", "--reference"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let committed = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/reference/scene.md"),
+    )
+    .unwrap();
+    assert!(
+        String::from_utf8_lossy(&o.stdout) == committed,
+        "docs/reference/scene.md is stale: meshfree scenes --reference > docs/reference/scene.md"
+    );
+}
+
+#[test]
 fn check_writes_nothing() {
     let o = meshfree(&["check", "tank-2d"]);
     assert!(o.status.success());

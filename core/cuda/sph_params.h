@@ -45,6 +45,18 @@
 #define MF_DIFFUSION_FOURTAKAS 1 /* its departure from hydrostatics (Fourtakas et al. 2019) */
 #define MF_DIFFUSION_ANTUONO 2   /* less the renormalised gradients' part (Antuono et al. 2010) */
 
+/* What a pair across two objects exchanges in eq. (16) (`interface_stress`). */
+#define MF_INTERFACE_PRESSURE 0 /* the pressure part -P I (Antoci, Gallati & Sibilla 2007) */
+#define MF_INTERFACE_STRESS 1   /* the whole stress -P I + S: the paper's eq. (16) */
+
+/* The stress the artificial stress is taken from (`art_stress_deviatoric`). */
+#define MF_ART_STRESS_FROM_STRESS 0     /* sigma = -P I + S (Gray, Monaghan & Swift 2001) */
+#define MF_ART_STRESS_FROM_DEVIATORIC 1 /* S alone */
+
+/* How wall particles act (`wall_pressure`). */
+#define MF_WALL_COUPLING_LENNARD_JONES_ONLY 0 /* eq. (17) alone: the paper's walls */
+#define MF_WALL_COUPLING_DYNAMIC 1            /* dynamic walls (Crespo et al. 2007), with eq. (17) */
+
 typedef struct SphParams {
     /* ---- geometry and neighbour grid ---- */
     int32_t dim;           /* 2 or 3 */

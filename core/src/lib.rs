@@ -13,6 +13,7 @@ pub mod named;
 pub mod params;
 pub mod particle;
 pub mod scene;
+pub mod scheme;
 pub mod solver;
 pub mod state;
 pub mod step;

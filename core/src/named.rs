@@ -29,7 +29,6 @@ pub trait Named: Copy + PartialEq + Send + Sync + 'static {
 mod tests {
     use super::Named;
     use crate::backend::BackendChoice;
-    use crate::scene::format::IntegratorChoice;
 
     /// The names are serde's: a scene file and a command line spell a value alike.
     fn names_are_serde_names<T: Named + serde::Serialize>() {
@@ -41,8 +40,16 @@ mod tests {
     }
 
     #[test]
-    fn backend_and_integrator_names_are_serde_names() {
+    fn backend_and_scene_choice_names_are_serde_names() {
+        use crate::scheme::*;
         names_are_serde_names::<BackendChoice>();
         names_are_serde_names::<IntegratorChoice>();
+        names_are_serde_names::<KernelChoice>();
+        names_are_serde_names::<DensityForm>();
+        names_are_serde_names::<DiffusionForm>();
+        names_are_serde_names::<SolidInterface>();
+        names_are_serde_names::<ArtStressFrom>();
+        names_are_serde_names::<WallCoupling>();
+        names_are_serde_names::<NoSlip>();
     }
 }

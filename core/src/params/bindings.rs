@@ -15,6 +15,12 @@ pub const MF_NO_SLIP_MORRIS: u32 = 1;
 pub const MF_DIFFUSION_MOLTENI: u32 = 0;
 pub const MF_DIFFUSION_FOURTAKAS: u32 = 1;
 pub const MF_DIFFUSION_ANTUONO: u32 = 2;
+pub const MF_INTERFACE_PRESSURE: u32 = 0;
+pub const MF_INTERFACE_STRESS: u32 = 1;
+pub const MF_ART_STRESS_FROM_STRESS: u32 = 0;
+pub const MF_ART_STRESS_FROM_DEVIATORIC: u32 = 1;
+pub const MF_WALL_COUPLING_LENNARD_JONES_ONLY: u32 = 0;
+pub const MF_WALL_COUPLING_DYNAMIC: u32 = 1;
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct SphParams {

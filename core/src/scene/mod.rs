@@ -1,121 +1,11 @@
 //! Scenes: TOML files (or the built-ins in `scenes/*.toml`) that describe a simulation.
 //!
-//! ```toml
-//! dimension = 2                      # 2 or 3, first
-//! name = "my-scene"                  # output goes to out/<name> by default
-//! description = "..."                # optional
-//! gravity = [0.0, -9.81]             # optional, default zero; `dimension` numbers
-//!
-//! [domain]                           # particles leaving it on a closed axis stop the run
-//! min = [-0.1, -0.1]
-//! max = [4.1, 2.6]
-//! periodic = [false, false]          # optional; a periodic axis needs >= 3 cells of 2h
-//!
-//! [discretisation]
-//! spacing = 0.02                     # dx; also the default Lennard-Jones r0
-//! h_factor = 1.3                     # default 1.3: h = h_factor * dx
-//! kernel = "cubic-spline"            # default | "wendland-c2"
-//!
-//! [time]
-//! end = 2.0
-//! output_interval = 0.02
-//! courant = 0.2                      # default 0.2
-//! # dt = 1e-4                        # optional fixed step (default adaptive)
-//! integrator = "symplectic-euler"    # default | "euler" (the paper's forward Euler)
-//! figures = [1.0, 2.0]               # optional: moments for `meshfree render --figures`
-//!
-//! [fluid]
-//! density = 1000.0                   # rho0
-//! sound_speed = 45.0                 # c0
-//! gamma = 7.0                        # default 7, eq. (9)
-//! density_form = "continuity"        # default | "summation" (eq. 8)
-//! alpha = 0.02                       # default 0, eq. (10)
-//! beta = 0.0                         # default 0, eq. (10)
-//! viscosity = 0.0                    # nu, default 0 = off
-//! xsph = 0.5                         # default 0, eq. (18)
-//! cohesion = 0.0                     # gamma, default 0 = off: Akinci et al. 2013 fluid cohesion
-//! density_diffusion = 0.1            # default 0 = off; delta-SPH (Molteni & Colagrossi 2009), continuity only
-//! density_diffusion_form = "fourtakas" # default "molteni-colagrossi"; "fourtakas": diffuse only the
-//!                                    # departure from hydrostatics (Fourtakas et al. 2019); "antuono":
-//!                                    # only the departure from a linear density (Antuono et al. 2010)
-//! shifting = 0.2                     # default 0 = off; particle shifting (Lind et al. 2012, Sun et al. 2017)
-//! background_pressure = 0.0          # default 0 = off; added to eq. (9): confined flows only, no free surface
-//!
-//! [solid]                            # only with solid objects
-//! density = 600.0
-//! sound_speed = 40.0                 # P = c^2 (rho - rho0)
-//! shear_modulus = 1e5                # mu_s, eq. (12)
-//! artificial_stress = 0.0            # default 0 = off (the paper)
-//! artificial_stress_exponent = 4.0   # default 4
-//! interface = "pressure"             # default: the body meets fluid, walls and other
-//!                                    # bodies through pressure only (Antoci et al. 2007) |
-//!                                    # "stress": its whole stress, the paper's eq. (16)
-//! wall_contact = true                # default: bodies and walls meet (eq. (17), the
-//!                                    # dynamic walls' pressure and density) | false: they
-//!                                    # skip each other, both ways; a body meets only the
-//!                                    # fluid and other bodies (a gate's free end on the floor)
-//! artificial_stress_from = "stress"  # default: R from sigma = -P I + S (Gray et al. 2001) |
-//!                                    # "deviatoric": from S alone (docs/accuracy.md, plate)
-//! density_diffusion = 0.02           # default 0 = off; delta-SPH inside each body (Antuono et al.
-//!                                    # 2010's form: leaves a bending alone), continuity only
-//!
-//! [boundary]                         # only with walls; eq. (17)
-//! strength = 2500.0                  # C0
-//! r0 = 0.02                          # default: spacing
-//! p1 = 12                            # default 12
-//! p2 = 6                             # default 6
-//! attractive = false                 # default false
-//! wall_coupling = "dynamic"          # default | "lennard-jones-only" (the paper)
-//! no_slip = "wall-velocity"          # default: walls enter the laminar viscosity with their
-//!                                    # own velocity | "morris": extrapolated across the wall
-//!                                    # surface (Morris, Fox & Zhu 1997; dynamic walls, nu > 0)
-//! no_slip_beta_max = 1.5             # default 1.5: cap of Morris's 1 + d_B / d_A
-//! wall_density_floor = false         # default false; true: dynamic walls' density >= rho0
-//!                                    # (DualSPHysics' DBC; docs/accuracy.md, dam break)
-//!
-//! [[fluid_blocks]]
-//! min = [0.0, 0.0]
-//! max = [1.0, 1.0]
-//! velocity = [0.0, 0.0]              # default zero
-//! hydrostatic = true                 # default false
-//!
-//! [[solids]]
-//! shape = "disc"                     # "box" {min, max} | "disc" (2D) | "sphere" (3D) {center, radius}
-//! center = [2.0, 1.5]
-//! radius = 0.2
-//! velocity = [0.0, 0.0]              # default zero
-//! # motion = [0.0, 0.0]              # optional: driven, moves at this velocity: a clamp,
-//! #                                  # bonded to every solid it touches (stress passes into
-//! #                                  # the body it holds; a box clamp must sit on the
-//! #                                  # lattice of a box it touches: min differs by k dx)
-//!
-//! [[walls]]
-//! shape = "box-container"            # | "box" {min, max} | "cylinder" {center, radius, layers}
-//!                                    # | "segment" (2D) {from, to, layers}: rows on the left
-//!                                    #   of from -> to; fluid behind it is not generated
-//! min = [0.0, 0.0]
-//! max = [4.0, 2.0]
-//! layers = 3                         # default 3
-//! open_top = true                    # default true
-//! remove_at = 0.5                    # optional: a gate, removed at this time
-//! # motion = [20.0, 0.0]             # optional: driven (a piston), moves at this velocity;
-//! #                                  # at most one driven object (wall or solid) per scene
-//!
-//! [inflow]                           # optional: fluid in the band moves at `velocity`
-//! axis = "x"                         # "x" | "y" | "z" (within dimension)
-//! min = 0.0                          # band: min <= x[axis] < max, inside the domain
-//! max = 1.0
-//! velocity = [15.0, 0.0]             # set every step instead of integrated
-//!
-//! [[monitors]]                       # optional: force of the fluid on a wall object
-//! name = "forces"                    # default "forces": writes forces.csv
-//! wall = 0                           # index in [[walls]]
-//! interval = 0.02                    # time between samples
-//! reference_velocity = 15.0          # U: Cd = Fx / (0.5 rho0 U^2 D^(d-1)), St = f D / U
-//! reference_length = 2.0             # D; blockage ratio D / (domain extent along y)
-//! ```
-//!
-//! See `generate.rs` for how shapes become particles and how overlaps are resolved.
+//! Every key with its default, the paper's value and its check is in
+//! `docs/reference/scene.md`, generated from `crate::scheme` (the scheme's tables) and
+//! `format.rs` (geometry and objects) by `meshfree scenes --reference`; the built-in scenes
+//! comment each value with its reason. `format.rs`: the serde structs; `validate.rs`: the
+//! checks serde cannot make; `generate.rs`: how shapes become particles and how overlaps are
+//! resolved; `paper_exact.rs`: the map to the paper's own scheme.
 
 mod error;
 pub mod format;
@@ -128,9 +18,7 @@ use std::path::{Path, PathBuf};
 pub use error::SceneError;
 pub use format::SceneFile;
 
-use crate::params::{
-    self, SphParams, MF_DIFFUSION_ANTUONO, MF_DIFFUSION_FOURTAKAS, MF_DIFFUSION_MOLTENI,
-};
+use crate::params::{self, SphParams};
 use crate::particle::{Kind, Particle};
 use crate::solver::Setup;
 
@@ -417,8 +305,9 @@ pub(crate) fn driven_object(s: &SceneFile) -> Option<(u32, &Vec<f64>)> {
     solids.chain(walls).next()
 }
 
+/// The parameter struct of a scene: its geometry and objects here, every key of the
+/// scheme's tables through `scheme::write_params`, then `params::derive`.
 fn scene_params(s: &SceneFile) -> SphParams {
-    use format::*;
     let dim = s.dimension as usize;
     let dx = s.discretisation.spacing;
     let mut p = SphParams {
@@ -437,88 +326,7 @@ fn scene_params(s: &SceneFile) -> SphParams {
             p.domain_max[a] = dx as f32;
         }
     }
-    p.kernel = match s.discretisation.kernel {
-        KernelChoice::CubicSpline => params::MF_KERNEL_CUBIC_SPLINE,
-        KernelChoice::WendlandC2 => params::MF_KERNEL_WENDLAND_C2,
-    } as i32;
-    p.dx = dx as f32;
-    p.h = (s.discretisation.h_factor * dx) as f32;
-
-    let f = &s.fluid;
-    p.density_mode = match f.density_form {
-        DensityForm::Continuity => params::MF_DENSITY_CONTINUITY,
-        DensityForm::Summation => params::MF_DENSITY_SUMMATION,
-    } as i32;
-    p.rho0 = f.density as f32;
-    p.c0 = f.sound_speed as f32;
-    p.tait_gamma = f.gamma as f32;
-    p.alpha = f.alpha as f32;
-    p.beta = f.beta as f32;
-    p.nu = f.viscosity as f32;
-    p.xsph_eps = f.xsph as f32;
-    p.cohesion = f.cohesion as f32;
-    p.delta_sph = f.density_diffusion as f32;
-    p.delta_form = match f.density_diffusion_form {
-        format::DiffusionForm::MolteniColagrossi => MF_DIFFUSION_MOLTENI,
-        format::DiffusionForm::Fourtakas => MF_DIFFUSION_FOURTAKAS,
-        format::DiffusionForm::Antuono => MF_DIFFUSION_ANTUONO,
-    } as i32;
-    p.shifting = f.shifting as f32;
-    p.p_background = f.background_pressure as f32;
-
-    // Without solids the solid fields mirror the fluid's, so nothing divides by zero.
-    match &s.solid {
-        Some(m) => {
-            p.solid_rho0 = m.density as f32;
-            p.solid_c0 = m.sound_speed as f32;
-            p.shear_modulus = m.shear_modulus as f32;
-            p.art_stress_eps = m.artificial_stress as f32;
-            p.solid_delta_sph = m.density_diffusion as f32;
-            p.art_stress_n = m.artificial_stress_exponent as f32;
-            p.interface_stress = (m.interface == SolidInterface::Stress) as i32;
-            p.solid_skips_walls = (!m.wall_contact) as i32;
-            p.art_stress_deviatoric =
-                (m.artificial_stress_from == ArtStressFrom::Deviatoric) as i32;
-        }
-        None => {
-            p.solid_rho0 = p.rho0;
-            p.solid_c0 = p.c0;
-            p.shear_modulus = 0.0;
-            p.art_stress_eps = 0.0;
-            p.art_stress_n = 4.0;
-            p.interface_stress = 0;
-            p.solid_skips_walls = 0;
-        }
-    }
-
-    match &s.boundary {
-        Some(b) => {
-            p.lj_c0 = b.strength as f32;
-            p.lj_r0 = b.r0.unwrap_or(dx) as f32;
-            p.lj_p1 = b.p1;
-            p.lj_p2 = b.p2;
-            p.lj_attractive = b.attractive as i32;
-            p.wall_pressure = (b.wall_coupling == WallCoupling::Dynamic) as i32;
-            p.no_slip = match b.no_slip {
-                NoSlip::WallVelocity => params::MF_NO_SLIP_WALL_VELOCITY,
-                NoSlip::Morris => params::MF_NO_SLIP_MORRIS,
-            } as i32;
-            p.no_slip_beta_max = b.no_slip_beta_max as f32;
-            p.wall_rho_floor = b.wall_density_floor as i32;
-        }
-        None => {
-            p.lj_c0 = 0.0;
-            p.lj_r0 = dx as f32;
-            p.lj_p1 = 12;
-            p.lj_p2 = 6;
-            p.lj_attractive = 0;
-            p.wall_pressure = 1;
-            p.no_slip = params::MF_NO_SLIP_WALL_VELOCITY as i32;
-            p.no_slip_beta_max = default_beta_max() as f32;
-            p.wall_rho_floor = 0;
-        }
-    }
-
+    crate::scheme::write_params(s, &mut p);
     if let Some(b) = &s.inflow {
         p.inflow = 1;
         p.inflow_axis = b.axis.index() as i32;
@@ -528,13 +336,6 @@ fn scene_params(s: &SceneFile) -> SphParams {
             *o = *v as f32;
         }
     }
-
-    p.integrator = match s.time.integrator {
-        IntegratorChoice::SymplecticEuler => params::MF_INTEGRATOR_SYMPLECTIC_EULER,
-        IntegratorChoice::Euler => params::MF_INTEGRATOR_EULER,
-    } as i32;
-    p.courant = s.time.courant as f32;
-    p.dt_fixed = s.time.dt.unwrap_or(0.0) as f32;
     if let Some((group, motion)) = driven_object(s) {
         p.driven = 1;
         p.driven_group = group as i32;

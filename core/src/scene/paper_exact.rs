@@ -1,16 +1,16 @@
 //! `--paper-exact`: a scene mapped to the paper's own scheme, for comparison with the
-//! original code. Only the paper's equations: summation density (eq. (8)), forward Euler
-//! at a fixed step (eq. (19)), artificial viscosity only (eq. (10)), XSPH (eq. (18)), walls
-//! by the Lennard-Jones force alone (eq. (17); no no-slip walls), an elastic body's whole stress across
-//! every pair (eq. (16), `interface = "stress"`), no artificial stress, no density
-//! diffusion, no particle shifting and no background pressure. The values the paper
-//! leaves open (alpha, beta, the step, XSPH epsilon) come from the parameter study in
-//! `docs/paper-scenes.md` (section `--paper-exact`): forward Euler grows every undamped
-//! oscillation, so the paper's low-Mach advice (alpha = 0, 0 < beta < 1) blows a resting
-//! tank up, and alpha has a floor.
+//! original code. Every switch of `crate::scheme` takes its paper value: summation density
+//! (eq. (8)), forward Euler at a fixed step (eq. (19)), artificial viscosity only (eq.
+//! (10)), XSPH (eq. (18)), walls by the Lennard-Jones force alone (eq. (17)), an elastic
+//! body's whole stress across every pair (eq. (16)), and none of the terms beyond the paper
+//! (artificial stress, density diffusion, particle shifting, cohesion, background pressure,
+//! no-slip walls). The values the paper leaves open (alpha, beta, the step, XSPH epsilon)
+//! come from the parameter study in `docs/paper-scenes.md` (section `--paper-exact`):
+//! forward Euler grows every undamped oscillation, so the paper's low-Mach advice
+//! (alpha = 0, 0 < beta < 1) blows a resting tank up, and alpha has a floor.
 
-use super::format::{DensityForm, IntegratorChoice, NoSlip, SolidInterface, WallCoupling};
 use super::{Scene, SceneError};
+use crate::scheme;
 
 /// [-] Lowest linear artificial viscosity, eq. (10): forward Euler amplifies an undamped
 /// oscillation every step, and alpha damps it.
@@ -32,8 +32,11 @@ pub fn alpha_for_viscosity(nu: f64, h: f64, c: f64, dimension: u32) -> f64 {
 
 impl Scene {
     /// The scene in the paper's own scheme (see the module docs); named `<name>-paper-exact`
-    /// so that its output does not overwrite the default run's. A laminar viscosity becomes
-    /// the artificial viscosity of the same effective nu (kept above `ALPHA_MIN`).
+    /// so that its output does not overwrite the default run's. Every switch with a fixed
+    /// paper value takes it (`scheme::set_paper`); the two computed from the scene
+    /// (`Paper::From` in `crate::scheme`) are set here: the step, and alpha, into which a
+    /// laminar viscosity goes as the artificial viscosity of the same effective nu (kept
+    /// above `ALPHA_MIN`).
     pub fn with_paper_exact(&self) -> Result<Scene, SceneError> {
         let mut s = self.clone();
         let f = &mut s.file;
@@ -44,25 +47,11 @@ impl Scene {
         if !f.name.ends_with("-paper-exact") {
             f.name = format!("{}-paper-exact", f.name);
         }
-        f.time.integrator = IntegratorChoice::Euler;
-        f.time.dt = Some(DT_FRACTION * h / c);
-        f.fluid.density_form = DensityForm::Summation;
         let nu_alpha = alpha_for_viscosity(f.fluid.viscosity, h, f.fluid.sound_speed, f.dimension);
-        f.fluid.alpha = f.fluid.alpha.max(nu_alpha).max(ALPHA_MIN);
-        f.fluid.beta = BETA;
-        f.fluid.viscosity = 0.0;
-        f.fluid.xsph = XSPH;
-        f.fluid.density_diffusion = 0.0;
-        f.fluid.shifting = 0.0;
-        f.fluid.background_pressure = 0.0;
-        if let Some(m) = f.solid.as_mut() {
-            m.artificial_stress = 0.0;
-            m.interface = SolidInterface::Stress;
-        }
-        if let Some(b) = f.boundary.as_mut() {
-            b.wall_coupling = WallCoupling::LennardJonesOnly;
-            b.no_slip = NoSlip::WallVelocity;
-        }
+        let alpha = f.fluid.alpha.max(nu_alpha).max(ALPHA_MIN);
+        scheme::set_paper(f);
+        f.time.dt = Some(DT_FRACTION * h / c);
+        f.fluid.alpha = alpha;
         s.text = format!(
             "# {} in meshfree's --paper-exact form (written from the parsed scene)\n{}",
             self.origin(),

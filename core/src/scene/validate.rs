@@ -1,6 +1,7 @@
 //! Checks on a parsed scene that serde cannot express: array lengths against `dimension`,
 //! ordering of corners, positive sizes, objects inside the domain, materials present, and
-//! enough neighbour-grid cells on periodic axes. The first failure is returned.
+//! enough neighbour-grid cells on periodic axes; the keys of the scheme's tables are checked
+//! as `crate::scheme` declares them. The first failure is returned.
 
 use super::format::*;
 use super::SceneError;
@@ -77,25 +78,6 @@ impl Ctx<'_> {
         Ok(())
     }
 
-    /// A density diffusion's delta (`field`): in [0, 1], and only on the continuity density.
-    fn density_diffusion(&self, field: &str, delta: f64, form: DensityForm) -> R {
-        self.non_negative(field, delta)?;
-        if delta > 1.0 {
-            return Err(self.err(
-                field,
-                format!("must lie in [0, 1] (Molteni & Colagrossi 2009 use 0.1), found {delta}"),
-            ));
-        }
-        if delta > 0.0 && form == DensityForm::Summation {
-            return Err(self.err(
-                field,
-                "acts on the continuity equation: set [fluid] density_form = \"continuity\" or leave it at 0"
-                    .to_string(),
-            ));
-        }
-        Ok(())
-    }
-
     /// The box [lo, hi] (first `dim` axes) lies inside the domain.
     fn inside(&self, field: &str, what: &str, lo: &[f64], hi: &[f64], d: &Domain) -> R {
         for a in 0..self.dim {
@@ -161,10 +143,11 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
         }
     }
 
-    // Discretisation.
+    // Every key of the scheme's tables (crate::scheme): ranges, and the checks of a key
+    // against the rest of the scene.
+    crate::scheme::validate(s).map_err(|(field, reason)| c.err(field, reason))?;
+
     let d = &s.discretisation;
-    c.positive("discretisation.spacing", d.spacing)?;
-    c.positive("discretisation.h_factor", d.h_factor)?;
     let h = d.h_factor * d.spacing;
     if let Some(p) = &s.domain.periodic {
         for (a, &on) in p.iter().enumerate() {
@@ -195,125 +178,6 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
         }
     }
 
-    // Time.
-    c.positive("time.end", s.time.end)?;
-    c.positive("time.output_interval", s.time.output_interval)?;
-    c.positive("time.courant", s.time.courant)?;
-    if let Some(dt) = s.time.dt {
-        c.positive("time.dt", dt)?;
-    }
-    // Figure moments may lie past `end`: a shortened run renders the ones it reaches.
-    for (i, &t) in s.time.figures.iter().enumerate() {
-        c.non_negative(&format!("time.figures[{i}]"), t)?;
-        if i > 0 && t <= s.time.figures[i - 1] {
-            return Err(c.err(
-                format!("time.figures[{i}]"),
-                format!(
-                    "the figure moments must increase: {t} follows {}",
-                    s.time.figures[i - 1]
-                ),
-            ));
-        }
-    }
-
-    // Materials.
-    let f = &s.fluid;
-    c.positive("fluid.density", f.density)?;
-    c.positive("fluid.sound_speed", f.sound_speed)?;
-    c.positive("fluid.gamma", f.gamma)?;
-    c.non_negative("fluid.alpha", f.alpha)?;
-    c.non_negative("fluid.beta", f.beta)?;
-    c.non_negative("fluid.viscosity", f.viscosity)?;
-    c.non_negative("fluid.xsph", f.xsph)?;
-    c.non_negative("fluid.cohesion", f.cohesion)?;
-    if f.xsph > 1.0 {
-        return Err(c.err(
-            "fluid.xsph",
-            format!("must lie in [0, 1] (eq. 18), found {}", f.xsph),
-        ));
-    }
-    c.density_diffusion(
-        "fluid.density_diffusion",
-        f.density_diffusion,
-        f.density_form,
-    )?;
-    c.non_negative("fluid.shifting", f.shifting)?;
-    if f.shifting > 1.0 {
-        return Err(c.err(
-            "fluid.shifting",
-            format!(
-                "must lie in [0, 1] (0.2 is the usual value; larger moves particles by more than the flow does), found {}",
-                f.shifting
-            ),
-        ));
-    }
-    c.non_negative("fluid.background_pressure", f.background_pressure)?;
-    let b = f.density * f.sound_speed * f.sound_speed / f.gamma;
-    if f.background_pressure > b {
-        return Err(c.err(
-            "fluid.background_pressure",
-            format!(
-                "must not exceed the Tait stiffness rho0 c0^2 / gamma = {b} (a few rho0 U^2 is enough), found {}",
-                f.background_pressure
-            ),
-        ));
-    }
-    if let Some(m) = &s.solid {
-        c.positive("solid.density", m.density)?;
-        c.positive("solid.sound_speed", m.sound_speed)?;
-        c.non_negative("solid.shear_modulus", m.shear_modulus)?;
-        c.non_negative("solid.artificial_stress", m.artificial_stress)?;
-        c.density_diffusion(
-            "solid.density_diffusion",
-            m.density_diffusion,
-            s.fluid.density_form,
-        )?;
-        c.positive(
-            "solid.artificial_stress_exponent",
-            m.artificial_stress_exponent,
-        )?;
-        if !m.wall_contact && s.walls.is_empty() {
-            return Err(c.err(
-                "solid.wall_contact",
-                "false has no effect: the scene has no [[walls]] for its bodies to skip"
-                    .to_string(),
-            ));
-        }
-    }
-    if let Some(b) = &s.boundary {
-        c.non_negative("boundary.strength", b.strength)?;
-        if let Some(r0) = b.r0 {
-            c.positive("boundary.r0", r0)?;
-        }
-        if b.p2 <= 0 || b.p1 <= b.p2 {
-            return Err(c.err(
-                "boundary.p1",
-                format!(
-                    "the exponents need p1 > p2 > 0, found p1 = {}, p2 = {}",
-                    b.p1, b.p2
-                ),
-            ));
-        }
-        if b.no_slip == NoSlip::Morris {
-            if b.wall_coupling != WallCoupling::Dynamic || s.fluid.viscosity <= 0.0 {
-                return Err(c.err(
-                    "boundary.no_slip",
-                    "\"morris\" acts on the laminar viscosity between fluid and dynamic wall \
-                     particles: it needs wall_coupling = \"dynamic\" and fluid.viscosity > 0"
-                        .to_string(),
-                ));
-            }
-            if b.no_slip_beta_max.is_nan() || b.no_slip_beta_max < 1.0 {
-                return Err(c.err(
-                    "boundary.no_slip_beta_max",
-                    format!(
-                        "the cap of beta = 1 + d_B / d_A must be >= 1, found {}",
-                        b.no_slip_beta_max
-                    ),
-                ));
-            }
-        }
-    }
     c.opt_vec("gravity", &s.gravity)?;
 
     // Objects.
