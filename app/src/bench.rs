@@ -133,19 +133,20 @@ pub fn dam_break(dim: u32, n_fluid: usize) -> Setup {
         kernel: 0,
         dx,
         h: 1.3 * dx,
-        density_mode: MF_DENSITY_CONTINUITY as i32,
+        density_form: MF_DENSITY_CONTINUITY as i32,
         rho0: 1000.0,
         c0: 10.0 * (2.0 * g * height).sqrt(),
         tait_gamma: 7.0,
         alpha: 0.02,
         beta: 0.0,
-        xsph_eps: 0.5,
+        xsph: 0.5,
         solid_rho0: 1000.0,
         lj_c0: 5.0 * g * height / dx, // Monaghan's D = 5 g H, per unit r0 (an acceleration)
         lj_r0: dx,
         lj_p1: 12,
         lj_p2: 6,
-        wall_pressure: 1,
+        wall_contact: 1,
+        wall_coupling: 1,
         gravity: [0.0, -g, 0.0],
         integrator: MF_INTEGRATOR_SYMPLECTIC_EULER as i32,
         courant: 0.2,
@@ -284,7 +285,7 @@ fn run_one<D: Dim>(o: &BenchOptions, dim: u32, n: usize) -> Result<BenchRow, Bac
         bytes_per_particle: bytes as f64 / total as f64,
         bytes_per_fluid_particle: bytes as f64 / fluid.max(1) as f64,
         integrator: integrator_name(&p).into(),
-        density: if p.density_mode as u32 == MF_DENSITY_CONTINUITY {
+        density: if p.density_form as u32 == MF_DENSITY_CONTINUITY {
             "continuity"
         } else {
             "summation"

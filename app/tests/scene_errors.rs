@@ -253,21 +253,9 @@ fn wall_contact_is_checked() {
     expect_error(&t, "solid.wall_contact", "the scene has no [[walls]]");
     // With walls it is accepted and reaches the parameters.
     let t = format!("{BASE}{solid}wall_contact = false\n{body}");
-    assert_eq!(
-        Scene::from_toml(&t, "ok")
-            .unwrap()
-            .params()
-            .solid_skips_walls,
-        1
-    );
+    assert_eq!(Scene::from_toml(&t, "ok").unwrap().params().wall_contact, 0);
     let t = format!("{BASE}{solid}{body}");
-    assert_eq!(
-        Scene::from_toml(&t, "ok")
-            .unwrap()
-            .params()
-            .solid_skips_walls,
-        0
-    );
+    assert_eq!(Scene::from_toml(&t, "ok").unwrap().params().wall_contact, 1);
 }
 
 #[test]
@@ -543,5 +531,5 @@ fn solid_density_diffusion_out_of_range_or_with_summation() {
     // In range with the continuity density it reaches the parameters.
     let t = format!("{BASE}{solid}density_diffusion = 0.02\n{body}");
     let p = Scene::from_toml(&t, "ok").unwrap().setup().unwrap().params;
-    assert_eq!(p.solid_delta_sph, 0.02);
+    assert_eq!(p.solid_density_diffusion, 0.02);
 }

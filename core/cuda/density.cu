@@ -52,19 +52,19 @@ __device__ void jacobi_eigen(float a[3][3], int d, float lambda[3], float v[3][3
 }
 
 // Artificial stress R of a solid particle from sigma = -P I + S, eq. (11), or from S alone
-// where art_stress_deviatoric is set (art_pressure in stress.rs): in the principal
+// where artificial_stress_from is set (art_pressure in stress.rs): in the principal
 // frame R'^aa = -eps sigma'^aa / rho^2 where sigma'^aa > 0 (tension), else 0; rotated back.
 template <int DIM>
 __device__ Mat<DIM> artificial_stress(const SphParams& p, const Mat<DIM>& si, float pi, float rhoi) {
     float a3[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-    if (p.art_stress_deviatoric != 0) pi = 0.0f;
+    if (p.artificial_stress_from != 0) pi = 0.0f;
     for (int r = 0; r < DIM; ++r)
         for (int c = 0; c < DIM; ++c) a3[r][c] = si.m[r][c] - (r == c ? pi : 0.0f);
     float lam[3], v[3][3];
     jacobi_eigen(a3, DIM, lam, v);
     Mat<DIM> R = mzero<DIM>();
     for (int k = 0; k < DIM; ++k) {
-        float rk = lam[k] > 0.0f ? -p.art_stress_eps * lam[k] / (rhoi * rhoi) : 0.0f;
+        float rk = lam[k] > 0.0f ? -p.artificial_stress * lam[k] / (rhoi * rhoi) : 0.0f;
         if (rk != 0.0f)
             for (int a = 0; a < DIM; ++a)
                 for (int b = 0; b < DIM; ++b) R.m[a][b] += (v[a][k] * v[b][k]) * rk;
@@ -84,9 +84,9 @@ __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __re
     const int lane = (int)(t % L);
     const unsigned char ki = i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY;
     // Boundary particles carry density and pressure only with dynamic walls (Crespo 2007).
-    const bool active = i < n && (ki != MF_KIND_BOUNDARY || p.wall_pressure != 0);
+    const bool active = i < n && (ki != MF_KIND_BOUNDARY || p.wall_coupling != 0);
     float r = 0.0f;
-    if (p.density_mode == MF_DENSITY_SUMMATION) {
+    if (p.density_form == MF_DENSITY_SUMMATION) {
         float sum_w = 0.0f;
         if (active)
             for_each_neighbor_split<DIM, L>(p, cell_start, pos, vload<DIM>(pos, i), lane,

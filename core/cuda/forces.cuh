@@ -27,7 +27,7 @@ __device__ __forceinline__ float artificial_viscosity(const SphParams& p, float 
 }
 // Laminar viscosity factor (Morris, Fox & Zhu 1997).
 __device__ __forceinline__ float laminar(const SphParams& p, float r2, float f, float rho_i, float rho_j) {
-    return p.nu * (rho_i + rho_j) / (rho_i * rho_j) * (r2 * f) / (r2 + p.visc_eta2);
+    return p.viscosity * (rho_i + rho_j) / (rho_i * rho_j) * (r2 * f) / (r2 + p.visc_eta2);
 }
 
 // The no-slip factor beta of Morris, Fox & Zhu 1997 (boundary conditions) for the laminar
@@ -61,11 +61,11 @@ __device__ __forceinline__ float cohesion_over_r(float support, float rr) {
 }
 
 // Whether a pair exchanges the whole stress -P I + S of eq. (16) or only -P I
-// (`interface_stress`): by default only two particles of one body (or two fluid particles);
+// (`interface`): by default only two particles of one body (or two fluid particles);
 // across a fluid-solid interface, two bodies or a body and a wall, pressure alone (Antoci,
 // Gallati & Sibilla 2007). Twin of `whole_stress_pair` in cpu/forces.rs.
 __device__ __forceinline__ bool whole_stress_pair(const SphParams& p, bool same_body) {
-    return same_body || p.interface_stress != 0;
+    return same_body || p.interface != 0;
 }
 
 // The acceleration of particle i, summed over its neighbours: `begin`, then `add` for every
@@ -174,7 +174,7 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct ForceSum {
         acc = acc - gw * (mj * pij);
         // Laminar viscosity (Morris et al. 1997); a wall's velocity extrapolated under
         // no_slip (twin of `laminar_velocity` in cpu/forces.rs).
-        if (EXTRAS && p.nu > 0.0f && (ki == MF_KIND_FLUID || kj == MF_KIND_FLUID)) {
+        if (EXTRAS && p.viscosity > 0.0f && (ki == MF_KIND_FLUID || kj == MF_KIND_FLUID)) {
             Vec<DIM> v_visc = vij;
             if (p.no_slip == MF_NO_SLIP_MORRIS && kj == MF_KIND_BOUNDARY)
                 v_visc = vij * no_slip_factor<DIM>(p, r, surf, id[j] - p.wall_first_id);
@@ -187,7 +187,7 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct ForceSum {
         if constexpr (SOLIDS) {
             if (art && bonded && ki == MF_KIND_SOLID) {
                 // Gray, Monaghan & Swift 2001: f_ij^n (R_i + R_j) . grad W.
-                float fij = powf(nb.w * p.inv_w_dx, p.art_stress_n);
+                float fij = powf(nb.w * p.inv_w_dx, p.artificial_stress_exponent);
                 Mat<DIM> ra = sload<DIM>(art, i, n), rb = sload<DIM>(art, j, n);
 #pragma unroll
                 for (int a = 0; a < DIM; ++a)

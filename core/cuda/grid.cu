@@ -170,7 +170,7 @@ __device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned n_c
     float4 v = reinterpret_cast<const float4*>(vel)[o];  // float4 in 2D too
     const float r = rho[o];
     rho2[k] = r;
-    if (eos && (ki != MF_KIND_BOUNDARY || p.wall_pressure != 0)) {
+    if (eos && (ki != MF_KIND_BOUNDARY || p.wall_coupling != 0)) {
         pr2[k] = pressure(p, ki, r);  // eq. (9), as the density pass
         v.w = vel_w(ki, r);
     } else {

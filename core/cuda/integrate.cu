@@ -67,11 +67,11 @@ __device__ __forceinline__ Vec<DIM> drift_one(const SphParams& p, unsigned n, un
                                               const float* __restrict__ drho, float* __restrict__ stress,
                                               const float* __restrict__ rate) {
     // Dynamic wall particles take part; their d rho/dt is zero otherwise. Under
-    // wall_rho_floor a wall's density is held at >= rho0 (`wall_density_floor` in
+    // wall_density_floor a wall's density is held at >= rho0 (`wall_density_floor` in
     // src/backend/cpu/integrate.rs; DualSPHysics' DBC).
     if (drho) {
         float r = rho[i] + dt * drho[i];
-        if (p.wall_rho_floor && k == MF_KIND_BOUNDARY) r = fmaxf(r, p.rho0);
+        if (p.wall_density_floor && k == MF_KIND_BOUNDARY) r = fmaxf(r, p.rho0);
         rho[i] = r;
     }
     Vec<DIM> x = vload<DIM>(pos, i);

@@ -45,7 +45,7 @@ MF_LANES_EACH(MF_RATES_LANES)
 // The renormalised density gradient of each particle within its material, for the density
 // diffusion in Antuono, Colagrossi, Marrone & Molteni 2010's form (Comput. Phys. Commun. 181,
 // 532): grad_i = (sum_j V_j (x_j - x_i) (x) grad_i W_ij)^-T sum_j V_j (rho_j - rho_i)
-// grad_i W_ij over the neighbours of one body (solids, solid_delta_sph > 0) or over the fluid
+// grad_i W_ij over the neighbours of one body (solids, solid_density_diffusion > 0) or over the fluid
 // (fluid_density_gradient), V_j = m_j / rho_j, exact for a linear density; zero
 // for other particles and where the moment is singular (|det| <= MF_MOMENT_DET_MIN). One thread per
 // particle. Twin: `density_gradient` in cpu/rates.rs. [M L^-d L^-1]
@@ -56,7 +56,7 @@ __device__ void sph_grad_rho_body(const SphParams p, unsigned n, const unsigned*
                                   const unsigned* __restrict__ group, float* __restrict__ grad) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
     const unsigned char ki = i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY;
-    const bool on = (ki == MF_KIND_SOLID && p.solid_delta_sph > 0.0f) ||
+    const bool on = (ki == MF_KIND_SOLID && p.solid_density_diffusion > 0.0f) ||
                     (ki == MF_KIND_FLUID && p.fluid_density_gradient != 0);
     const float rhoi = on ? rho[i] : 0.0f;
     const unsigned gi = on ? group[i] : 0u;

@@ -1,5 +1,5 @@
 // Rates from the current velocities: d rho/dt (continuity form, with the density diffusion of
-// Molteni & Colagrossi 2009 where delta_sph > 0), the XSPH velocity of eq. (18) with the particle
+// Molteni & Colagrossi 2009 where density_diffusion > 0), the XSPH velocity of eq. (18) with the particle
 // shifting velocity where shifting > 0 (Lind et al. 2012, Sun et al. 2017), and for
 // solids the velocity gradient eq. (15) with the kernel-gradient correction, strain and
 // rotation rates eqs. (13)-(14) and the Jaumann rate eq. (12), as a per-particle sum
@@ -88,14 +88,14 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
                                           const unsigned* __restrict__ group,
                                           const float* __restrict__ grad_rho) {
         ki = k;
-        on = i < n && (ki != MF_KIND_BOUNDARY || p.wall_pressure != 0);
+        on = i < n && (ki != MF_KIND_BOUNDARY || p.wall_coupling != 0);
         solid_i = i < n && ki == MF_KIND_SOLID;
         xs = vzero<DIM>();
         drho = 0.0f;
         // Density diffusion (delta-SPH) within one material (fluid, one body), as in
         // cpu/rates.rs.
         diffuse = EXTRAS && i < n &&
-                  ((ki == MF_KIND_FLUID && p.delta_sph > 0.0f) || (ki == MF_KIND_SOLID && p.solid_delta_sph > 0.0f));
+                  ((ki == MF_KIND_FLUID && p.density_diffusion > 0.0f) || (ki == MF_KIND_SOLID && p.solid_density_diffusion > 0.0f));
         diffusion = 0.0f;
         // Particle shifting of fluid particles (cpu/rates.rs `shift_velocity`).
         shift = EXTRAS && p.shifting > 0.0f && i < n && ki == MF_KIND_FLUID;
@@ -144,7 +144,7 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
             // r_ji = r_j - r_i = -r (diffusive sign, see cpu/rates.rs): 2 (rho_i - rho_j) r . gw / r^2.
             // Fourtakas et al. 2019: rho_i - rho_j less its hydrostatic part (fluid).
             float drho_ij = rhoi - rhoj;
-            if (p.delta_form == MF_DIFFUSION_FOURTAKAS && ki == MF_KIND_FLUID) drho_ij += hydrostatic_rho_ji<DIM>(p, r);
+            if (p.density_diffusion_form == MF_DIFFUSION_FOURTAKAS && ki == MF_KIND_FLUID) drho_ij += hydrostatic_rho_ji<DIM>(p, r);
             float psi = 2.0f * drho_ij * dot(r, gw) / r2;
             // Antuono et al. 2010's correction (in a body; in the fluid under
             // MF_DIFFUSION_ANTUONO): less (grad rho_i + grad rho_j) . grad W.
@@ -161,7 +161,7 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
         if (!one_body || ki == MF_KIND_BOUNDARY) return;
         const float s = fast_div(mj, 0.5f * (rhoi + rhoj));
         // XSPH, eq. (18), within one material (one body for solids).
-        xs = xs - vij * (p.xsph_eps * s * nb.w);
+        xs = xs - vij * (p.xsph * s * nb.w);
         if constexpr (SOLIDS) {
             if (solid_i) {
                 // Velocity gradient, eq. (15), and the moment A = sum V_j (x_j - x_i) (x) grad W.
@@ -201,7 +201,7 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
         // + delta h c sum_j ... with the particle's material's delta and sound speed.
         if (on && diffuse) {
             const bool sol = ki == MF_KIND_SOLID;
-            drho += (sol ? p.solid_delta_sph : p.delta_sph) * p.h * (sol ? p.solid_c0 : p.c0) * diffusion;
+            drho += (sol ? p.solid_density_diffusion : p.density_diffusion) * p.h * (sol ? p.solid_c0 : p.c0) * diffusion;
         }
         if constexpr (SOLIDS) {
 #pragma unroll

@@ -13,14 +13,14 @@ extern "C" __global__ void sph_step_size(const SphParams p, unsigned* __restrict
     if (threadIdx.x != 0 || blockIdx.x != 0) return;
     const float v_max = __uint_as_float(red[0]), a_max = __uint_as_float(red[1]), c_max = __uint_as_float(red[2]);
     red[0] = red[1] = red[2] = 0u;
-    if (p.dt_fixed > 0.0f) {
-        *dt_out = p.dt_fixed;
+    if (p.dt > 0.0f) {
+        *dt_out = p.dt;
         return;
     }
     float dt = p.h / (c_max + v_max);  // eq. (19)
     if (a_max > 0.0f) dt = fminf(dt, sqrtf(p.h / a_max));
     dt *= p.courant;
-    if (p.nu > 0.0f) dt = fminf(dt, MF_VISCOUS_DT * p.h * p.h / p.nu);
+    if (p.viscosity > 0.0f) dt = fminf(dt, MF_VISCOUS_DT * p.h * p.h / p.viscosity);
     *dt_out = dt;
 }
 
@@ -102,11 +102,11 @@ MF_ENTRY2(sph_check,
            const float* rho, unsigned long long* first),
           (p, n, kind, pos, vel, rho, first))
 
-// Layout probe: out = (sizeof(SphParams), offsetof dt_fixed, offsetof gravity, p.dim).
+// Layout probe: out = (sizeof(SphParams), offsetof dt, offsetof gravity, p.dim).
 extern "C" __global__ void sph_params_layout(const SphParams p, unsigned* out) {
     if (threadIdx.x == 0 && blockIdx.x == 0) {
         out[0] = (unsigned)sizeof(SphParams);
-        out[1] = (unsigned)offsetof(SphParams, dt_fixed);
+        out[1] = (unsigned)offsetof(SphParams, dt);
         out[2] = (unsigned)offsetof(SphParams, gravity);
         out[3] = (unsigned)p.dim;
     }

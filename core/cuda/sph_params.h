@@ -6,6 +6,9 @@
  * Units: the scenes are dimensionless like the paper's; [L] length, [T] time, [M] mass,
  * d = `dim`. Derived fields (marked "derived") are filled by `params::derive` on the host,
  * never by hand.
+ * A field that a scene key sets is named by that key (`core/src/scheme.rs` declares each):
+ * `density_diffusion` is [fluid] density_diffusion; a [solid] key the [fluid] table also has
+ * takes `solid_` (`solid_density_diffusion`).
  */
 #ifndef MESHFREE_SPH_PARAMS_H
 #define MESHFREE_SPH_PARAMS_H
@@ -16,7 +19,7 @@
 #define MF_KERNEL_CUBIC_SPLINE 0 /* Monaghan 1992 cubic B-spline */
 #define MF_KERNEL_WENDLAND_C2 1  /* Wendland 1995 C2 */
 
-/* Density forms (`density_mode`). */
+/* Density forms (`density_form`). */
 #define MF_DENSITY_SUMMATION 0  /* eq. (8), as the paper */
 #define MF_DENSITY_CONTINUITY 1 /* d rho/dt = sum_j m_j v_ij . grad_i W_ij */
 
@@ -40,20 +43,20 @@
                                       boundary conditions: the wall particle's velocity
                                       extrapolated across the wall surface */
 
-/* What the fluid's density diffusion acts on (`delta_form`). */
+/* What the fluid's density diffusion acts on (`density_diffusion_form`). */
 #define MF_DIFFUSION_MOLTENI 0   /* rho_i - rho_j (Molteni & Colagrossi 2009) */
 #define MF_DIFFUSION_FOURTAKAS 1 /* its departure from hydrostatics (Fourtakas et al. 2019) */
 #define MF_DIFFUSION_ANTUONO 2   /* less the renormalised gradients' part (Antuono et al. 2010) */
 
-/* What a pair across two objects exchanges in eq. (16) (`interface_stress`). */
+/* What a pair across two objects exchanges in eq. (16) (`interface`). */
 #define MF_INTERFACE_PRESSURE 0 /* the pressure part -P I (Antoci, Gallati & Sibilla 2007) */
 #define MF_INTERFACE_STRESS 1   /* the whole stress -P I + S: the paper's eq. (16) */
 
-/* The stress the artificial stress is taken from (`art_stress_deviatoric`). */
+/* The stress the artificial stress is taken from (`artificial_stress_from`). */
 #define MF_ART_STRESS_FROM_STRESS 0     /* sigma = -P I + S (Gray, Monaghan & Swift 2001) */
 #define MF_ART_STRESS_FROM_DEVIATORIC 1 /* S alone */
 
-/* How wall particles act (`wall_pressure`). */
+/* How wall particles act (`wall_coupling`). */
 #define MF_WALL_COUPLING_LENNARD_JONES_ONLY 0 /* eq. (17) alone: the paper's walls */
 #define MF_WALL_COUPLING_DYNAMIC 1            /* dynamic walls (Crespo et al. 2007), with eq. (17) */
 
@@ -76,12 +79,12 @@ typedef struct SphParams {
     float kernel_norm;     /* derived: [L^-d] sigma_d / h^d */
 
     /* ---- fluid: eqs. (7)-(10) ---- */
-    int32_t density_mode;  /* MF_DENSITY_* */
+    int32_t density_form;  /* MF_DENSITY_* */
     float rho0;            /* [M L^-d] fluid reference density */
     float c0;              /* [L/T] fluid speed of sound */
     float tait_gamma;      /* [-] Tait exponent, 7, eq. (9) */
     float tait_b;          /* derived: [M L^-d L^2/T^2] rho0 c0^2 / gamma, eq. (9) */
-    float p_background;    /* [M L^-d L^2/T^2] background pressure added to eq. (9) for fluid and
+    float background_pressure;    /* [M L^-d L^2/T^2] background pressure added to eq. (9) for fluid and
                               dynamic wall particles: keeps a confined flow's pressure positive
                               where it dips (a wake, a vortex core), so the fluid does not tear
                               there (tensile instability); 0 = off (the paper); not for a free
@@ -89,34 +92,33 @@ typedef struct SphParams {
     float alpha;           /* [-] artificial viscosity, linear term, eq. (10) */
     float beta;            /* [-] artificial viscosity, quadratic term, eq. (10) */
     float av_eta2;         /* derived: [L^2] 0.001 h^2, singularity guard in mu_ij, eq. (10) */
-    float nu;              /* [L^2/T] laminar kinematic viscosity (Morris 1997); 0 = off */
+    float viscosity;              /* [L^2/T] laminar kinematic viscosity (Morris 1997); 0 = off */
     float visc_eta2;       /* derived: [L^2] 0.01 h^2, singularity guard of the laminar term */
-    float xsph_eps;        /* [-] XSPH factor epsilon, eq. (18) */
+    float xsph;        /* [-] XSPH factor epsilon, eq. (18) */
 
     /* ---- elastic solid: eqs. (11)-(16) ---- */
     float solid_rho0;      /* [M L^-d] solid reference density */
     float solid_c0;        /* [L/T] solid sound speed: P = c^2 (rho - rho0) */
     float shear_modulus;   /* [M L^-d L^2/T^2] mu_s in eq. (12) */
-    float art_stress_eps;  /* [-] Gray-Monaghan-Swift 2001 artificial stress factor; 0 = off */
-    float solid_delta_sph; /* [-] delta of the density diffusion within one body (solid-solid
+    float artificial_stress;  /* [-] Gray-Monaghan-Swift 2001 artificial stress factor; 0 = off */
+    float solid_density_diffusion; /* [-] delta of the density diffusion within one body (solid-solid
                               pairs of `same_body`), with the solid's h c and the correction of
                               Antuono et al. 2010 (renormalised density gradients), which
                               leaves a linear density alone, even where the support is cut:
                               damps the particle-scale (odd-even) pressure mode of a finely
                               resolved bending plate, not its bending; 0 = off (the paper) */
-    float art_stress_n;    /* [-] exponent n of f_ij^n, usually 4 */
+    float artificial_stress_exponent;    /* [-] exponent n of f_ij^n, usually 4 */
     float inv_w_dx;        /* derived: [L^d] 1 / W(dx), normalises f_ij = W_ij / W(dx) */
-    int32_t interface_stress; /* 1: a pair across two objects (fluid-solid, two bodies, a body
+    int32_t interface; /* 1: a pair across two objects (fluid-solid, two bodies, a body
                                  and a wall) exchanges the whole stress -P I + S, the paper's
                                  eq. (16); 0: its pressure part only (Antoci, Gallati &
                                  Sibilla 2007), the default */
-    int32_t solid_skips_walls; /* 1: solid and wall particles skip each other, both ways: no
-                                  Lennard-Jones force, eq. (17), no wall pressure, no wall
-                                  neighbour in a solid's density or a solid in a wall's (a
-                                  body that meets only the fluid and other bodies, e.g. the
-                                  free end of a gate on the tank floor); 0: they meet, the
-                                  default */
-    int32_t art_stress_deviatoric; /* 1: the artificial stress is taken from the deviatoric
+    int32_t wall_contact;  /* 1: solid and wall particles meet (the Lennard-Jones force,
+                              eq. (17), the wall pressure, each in the other's density sum),
+                              the default; 0: they skip each other, both ways: a body that
+                              meets only the fluid and other bodies (e.g. the free end of a
+                              gate on the tank floor). A zeroed struct must set it to 1 */
+    int32_t artificial_stress_from; /* 1: the artificial stress is taken from the deviatoric
                                       stress S alone, without the pressure of the continuity
                                       density, whose part drove a particle-scale density mode
                                       in a fine plate (docs/accuracy.md); 0: from the whole
@@ -127,10 +129,10 @@ typedef struct SphParams {
     float lj_r0;           /* [L] r0, the initial particle spacing */
     int32_t lj_p1;         /* 12 */
     int32_t lj_p2;         /* 6 */
-    int32_t lj_attractive; /* 1: the force acts for r < support (cohesive beyond r0); 0: r < r0 */
+    int32_t attractive; /* 1: the force acts for r < support (cohesive beyond r0); 0: r < r0 */
     float lj_range;        /* derived: [L] the force acts for r < lj_range: support where
-                              lj_attractive, else lj_r0 */
-    int32_t wall_pressure; /* 1: dynamic walls (Crespo 2007): boundary particles carry density
+                              attractive, else lj_r0 */
+    int32_t wall_coupling; /* 1: dynamic walls (Crespo 2007): boundary particles carry density
                               and Tait pressure, enter the pressure and viscosity sums (no
                               leaks, no-slip); 0: the paper's form, Lennard-Jones only */
     int32_t no_slip;       /* MF_NO_SLIP_*: the laminar term between a fluid particle A and a
@@ -145,7 +147,7 @@ typedef struct SphParams {
                                singular d_B / d_A of fluid next to the surface */
     uint32_t wall_first_id; /* the smallest id of a boundary particle: Setup::wall_surface is
                                indexed by id - wall_first_id (set with it by Scene::setup) */
-    int32_t wall_rho_floor; /* 1: a dynamic wall particle's continuity density is held at
+    int32_t wall_density_floor; /* 1: a dynamic wall particle's continuity density is held at
                                rho >= rho0 after each update (DualSPHysics' DBC, "to prevent
                                absorption of fluid particles by boundaries"): a wall the water
                                leaves returns to p = 0 instead of keeping a tension, and
@@ -167,9 +169,9 @@ typedef struct SphParams {
     /* ---- beyond the paper: cohesion and density diffusion ---- */
     float cohesion;        /* [L^(d+1) M^-1 T^-2] gamma of the fluid-fluid cohesion force of
                               Akinci, Akinci & Teschner 2013 (droplets); 0 = off */
-    float delta_sph;       /* [-] delta of the density-diffusion term of Molteni & Colagrossi
+    float density_diffusion;       /* [-] delta of the density-diffusion term of Molteni & Colagrossi
                               2009 in the continuity equation; 0 = off (the paper) */
-    int32_t delta_form;    /* MF_DIFFUSION_*: what the fluid's term diffuses.
+    int32_t density_diffusion_form;    /* MF_DIFFUSION_*: what the fluid's term diffuses.
                               FOURTAKAS (Fourtakas, Dominguez, Vacondio & Rogers 2019, Comput.
                               Fluids 190, 346): rho_i - rho_j becomes rho_i - rho_j + rho^H_ji,
                               rho^H_ji = rho0 ((1 + rho0 g . (r_j - r_i) / B)^(1 / gamma) - 1),
@@ -181,8 +183,8 @@ typedef struct SphParams {
                               direction of gravity. MOLTENI: the plain difference */
     int32_t fluid_density_gradient; /* derived: 1 where the fluid's particles take renormalised
                                        density gradients (`grad_rho`) for their diffusion:
-                                       delta_sph > 0 and delta_form == MF_DIFFUSION_ANTUONO;
-                                       else 0 (solids take them wherever solid_delta_sph > 0) */
+                                       density_diffusion > 0 and density_diffusion_form == MF_DIFFUSION_ANTUONO;
+                                       else 0 (solids take them wherever solid_density_diffusion > 0) */
     float shifting;        /* [-] C of the particle shifting velocity
                               dv_i = -C h c0 sum_j V_j (1 + 0.2 (W_ij / W(dx))^4) grad_i W_ij
                               of fluid particles (Lind et al. 2012, with the anti-clumping term of
@@ -193,7 +195,7 @@ typedef struct SphParams {
     float gravity[3];      /* [L/T^2] */
     int32_t integrator;    /* MF_INTEGRATOR_* */
     float courant;         /* [-] Courant number for dt, eq. (19) */
-    float dt_fixed;        /* [T] fixed time step; 0 = adaptive (CFL, force, viscous limits) */
+    float dt;        /* [T] fixed time step; 0 = adaptive (CFL, force, viscous limits) */
 } SphParams;
 
 #endif /* MESHFREE_SPH_PARAMS_H */

@@ -183,7 +183,7 @@ table! {
             default: [absent "adaptive: the CFL limit, eq. (19), with the force and viscous limits"],
             paper: [from "0.05 h / c (`paper_exact::DT_FRACTION`), c the largest sound speed, fluid or solid: eq. (19) asks dt < h / c, and forward Euler grows every undamped oscillation (docs/paper-scenes.md)"],
             check: [Positive],
-            param: [p.dt_fixed = |_: &SceneFile, dt: &Option<f64>| dt.unwrap_or(0.0) as f32],
+            param: [p.dt = |_: &SceneFile, dt: &Option<f64>| dt.unwrap_or(0.0) as f32],
         },
         /// The time integrator.
         integrator: IntegratorChoice {
@@ -233,7 +233,7 @@ table! {
             default: [DensityForm::Continuity, "the summation falls short at a free surface and a wall, where the Tait pressure then holds the surface like a skin (docs/paper-scenes.md)"],
             paper: [is DensityForm::Summation, "eq. (8)"],
             check: [Any],
-            param: [p.density_mode],
+            param: [p.density_form],
         },
         /// [-] artificial viscosity, linear term alpha, eq. (10).
         alpha: f64 {
@@ -254,14 +254,14 @@ table! {
             default: [0.0, "off: inviscid, as the paper's eq. (7)"],
             paper: [is 0.0, "the paper has the artificial viscosity only; the scene's nu goes into alpha"],
             check: [NonNegative],
-            param: [p.nu],
+            param: [p.viscosity],
         },
         /// [-] XSPH epsilon, eq. (18).
         xsph: f64 {
             default: [0.0, "off: the velocity is the particles' own"],
             paper: [is paper_exact::XSPH, "eq. (18) with Monaghan 1989's usual value; without it the paper-exact tank blows up (docs/paper-scenes.md)"],
             check: [Fraction("eq. 18")],
-            param: [p.xsph_eps],
+            param: [p.xsph],
         },
         /// [L^(d+1) M^-1 T^-2] gamma of the fluid-fluid cohesion force of Akinci, Akinci &
         /// Teschner 2013 (droplets, surface tension).
@@ -277,14 +277,14 @@ table! {
             default: [0.0, "off: the paper has no density diffusion"],
             paper: [is 0.0, "not in the paper"],
             check: [Fraction("Molteni & Colagrossi 2009 use 0.1"); continuity_only, "with the continuity density only"],
-            param: [p.delta_sph],
+            param: [p.density_diffusion],
         },
         /// What the density diffusion diffuses.
         density_diffusion_form: DiffusionForm {
             default: [DiffusionForm::MolteniColagrossi, "the plain form; \"fourtakas\" or \"antuono\" for water under gravity"],
             paper: [is DiffusionForm::MolteniColagrossi, "inert: the paper has no density diffusion"],
             check: [Any],
-            param: [p.delta_form],
+            param: [p.density_diffusion_form],
         },
         /// [-] C of the particle shifting of Lind et al. 2012 with Sun et al. 2017's
         /// anti-clumping term (fluid particles, none at a free surface), usually 0.2: keeps
@@ -302,7 +302,7 @@ table! {
             default: [0.0, "off: a free surface needs p = 0"],
             paper: [is 0.0, "eq. (9) as it stands"],
             check: [NonNegative; below_tait_stiffness, "<= the Tait stiffness rho0 c0^2 / gamma"],
-            param: [p.p_background],
+            param: [p.background_pressure],
         },
     }
 }
@@ -337,21 +337,21 @@ table! {
             default: [0.0, "off: the paper uses none"],
             paper: [is 0.0, "not in the paper"],
             check: [NonNegative],
-            param: [p.art_stress_eps],
+            param: [p.artificial_stress],
         },
         /// [-] exponent n of the artificial stress's f_ij^n.
         artificial_stress_exponent: f64 {
             default: [4.0, "Gray, Monaghan & Swift 2001"],
             paper: [is 4.0, "inert: the paper has no artificial stress"],
             check: [Positive],
-            param: [p.art_stress_n],
+            param: [p.artificial_stress_exponent],
         },
         /// What a body exchanges with the fluid, walls and other bodies.
         interface: SolidInterface {
             default: [SolidInterface::Pressure, "the whole stress across the interface tore the impinging square apart (docs/paper-scenes.md)"],
             paper: [is SolidInterface::Stress, "eq. (16)"],
             check: [Any],
-            param: [p.interface_stress],
+            param: [p.interface],
         },
         /// Whether bodies and walls meet (the Lennard-Jones force, eq. (17), the dynamic
         /// walls' pressure and density sums); false: they skip each other, both ways, and a
@@ -360,14 +360,14 @@ table! {
             default: [true, "bodies and walls meet, as in the paper"],
             paper: [is true, "eq. (17) between bodies and walls"],
             check: [Any; skips_walls_there_are, "false only with [[walls]]"],
-            param: [p.solid_skips_walls = |_: &SceneFile, meet: &bool| (!meet) as i32],
+            param: [p.wall_contact],
         },
         /// The stress the artificial stress is taken from.
         artificial_stress_from: ArtStressFrom {
             default: [ArtStressFrom::Stress, "Gray, Monaghan & Swift 2001"],
             paper: [is ArtStressFrom::Stress, "inert: the paper has no artificial stress"],
             check: [Any],
-            param: [p.art_stress_deviatoric],
+            param: [p.artificial_stress_from],
         },
         /// [-] delta of the density diffusion between the particles of one body (continuity
         /// density only), in the form of Antuono et al. 2010 that leaves a linear density
@@ -376,7 +376,7 @@ table! {
             default: [0.0, "off: the paper has no density diffusion"],
             paper: [is 0.0, "not in the paper"],
             check: [Fraction("Molteni & Colagrossi 2009 use 0.1"); continuity_only, "with the continuity density only"],
-            param: [p.solid_delta_sph],
+            param: [p.solid_density_diffusion],
         },
     }
 }
@@ -418,14 +418,14 @@ table! {
             default: [false, "purely repulsive walls (Monaghan 1994)"],
             paper: [is false, "eq. (17) acts within r0 only"],
             check: [Any],
-            param: [p.lj_attractive],
+            param: [p.attractive],
         },
         /// How wall particles act on the fluid and the bodies.
         wall_coupling: WallCoupling {
             default: [WallCoupling::Dynamic, "no leaks, no-slip, and a resting tank stays at rest (Crespo et al. 2007)"],
             paper: [is WallCoupling::LennardJonesOnly, "eq. (17) alone"],
             check: [Any],
-            param: [p.wall_pressure],
+            param: [p.wall_coupling],
         },
         /// How dynamic walls enter the laminar viscosity.
         no_slip: NoSlip {
@@ -466,7 +466,7 @@ table! {
             default: [false, "the other cases' results unchanged; on in the dam break"],
             paper: [is false, "inert: the paper's walls carry no density"],
             check: [Any],
-            param: [p.wall_rho_floor],
+            param: [p.wall_density_floor],
         },
     }
 }
@@ -528,6 +528,8 @@ pub const DERIVED: &[&str] = &[
     "av_eta2",
     "visc_eta2",
     "inv_w_dx",
+    "lj_range",
+    "fluid_density_gradient",
 ];
 
 /// Check every key of the scene's tables: (field, reason) of the first refusal.

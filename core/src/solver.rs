@@ -129,7 +129,7 @@ pub trait Solver: Send {
     /// gravity.
     fn forces(&mut self);
     /// Rates from the current velocities: d rho/dt (continuity, with the density diffusion
-    /// of Molteni & Colagrossi 2009 where `delta_sph` > 0), the XSPH velocity of
+    /// of Molteni & Colagrossi 2009 where `density_diffusion` > 0), the XSPH velocity of
     /// eq. (18), and, with solids, the velocity gradient eq. (15), strain and rotation
     /// rates eqs. (13)-(14) and the Jaumann stress rate eq. (12).
     fn rates(&mut self);

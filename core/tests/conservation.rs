@@ -21,9 +21,9 @@ fn momentum_is_conserved_without_walls_or_gravity() {
             [0.5, 0.5, 0.5]
         };
         let mut p = common::params(dim as i32, 0.05, lo, hi, [1, 1, 1]);
-        p.nu = 1e-3;
-        p.xsph_eps = 0.3;
-        p.art_stress_eps = 0.3;
+        p.viscosity = 1e-3;
+        p.xsph = 0.3;
+        p.artificial_stress = 0.3;
         meshfree_core::params::derive(&mut p);
         let pts = common::lattice(dim, p.dx, lo, hi);
         let mut ps = Vec::new();

@@ -54,19 +54,19 @@ impl Rng {
 /// What a parity scene switches on.
 #[derive(Clone, Copy, Debug)]
 struct Variant {
-    /// Dynamic walls (`wall_pressure`): boundary particles carry density and pressure.
+    /// Dynamic walls (`wall_coupling`): boundary particles carry density and pressure.
     dynamic_walls: bool,
     continuity: bool,
     symplectic: bool,
     art_stress: bool,
     laminar: bool,
-    /// Density diffusion (delta-SPH, `delta_sph` = 0.1) with a perturbed initial fluid
+    /// Density diffusion (delta-SPH, `density_diffusion` = 0.1) with a perturbed initial fluid
     /// density, so that the diffusive term is not zero from the first step.
-    delta_sph: bool,
-    /// The fluid diffusion's form (`delta_form`, `MF_DIFFUSION_*`): Fourtakas et al. 2019's
+    density_diffusion: bool,
+    /// The fluid diffusion's form (`density_diffusion_form`, `MF_DIFFUSION_*`): Fourtakas et al. 2019's
     /// hydrostatic one, or Antuono et al. 2010's with renormalised gradients.
-    delta_form: u32,
-    /// Density diffusion within the solid body (`solid_delta_sph` = 0.1) with a perturbed
+    density_diffusion_form: u32,
+    /// Density diffusion within the solid body (`solid_density_diffusion` = 0.1) with a perturbed
     /// initial solid density.
     solid_delta: bool,
 }
@@ -77,8 +77,8 @@ const V_2D_A: Variant = Variant {
     symplectic: false,
     art_stress: true,
     laminar: true,
-    delta_sph: false,
-    delta_form: MF_DIFFUSION_MOLTENI,
+    density_diffusion: false,
+    density_diffusion_form: MF_DIFFUSION_MOLTENI,
     solid_delta: false,
 };
 /// 2D: continuity, Lennard-Jones-only walls, symplectic Euler, artificial stress.
@@ -88,8 +88,8 @@ const V_2D_B: Variant = Variant {
     symplectic: true,
     art_stress: true,
     laminar: false,
-    delta_sph: false,
-    delta_form: MF_DIFFUSION_MOLTENI,
+    density_diffusion: false,
+    density_diffusion_form: MF_DIFFUSION_MOLTENI,
     solid_delta: false,
 };
 /// 3D: continuity, Lennard-Jones-only walls, symplectic Euler, no artificial stress.
@@ -99,8 +99,8 @@ const V_3D_A: Variant = Variant {
     symplectic: true,
     art_stress: false,
     laminar: false,
-    delta_sph: false,
-    delta_form: MF_DIFFUSION_MOLTENI,
+    density_diffusion: false,
+    density_diffusion_form: MF_DIFFUSION_MOLTENI,
     solid_delta: false,
 };
 /// 3D: continuity with dynamic walls (wall d rho/dt), forward Euler, artificial stress,
@@ -111,36 +111,36 @@ const V_3D_B: Variant = Variant {
     symplectic: false,
     art_stress: true,
     laminar: true,
-    delta_sph: false,
-    delta_form: MF_DIFFUSION_MOLTENI,
+    density_diffusion: false,
+    density_diffusion_form: MF_DIFFUSION_MOLTENI,
     solid_delta: false,
 };
 /// 2D and 3D: `V_2D_B` / `V_3D_B` with density diffusion.
 const V_2D_DELTA: Variant = Variant {
-    delta_sph: true,
+    density_diffusion: true,
     ..V_2D_B
 };
 const V_3D_DELTA: Variant = Variant {
-    delta_sph: true,
+    density_diffusion: true,
     ..V_3D_B
 };
 /// `V_2D_DELTA` / `V_3D_DELTA` with the diffusion's hydrostatic form.
 const V_2D_FOURTAKAS: Variant = Variant {
-    delta_form: MF_DIFFUSION_FOURTAKAS,
+    density_diffusion_form: MF_DIFFUSION_FOURTAKAS,
     ..V_2D_DELTA
 };
 const V_3D_FOURTAKAS: Variant = Variant {
-    delta_form: MF_DIFFUSION_FOURTAKAS,
+    density_diffusion_form: MF_DIFFUSION_FOURTAKAS,
     ..V_3D_DELTA
 };
 /// `V_2D_DELTA` / `V_3D_DELTA` with the diffusion in Antuono et al.'s form (the fluid's
 /// density gradients: `sph_grad_rho`).
 const V_2D_ANTUONO: Variant = Variant {
-    delta_form: MF_DIFFUSION_ANTUONO,
+    density_diffusion_form: MF_DIFFUSION_ANTUONO,
     ..V_2D_DELTA
 };
 const V_3D_ANTUONO: Variant = Variant {
-    delta_form: MF_DIFFUSION_ANTUONO,
+    density_diffusion_form: MF_DIFFUSION_ANTUONO,
     ..V_3D_DELTA
 };
 /// `V_2D_B` / `V_3D_B` (artificial stress) with density diffusion within the solid body.
@@ -188,7 +188,7 @@ fn scene_with(dim: usize, v: Variant, vel_amp: f32) -> Setup {
         kernel: 0,
         dx,
         h: 1.3 * dx,
-        density_mode: if v.continuity {
+        density_form: if v.continuity {
             MF_DENSITY_CONTINUITY
         } else {
             MF_DENSITY_SUMMATION
@@ -198,22 +198,23 @@ fn scene_with(dim: usize, v: Variant, vel_amp: f32) -> Setup {
         tait_gamma: 7.0,
         alpha: 0.1,
         beta: 0.1,
-        nu: if v.laminar { 0.005 } else { 0.0 },
-        xsph_eps: 0.3,
-        delta_sph: if v.delta_sph { 0.1 } else { 0.0 },
-        delta_form: v.delta_form as i32,
-        solid_delta_sph: if v.solid_delta { 0.1 } else { 0.0 },
+        viscosity: if v.laminar { 0.005 } else { 0.0 },
+        xsph: 0.3,
+        density_diffusion: if v.density_diffusion { 0.1 } else { 0.0 },
+        density_diffusion_form: v.density_diffusion_form as i32,
+        solid_density_diffusion: if v.solid_delta { 0.1 } else { 0.0 },
         solid_rho0: 0.8,
         solid_c0: 15.0,
         shear_modulus: 50.0,
-        art_stress_eps: if v.art_stress { 0.3 } else { 0.0 },
-        art_stress_n: 4.0,
+        artificial_stress: if v.art_stress { 0.3 } else { 0.0 },
+        artificial_stress_exponent: 4.0,
         lj_c0: 2.0,
         lj_r0: dx,
         lj_p1: 12,
         lj_p2: 6,
-        lj_attractive: 0,
-        wall_pressure: v.dynamic_walls as i32,
+        attractive: 0,
+        wall_contact: 1,
+        wall_coupling: v.dynamic_walls as i32,
         gravity: [0.0, -1.0, 0.0],
         integrator: if v.symplectic {
             MF_INTEGRATOR_SYMPLECTIC_EULER
@@ -221,7 +222,7 @@ fn scene_with(dim: usize, v: Variant, vel_amp: f32) -> Setup {
             MF_INTEGRATOR_EULER
         } as i32,
         courant: 0.25,
-        dt_fixed: 0.0,
+        dt: 0.0,
         ..Default::default()
     };
     params::derive(&mut p);
@@ -250,7 +251,7 @@ fn scene_with(dim: usize, v: Variant, vel_amp: f32) -> Setup {
                 q.velocity[a] = rng.sym(vel_amp);
             }
         }
-        if (v.delta_sph && kind == Kind::Fluid) || (v.solid_delta && kind == Kind::Solid) {
+        if (v.density_diffusion && kind == Kind::Fluid) || (v.solid_delta && kind == Kind::Solid) {
             q.density *= 1.0 + rng.sym(0.01);
         }
         if kind == Kind::Solid {
@@ -691,10 +692,10 @@ fn stages_3d_driven_solid_cohesion_continuity_euler() {
 /// split in two bodies at its centre plane (group 3 the +x half), and a layer of solid
 /// (group 4, with stress) on the wall under the left part of the fluid. Pairs across two
 /// objects take the pressure part of the stress only, or with `whole` the whole stress
-/// (`interface_stress`, `whole_stress_pair` in forces.rs / forces.cu).
+/// (`interface`, `whole_stress_pair` in forces.rs / forces.cu).
 fn bodies_in_contact(dim: usize, v: Variant, whole: bool) -> Setup {
     let mut setup = scene(dim, v);
-    setup.params.interface_stress = whole as i32;
+    setup.params.interface = whole as i32;
     let p = setup.params;
     let xc = 0.5 * p.domain_max[0];
     let vol = p.dx.powi(dim as i32);
@@ -769,12 +770,12 @@ fn stages_2d_bodies_in_contact_lj_walls_whole_stress() {
     stages_on::<D2>("V_2D_B + bodies in contact, whole stress", setup);
 }
 /// `bodies_in_contact` where bodies and walls skip each other (`[solid] wall_contact =
-/// false`, `solid_skips_walls`; `meets` in backend/pair.rs / pairs.cuh): the solid layer on
+/// false`, `wall_contact`; `meets` in backend/pair.rs / pairs.cuh): the solid layer on
 /// the wall feels no Lennard-Jones force or wall pressure, and neither enters the other's
 /// density (summation in V_2D_A, the walls' continuity in V_3D_B).
 fn bodies_skipping_walls(dim: usize, v: Variant) -> Setup {
     let mut setup = bodies_in_contact(dim, v, false);
-    setup.params.solid_skips_walls = 1;
+    setup.params.wall_contact = 0;
     setup
 }
 #[test]
@@ -818,7 +819,7 @@ fn stages_3d_clamp_bonded_to_its_body() {
     );
 }
 /// `clamped_body` with the artificial stress taken from the deviatoric stress alone
-/// (`[solid] artificial_stress_from = "deviatoric"`, `art_stress_deviatoric`; `art_pressure`
+/// (`[solid] artificial_stress_from = "deviatoric"`, `artificial_stress_from`; `art_pressure`
 /// in stress.rs, `artificial_stress` in density.cu).
 #[test]
 #[cfg_attr(
@@ -827,7 +828,7 @@ fn stages_3d_clamp_bonded_to_its_body() {
 )]
 fn stages_2d_clamp_deviatoric_artificial_stress() {
     let mut setup = clamped_body(2, V_2D_B);
-    setup.params.art_stress_deviatoric = 1;
+    setup.params.artificial_stress_from = 1;
     stages_on::<D2>("V_2D_B + clamp, deviatoric artificial stress", setup);
 }
 
@@ -1346,13 +1347,13 @@ fn params_layout_matches_nvcc() {
     let l = g.params_layout();
     let rust = [
         std::mem::size_of::<SphParams>() as u32,
-        std::mem::offset_of!(SphParams, dt_fixed) as u32,
+        std::mem::offset_of!(SphParams, dt) as u32,
         std::mem::offset_of!(SphParams, gravity) as u32,
         3,
     ];
     assert_eq!(
         l, rust,
-        "nvcc (sizeof, offsetof dt_fixed, offsetof gravity, dim) vs Rust"
+        "nvcc (sizeof, offsetof dt, offsetof gravity, dim) vs Rust"
     );
     eprintln!("SphParams layout: nvcc {l:?} == rust {rust:?}");
 }
@@ -1449,15 +1450,15 @@ fn stages_3d_fluid_only_shifting_dynamic_walls() {
 )]
 fn stages_2d_background_pressure_dynamic_walls() {
     let mut setup = scene(2, V_2D_A);
-    setup.params.p_background = 2.0;
+    setup.params.background_pressure = 2.0;
     stages_on::<D2>("V_2D_A background pressure", setup);
 }
 
-/// `setup` with the dynamic walls' continuity density held at >= rho0 (`wall_rho_floor`,
+/// `setup` with the dynamic walls' continuity density held at >= rho0 (`wall_density_floor`,
 /// DualSPHysics' DBC; `wall_density_floor` in src/backend/cpu/integrate.rs): the random
 /// velocities dilate some wall particles, so the drift's clamp binds.
 fn with_wall_density_floor(mut setup: Setup) -> Setup {
-    setup.params.wall_rho_floor = 1;
+    setup.params.wall_density_floor = 1;
     setup
 }
 #[test]

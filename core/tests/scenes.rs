@@ -97,9 +97,9 @@ fn dam_break_walls_start_at_rest() {
 #[test]
 fn wall_density_floor_only_where_asked() {
     let dam = Scene::builtin("dam-break-2d").unwrap().setup().unwrap();
-    assert_eq!(dam.params.wall_rho_floor, 1);
+    assert_eq!(dam.params.wall_density_floor, 1);
     let tank = Scene::builtin("tank-2d").unwrap().setup().unwrap();
-    assert_eq!(tank.params.wall_rho_floor, 0);
+    assert_eq!(tank.params.wall_density_floor, 0);
 }
 
 #[test]
@@ -110,7 +110,7 @@ fn tank_2d_particles() {
     let dx = 0.025f32;
     assert_eq!(p.dim, 2);
     assert!((p.dx - dx).abs() < 1e-7 && (p.h - 1.3 * dx).abs() < 1e-6);
-    assert_eq!(p.wall_pressure, 1);
+    assert_eq!(p.wall_coupling, 1);
     assert!((p.lj_r0 - dx).abs() < 1e-7);
     assert!(p.n_cells > 0 && (p.support - 2.0 * p.h).abs() < 1e-7);
     for (i, q) in setup.particles.iter().enumerate() {

@@ -156,9 +156,9 @@ fn a_background_pressure_adds_to_the_equation_of_state() {
     let rho = 1.01 * p.rho0;
     let tait = p.tait_b * (1.01f32.powf(p.tait_gamma) - 1.0);
     assert!((pressure(&p, fluid, rho) - (tait + 3.0)).abs() < 1e-5);
-    p.wall_pressure = 1;
+    p.wall_coupling = 1;
     assert_eq!(pressure(&p, wall, p.rho0), 3.0);
-    p.wall_pressure = 0;
+    p.wall_coupling = 0;
     assert_eq!(pressure(&p, wall, p.rho0), 0.0);
     p.solid_rho0 = 2.0;
     p.solid_c0 = 1.0;

@@ -1,5 +1,5 @@
 //! `[solid] wall_contact`: a body and the walls meet (default), or skip each other, both
-//! ways (`solid_skips_walls`, `meets` in backend/pair.rs).
+//! ways (`wall_contact`, `meets` in backend/pair.rs).
 
 use meshfree_core::backend::{self, BackendChoice};
 use meshfree_core::particle::{Kind, Particle};

@@ -1,6 +1,6 @@
 //! `[solid] artificial_stress_from`: the artificial stress of Gray, Monaghan & Swift (2001)
 //! from the whole stress sigma = -P I + S (default) or from the deviatoric stress S alone
-//! (`art_stress_deviatoric`, `art_pressure` in cpu/stress.rs). With eps 0.3 of the whole
+//! (`artificial_stress_from`, `art_pressure` in cpu/stress.rs). With eps 0.3 of the whole
 //! stress a particle-scale (odd-even) pressure mode grows from the start in a finely
 //! resolved bending plate (docs/accuracy.md, oscillating plate at H / dx = 32); from S alone
 //! R is smaller and the mode stays with the bending. Density diffusion inside the body

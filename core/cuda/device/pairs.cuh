@@ -8,13 +8,13 @@
 
 // Whether particle j of kind kj enters the sums of a non-boundary particle.
 __device__ __forceinline__ bool couples(const SphParams& p, unsigned char kj) {
-    return kj != MF_KIND_BOUNDARY || p.wall_pressure != 0;
+    return kj != MF_KIND_BOUNDARY || p.wall_coupling != 0;
 }
 // Whether particles of kinds ki and kj meet at all: a solid and a wall particle skip each
-// other, both ways, where the scene says so (solid_skips_walls): no Lennard-Jones force, no
+// other, both ways, where the scene says so (wall_contact): no Lennard-Jones force, no
 // wall pressure, no density sum over the other.
 __device__ __forceinline__ bool meets(const SphParams& p, unsigned char ki, unsigned char kj) {
-    return p.solid_skips_walls == 0 || !((ki == MF_KIND_SOLID && kj == MF_KIND_BOUNDARY) ||
+    return p.wall_contact != 0 || !((ki == MF_KIND_SOLID && kj == MF_KIND_BOUNDARY) ||
                                          (ki == MF_KIND_BOUNDARY && kj == MF_KIND_SOLID));
 }
 

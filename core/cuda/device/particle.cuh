@@ -11,8 +11,8 @@
 __device__ __forceinline__ float pressure(const SphParams& p, unsigned char kind, float rho) {
     if (kind == MF_KIND_SOLID) return p.solid_c0 * p.solid_c0 * (rho - p.solid_rho0);
     // eq. (9) plus the background pressure (cpu/density.rs `pressure`).
-    if (kind == MF_KIND_FLUID || p.wall_pressure != 0)
-        return p.tait_b * (powf(rho / p.rho0, p.tait_gamma) - 1.0f) + p.p_background;
+    if (kind == MF_KIND_FLUID || p.wall_coupling != 0)
+        return p.tait_b * (powf(rho / p.rho0, p.tait_gamma) - 1.0f) + p.background_pressure;
     return 0.0f;
 }
 

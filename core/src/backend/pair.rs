@@ -6,17 +6,17 @@
 use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID};
 
 /// Whether particle j of kind `kj` enters the SPH sums of another particle: boundary
-/// particles only with dynamic walls (`wall_pressure`, Crespo et al. 2007: wall particles
+/// particles only with dynamic walls (`wall_coupling`, Crespo et al. 2007: wall particles
 /// carry density and pressure like fluid but do not move); with the paper's walls they act
 /// through the Lennard-Jones force alone.
 #[inline]
 pub fn couples(p: &SphParams, kj: u8) -> bool {
-    kj as u32 != MF_KIND_BOUNDARY || p.wall_pressure != 0
+    kj as u32 != MF_KIND_BOUNDARY || p.wall_coupling != 0
 }
 
 /// Whether particles of kinds `ki` and `kj` meet at all: a solid and a wall particle skip
 /// each other, both ways, where the scene says so (`[solid] wall_contact = false`,
-/// `solid_skips_walls`): no Lennard-Jones force, eq. (17), no wall pressure, and neither
+/// `wall_contact`): no Lennard-Jones force, eq. (17), no wall pressure, and neither
 /// enters the other's density (continuity or summation). A body that meets only the fluid
 /// and other bodies: the free end of a gate standing on the tank floor, whose continuity
 /// density read the foot leaving the floor's wall particles as a dilatation
@@ -25,7 +25,7 @@ pub fn couples(p: &SphParams, kj: u8) -> bool {
 pub fn meets(p: &SphParams, ki: u8, kj: u8) -> bool {
     let (s, b) = (MF_KIND_SOLID, MF_KIND_BOUNDARY);
     let (ki, kj) = (ki as u32, kj as u32);
-    p.solid_skips_walls == 0 || !((ki == s && kj == b) || (ki == b && kj == s))
+    p.wall_contact != 0 || !((ki == s && kj == b) || (ki == b && kj == s))
 }
 
 /// Whether particles i (kind `ki`, scene group `gi`) and j count as one body for the terms

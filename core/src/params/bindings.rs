@@ -51,7 +51,7 @@ pub struct SphParams {
     #[doc = " derived: [L^-d] sigma_d / h^d"]
     pub kernel_norm: f32,
     #[doc = " MF_DENSITY_*"]
-    pub density_mode: i32,
+    pub density_form: i32,
     #[doc = " [M L^-d] fluid reference density"]
     pub rho0: f32,
     #[doc = " [L/T] fluid speed of sound"]
@@ -61,7 +61,7 @@ pub struct SphParams {
     #[doc = " derived: [M L^-d L^2/T^2] rho0 c0^2 / gamma, eq. (9)"]
     pub tait_b: f32,
     #[doc = " [M L^-d L^2/T^2] background pressure added to eq. (9) for fluid and\ndynamic wall particles: keeps a confined flow's pressure positive\nwhere it dips (a wake, a vortex core), so the fluid does not tear\nthere (tensile instability); 0 = off (the paper); not for a free\nsurface, where the pressure must fall to zero"]
-    pub p_background: f32,
+    pub background_pressure: f32,
     #[doc = " [-] artificial viscosity, linear term, eq. (10)"]
     pub alpha: f32,
     #[doc = " [-] artificial viscosity, quadratic term, eq. (10)"]
@@ -69,11 +69,11 @@ pub struct SphParams {
     #[doc = " derived: [L^2] 0.001 h^2, singularity guard in mu_ij, eq. (10)"]
     pub av_eta2: f32,
     #[doc = " [L^2/T] laminar kinematic viscosity (Morris 1997); 0 = off"]
-    pub nu: f32,
+    pub viscosity: f32,
     #[doc = " derived: [L^2] 0.01 h^2, singularity guard of the laminar term"]
     pub visc_eta2: f32,
     #[doc = " [-] XSPH factor epsilon, eq. (18)"]
-    pub xsph_eps: f32,
+    pub xsph: f32,
     #[doc = " [M L^-d] solid reference density"]
     pub solid_rho0: f32,
     #[doc = " [L/T] solid sound speed: P = c^2 (rho - rho0)"]
@@ -81,19 +81,19 @@ pub struct SphParams {
     #[doc = " [M L^-d L^2/T^2] mu_s in eq. (12)"]
     pub shear_modulus: f32,
     #[doc = " [-] Gray-Monaghan-Swift 2001 artificial stress factor; 0 = off"]
-    pub art_stress_eps: f32,
+    pub artificial_stress: f32,
     #[doc = " [-] delta of the density diffusion within one body (solid-solid\npairs of `same_body`), with the solid's h c and the correction of\nAntuono et al. 2010 (renormalised density gradients), which\nleaves a linear density alone, even where the support is cut:\ndamps the particle-scale (odd-even) pressure mode of a finely\nresolved bending plate, not its bending; 0 = off (the paper)"]
-    pub solid_delta_sph: f32,
+    pub solid_density_diffusion: f32,
     #[doc = " [-] exponent n of f_ij^n, usually 4"]
-    pub art_stress_n: f32,
+    pub artificial_stress_exponent: f32,
     #[doc = " derived: [L^d] 1 / W(dx), normalises f_ij = W_ij / W(dx)"]
     pub inv_w_dx: f32,
     #[doc = " 1: a pair across two objects (fluid-solid, two bodies, a body\nand a wall) exchanges the whole stress -P I + S, the paper's\neq. (16); 0: its pressure part only (Antoci, Gallati &\nSibilla 2007), the default"]
-    pub interface_stress: i32,
-    #[doc = " 1: solid and wall particles skip each other, both ways: no\nLennard-Jones force, eq. (17), no wall pressure, no wall\nneighbour in a solid's density or a solid in a wall's (a\nbody that meets only the fluid and other bodies, e.g. the\nfree end of a gate on the tank floor); 0: they meet, the\ndefault"]
-    pub solid_skips_walls: i32,
+    pub interface: i32,
+    #[doc = " 1: solid and wall particles meet (the Lennard-Jones force,\neq. (17), the wall pressure, each in the other's density sum),\nthe default; 0: they skip each other, both ways: a body that\nmeets only the fluid and other bodies (e.g. the free end of a\ngate on the tank floor). A zeroed struct must set it to 1"]
+    pub wall_contact: i32,
     #[doc = " 1: the artificial stress is taken from the deviatoric\nstress S alone, without the pressure of the continuity\ndensity, whose part drove a particle-scale density mode\nin a fine plate (docs/accuracy.md); 0: from the whole\nsigma = -P I + S (Gray et al. 2001), the default"]
-    pub art_stress_deviatoric: i32,
+    pub artificial_stress_from: i32,
     #[doc = " [L/T^2] C0, strength of the Lennard-Jones force"]
     pub lj_c0: f32,
     #[doc = " [L] r0, the initial particle spacing"]
@@ -103,11 +103,11 @@ pub struct SphParams {
     #[doc = " 6"]
     pub lj_p2: i32,
     #[doc = " 1: the force acts for r < support (cohesive beyond r0); 0: r < r0"]
-    pub lj_attractive: i32,
-    #[doc = " derived: [L] the force acts for r < lj_range: support where\nlj_attractive, else lj_r0"]
+    pub attractive: i32,
+    #[doc = " derived: [L] the force acts for r < lj_range: support where\nattractive, else lj_r0"]
     pub lj_range: f32,
     #[doc = " 1: dynamic walls (Crespo 2007): boundary particles carry density\nand Tait pressure, enter the pressure and viscosity sums (no\nleaks, no-slip); 0: the paper's form, Lennard-Jones only"]
-    pub wall_pressure: i32,
+    pub wall_coupling: i32,
     #[doc = " MF_NO_SLIP_*: the laminar term between a fluid particle A and a\ndynamic wall particle B. MORRIS (Morris, Fox & Zhu 1997): B\ntakes the velocity v_w - (d_B / d_A) (v_A - v_w), with d_A, d_B\nthe distances of A and B from the wall surface and v_w the\nwall's velocity, so v_AB = beta (v_A - v_w),\nbeta = min(no_slip_beta_max, 1 + d_B / d_A); needs\nSetup::wall_surface. The laminar term only: pressure, density\nand artificial viscosity see v_w"]
     pub no_slip: i32,
     #[doc = " [-] cap of beta (Morris et al. 1997: 1.5), against the\nsingular d_B / d_A of fluid next to the surface"]
@@ -115,7 +115,7 @@ pub struct SphParams {
     #[doc = " the smallest id of a boundary particle: Setup::wall_surface is\nindexed by id - wall_first_id (set with it by Scene::setup)"]
     pub wall_first_id: u32,
     #[doc = " 1: a dynamic wall particle's continuity density is held at\nrho >= rho0 after each update (DualSPHysics' DBC, \"to prevent\nabsorption of fluid particles by boundaries\"): a wall the water\nleaves returns to p = 0 instead of keeping a tension, and\npushes again as soon as water comes back; 0: unclamped"]
-    pub wall_rho_floor: i32,
+    pub wall_density_floor: i32,
     #[doc = " 1: particles of scene group `driven_group` (any kind) move at\n`driven_velocity`, whatever the forces (a piston, a clamp)"]
     pub driven: i32,
     #[doc = " the scene group id"]
@@ -135,10 +135,10 @@ pub struct SphParams {
     #[doc = " [L^(d+1) M^-1 T^-2] gamma of the fluid-fluid cohesion force of\nAkinci, Akinci & Teschner 2013 (droplets); 0 = off"]
     pub cohesion: f32,
     #[doc = " [-] delta of the density-diffusion term of Molteni & Colagrossi\n2009 in the continuity equation; 0 = off (the paper)"]
-    pub delta_sph: f32,
+    pub density_diffusion: f32,
     #[doc = " MF_DIFFUSION_*: what the fluid's term diffuses.\nFOURTAKAS (Fourtakas, Dominguez, Vacondio & Rogers 2019, Comput.\nFluids 190, 346): rho_i - rho_j becomes rho_i - rho_j + rho^H_ji,\nrho^H_ji = rho0 ((1 + rho0 g . (r_j - r_i) / B)^(1 / gamma) - 1),\nso water at rest under `gravity` diffuses nothing, next to a free\nsurface or a wall too. ANTUONO (Antuono, Colagrossi, Marrone &\nMolteni 2010, Comput. Phys. Commun. 181, 532): the pair term less\n(grad rho_i + grad rho_j) . grad W with renormalised gradients\n(`grad_rho`), zero for any linear density, whatever the\ndirection of gravity. MOLTENI: the plain difference"]
-    pub delta_form: i32,
-    #[doc = " derived: 1 where the fluid's particles take renormalised\ndensity gradients (`grad_rho`) for their diffusion:\ndelta_sph > 0 and delta_form == MF_DIFFUSION_ANTUONO;\nelse 0 (solids take them wherever solid_delta_sph > 0)"]
+    pub density_diffusion_form: i32,
+    #[doc = " derived: 1 where the fluid's particles take renormalised\ndensity gradients (`grad_rho`) for their diffusion:\ndensity_diffusion > 0 and density_diffusion_form == MF_DIFFUSION_ANTUONO;\nelse 0 (solids take them wherever solid_density_diffusion > 0)"]
     pub fluid_density_gradient: i32,
     #[doc = " [-] C of the particle shifting velocity\ndv_i = -C h c0 sum_j V_j (1 + 0.2 (W_ij / W(dx))^4) grad_i W_ij\nof fluid particles (Lind et al. 2012, with the anti-clumping term of\nSun et al. 2017), added to the XSPH velocity of the drift; none at a\nfree surface; 0 = off (the paper)"]
     pub shifting: f32,
@@ -149,5 +149,5 @@ pub struct SphParams {
     #[doc = " [-] Courant number for dt, eq. (19)"]
     pub courant: f32,
     #[doc = " [T] fixed time step; 0 = adaptive (CFL, force, viscous limits)"]
-    pub dt_fixed: f32,
+    pub dt: f32,
 }

@@ -23,10 +23,10 @@ pub const BINDINGS_SOURCE: &str = env!("MESHFREE_BINDINGS_SOURCE");
 /// and cuda/rates.cuh), which compile those terms out instead of testing them per pair: the
 /// same results with fewer registers and branches (docs/performance.md, "lean fluid kernels").
 pub fn lean_scheme(p: &SphParams) -> bool {
-    p.nu <= 0.0
+    p.viscosity <= 0.0
         && p.cohesion == 0.0
         && p.no_slip != MF_NO_SLIP_MORRIS as i32
-        && p.delta_sph <= 0.0
+        && p.density_diffusion <= 0.0
         && p.shifting <= 0.0
 }
 
@@ -35,12 +35,12 @@ pub fn lean_scheme(p: &SphParams) -> bool {
 /// `density_gradient` and the CUDA pass `sph_grad_rho` run, and the CUDA buffer is held, only
 /// where this holds.
 pub fn needs_density_gradient(p: &SphParams) -> bool {
-    p.solid_delta_sph > 0.0 || p.fluid_density_gradient != 0
+    p.solid_density_diffusion > 0.0 || p.fluid_density_gradient != 0
 }
 
 /// Fill the derived fields (marked "derived" in the header) from the primary ones.
 /// Needs `dim`, `kernel`, `h`, `dx`, `rho0`, `c0`, `tait_gamma`, the domain and `periodic`,
-/// `lj_attractive` and `lj_r0`, `delta_sph` and `delta_form`.
+/// `attractive` and `lj_r0`, `density_diffusion` and `density_diffusion_form`.
 pub fn derive(p: &mut SphParams) {
     let d = p.dim as usize;
     p.support = 2.0 * p.h;
@@ -50,14 +50,15 @@ pub fn derive(p: &mut SphParams) {
     p.av_eta2 = 0.001 * p.h * p.h; // eq. (10)
     p.visc_eta2 = 0.01 * p.h * p.h; // Morris, Fox & Zhu 1997
     p.inv_w_dx = 1.0 / kernel::w(p, p.dx);
-    p.lj_range = if p.lj_attractive != 0 {
+    p.lj_range = if p.attractive != 0 {
         p.support
     } else {
         p.lj_r0
     }; // eq. (17)
        // The fluid's density diffusion in Antuono et al. 2010's form takes the gradients.
-    p.fluid_density_gradient =
-        (p.delta_sph > 0.0 && p.delta_form == MF_DIFFUSION_ANTUONO as i32) as i32;
+    p.fluid_density_gradient = (p.density_diffusion > 0.0
+        && p.density_diffusion_form == MF_DIFFUSION_ANTUONO as i32)
+        as i32;
     p.n_cells = 1;
     for a in 0..3 {
         if a < d {

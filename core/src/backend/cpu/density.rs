@@ -11,16 +11,18 @@ use crate::params::{
 };
 use crate::state::State;
 
-/// Pressure from density: Tait eq. (9) plus the background pressure `p_background` for
+/// Pressure from density: Tait eq. (9) plus the background pressure `background_pressure` for
 /// fluid and dynamic wall particles, P = c_s^2 (rho - rho0_s) for solids (Gray & Monaghan
 /// 2001). [M L^-d L^2 T^-2]
 #[inline]
 pub fn pressure(p: &SphParams, kind: u8, rho: f32) -> f32 {
     match kind as u32 {
         MF_KIND_SOLID => p.solid_c0 * p.solid_c0 * (rho - p.solid_rho0),
-        MF_KIND_FLUID => p.tait_b * ((rho / p.rho0).powf(p.tait_gamma) - 1.0) + p.p_background,
-        _ if p.wall_pressure != 0 => {
-            p.tait_b * ((rho / p.rho0).powf(p.tait_gamma) - 1.0) + p.p_background
+        MF_KIND_FLUID => {
+            p.tait_b * ((rho / p.rho0).powf(p.tait_gamma) - 1.0) + p.background_pressure
+        }
+        _ if p.wall_coupling != 0 => {
+            p.tait_b * ((rho / p.rho0).powf(p.tait_gamma) - 1.0) + p.background_pressure
         }
         _ => 0.0,
     }
@@ -32,14 +34,14 @@ pub fn pressure(p: &SphParams, kind: u8, rho: f32) -> f32 {
 /// number-density form rho_i = m_i sum_j W_ij (Hu & Adams 2006), which is eq. (8) exactly
 /// when the masses are equal, and does not smear density across a material interface.
 pub fn density<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
-    let summation = p.density_mode as u32 == MF_DENSITY_SUMMATION;
+    let summation = p.density_form as u32 == MF_DENSITY_SUMMATION;
     let (pos, kind, mass) = (&s.pos, &s.kind, &s.mass);
     s.rho
         .par_iter_mut()
         .zip(s.p.par_iter_mut())
         .enumerate()
         .for_each(|(i, (rho, pr))| {
-            if kind[i] as u32 == MF_KIND_BOUNDARY && p.wall_pressure == 0 {
+            if kind[i] as u32 == MF_KIND_BOUNDARY && p.wall_coupling == 0 {
                 return;
             }
             if summation {

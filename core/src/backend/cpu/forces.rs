@@ -38,7 +38,7 @@ pub fn artificial_viscosity(p: &SphParams, vr: f32, r2: f32, c_bar: f32, rho_bar
 /// m_j (mu_i + mu_j) / (rho_i rho_j) (r_ij . grad W) / (r^2 + 0.01 h^2) v_ij with mu = rho nu.
 #[inline]
 pub fn laminar(p: &SphParams, r2: f32, f: f32, rho_i: f32, rho_j: f32) -> f32 {
-    p.nu * (rho_i + rho_j) / (rho_i * rho_j) * (r2 * f) / (r2 + p.visc_eta2)
+    p.viscosity * (rho_i + rho_j) / (rho_i * rho_j) * (r2 * f) / (r2 + p.visc_eta2)
 }
 
 /// The no-slip factor beta of Morris, Fox & Zhu 1997 (J. Comput. Phys. 136, 214, boundary
@@ -104,7 +104,7 @@ pub fn cohesion_over_r(support: f32, rr: f32) -> f32 {
 }
 
 /// Whether a pair exchanges the whole stress sigma = -P I + S of eq. (16), or only its
-/// pressure part -P I (`[solid] interface`, `interface_stress`). By default only two
+/// pressure part -P I (`[solid] interface`, `interface`). By default only two
 /// particles of one body (or two fluid particles) do: an inviscid fluid carries no shear
 /// traction, so across a fluid-solid interface the fluid and the body meet through pressure
 /// alone (Antoci, Gallati & Sibilla 2007, Comput. Struct. 85, 879: the interface term is a
@@ -114,7 +114,7 @@ pub fn cohesion_over_r(support: f32, rr: f32) -> f32 {
 /// square apart within 0.3 time units of the water's impact (docs/paper-scenes.md).
 #[inline]
 pub fn whole_stress_pair(p: &SphParams, same_body: bool) -> bool {
-    same_body || p.interface_stress != 0
+    same_body || p.interface != 0
 }
 
 /// sigma_i / rho_i^2 + sigma_j / rho_j^2 of eqs. (7), (16) across a pair with a wall
@@ -241,7 +241,7 @@ impl<'a, D: Dim> ForceSum<'a, D> {
         *acc -= grad_w * (mass[j] * pi_ij);
         // Laminar viscosity wherever fluid meets fluid, a solid or a wall (no-slip; a
         // wall's velocity extrapolated under `no_slip`, Morris et al. 1997).
-        if p.nu > 0.0 && (ki as u32 == MF_KIND_FLUID || kj32 == MF_KIND_FLUID) {
+        if p.viscosity > 0.0 && (ki as u32 == MF_KIND_FLUID || kj32 == MF_KIND_FLUID) {
             let v_visc = laminar_velocity::<D>(p, self.surface, kj, id[j], r, vij);
             *acc += v_visc * (mass[j] * laminar(p, r2, fw, rhoi, rhoj));
         }
@@ -253,7 +253,7 @@ impl<'a, D: Dim> ForceSum<'a, D> {
         if let Some(r_art) = art {
             if bonded && ki as u32 == MF_KIND_SOLID {
                 // Gray, Monaghan & Swift 2001: f_ij^n (R_i + R_j) . grad W.
-                let fij = (kernel::w(p, rr) * p.inv_w_dx).powf(p.art_stress_n);
+                let fij = (kernel::w(p, rr) * p.inv_w_dx).powf(p.artificial_stress_exponent);
                 *acc += D::mat_vec(r_art[i] + r_art[j], grad_w) * (mass[j] * fij);
             }
         }

@@ -42,13 +42,13 @@ pub fn in_inflow_band<D: Dim>(p: &SphParams, kind: u8, x: D::V) -> bool {
 }
 
 /// The continuity density [M L^-d] of a particle of kind `kind` after its update: a dynamic
-/// wall particle's held at rho >= rho0 under `wall_rho_floor` (the DBC of DualSPHysics,
+/// wall particle's held at rho >= rho0 under `wall_density_floor` (the DBC of DualSPHysics,
 /// Crespo et al. 2007: "to prevent absorption of fluid particles by boundaries"), so a wall
 /// the water has left sits at p = 0 and pushes as soon as water comes back; unchanged
 /// otherwise. Twin: `sph_drift` in `cuda/integrate.cu`.
 #[inline]
 pub fn wall_density_floor(p: &SphParams, kind: u8, rho: f32) -> f32 {
-    if p.wall_rho_floor != 0 && kind as u32 == MF_KIND_BOUNDARY {
+    if p.wall_density_floor != 0 && kind as u32 == MF_KIND_BOUNDARY {
         rho.max(p.rho0)
     } else {
         rho
@@ -95,7 +95,7 @@ pub fn drift<D: Dim>(p: &SphParams, dt: f32, s: &mut State<D>) {
         }
     });
     if let Some(drho) = &s.drho {
-        // Dynamic wall particles (`wall_pressure`) take part; their d rho/dt is zero otherwise.
+        // Dynamic wall particles (`wall_coupling`) take part; their d rho/dt is zero otherwise.
         s.rho
             .par_iter_mut()
             .zip(drho.par_iter())

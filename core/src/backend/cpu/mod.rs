@@ -48,8 +48,8 @@ impl<D: Dim> CpuSolver<D> {
         let p = setup.params;
         let state = State::from_particles(
             &setup.particles,
-            p.density_mode as u32 == MF_DENSITY_CONTINUITY,
-            p.art_stress_eps > 0.0,
+            p.density_form as u32 == MF_DENSITY_CONTINUITY,
+            p.artificial_stress > 0.0,
         );
         CpuSolver {
             params: p,

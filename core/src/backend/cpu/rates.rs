@@ -1,5 +1,5 @@
 //! Rates from the current velocities: d rho/dt (continuity form, with the density diffusion
-//! of Molteni & Colagrossi 2009 where `delta_sph` > 0), the XSPH velocity of
+//! of Molteni & Colagrossi 2009 where `density_diffusion` > 0), the XSPH velocity of
 //! eq. (18) with the particle shifting velocity where `shifting` > 0 (`shift_velocity`), and
 //! the Jaumann stress rate of solids, eqs. (12)-(15). Taken after the kick
 //! in the symplectic integrator, so that density and stress see the new velocity (without
@@ -55,14 +55,17 @@ struct Rates<V, M> {
 /// diffusion in Antuono, Colagrossi, Marrone & Molteni 2010's form (Comput. Phys. Commun.
 /// 181, 532): (sum_j V_j (x_j - x_i) (x) grad_i W_ij)^-T sum_j V_j (rho_j - rho_i) grad_i
 /// W_ij over the neighbours of one body (solids, `[solid] density_diffusion`) or over the
-/// fluid (`delta_form` = Antuono), V_j = m_j / rho_j, exact for a linear density; zero for
+/// fluid (`density_diffusion_form` = Antuono), V_j = m_j / rho_j, exact for a linear density; zero for
 /// other particles and where the moment is singular. None unless `needs_density_gradient`.
 /// Twin: `sph_grad_rho` in cuda/rates.cu. [M L^-d L^-1]
 fn density_gradient<D: Dim>(p: &SphParams, grid: &Grid, s: &State<D>) -> Option<Vec<D::V>> {
     if !needs_density_gradient(p) {
         return None;
     }
-    let (fluid, solid) = (p.fluid_density_gradient != 0, p.solid_delta_sph > 0.0);
+    let (fluid, solid) = (
+        p.fluid_density_gradient != 0,
+        p.solid_density_diffusion > 0.0,
+    );
     let (pos, rho, mass, kind, group) = (&s.pos, &s.rho, &s.mass, &s.kind, &s.group);
     let g = (0..s.len())
         .into_par_iter()
@@ -108,7 +111,7 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 stress_rate: D::zero(),
             };
             let ki = kind[i];
-            if ki as u32 == MF_KIND_BOUNDARY && p.wall_pressure == 0 {
+            if ki as u32 == MF_KIND_BOUNDARY && p.wall_coupling == 0 {
                 return o;
             }
             let (vi, rhoi) = (vel[i], rho[i]);
@@ -119,8 +122,8 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
             // and between the particles of one body; walls and other materials have their
             // own rest densities, and diffusing across them would pull towards the wrong one.
             let (delta, c_i) = match ki as u32 {
-                MF_KIND_FLUID => (p.delta_sph, p.c0),
-                MF_KIND_SOLID => (p.solid_delta_sph, p.solid_c0),
+                MF_KIND_FLUID => (p.density_diffusion, p.c0),
+                MF_KIND_SOLID => (p.solid_density_diffusion, p.solid_c0),
                 _ => (0.0, 0.0),
             };
             let diffuse = delta > 0.0;
@@ -161,13 +164,13 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                     // psi_ij . grad W = 2 (rho_i - rho_j) r . grad W / r^2; [M L^-d L^-2], times delta h c0.
                     // Fourtakas et al. 2019: rho_i - rho_j less its hydrostatic part (fluid).
                     let mut drho_ij = rhoi - rho[j];
-                    if p.delta_form == MF_DIFFUSION_FOURTAKAS as i32 && !solid_i {
+                    if p.density_diffusion_form == MF_DIFFUSION_FOURTAKAS as i32 && !solid_i {
                         drho_ij += hydrostatic_rho_ji::<D>(p, r);
                     }
                     let mut psi = 2.0 * drho_ij * D::dot(r, grad_w) / r2;
                     if let Some(g) = &grad_rho {
                         // Antuono et al. 2010's correction (in a body; in the fluid where
-                        // `delta_form` says so, else both gradients are zero), which makes the
+                        // `density_diffusion_form` says so, else both gradients are zero), which makes the
                         // term vanish for a linear density (a bending plate's pressure across
                         // its thickness, water at rest) where the support is cut too: less
                         // (grad rho_i + grad rho_j) . grad W.
@@ -180,7 +183,7 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 }
                 let rho_bar = 0.5 * (rhoi + rho[j]);
                 // XSPH, eq. (18), within one material (one body for solids).
-                o.xsph -= vij * (p.xsph_eps * mass[j] / rho_bar * kernel::w(p, rr));
+                o.xsph -= vij * (p.xsph * mass[j] / rho_bar * kernel::w(p, rr));
                 if solid_i {
                     // Velocity gradient, eq. (15):
                     // dv^a/dx^b = sum_j m_j / rho_bar_ij (v_j - v_i)^a dW_ij/dx_i^b

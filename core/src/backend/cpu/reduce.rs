@@ -20,16 +20,16 @@ use crate::state::State;
 /// courant * min(h / (c + |v|max), sqrt(h / |a|max)), and `MF_VISCOUS_DT` h^2 / nu (0.125)
 /// with laminar viscosity; eq. (19) is the first bound. A fixed dt overrides all.
 pub fn step_size(p: &SphParams, c_max: f32, v_max: f32, a_max: f32) -> f32 {
-    if p.dt_fixed > 0.0 {
-        return p.dt_fixed;
+    if p.dt > 0.0 {
+        return p.dt;
     }
     let mut dt = p.h / (c_max + v_max); // eq. (19)
     if a_max > 0.0 {
         dt = dt.min((p.h / a_max).sqrt());
     }
     dt *= p.courant;
-    if p.nu > 0.0 {
-        dt = dt.min(MF_VISCOUS_DT as f32 * p.h * p.h / p.nu);
+    if p.viscosity > 0.0 {
+        dt = dt.min(MF_VISCOUS_DT as f32 * p.h * p.h / p.viscosity);
     }
     dt
 }

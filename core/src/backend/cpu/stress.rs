@@ -12,7 +12,7 @@ use crate::state::State;
 
 /// The artificial stress R of every solid particle (zero elsewhere), from sigma = -P I + S,
 /// eq. (11), at the current time level, or from S alone where the scene says so
-/// (`art_stress_deviatoric`, `[solid] artificial_stress_from = "deviatoric"`). Does nothing
+/// (`artificial_stress_from`, `[solid] artificial_stress_from = "deviatoric"`). Does nothing
 /// where it is switched off.
 pub fn update_artificial_stress<D: Dim>(p: &SphParams, s: &mut State<D>) {
     let (kind, rho, pr) = (&s.kind, &s.rho, &s.p);
@@ -24,7 +24,7 @@ pub fn update_artificial_stress<D: Dim>(p: &SphParams, s: &mut State<D>) {
         art.par_iter_mut().enumerate().for_each(|(i, r)| {
             *r = if kind[i] as u32 == MF_KIND_SOLID {
                 let sigma = stress[i] - D::identity() * art_pressure(p, pr[i]);
-                artificial_stress::<D>(sigma, rho[i], p.art_stress_eps)
+                artificial_stress::<D>(sigma, rho[i], p.artificial_stress)
             } else {
                 D::zero()
             };
@@ -39,7 +39,7 @@ pub fn update_artificial_stress<D: Dim>(p: &SphParams, s: &mut State<D>) {
 /// 16 and 32 rows (docs/accuracy.md, oscillating plate).
 #[inline]
 pub fn art_pressure(p: &SphParams, pr: f32) -> f32 {
-    if p.art_stress_deviatoric != 0 {
+    if p.artificial_stress_from != 0 {
         0.0
     } else {
         pr

@@ -124,7 +124,7 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     });
     // Continuity density without artificial stress: the reorder applies the equation of
     // state and the density pass has nothing left to do (`density` skips it).
-    let eos = p.density_mode as u32 == MF_DENSITY_CONTINUITY && b.art.is_none();
+    let eos = p.density_form as u32 == MF_DENSITY_CONTINUITY && b.art.is_none();
     let eos_arg = eos as u32;
     {
         let (c, a) = (&b.cur, &mut b.alt);
@@ -432,7 +432,7 @@ pub fn check(
     Ok(s.clone_dtoh(&b.first)?[0])
 }
 
-/// nvcc's (sizeof(SphParams), offsetof dt_fixed, offsetof gravity, p.dim as received).
+/// nvcc's (sizeof(SphParams), offsetof dt, offsetof gravity, p.dim as received).
 pub fn params_layout(
     k: &Kernels,
     s: &Arc<CudaStream>,

@@ -107,8 +107,8 @@ impl<D: Dim> CudaSolver<D> {
         let p = setup.params;
         let state = State::<D>::from_particles(
             &setup.particles,
-            p.density_mode as u32 == MF_DENSITY_CONTINUITY,
-            p.art_stress_eps > 0.0,
+            p.density_form as u32 == MF_DENSITY_CONTINUITY,
+            p.artificial_stress > 0.0,
         );
         let n = state.len();
         let buf = Buffers::new(
@@ -229,7 +229,7 @@ impl<D: Dim> CudaSolver<D> {
         }
     }
 
-    /// nvcc's view of SphParams: (sizeof, offsetof dt_fixed, offsetof gravity, dim received).
+    /// nvcc's view of SphParams: (sizeof, offsetof dt, offsetof gravity, dim received).
     pub fn params_layout(&mut self) -> [u32; 4] {
         launch::params_layout(
             &self.k,
