@@ -1,16 +1,7 @@
 //! The one parameter struct, `cuda/sph_params.h`, as Rust (bindgen, see `build.rs`), and
 //! `derive`, the one function that fills its derived fields.
-#[allow(
-    non_upper_case_globals,
-    non_camel_case_types,
-    non_snake_case,
-    dead_code,
-    clippy::all
-)]
-mod bindings {
-    include!(concat!(env!("OUT_DIR"), "/sph_params.rs"));
-}
-pub use bindings::*;
+pub mod sph_params;
+pub use sph_params::*;
 
 use crate::kernel;
 
