@@ -18,7 +18,7 @@ use meshfree_core::params::{
     MF_KIND_BOUNDARY,
 };
 use meshfree_core::particle::{Kind, Particle};
-use meshfree_core::scene::format::IntegratorChoice;
+use meshfree_core::scheme::IntegratorChoice;
 use meshfree_core::solver::{Setup, Solver};
 use meshfree_core::state::State;
 use meshfree_core::step::Stepper;

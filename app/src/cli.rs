@@ -10,8 +10,8 @@ use serde::Serialize;
 use crate::run::{self, Progress, RunOptions};
 use meshfree_core::backend::BackendChoice;
 use meshfree_core::named::Named;
-use meshfree_core::scene::format::IntegratorChoice;
 use meshfree_core::scene::{self, Counts, Scene};
+use meshfree_core::scheme::IntegratorChoice;
 
 /// The parser of a `Named` option: its values with their help in `--help`.
 fn named<T: Named>() -> impl TypedValueParser<Value = T> {

@@ -2,9 +2,10 @@
 //! with those settings keeps a tank bounded past where the first attempt blew up.
 
 use meshfree::run::{run, Progress, RunOptions};
-use meshfree_core::scene::format::{DensityForm, IntegratorChoice, SolidInterface, WallCoupling};
-use meshfree_core::scene::paper_exact::{alpha_for_viscosity, ALPHA_MIN, BETA, DT_FRACTION, XSPH};
+use meshfree_core::scene::paper_exact::{alpha_for_viscosity, ALPHA_MIN, DT_FRACTION};
 use meshfree_core::scene::{builtin_names, Scene};
+use meshfree_core::scheme::{DensityForm, IntegratorChoice, SolidInterface, WallCoupling};
+use meshfree_core::scheme::{PAPER_BETA as BETA, PAPER_XSPH as XSPH};
 
 #[test]
 fn the_transform_sets_exactly_the_paper_options() {

@@ -5,8 +5,8 @@
 //! at the scene's declared speed does not pass it.
 
 use meshfree::run::{run, Progress, RunError, RunOptions};
-use meshfree_core::scene::format::IntegratorChoice;
 use meshfree_core::scene::Scene;
+use meshfree_core::scheme::IntegratorChoice;
 
 fn tank(integrator: IntegratorChoice, courant: f64) -> Scene {
     let mut s = Scene::builtin("tank-2d")
@@ -127,7 +127,7 @@ fn stretched_elastic_strip_clumps_without_artificial_stress_and_not_with_it() {
 #[test]
 fn fluid_thrown_at_a_wall_at_the_declared_speed_does_not_pass_it() {
     use meshfree_core::particle::Kind;
-    use meshfree_core::scene::format::WallCoupling;
+    use meshfree_core::scheme::WallCoupling;
     for coupling in [WallCoupling::Dynamic, WallCoupling::LennardJonesOnly] {
         let mut s = Scene::builtin("dam-break-2d")
             .unwrap()

@@ -27,8 +27,53 @@ pub mod reference;
 
 pub use declare::{Check, Key, KeyDefault, Paper, Param, Refusal, Rule, Table};
 
-use crate::scene::paper_exact;
-use crate::scene::SceneFile;
+use serde::{Deserialize, Serialize};
+
+use crate::scene::format::{Domain, FluidBlock, Inflow, Monitor, SolidObject, Wall};
+
+/// [-] Quadratic artificial viscosity of the paper's own scheme (`--paper-exact`), eq. (10)
+/// (the paper's 0 < beta < 1).
+pub const PAPER_BETA: f64 = 0.0;
+/// [-] XSPH epsilon in the paper's own scheme, eq. (18) (Monaghan 1989's usual value).
+pub const PAPER_XSPH: f64 = 0.5;
+
+/// A whole scene file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// 2 or 3.
+    pub dimension: u32,
+    /// Short name, used for the default output directory `out/<name>`.
+    pub name: String,
+    /// One or two sentences. Default "".
+    #[serde(default)]
+    pub description: String,
+    /// [L/T^2] body force per unit mass, `dimension` numbers. Default zero.
+    #[serde(default)]
+    pub gravity: Option<Vec<f64>>,
+    pub domain: Domain,
+    pub discretisation: Discretisation,
+    pub time: Time,
+    pub fluid: FluidMaterial,
+    /// Needed only when the scene has solid objects.
+    #[serde(default)]
+    pub solid: Option<SolidMaterial>,
+    /// Lennard-Jones wall force, eq. (17). Needed only when the scene has walls.
+    #[serde(default)]
+    pub boundary: Option<BoundaryMaterial>,
+    #[serde(default)]
+    pub fluid_blocks: Vec<FluidBlock>,
+    #[serde(default)]
+    pub solids: Vec<SolidObject>,
+    #[serde(default)]
+    pub walls: Vec<Wall>,
+    /// A band whose fluid moves at a set velocity (a periodic channel's driver).
+    #[serde(default)]
+    pub inflow: Option<Inflow>,
+    /// Force monitors on wall objects (forces.csv, Strouhal number, Cd, Cl).
+    #[serde(default)]
+    pub monitors: Vec<Monitor>,
+}
 
 choice! {
     /// The smoothing kernel W of eqs. (1)-(4); both have support radius 2h.
@@ -245,7 +290,7 @@ table! {
         /// [-] artificial viscosity, quadratic term beta, eq. (10).
         beta: f64 {
             default: [0.0, "no viscosity the scene does not ask for"],
-            paper: [is paper_exact::BETA, "eq. (10) (docs/paper-scenes.md)"],
+            paper: [is PAPER_BETA, "eq. (10) (docs/paper-scenes.md)"],
             check: [NonNegative],
             param: [p.beta],
         },
@@ -259,7 +304,7 @@ table! {
         /// [-] XSPH epsilon, eq. (18).
         xsph: f64 {
             default: [0.0, "off: the velocity is the particles' own"],
-            paper: [is paper_exact::XSPH, "eq. (18) with Monaghan 1989's usual value; without it the paper-exact tank blows up (docs/paper-scenes.md)"],
+            paper: [is PAPER_XSPH, "eq. (18) with Monaghan 1989's usual value; without it the paper-exact tank blows up (docs/paper-scenes.md)"],
             check: [Fraction("eq. 18")],
             param: [p.xsph],
         },

@@ -10,8 +10,8 @@ use meshfree_core::backend::cpu::CpuSolver;
 use meshfree_core::backend::cpu_solver;
 use meshfree_core::dim::D2;
 use meshfree_core::particle::{Kind, Particle};
-use meshfree_core::scene::format::DiffusionForm;
 use meshfree_core::scene::Scene;
+use meshfree_core::scheme::DiffusionForm;
 use meshfree_core::solver::Solver;
 use meshfree_core::step::Stepper;
 

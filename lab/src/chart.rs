@@ -23,8 +23,8 @@ use crate::stability::cases;
 use crate::stability::sweep::Base;
 use crate::validate::{cylinder, taylor_green, Ctx, Tier};
 use meshfree_core::backend::BackendChoice;
-use meshfree_core::scene::format::{DensityForm, DiffusionForm, IntegratorChoice, KernelChoice};
 use meshfree_core::scene::Scene;
+use meshfree_core::scheme::{DensityForm, DiffusionForm, IntegratorChoice, KernelChoice};
 
 /// The cylinder's run length in D / U: the kicked wake sheds from t U / D ~ 30; the
 /// Strouhal number comes from the second half.

@@ -7,8 +7,8 @@ mod common;
 
 use meshfree_core::backend::cpu_solver;
 use meshfree_core::particle::Kind;
-use meshfree_core::scene::format::NoSlip;
 use meshfree_core::scene::Scene;
+use meshfree_core::scheme::NoSlip;
 use meshfree_core::step::Stepper;
 use meshfree_lab::validate::poiseuille::{self, Walls, MORRIS, WALL_VELOCITY};
 

@@ -1,56 +1,13 @@
 //! The scene file format: serde structs for TOML (`#[serde(deny_unknown_fields)]` on every
 //! table, string-tagged enums in kebab-case). The scheme's tables (`[discretisation]`,
 //! `[time]`, `[fluid]`, `[solid]`, `[boundary]`) and their choices are declared in
-//! `crate::scheme`, key by key, and re-exported here; this file holds the scene's geometry
-//! and objects. Every key, its default and the paper's value: `docs/reference/scene.md`
+//! `crate::scheme`, key by key, with the whole file's struct `SceneFile`; this file holds
+//! the scene's geometry and objects. Every key, its default and the paper's value: `docs/reference/scene.md`
 //! (`meshfree scenes --reference`).
 //!
 //! Arrays of coordinates hold exactly `dimension` numbers; the checks are in `validate.rs`.
 
 use serde::{Deserialize, Serialize};
-
-pub use crate::scheme::{
-    ArtStressFrom, BoundaryMaterial, DensityForm, DiffusionForm, Discretisation, FluidMaterial,
-    IntegratorChoice, KernelChoice, NoSlip, SolidInterface, SolidMaterial, Time, WallCoupling,
-};
-
-/// A whole scene file.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SceneFile {
-    /// 2 or 3.
-    pub dimension: u32,
-    /// Short name, used for the default output directory `out/<name>`.
-    pub name: String,
-    /// One or two sentences. Default "".
-    #[serde(default)]
-    pub description: String,
-    /// [L/T^2] body force per unit mass, `dimension` numbers. Default zero.
-    #[serde(default)]
-    pub gravity: Option<Vec<f64>>,
-    pub domain: Domain,
-    pub discretisation: Discretisation,
-    pub time: Time,
-    pub fluid: FluidMaterial,
-    /// Needed only when the scene has solid objects.
-    #[serde(default)]
-    pub solid: Option<SolidMaterial>,
-    /// Lennard-Jones wall force, eq. (17). Needed only when the scene has walls.
-    #[serde(default)]
-    pub boundary: Option<BoundaryMaterial>,
-    #[serde(default)]
-    pub fluid_blocks: Vec<FluidBlock>,
-    #[serde(default)]
-    pub solids: Vec<SolidObject>,
-    #[serde(default)]
-    pub walls: Vec<Wall>,
-    /// A band whose fluid moves at a set velocity (a periodic channel's driver).
-    #[serde(default)]
-    pub inflow: Option<Inflow>,
-    /// Force monitors on wall objects (forces.csv, Strouhal number, Cd, Cl).
-    #[serde(default)]
-    pub monitors: Vec<Monitor>,
-}
 
 /// Coordinate axis names.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -27,6 +27,7 @@ use std::collections::HashMap;
 
 use super::format::*;
 use crate::particle::{Kind, Particle};
+use crate::scheme::*;
 
 type P3 = [f64; 3];
 

@@ -3,7 +3,8 @@
 //! Every key with its default, the paper's value and its check is in
 //! `docs/reference/scene.md`, generated from `crate::scheme` (the scheme's tables) and
 //! `format.rs` (geometry and objects) by `meshfree scenes --reference`; the built-in scenes
-//! comment each value with its reason. `format.rs`: the serde structs; `validate.rs`: the
+//! comment each value with its reason. `format.rs`: the serde structs of the geometry and
+//! objects (`SceneFile` itself is `crate::scheme`'s); `validate.rs`: the
 //! checks serde cannot make; `generate.rs`: how shapes become particles and how overlaps are
 //! resolved; `paper_exact.rs`: the map to the paper's own scheme.
 
@@ -15,8 +16,8 @@ mod validate;
 
 use std::path::{Path, PathBuf};
 
+pub use crate::scheme::SceneFile;
 pub use error::SceneError;
-pub use format::SceneFile;
 
 use crate::params::{self, SphParams};
 use crate::particle::{Kind, Particle};

@@ -15,13 +15,9 @@ use crate::scheme;
 /// [-] Lowest linear artificial viscosity, eq. (10): forward Euler amplifies an undamped
 /// oscillation every step, and alpha damps it.
 pub const ALPHA_MIN: f64 = 0.3;
-/// [-] Quadratic artificial viscosity, eq. (10) (the paper's 0 < beta < 1).
-pub const BETA: f64 = 0.0;
 /// [-] The fixed step as a fraction of h / c, eq. (19) (dt < h / c), c the largest sound
 /// speed of the scene (fluid or solid).
 pub const DT_FRACTION: f64 = 0.05;
-/// [-] XSPH epsilon, eq. (18) (Monaghan 1989's usual value).
-pub const XSPH: f64 = 0.5;
 
 /// [-] The linear artificial viscosity with the effective kinematic viscosity nu [L^2/T]:
 /// nu = alpha h c / 8 in 2D, alpha h c / 10 in 3D (Monaghan 2005, Rep. Prog. Phys. 68, 1703).

@@ -5,6 +5,7 @@
 
 use super::format::*;
 use super::SceneError;
+use crate::scheme::*;
 
 type R = Result<(), SceneError>;
 

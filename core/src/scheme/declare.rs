@@ -8,8 +8,8 @@
 //! with its position), then `TryFrom` fills in each absent key's declared default, or
 //! refuses a missing required one with serde's own words (`missing field `end``).
 
+use super::SceneFile;
 use crate::params::SphParams;
-use crate::scene::SceneFile;
 
 /// One key of a scheme table (`[discretisation]`, `[time]`, `[fluid]`, `[solid]`,
 /// `[boundary]`), as declared in `scheme.rs`.
@@ -430,16 +430,16 @@ macro_rules! table {
                 },
             )*];
             type Raw = $at::Raw;
-            fn of(s: &$crate::scene::SceneFile) -> Option<&Self> {
+            fn of(s: &$crate::scheme::SceneFile) -> Option<&Self> {
                 table!(@of s $at $($optional)?)
             }
-            fn of_mut(s: &mut $crate::scene::SceneFile) -> Option<&mut Self> {
+            fn of_mut(s: &mut $crate::scheme::SceneFile) -> Option<&mut Self> {
                 table!(@of_mut s $at $($optional)?)
             }
             #[allow(unused_variables)]
             fn write_params(
                 &self,
-                s: &$crate::scene::SceneFile,
+                s: &$crate::scheme::SceneFile,
                 p: &mut $crate::params::SphParams,
             ) {
                 $(table!(@write s p self $field $param);)*

@@ -5,8 +5,8 @@ use meshfree_core::params::{
     self, SphParams, MF_DENSITY_CONTINUITY, MF_INTEGRATOR_SYMPLECTIC_EULER,
 };
 use meshfree_core::particle::{Kind, Particle};
-use meshfree_core::scene::format::NoSlip;
 use meshfree_core::scene::Scene;
+use meshfree_core::scheme::NoSlip;
 
 /// Parameters for spacing `dx` in `dim` dimensions over the box [lo, hi].
 pub fn params(dim: i32, dx: f32, lo: [f32; 3], hi: [f32; 3], periodic: [i32; 3]) -> SphParams {
