@@ -235,7 +235,7 @@ fn ptx(out: &Path) {
         let mut cmd = Command::new(&nvcc);
         // -ftz=true: denormal floats flush to zero, so that a reciprocal, reciprocal root or
         // division in the pair sums is one instruction, not a range test and rescale around it
-        // (3D step 8 % shorter on the H100, docs/performance.md, "-ftz=true"). No SPH quantity
+        // (3D step 8 % shorter on the H100, docs/reference/performance.md, "-ftz=true"). No SPH quantity
         // of a scene comes near 1e-38 in SI units; the parity tests hold unchanged.
         cmd.args([
             "--ptx",

@@ -3,7 +3,7 @@
 //! support 2h, h = 1.3 dx, f32, continuity density, dynamic walls; symplectic Euler or the
 //! paper's forward Euler (`BenchOptions::integrator`; every row names its scheme). Nothing is read back inside the timed
 //! steps; each repeat ends with one read-back of the simulated time (a synchronisation).
-//! Results: `docs/performance.md`.
+//! Results: `docs/reference/performance.md`.
 
 use std::path::Path;
 use std::time::Instant;

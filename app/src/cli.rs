@@ -179,7 +179,7 @@ pub struct PaperBenchArgs {
     #[arg(long, num_args = 1..=2, value_names = ["A.json", "B.json"],
           conflicts_with_all = ["t_end_fraction", "t_end", "scenes", "paper_exact"])]
     pub table: Vec<PathBuf>,
-    /// With --table: also write the table as Markdown here (e.g. docs/paper-table1.md).
+    /// With --table: also write the table as Markdown here (e.g. docs/reference/paper-table1.md).
     #[arg(long, value_name = "MD", requires = "table")]
     pub markdown: Option<PathBuf>,
     /// No progress output.
@@ -215,7 +215,7 @@ pub struct ViewArgs {
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Use only the paper's own equations: summation density, forward Euler at a fixed
-    /// step, artificial viscosity only, Lennard-Jones walls (docs/paper-scenes.md).
+    /// step, artificial viscosity only, Lennard-Jones walls (docs/reference/paper-scenes.md).
     #[arg(long)]
     pub paper_exact: bool,
     /// Replace the scene's particle spacing (more or fewer particles; the wall strength
@@ -264,7 +264,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "DX")]
     pub spacing: Option<f64>,
     /// Use only the paper's own equations: summation density, forward Euler at a fixed
-    /// step, artificial viscosity only, Lennard-Jones walls (docs/paper-scenes.md).
+    /// step, artificial viscosity only, Lennard-Jones walls (docs/reference/paper-scenes.md).
     #[arg(long)]
     pub paper_exact: bool,
     /// With --frames: solver steps between frames instead of even times, and a timing line
@@ -310,7 +310,7 @@ pub struct RunArgs {
     #[arg(long, value_name = "T")]
     pub output_interval: Option<f64>,
     /// Use only the paper's own equations: summation density, forward Euler at a fixed
-    /// step, artificial viscosity only, Lennard-Jones walls (docs/paper-scenes.md).
+    /// step, artificial viscosity only, Lennard-Jones walls (docs/reference/paper-scenes.md).
     #[arg(long)]
     pub paper_exact: bool,
     /// No progress output; only errors (and the final line on stdout).
@@ -697,10 +697,14 @@ pub struct DocsArgs {
     #[arg(long, value_name = "JSON")]
     pub bench: Vec<PathBuf>,
     /// The accuracy page.
-    #[arg(long, value_name = "MD", default_value = "docs/accuracy.md")]
+    #[arg(long, value_name = "MD", default_value = "docs/reference/accuracy.md")]
     pub accuracy: PathBuf,
     /// The performance page.
-    #[arg(long, value_name = "MD", default_value = "docs/performance.md")]
+    #[arg(
+        long,
+        value_name = "MD",
+        default_value = "docs/reference/performance.md"
+    )]
     pub performance: PathBuf,
 }
 

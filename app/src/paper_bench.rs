@@ -4,7 +4,7 @@
 //! `PAPER_TABLE1`; a missing one is skipped with its reason) to its end time, or a fraction
 //! of it, on one backend, and writes `paper-bench.json` (`PaperBench`). The GPU run happens
 //! on another machine; `merge` then joins a CPU and a GPU file into the full table
-//! (`Table1Row`), which `markdown` writes to `docs/paper-table1.md`. A run that stopped short
+//! (`Table1Row`), which `markdown` writes to `docs/reference/paper-table1.md`. A run that stopped short
 //! of the scene's end time is extrapolated per step to the whole run, and the table says so.
 
 use std::path::Path;
@@ -454,15 +454,15 @@ pub fn text_table(rows: &[Table1Row]) -> String {
     s
 }
 
-/// The merged table as `docs/paper-table1.md`.
+/// The merged table as `docs/reference/paper-table1.md`.
 pub fn markdown(rows: &[Table1Row], cpu: Option<&PaperBench>, gpu: Option<&PaperBench>) -> String {
     let mut s = String::from(
         "# The paper's Table 1 beside ours\n\n\
-         Written by `meshfree bench paper --table CPU.json GPU.json --markdown docs/paper-table1.md`\n\
+         Written by `meshfree bench paper --table CPU.json GPU.json --markdown docs/reference/paper-table1.md`\n\
          from the runs' `paper-bench.json` (kept in `docs/data/`). Times are whole runs in\n\
          seconds (set-up, steps and four outputs). The paper gives neither step counts nor end\n\
          times, so its times compare with ours only as whole-scene figures; our scenes and\n\
-         end times are those of `docs/paper-scenes.md`. To fill or renew it: `meshfree bench\n\
+         end times are those of `docs/reference/paper-scenes.md`. To fill or renew it: `meshfree bench\n\
          paper --backend cuda --out DIR` on the GPU machine, `--backend cpu` here (with\n\
          `--t-end-fraction F` where the whole run is too long), then this command.\n\n",
     );

@@ -124,7 +124,7 @@ fn impinging_2d_bodies_fall_then_the_surge_pushes_and_spins_the_square() {
     );
 
     // After the hit the square stays whole (the paper's eq. (16) across the interface tore
-    // it apart within 0.3: docs/paper-scenes.md): its size (sum of m / rho) and radius of
+    // it apart within 0.3: docs/reference/paper-scenes.md): its size (sum of m / rho) and radius of
     // gyration stay within a few per cent, and no particle passes a wall.
     while t < t_hit + 1.0 {
         t += 0.1;

@@ -1,7 +1,7 @@
 //! The built-in `nozzle` scene (the paper's unsteady nozzle flow, issue #3) on a short CPU
 //! run: the particle count of Table 1, the jet speed at the exit against continuity, and a
 //! boundary layer in the channel. The full run's jet break-up (cluster counts) is reported
-//! in docs/paper-scenes.md (`meshfree run nozzle`).
+//! in docs/reference/paper-scenes.md (`meshfree run nozzle`).
 
 use meshfree::analysis::clusters;
 use meshfree_core::backend::cpu_solver;
@@ -65,7 +65,7 @@ fn jet_speed_follows_continuity_and_the_channel_has_a_boundary_layer() {
     // 25 %: at t = 0.04 the start-up transient is not over (the reservoir's pressure builds
     // against the viscous channel over an acoustic time 2 L / c0 = 0.07; measured 33.5 at
     // the exit here, 47.5 at t = 0.1 and 48 at t = 0.15 in the full run, whose channel mean
-    // is then 41.5: docs/paper-scenes.md).
+    // is then 41.5: docs/reference/paper-scenes.md).
     assert!(
         (jet - 40.0).abs() < 0.25 * 40.0,
         "jet speed {jet}, continuity 40"

@@ -82,7 +82,7 @@ fn a_laminar_viscosity_becomes_the_artificial_viscosity_of_the_same_nu() {
 #[test]
 fn a_paper_exact_tank_stays_bounded_past_where_the_first_attempt_blew_up() {
     // The first attempt (alpha = 0.02, forward Euler, summation density) blew up within
-    // 50-550 steps; at dt = 0.1 h / c0 it still does, at step 820 (docs/paper-scenes.md).
+    // 50-550 steps; at dt = 0.1 h / c0 it still does, at step 820 (docs/reference/paper-scenes.md).
     const STEPS: u64 = 800;
     let s = Scene::builtin("tank-2d")
         .unwrap()

@@ -1,5 +1,5 @@
 //! An isolated elastic square hit by a block of water: the small reproduction of the
-//! impinging-2d break-up (docs/paper-scenes.md, "Resolved: the square's break-up"). The
+//! impinging-2d break-up (docs/reference/paper-scenes.md, "Resolved: the square's break-up"). The
 //! square is the impinging scene's (8 x 8 particles at dx = 0.375, density 0.6, c_s = 85,
 //! G = 1080), the water (density 1.0) arrives at speed 6 as in the surge; no walls, no
 //! gravity. With the paper's eq. (16) across every pair the square comes apart within

@@ -1,7 +1,7 @@
 //! The paper's vortex-street scenes (section 3.2): particle counts, Reynolds numbers and
 //! blockage of the built-ins, and a short coarse run of the Re 140 scene through the run
 //! driver (inflow band, drag, lift, forces.csv, summary.json). The shedding itself needs
-//! the full run (t = 20, GPU): docs/paper-scenes.md.
+//! the full run (t = 20, GPU): docs/reference/paper-scenes.md.
 
 use meshfree::run::{self, Progress, RunOptions};
 use meshfree_core::particle::Kind;

@@ -219,7 +219,7 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct ForceSum {
         if constexpr (L == 1) {
             // One lane per particle (large systems): per warp, not per block, so that no
             // warp waits at a barrier for the slowest of its block (H100, 4M: forward Euler
-            // steps 0.6-0.8 % shorter, docs/performance.md).
+            // steps 0.6-0.8 % shorter, docs/reference/performance.md).
             vmax = warp_max(vmax);
             amax = warp_max(amax);
             cmax = warp_max(cmax);

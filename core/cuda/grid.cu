@@ -105,7 +105,7 @@ __device__ __forceinline__ unsigned cell_start_of(const unsigned* __restrict__ l
 // build's 1. The particles are in the last build's cell order, so most lanes of a warp share
 // a cell with the lane before: each run of equal cells takes its slots with one atomic,
 // from its first lane (__match_any_sync, which would also join runs that are apart,
-// measured slower than one atomic per particle on the H100, docs/performance.md).
+// measured slower than one atomic per particle on the H100, docs/reference/performance.md).
 extern "C" __global__ void __launch_bounds__(MF_BLOCK)
 sph_grid_scatter(unsigned n, const unsigned* __restrict__ cell, const unsigned* __restrict__ local,
                  const unsigned* __restrict__ bsum, unsigned* __restrict__ count, unsigned* __restrict__ order) {

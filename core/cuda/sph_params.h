@@ -121,7 +121,7 @@ typedef struct SphParams {
     int32_t artificial_stress_from; /* 1: the artificial stress is taken from the deviatoric
                                       stress S alone, without the pressure of the continuity
                                       density, whose part drove a particle-scale density mode
-                                      in a fine plate (docs/accuracy.md); 0: from the whole
+                                      in a fine plate (docs/reference/accuracy.md); 0: from the whole
                                       sigma = -P I + S (Gray et al. 2001), the default */
 
     /* ---- boundary particles: eq. (17) ---- */

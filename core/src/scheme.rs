@@ -162,7 +162,7 @@ choice! {
     /// How dynamic walls enter the laminar viscosity.
     pub enum NoSlip {
         /// With the wall particles' own velocity (zero, or a driven wall's): the wall slips
-        /// by O(dx) (docs/accuracy.md, Poiseuille).
+        /// by O(dx) (docs/reference/accuracy.md, Poiseuille).
         WallVelocity = "wall-velocity" => MF_NO_SLIP_WALL_VELOCITY,
         /// Morris, Fox & Zhu 1997: for the viscous term only, wall particle B takes the
         /// velocity v_w - (d_B / d_A) (v_A - v_w) extrapolated across the wall surface from
@@ -226,7 +226,7 @@ table! {
         /// [T] fixed time step.
         dt: Option<f64> {
             default: [absent "adaptive: the CFL limit, eq. (19), with the force and viscous limits"],
-            paper: [from "0.05 h / c (`paper_exact::DT_FRACTION`), c the largest sound speed, fluid or solid: eq. (19) asks dt < h / c, and forward Euler grows every undamped oscillation (docs/paper-scenes.md)"],
+            paper: [from "0.05 h / c (`paper_exact::DT_FRACTION`), c the largest sound speed, fluid or solid: eq. (19) asks dt < h / c, and forward Euler grows every undamped oscillation (docs/reference/paper-scenes.md)"],
             check: [Positive],
             param: [p.dt = |_: &SceneFile, dt: &Option<f64>| dt.unwrap_or(0.0) as f32],
         },
@@ -275,7 +275,7 @@ table! {
         },
         /// How the density is found.
         density_form: DensityForm {
-            default: [DensityForm::Continuity, "the summation falls short at a free surface and a wall, where the Tait pressure then holds the surface like a skin (docs/paper-scenes.md)"],
+            default: [DensityForm::Continuity, "the summation falls short at a free surface and a wall, where the Tait pressure then holds the surface like a skin (docs/reference/paper-scenes.md)"],
             paper: [is DensityForm::Summation, "eq. (8)"],
             check: [Any],
             param: [p.density_form],
@@ -283,14 +283,14 @@ table! {
         /// [-] artificial viscosity, linear term alpha, eq. (10).
         alpha: f64 {
             default: [0.0, "no viscosity the scene does not ask for"],
-            paper: [from "max(the scene's alpha, the alpha of its viscosity: nu = alpha h c / 8 in 2D, / 10 in 3D (Monaghan 2005), `paper_exact::ALPHA_MIN` = 0.3): alpha damps forward Euler's growth (docs/paper-scenes.md)"],
+            paper: [from "max(the scene's alpha, the alpha of its viscosity: nu = alpha h c / 8 in 2D, / 10 in 3D (Monaghan 2005), `paper_exact::ALPHA_MIN` = 0.3): alpha damps forward Euler's growth (docs/reference/paper-scenes.md)"],
             check: [NonNegative],
             param: [p.alpha],
         },
         /// [-] artificial viscosity, quadratic term beta, eq. (10).
         beta: f64 {
             default: [0.0, "no viscosity the scene does not ask for"],
-            paper: [is PAPER_BETA, "eq. (10) (docs/paper-scenes.md)"],
+            paper: [is PAPER_BETA, "eq. (10) (docs/reference/paper-scenes.md)"],
             check: [NonNegative],
             param: [p.beta],
         },
@@ -304,7 +304,7 @@ table! {
         /// [-] XSPH epsilon, eq. (18).
         xsph: f64 {
             default: [0.0, "off: the velocity is the particles' own"],
-            paper: [is PAPER_XSPH, "eq. (18) with Monaghan 1989's usual value; without it the paper-exact tank blows up (docs/paper-scenes.md)"],
+            paper: [is PAPER_XSPH, "eq. (18) with Monaghan 1989's usual value; without it the paper-exact tank blows up (docs/reference/paper-scenes.md)"],
             check: [Fraction("eq. 18")],
             param: [p.xsph],
         },
@@ -393,7 +393,7 @@ table! {
         },
         /// What a body exchanges with the fluid, walls and other bodies.
         interface: SolidInterface {
-            default: [SolidInterface::Pressure, "the whole stress across the interface tore the impinging square apart (docs/paper-scenes.md)"],
+            default: [SolidInterface::Pressure, "the whole stress across the interface tore the impinging square apart (docs/reference/paper-scenes.md)"],
             paper: [is SolidInterface::Stress, "eq. (16)"],
             check: [Any],
             param: [p.interface],
@@ -480,7 +480,7 @@ table! {
             param: [p.no_slip],
         },
         /// [-] Cap of Morris's beta = 1 + d_B / d_A, which binds on the first fluid row of
-        /// a lattice (d_A = dx/2); 4 does not within the support (docs/accuracy.md,
+        /// a lattice (d_A = dx/2); 4 does not within the support (docs/reference/accuracy.md,
         /// Poiseuille). The viscous step limit does not count beta.
         no_slip_beta_max: f64 {
             default: [1.5, "Morris, Fox & Zhu 1997"],
@@ -493,7 +493,7 @@ table! {
         /// density), so still water starts in equilibrium with its walls. For water that
         /// stays; where the water leaves a wall (a dam break) the wall keeps that pressure,
         /// since the continuity density of a wall changes only with the fluid's motion (the
-        /// dam break's full tier blew up at dx = 0.01 with it, docs/accuracy.md).
+        /// dam break's full tier blew up at dx = 0.01 with it, docs/reference/accuracy.md).
         hydrostatic_walls: bool {
             default: [false, "walls start at rho0, p = 0: walls the water leaves would keep the column's pressure"],
             paper: [is false, "inert: the paper's walls carry no pressure"],
@@ -506,7 +506,7 @@ table! {
         /// back wall fell to 0.73 rho0, p = -2.5e5 Pa): it pulls on nothing
         /// (`wall_pair_stress`), but it is soft to the water that comes back until that has
         /// compressed it by a quarter, and the column rang with particle-scale pressure
-        /// noise (docs/accuracy.md, dam break).
+        /// noise (docs/reference/accuracy.md, dam break).
         wall_density_floor: bool {
             default: [false, "the other cases' results unchanged; on in the dam break"],
             paper: [is false, "inert: the paper's walls carry no density"],

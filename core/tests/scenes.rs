@@ -72,7 +72,7 @@ fn min_distance(ps: &[Particle]) -> f32 {
 
 /// `[boundary] hydrostatic_walls` is off by default: the dam break's walls start at rho0,
 /// p = 0 under its hydrostatic column (with it, the walls the water leaves keep the column's
-/// pressure: docs/accuracy.md); the still tank opts in (`tank_2d_particles`).
+/// pressure: docs/reference/accuracy.md); the still tank opts in (`tank_2d_particles`).
 #[test]
 fn dam_break_walls_start_at_rest() {
     let setup = Scene::builtin("dam-break-2d").unwrap().setup().unwrap();
@@ -92,7 +92,7 @@ fn dam_break_walls_start_at_rest() {
     }
 }
 
-/// `[boundary] wall_density_floor` is off by default and on in the dam break (docs/accuracy.md:
+/// `[boundary] wall_density_floor` is off by default and on in the dam break (docs/reference/accuracy.md:
 /// unclamped, the walls the water leaves fall to 0.73 rho0 and the column rings).
 #[test]
 fn wall_density_floor_only_where_asked() {

@@ -104,7 +104,7 @@ fn a_resting_tank_with_shifting_stays_at_rest() {
     };
     let rise = top(&end) - top(&start);
     // Away from the walls (the contact lines, where the walls above the water fill part of
-    // the support, rearrange by up to 0.8 dx: docs/accuracy.md) no particle moves.
+    // the support, rearrange by up to 0.8 dx: docs/reference/accuracy.md) no particle moves.
     let support = 2.6 * dx;
     let drift = start
         .iter()

@@ -2,7 +2,7 @@
 //! from the whole stress sigma = -P I + S (default) or from the deviatoric stress S alone
 //! (`artificial_stress_from`, `art_pressure` in cpu/stress.rs). With eps 0.3 of the whole
 //! stress a particle-scale (odd-even) pressure mode grows from the start in a finely
-//! resolved bending plate (docs/accuracy.md, oscillating plate at H / dx = 32); from S alone
+//! resolved bending plate (docs/reference/accuracy.md, oscillating plate at H / dx = 32); from S alone
 //! R is smaller and the mode stays with the bending. Density diffusion inside the body
 //! (`[solid] density_diffusion`, the oscillating-plate case's 0.02) keeps it down too.
 
@@ -87,7 +87,7 @@ fn deviatoric_artificial_stress_keeps_the_particle_scale_pressure_mode_down() {
 fn density_diffusion_within_the_body_damps_the_particle_scale_pressure_mode() {
     // Measured (release, this test's set-up): 0.76 without, 0.099 with the plate case's
     // delta = 0.02 (Antuono et al.'s form; the plain form, 0.1: 0.058, but it damps the
-    // bending too, docs/accuracy.md).
+    // bending too, docs/reference/accuracy.md).
     let whole = pressure_noise("");
     let diffused = pressure_noise(&format!("density_diffusion = {}", plate::SOLID_DIFFUSION));
     eprintln!("noise / bending: whole stress {whole:.3}, with density diffusion {diffused:.3}");

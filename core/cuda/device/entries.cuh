@@ -17,7 +17,7 @@
     ENTRY(name##_lean_##L##_3d, 3, false, false, L)
 
 // Blocks of MF_BLOCK per SM that the fluid-only forces, rates and fused kernels are bounded
-// to (4: 64 registers; 3 was slower, docs/performance.md).
+// to (4: 64 registers; 3 was slower, docs/reference/performance.md).
 #ifndef MF_FLUID_BLOCKS
 #define MF_FLUID_BLOCKS 4
 #endif

@@ -88,7 +88,7 @@ __device__ __forceinline__ void call_neighbour(const SphParams& p, const float* 
 }
 
 // Candidates per batch in the neighbour loops (batch_accept, queued_neighbours): their
-// position loads are in flight together. 4 (H100, 4M, docs/performance.md: with
+// position loads are in flight together. 4 (H100, 4M, docs/reference/performance.md: with
 // the queue, 8 spilled the batch at 64 registers and was 24 % slower in 3D, 2 was 1.5 %
 // slower).
 #ifndef MF_NB_BATCH
@@ -114,7 +114,7 @@ __device__ __forceinline__ void for_each_neighbor_split(const SphParams& p, cons
 // MF_QUEUE entries (first candidate, mask of the accepted ones among the 32 from there) per
 // thread in shared memory, entry e of thread t at [e * MF_BLOCK + t]; MF_QUEUE 0: no queue
 // (batch_accept's pair sums after each batch). 8 entries of 8 B: 16 KB per block of 256; more
-// takes L1 cache from the candidate loads and was slower (docs/performance.md).
+// takes L1 cache from the candidate loads and was slower (docs/reference/performance.md).
 #ifndef MF_QUEUE
 #define MF_QUEUE 8
 #endif

@@ -20,7 +20,7 @@ pub fn couples(p: &SphParams, kj: u8) -> bool {
 /// enters the other's density (continuity or summation). A body that meets only the fluid
 /// and other bodies: the free end of a gate standing on the tank floor, whose continuity
 /// density read the foot leaving the floor's wall particles as a dilatation
-/// (docs/accuracy.md, elastic gate).
+/// (docs/reference/accuracy.md, elastic gate).
 #[inline]
 pub fn meets(p: &SphParams, ki: u8, kj: u8) -> bool {
     let (s, b) = (MF_KIND_SOLID, MF_KIND_BOUNDARY);

@@ -92,7 +92,7 @@ pub struct SphParams {
     pub interface: i32,
     #[doc = " 1: solid and wall particles meet (the Lennard-Jones force,\neq. (17), the wall pressure, each in the other's density sum),\nthe default; 0: they skip each other, both ways: a body that\nmeets only the fluid and other bodies (e.g. the free end of a\ngate on the tank floor). A zeroed struct must set it to 1"]
     pub wall_contact: i32,
-    #[doc = " 1: the artificial stress is taken from the deviatoric\nstress S alone, without the pressure of the continuity\ndensity, whose part drove a particle-scale density mode\nin a fine plate (docs/accuracy.md); 0: from the whole\nsigma = -P I + S (Gray et al. 2001), the default"]
+    #[doc = " 1: the artificial stress is taken from the deviatoric\nstress S alone, without the pressure of the continuity\ndensity, whose part drove a particle-scale density mode\nin a fine plate (docs/reference/accuracy.md); 0: from the whole\nsigma = -P I + S (Gray et al. 2001), the default"]
     pub artificial_stress_from: i32,
     #[doc = " [L/T^2] C0, strength of the Lennard-Jones force"]
     pub lj_c0: f32,

@@ -12,7 +12,7 @@ pub const BINDINGS_SOURCE: &str = env!("MESHFREE_BINDINGS_SOURCE");
 /// viscosity, cohesion, Morris's no-slip walls, density diffusion or shifting. Fluid-only
 /// scenes where this holds run the lean CUDA kernels (`EXTRAS = false` in cuda/forces.cuh
 /// and cuda/rates.cuh), which compile those terms out instead of testing them per pair: the
-/// same results with fewer registers and branches (docs/performance.md, "lean fluid kernels").
+/// same results with fewer registers and branches (docs/reference/performance.md, "lean fluid kernels").
 pub fn lean_scheme(p: &SphParams) -> bool {
     p.viscosity <= 0.0
         && p.cohesion == 0.0

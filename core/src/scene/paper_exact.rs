@@ -5,7 +5,7 @@
 //! body's whole stress across every pair (eq. (16)), and none of the terms beyond the paper
 //! (artificial stress, density diffusion, particle shifting, cohesion, background pressure,
 //! no-slip walls). The values the paper leaves open (alpha, beta, the step, XSPH epsilon)
-//! come from the parameter study in `docs/paper-scenes.md` (section `--paper-exact`):
+//! come from the parameter study in `docs/reference/paper-scenes.md` (section `--paper-exact`):
 //! forward Euler grows every undamped oscillation, so the paper's low-Mach advice
 //! (alpha = 0, 0 < beta < 1) blows a resting tank up, and alpha has a floor.
 

@@ -29,7 +29,7 @@ are the scene's own (the built-ins are SI or dimensionless like the paper's): [L
 own scheme: every *switch* of the scheme's tables takes the value in the `--paper-exact`
 column (some computed from the scene), and every *value* (a material constant, the
 resolution, run control, what the paper leaves open) stays the scene's.
-`docs/paper-scenes.md` gives the reasons and the parameter study behind them.
+`docs/reference/paper-scenes.md` gives the reasons and the parameter study behind them.
 ";
 
 /// The scene's geometry and objects (`scene/format.rs`), with an example scene that a test

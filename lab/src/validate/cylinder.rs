@@ -15,7 +15,7 @@
 //! background pressure of 6 q. Without them the near wake tears where its pressure goes
 //! negative and the disordered particles dissipate like a fluid of about twice the
 //! viscosity: at D / dx = 20 the lift was a fifth of the expected one and the onset sweep
-//! could not tell Re 35 from Re 70 (docs/accuracy.md, "Cylinder, Re 100"). The speed-vs-accuracy
+//! could not tell Re 35 from Re 70 (docs/reference/accuracy.md, "Cylinder, Re 100"). The speed-vs-accuracy
 //! chart keeps the solver's defaults.
 
 use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};

@@ -255,7 +255,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
         .with_note("sqrt 2 x rms of the smoothed Cl must exceed the threshold"),
     );
     // Shedding is periodic at the Strouhal frequency; force noise is not. At D / dx = 5 this
-    // told Re 70 (St 0.150) from Re 35 where the amplitudes could not (docs/accuracy.md).
+    // told Re 70 (St 0.150) from Re 35 where the amplitudes could not (docs/reference/accuracy.md).
     let (_, st_w) = cylinder::strouhal_fits(high.re.round() as u32);
     let st = high.strouhal.unwrap_or(f64::NAN);
     rows.push(

@@ -107,7 +107,7 @@ pub fn surge_front(ps: &[Particle]) -> f64 {
 /// mirrored so that it reads the wall itself and shared by both. It replaced a
 /// walk up the particles within 2 dx of the wall that stopped at the first gap wider than
 /// 2 dx: measured from y = 0, a bottom particle lifted 2 dx off the floor by the noise read
-/// as an empty wall (h = 0; docs/accuracy.md, dam break).
+/// as an empty wall (h = 0; docs/reference/accuracy.md, dam break).
 pub fn wall_height(p: &SphParams, ps: &[Particle], dx: f64) -> f64 {
     let support = (2.0 * p.h) as f64;
     let near: Vec<(f64, f64, f64)> = ps
@@ -358,7 +358,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
             .with_note(format!("worst at T = {th}; height = kernel gauge at the wall, phi = 1/2 (wall_height); the reference times carry the digitisation error (the heights were read at fixed ordinates); 10 % is our reading of published SPH comparisons, not a published bound")),
     ];
     if quick {
-        // Reported, not checked, in the quick tier: the full tier checks it (see docs/accuracy.md).
+        // Reported, not checked, in the quick tier: the full tier checks it (see docs/reference/accuracy.md).
         rows[2] = rows[2].clone().informational();
     }
     if mm_runs.len() > 1 {

@@ -19,14 +19,14 @@
 //! test_2d_elastic_gate): its free end starts on the floor and rises as it bends, so the
 //! floor never pushes on it, while a body's continuity over the floor's wall particles read
 //! the foot leaving them as a dilatation and blew the 4-across gate up at 0.016 s
-//! (docs/accuracy.md). The tank is closed (a lid at its 0.16 m): the outflow's run-up on the
+//! (docs/reference/accuracy.md). The tank is closed (a lid at its 0.16 m): the outflow's run-up on the
 //! far wall otherwise throws water out of the domain's top.
 //!
 //! Artificial viscosity alpha = 0.1 (eq. (10), every pair, water and gate): at 0.02 a
 //! particle-scale wobble of the gate grows from its foot at 8 across (its speed 1.4-1.7x per
 //! ms from t ~ 7 ms, at 4 across it stays at noise level), reaches the root by 20 ms and
 //! blows the run up at 0.026 s; the term's damping per pair scales with h, so it halves with
-//! every halving of dx. 0.05 and 0.1 both run to 0.4 s (docs/accuracy.md has both).
+//! every halving of dx. 0.05 and 0.1 both run to 0.4 s (docs/reference/accuracy.md has both).
 //!
 //! Quick tier: two particles across the gate (dx = 2.5 mm) to t = 0.02 s (about 50 s on 2
 //! CPU cores in the debug profile): it checks that the gate bends downstream, by no more than
@@ -95,7 +95,7 @@ output_interval = {t_end:e}
 [fluid]
 density = 1000.0
 sound_speed = {c0:e}
-alpha = 0.1                   # 0.02 leaves a particle-scale mode of the gate undamped at 8 across (docs/accuracy.md)
+alpha = 0.1                   # 0.02 leaves a particle-scale mode of the gate undamped at 8 across (docs/reference/accuracy.md)
 xsph = 0.5
 density_diffusion = 0.1
 
@@ -105,7 +105,7 @@ sound_speed = {cs:e}          # sqrt(K / rho_s), K = E / (3 (1 - 2 nu))
 shear_modulus = {shear:e}     # E / (2 (1 + nu))
 artificial_stress = 0.3
 wall_contact = false          # the gate meets the water only, not the floor it starts on
-artificial_stress_from = "deviatoric" # at 4 across the whole stress's form drives an odd-even mode (docs/accuracy.md)
+artificial_stress_from = "deviatoric" # at 4 across the whole stress's form drives an odd-even mode (docs/reference/accuracy.md)
 
 [boundary]
 strength = {strength:e}

@@ -12,7 +12,7 @@
 //! the paper's (neither), whose rows are informational: without diffusion the continuity
 //! density carries particle-scale noise that does not shrink with dx, and without shifting
 //! the resting cubic-spline lattice pairs at dx = H/80 (nearest neighbours at 0.3 dx, drift
-//! 1.6 dx; docs/accuracy.md, "Hydrostatic tank: the diagnosis").
+//! 1.6 dx; docs/reference/accuracy.md, "Hydrostatic tank: the diagnosis").
 
 use super::{convergence, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
@@ -41,7 +41,7 @@ pub struct Scheme {
 
 /// The checked scheme: delta-SPH, delta = 0.1 (the value DualSPHysics takes by default), in
 /// the hydrostatic form of Fourtakas et al. 2019 (its layer-mean and RMS pressure errors are
-/// 20-40 % below the plain form's at every resolution; docs/accuracy.md), and
+/// 20-40 % below the plain form's at every resolution; docs/reference/accuracy.md), and
 /// particle shifting C = 0.1, which keeps the resting lattice from pairing (0.1 drifted less
 /// than 0.2 at every resolution, on the H100 host's CPUs).
 pub const CHECKED: Scheme = Scheme {

@@ -15,7 +15,7 @@
 //! Antuono et al. 2010's form that leaves its bending's linear density alone): with the
 //! artificial stress 0.3 that holds the fibres against the tensile instability, a
 //! particle-scale (odd-even) pressure mode grows at H / dx = 32 and damped the plate by 0.43
-//! per cycle; the diffusion keeps it down (docs/accuracy.md, oscillating plate).
+//! per cycle; the diffusion keeps it down (docs/reference/accuracy.md, oscillating plate).
 //!
 //! Quick tier: H / dx = 4 (coarse: the plate is soft and the clamp compliant), 2.5 periods,
 //! regression bounds. Full tier (GPU): H / dx = 8, 16, 32, 3.5 periods, the JSON's tolerances

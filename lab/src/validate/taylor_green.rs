@@ -14,7 +14,7 @@
 //! puts particle rows on them). The quick tier reports the unshifted run beside it; the
 //! speed-vs-accuracy chart has both (`default` and `shifting 0.2`). The shift velocity
 //! scales with c0 (`-C h c0 grad C`); Sun et al. 2017's flow-speed scaling would be the same
-//! shift here with C x c0 / U = 10 C, and no C passes both tiers (docs/accuracy.md,
+//! shift here with C x c0 / U = 10 C, and no C passes both tiers (docs/reference/accuracy.md,
 //! "Particle shifting").
 
 use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};

@@ -111,7 +111,7 @@ pub fn cohesion_over_r(support: f32, rr: f32) -> f32 {
 /// surface integral of the fluid's pressure), and so do two bodies in contact or a body and
 /// a wall. Passing a body's deviatoric stress to the fluid (the paper's eq. (16) across
 /// every pair, `interface = "stress"`, kept by `--paper-exact`) tore an 8 x 8-particle
-/// square apart within 0.3 time units of the water's impact (docs/paper-scenes.md).
+/// square apart within 0.3 time units of the water's impact (docs/reference/paper-scenes.md).
 #[inline]
 pub fn whole_stress_pair(p: &SphParams, same_body: bool) -> bool {
     same_body || p.interface != 0

@@ -36,7 +36,7 @@ pub fn update_artificial_stress<D: Dim>(p: &SphParams, s: &mut State<D>) {
 /// artificial stress is taken from the deviatoric stress alone. In the plate at H / dx = 32,
 /// eps 0.3 of the whole stress drives a particle-scale (odd-even) pressure mode from the
 /// start; from S alone R is smaller and the mode stays down, but the plate is softer at
-/// 16 and 32 rows (docs/accuracy.md, oscillating plate).
+/// 16 and 32 rows (docs/reference/accuracy.md, oscillating plate).
 #[inline]
 pub fn art_pressure(p: &SphParams, pr: f32) -> f32 {
     if p.artificial_stress_from != 0 {

@@ -40,14 +40,14 @@ pub fn available() -> Result<String, BackendError> {
 
 /// Below this many particles the neighbour kernels split each particle's loop over
 /// `SPLIT_LANES` threads (measured on an H200: faster up to ~10^5 particles, slower at
-/// 3 x 10^5 and beyond; docs/performance.md); at and above it they take `LARGE_LANES`.
+/// 3 x 10^5 and beyond; docs/reference/performance.md); at and above it they take `LARGE_LANES`.
 pub const SPLIT_BELOW: usize = 150_000;
 
 /// Threads per particle below `SPLIT_BELOW`, for 2D and 3D.
 pub const SPLIT_LANES: [usize; 2] = [4, 8];
 
 /// Threads per particle at and above `SPLIT_BELOW`, for 2D and 3D (1: the CPU's exact
-/// summation order; 2, 4 and 8 were slower at 4M particles on an H100, docs/performance.md).
+/// summation order; 2, 4 and 8 were slower at 4M particles on an H100, docs/reference/performance.md).
 pub const LARGE_LANES: [usize; 2] = [1, 1];
 
 /// Lanes per particle for a system of `n` particles in `dim` dimensions: the size rule,
