@@ -167,7 +167,13 @@ fn bindings(out: &Path, h: &Header) -> bool {
 
 fn find_nvcc() -> Option<PathBuf> {
     if let Ok(p) = env::var("NVCC") {
-        return Some(PathBuf::from(p));
+        // The build script runs in core/: a relative NVCC is taken from the workspace root,
+        // where `cargo` is usually started, unless it names a file from core/.
+        let p = PathBuf::from(p);
+        if p.is_relative() && !p.exists() {
+            return Some(Path::new("..").join(p));
+        }
+        return Some(p);
     }
     for var in ["CUDA_HOME", "CUDA_PATH"] {
         if let Ok(root) = env::var(var) {
