@@ -3,13 +3,14 @@
 //!
 //! Order of work: apply overrides and validate, generate particles, build the solver, and
 //! only then create the output directory (a scene that fails validation writes nothing).
-//! Then: output at t = 0; loop { open gates whose time came; step; health check every
-//! `CHECK_EVERY` steps and at each output; output at each output time }; a last output at
-//! the end. Each output writes `particles_NNNNN.vtu`, rewrites `particles.pvd`, appends a
+//! Then: output at t = 0; loop { one batch of `meshfree_core::step::Stepper` towards the
+//! next output or monitor sample (it opens the gates on time and checks the health every
+//! `step::CHECK_EVERY` steps); a health check and an output at each output time }; a last
+//! output at the end. Each output writes `particles_NNNNN.vtu`, rewrites `particles.pvd`, appends a
 //! row to `diagnostics.csv` and one to `clusters.csv` (the number of connected fluid
 //! clusters, `analysis::clusters`) and, in a scene with elastic bodies, a row per body to
 //! `bodies.csv` (centroid, velocity, angular velocity, size and spread against t = 0,
-//! `analysis::bodies`). Force monitors (`meshfree_core::monitor`) sample at t = 0 and
+//! `analysis::bodies`). Force monitors (`crate::monitors`) sample at t = 0 and
 //! every `interval` after it (a step boundary at or past the time) into `<name>.csv`.
 //! `summary.json` is written at the end, also after a blow-up, with the cluster count of
 //! the last output and each body's extremes.

@@ -83,11 +83,6 @@ impl Stepper {
         }
     }
 
-    /// The opening time of the next gate, if any is left.
-    pub fn next_gate(&self) -> Option<f64> {
-        self.gates.next_time()
-    }
-
     /// [s] wall time spent stepping so far (gates, steps and health checks; the clock read
     /// included).
     pub fn stepping_seconds(&self) -> f64 {
