@@ -10,6 +10,7 @@ use serde::Serialize;
 use crate::run::{self, Progress, RunOptions};
 use meshfree_core::backend::BackendChoice;
 use meshfree_core::named::Named;
+use meshfree_core::scene::format::OutputFormat;
 use meshfree_core::scene::{self, Counts, Scene};
 use meshfree_core::scheme::IntegratorChoice;
 
@@ -33,8 +34,9 @@ Examples:
 
 Scene files: copy one of scenes/*.toml and edit it; every key is commented there, and
 `meshfree scenes --reference` (docs/reference/scene.md) describes them all.
-Output: particles.pvd (open it in ParaView), particles_NNNNN.vtu, diagnostics.csv,
-summary.json and a copy of the scene, in the output directory.";
+Output: particles.pvd (open it in ParaView), particles_NNNNN.vtu (binary VTK),
+diagnostics.csv, summary.json (with the wall time's split) and a copy of the scene, in the
+output directory; a scene's [output] table chooses the format, the fields and cluster counts.";
 
 /// meshfree: weakly compressible SPH with elastic solids on the CPU or an NVIDIA GPU
 /// (Liu, Wang, Ma & Zhang).
@@ -74,7 +76,7 @@ pub enum Command {
     View(ViewArgs),
     /// Render a scene to PNG without a display (EGL), at a time or as a sequence of frames.
     Render(RenderArgs),
-    /// Compare two particle CSV files (`run --csv`, or another code's export in the same
+    /// Compare two particle CSV files (`run --format csv`, or another code's export in the same
     /// columns): per-field error norms and the worst particles.
     Compare(CompareArgs),
     /// Accuracy cases against published references (hydrostatic tank, dam break, Poiseuille,
@@ -151,6 +153,26 @@ pub enum BenchMode {
     /// The paper's Table 1 beside ours: run the paper's five scenes on one backend and write
     /// DIR/paper-bench.json, or (with --table) merge a CPU and a GPU result into the table.
     Paper(PaperBenchArgs),
+    /// Whole runs of GPUSPH's own dam breaks in our format (scenes/peers/*.toml: 1.1 M
+    /// particles in 3D, 1.0 M in 2D, 13.5 M in 3D; 21 binary VTU frames each, as a user
+    /// runs them) beside GPUSPH's whole-run times on one H100; writes DIR/peers-bench.json.
+    Peers(PeersBenchArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct PeersBenchArgs {
+    /// Where to run.
+    #[arg(long, value_parser = named::<BackendChoice>(), default_value = "auto")]
+    pub backend: BackendChoice,
+    /// The folder of the peer scenes.
+    #[arg(long, value_name = "DIR", default_value = "scenes/peers")]
+    pub scenes: PathBuf,
+    /// Only these, e.g. `db3d-ppH70,db2d-ppH670` [default: all three].
+    #[arg(long, value_delimiter = ',', value_name = "A,B")]
+    pub only: Vec<String>,
+    /// Output directory: peers-bench.json and each scene's run.
+    #[arg(long, value_name = "DIR", default_value = "out/peers-bench")]
+    pub out: PathBuf,
 }
 
 #[derive(Debug, clap::Args)]
@@ -299,10 +321,11 @@ pub struct RunArgs {
     /// End time, replacing the scene's `time.end`.
     #[arg(long, value_name = "T")]
     pub t_end: Option<f64>,
-    /// Also write every output as a plain particle CSV (id, kind, position, velocity,
-    /// density, pressure), for `meshfree compare` and other codes.
-    #[arg(long)]
-    pub csv: bool,
+    /// The particle files of each output, replacing the scene's `[output] format`: `csv`
+    /// writes plain particle CSV for `meshfree compare` and other codes, `none` only the
+    /// diagnostics.
+    #[arg(long, value_name = "FORMAT", value_parser = named::<OutputFormat>())]
+    pub format: Option<OutputFormat>,
     /// Stop after N time steps (even before the end time).
     #[arg(long, value_name = "N")]
     pub steps: Option<u64>,
@@ -412,7 +435,7 @@ pub fn main(cli: Cli) -> anyhow::Result<()> {
                 s = s.with_paper_exact()?;
             }
             let options = RunOptions {
-                particle_csv: a.csv,
+                format: a.format,
                 backend: a.backend,
                 out_dir: a.out,
                 t_end: a.t_end,
@@ -446,8 +469,13 @@ pub fn main(cli: Cli) -> anyhow::Result<()> {
 }
 
 fn bench(a: BenchArgs) -> anyhow::Result<()> {
-    if let Some(BenchMode::Paper(p)) = a.mode {
-        return paper_bench(p);
+    match a.mode {
+        Some(BenchMode::Paper(p)) => return paper_bench(p),
+        Some(BenchMode::Peers(p)) => {
+            crate::peers_bench::run_peers(&p.scenes, &p.only, p.backend, &p.out, Progress::Lines)?;
+            return Ok(());
+        }
+        None => {}
     }
     let mut o = crate::bench::BenchOptions {
         backend: a.backend,
@@ -696,6 +724,9 @@ pub struct DocsArgs {
     /// `meshfree bench` bench.json files (repeatable: their rows are listed in order).
     #[arg(long, value_name = "JSON")]
     pub bench: Vec<PathBuf>,
+    /// A `meshfree bench peers` peers-bench.json.
+    #[arg(long, value_name = "JSON")]
+    pub peers: Option<PathBuf>,
     /// The accuracy page.
     #[arg(long, value_name = "MD", default_value = "docs/reference/accuracy.md")]
     pub accuracy: PathBuf,
@@ -716,8 +747,19 @@ fn read_json<T: serde::de::DeserializeOwned>(path: &std::path::Path) -> anyhow::
 
 fn docs(a: DocsArgs) -> anyhow::Result<()> {
     use crate::docs;
-    if a.validate.is_none() && a.bench.is_empty() {
-        anyhow::bail!("nothing to write: give --validate REPORT.json and/or --bench BENCH.json");
+    if a.validate.is_none() && a.bench.is_empty() && a.peers.is_none() {
+        anyhow::bail!(
+            "nothing to write: give --validate REPORT.json, --bench BENCH.json and/or --peers PEERS.json"
+        );
+    }
+    if let Some(path) = &a.peers {
+        let b: crate::peers_bench::PeersBench = read_json(path)?;
+        docs::splice(&a.performance, "peers", &docs::peers_table(&b))?;
+        eprintln!(
+            "docs: {} <- {} (peers)",
+            a.performance.display(),
+            path.display()
+        );
     }
     if let Some(path) = &a.validate {
         let report: meshfree_lab::validate::Report = read_json(path)?;

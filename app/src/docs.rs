@@ -1,5 +1,6 @@
 //! `meshfree docs`: the measured tables of the reference docs, generated from the tools'
-//! own reports (`meshfree validate`'s `report.json`, `meshfree bench`'s `bench.json`) and
+//! own reports (`meshfree validate`'s `report.json`, `meshfree bench`'s `bench.json`,
+//! `meshfree bench peers`' `peers-bench.json`) and
 //! stamped with their date, device and build commit, so that the docs' numbers are never
 //! copied by hand.
 //!
@@ -19,6 +20,7 @@ use anyhow::{bail, Context};
 use meshfree_lab::validate::Report;
 
 use crate::bench::BenchRow;
+use crate::peers_bench::PeersBench;
 
 /// The opening marker of block `name`.
 pub fn begin_marker(name: &str) -> String {
@@ -158,6 +160,43 @@ pub fn performance_table(rows: &[BenchRow]) -> String {
             r.ms_per_step,
             r.particle_steps_per_s,
             r.bytes_per_fluid_particle
+        );
+    }
+    s
+}
+
+/// `meshfree bench peers`' whole runs beside GPUSPH's, with the stamp.
+pub fn peers_table(b: &PeersBench) -> String {
+    let mut s = String::new();
+    let Some(first) = b.rows.first() else {
+        return "(no peer rows)\n".into();
+    };
+    let _ = writeln!(
+        s,
+        "`meshfree bench peers`, run {} with build {} on {} ({}): each scene from a fresh \
+         process state as a user runs it (`meshfree run`, 21 binary VTU frames); GPUSPH's \
+         whole process on one H100 beside it ([its figures](../../scenes/peers/README.md)).\n",
+        b.date, b.commit, first.device, first.backend
+    );
+    let _ = writeln!(
+        s,
+        "| scene | particles | steps | set-up s | stepping s | output waits s | whole run s | GPUSPH whole s | ours / GPUSPH | output GB |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|");
+    for r in &b.rows {
+        let _ = writeln!(
+            s,
+            "| `{}` | {} | {} | {:.2} | {:.2} | {:.2} | **{:.2}** | {:.1} | {:.2} | {:.2} |",
+            r.scene,
+            r.particles,
+            r.steps,
+            r.setup_s,
+            r.stepping_s,
+            r.output_wait_s,
+            r.whole_s,
+            r.gpusph_whole_s,
+            r.ratio,
+            r.output_bytes as f64 / 1e9
         );
     }
     s

@@ -9,4 +9,5 @@ pub mod docs;
 pub mod monitors;
 pub mod output;
 pub mod paper_bench;
+pub mod peers_bench;
 pub mod run;

@@ -228,7 +228,7 @@ pub fn run_scenes(o: &PaperBenchOptions, out_dir: &Path) -> Result<PaperBench, P
             // Four outputs: the output's cost stays small beside the steps'.
             output_interval: Some(t_end / 4.0),
             progress: o.progress,
-            particle_csv: false,
+            format: None,
         };
         let (summary, fault) = match run::run(&scene, &options) {
             Ok(s) => (s, None),

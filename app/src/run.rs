@@ -6,21 +6,28 @@
 //! Then: output at t = 0; loop { one batch of `meshfree_core::step::Stepper` towards the
 //! next output or monitor sample (it opens the gates on time and checks the health every
 //! `step::CHECK_EVERY` steps); a health check and an output at each output time }; a last
-//! output at the end. Each output writes `particles_NNNNN.vtu`, rewrites `particles.pvd`, appends a
-//! row to `diagnostics.csv` and one to `clusters.csv` (the number of connected fluid
-//! clusters, `analysis::clusters`) and, in a scene with elastic bodies, a row per body to
-//! `bodies.csv` (centroid, velocity, angular velocity, size and spread against t = 0,
-//! `analysis::bodies`). Force monitors (`crate::monitors`) sample at t = 0 and
-//! every `interval` after it (a step boundary at or past the time) into `<name>.csv`.
-//! `summary.json` is written at the end, also after a blow-up, with the cluster count of
-//! the last output and each body's extremes.
+//! output at the end.
+//!
+//! An output never stalls the stepping for long: the main thread reads the diagnostics,
+//! starts the frame's copy (`Solver::capture`: on the GPU a device-side copy that a second
+//! stream downloads) and queues it for the writer thread (`output::writer`), which writes
+//! the particle file (`[output] format` and `fields`: binary VTU with `particles.pvd`,
+//! zlib VTU, CSV or none), the row of `diagnostics.csv`, `clusters.csv` where `[output]
+//! clusters` asks, and, in a scene with elastic bodies, a row per body to `bodies.csv`.
+//! Force monitors (`crate::monitors`) sample at t = 0 and every `interval` after it (a step
+//! boundary at or past the time) into `<name>.csv`. `summary.json` is written at the end,
+//! also after a blow-up, with the timing split (set-up, stepping, output waits, the
+//! writer's busy time), the cluster count of the last output and each body's extremes.
 
-use std::io::{IsTerminal, Write};
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::mpsc;
 use std::time::Instant;
 
 use meshfree_core::backend::{self, BackendChoice, BackendError};
-use meshfree_core::particle::Particle;
+use meshfree_core::frame::{Field, Fields};
+use meshfree_core::named::Named;
+use meshfree_core::scene::format::OutputFormat;
 use meshfree_core::scene::{Counts, Overrides, Scene, SceneError};
 use meshfree_core::solver::{Diagnostics, Fault, Solver};
 use meshfree_core::step::{reached, Stepper};
@@ -28,7 +35,10 @@ use meshfree_core::step::{reached, Stepper};
 use crate::analysis::bodies::BodyTracker;
 use crate::analysis::clusters;
 use crate::monitors::Monitors;
-use crate::output::{self, BodiesCsv, DiagnosticsCsv, PvdSeries, RunStatus, RunSummary};
+use crate::output::writer::{self, Writer};
+use crate::output::{RunStatus, RunSummary, Timing};
+
+pub use crate::output::writer::Frame;
 
 /// How to report progress on stderr.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -55,8 +65,8 @@ pub struct RunOptions {
     /// Replaces the scene's `time.output_interval`.
     pub output_interval: Option<f64>,
     pub progress: Progress,
-    /// Also write each output as a plain particle CSV (`particles_NNNNN.csv`).
-    pub particle_csv: bool,
+    /// Replaces the scene's `[output] format`.
+    pub format: Option<OutputFormat>,
 }
 
 /// Why a run did not complete.
@@ -66,11 +76,8 @@ pub enum RunError {
     Scene(#[from] SceneError),
     #[error(transparent)]
     Backend(#[from] BackendError),
-    #[error("{}: {source}", path.display())]
-    Io {
-        path: PathBuf,
-        source: std::io::Error,
-    },
+    #[error("{}: {reason}", path.display())]
+    Io { path: PathBuf, reason: String },
     /// A blow-up: output written so far is kept, `summary.json` holds the fault.
     #[error("{fault} (output so far in {})", out_dir.display())]
     BlowUp {
@@ -80,18 +87,19 @@ pub enum RunError {
     },
 }
 
-/// What an observer sees at each output.
-pub struct Frame<'a> {
-    pub index: usize,
-    pub diagnostics: &'a Diagnostics,
-    /// Ordered by id.
-    pub particles: &'a [Particle],
+impl From<writer::Failure> for RunError {
+    fn from(f: writer::Failure) -> Self {
+        RunError::Io {
+            path: f.path,
+            reason: f.reason,
+        }
+    }
 }
 
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
-    move |source| RunError::Io {
+    move |e| RunError::Io {
         path: path.to_path_buf(),
-        source,
+        reason: e.to_string(),
     }
 }
 
@@ -100,11 +108,11 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunError> 
     run_observed(scene, options, &mut |_| {})
 }
 
-/// `run`, calling `observer` at each output with the particles just written.
+/// `run`, calling `observer` on the writer thread at each output, once its files landed.
 pub fn run_observed(
     scene: &Scene,
     options: &RunOptions,
-    observer: &mut dyn FnMut(&Frame),
+    observer: writer::Observer,
 ) -> Result<RunSummary, RunError> {
     let started = Instant::now();
     let scene = scene.with_overrides(&Overrides {
@@ -113,49 +121,72 @@ pub fn run_observed(
     })?;
     let setup = scene.setup()?;
     let counts = Counts::of(&setup.particles);
-    let with_stress = setup.has_solids();
+    let with_solids = setup.has_solids();
     let bodies = BodyTracker::new(&setup.particles, scene.file.dimension);
+    let mut masses = Vec::new();
+    if !bodies.is_empty() {
+        masses = vec![0.0f32; setup.particles.len()];
+        for q in &setup.particles {
+            if let Some(m) = masses.get_mut(q.id as usize) {
+                *m = q.mass;
+            }
+        }
+    }
     let out_dir = options
         .out_dir
         .clone()
         .unwrap_or_else(|| Path::new("out").join(scene.name()));
     let mut solver = backend::create(options.backend, setup)?;
     let info = solver.info();
+    let setup_seconds = started.elapsed().as_secs_f64();
+
+    let spec = &scene.file.output;
+    let format = options.format.unwrap_or(spec.format);
+    let fields = spec.fields(with_solids);
+    let cluster_radius = spec
+        .clusters
+        .then_some(clusters::DEFAULT_FACTOR * scene.file.discretisation.spacing as f32);
+    // What the writer's analysis needs besides the written fields.
+    let mut capture = if format == OutputFormat::None {
+        Fields::NONE
+    } else {
+        fields
+    };
+    if cluster_radius.is_some() || !bodies.is_empty() {
+        capture = capture.union(Fields::of(&[
+            Field::Position,
+            Field::Velocity,
+            Field::Density,
+            Field::Kind,
+            Field::Id,
+            Field::Group,
+        ]));
+    }
 
     std::fs::create_dir_all(&out_dir).map_err(io_err(&out_dir))?;
     let scene_copy = out_dir.join("scene.toml");
     std::fs::write(&scene_copy, &scene.text).map_err(io_err(&scene_copy))?;
-    let csv_path = out_dir.join("diagnostics.csv");
-    let clusters_path = out_dir.join("clusters.csv");
-    let mut clusters_csv = std::fs::File::create(&clusters_path).map_err(io_err(&clusters_path))?;
-    writeln!(clusters_csv, "step,time,fluid_clusters").map_err(io_err(&clusters_path))?;
-    let bodies_path = out_dir.join("bodies.csv");
-    let bodies_csv = if bodies.is_empty() {
-        None
-    } else {
-        Some(BodiesCsv::create(&bodies_path).map_err(io_err(&bodies_path))?)
-    };
-    let mut out = Writer {
-        clusters_csv,
-        bodies,
-        bodies_csv,
-        cluster_radius: clusters::DEFAULT_FACTOR * scene.file.discretisation.spacing as f32,
-        last_clusters: None,
-        dir: out_dir.clone(),
-        pvd: PvdSeries::new(out_dir.join("particles.pvd")),
-        csv: DiagnosticsCsv::create(&csv_path).map_err(io_err(&csv_path))?,
-        frames: 0,
-        with_stress,
-        particle_csv: options.particle_csv,
-    };
-    let mut monitors = Monitors::create(&scene, &out_dir)
-        .map_err(|(path, source)| RunError::Io { path, source })?;
+    let writer = Writer::create(
+        writer::Config {
+            dir: out_dir.clone(),
+            format,
+            fields,
+            cluster_radius,
+            bodies,
+            masses,
+        },
+        observer,
+    )?;
+    let mut monitors = Monitors::create(&scene, &out_dir).map_err(|(path, e)| RunError::Io {
+        path,
+        reason: e.to_string(),
+    })?;
 
     let t_end = scene.file.time.end;
     let interval = scene.file.time.output_interval;
     let mut report = Reporter::new(options.progress, t_end, options.max_steps);
     report.line(&format!(
-        "meshfree: {} ({}) on {} ({}): {} particles ({} fluid, {} solid, {} boundary) -> {}",
+        "meshfree: {} ({}) on {} ({}): {} particles ({} fluid, {} solid, {} boundary) -> {} ({}, set-up {:.2} s)",
         scene.name(),
         scene.origin(),
         info.backend,
@@ -164,7 +195,9 @@ pub fn run_observed(
         counts.fluid,
         counts.solid,
         counts.boundary,
-        out_dir.display()
+        out_dir.display(),
+        format.name(),
+        setup_seconds,
     ));
 
     let mut summary = RunSummary {
@@ -180,6 +213,9 @@ pub fn run_observed(
         particle_steps_per_second: 0.0,
         outputs: 0,
         output_dir: out_dir.display().to_string(),
+        output_format: format,
+        output_bytes: 0,
+        timing: Timing::default(),
         final_diagnostics: None,
         fluid_clusters: None,
         status: RunStatus::Completed,
@@ -190,50 +226,70 @@ pub fn run_observed(
 
     let mut stepper = Stepper::new(scene.gates());
     let first_step = solver.steps();
+    let mut out = Outputs {
+        jobs: None,
+        capture,
+        wait_seconds: 0.0,
+        taken: 0,
+        warned: false,
+    };
 
-    let result = (|| -> Result<(), RunFailure> {
-        solver.check().map_err(RunFailure::Fault)?;
-        let mut last = out.output(&mut *solver, observer)?;
-        monitors.sample_due(&mut *solver)?;
-        let mut next_output = interval;
-        loop {
-            let t = solver.time();
-            let taken = solver.steps() - first_step;
-            if reached(t, t_end) || options.max_steps.is_some_and(|n| taken >= n) {
-                break;
-            }
-            let next_event = next_output
-                .min(t_end)
-                .min(monitors.next_time().unwrap_or(f64::INFINITY));
-            let budget = options.max_steps.map_or(u64::MAX, |n| n - taken);
-            let batch = stepper
-                .batch(&mut *solver, next_event, budget)
-                .map_err(RunFailure::Fault)?;
-            for (group, n) in batch.opened {
-                report.line(&format!(
-                    "t = {t:.4}: gate (group {group}) removed, {n} particles"
-                ));
-            }
-            let t_new = solver.time();
-            if reached(t_new, next_output) {
-                solver.check().map_err(RunFailure::Fault)?;
-                last = out.output(&mut *solver, observer)?;
-                next_output = ((t_new / interval + 1e-9).floor() + 1.0) * interval;
-            }
-            monitors.sample_due(&mut *solver)?;
-            report.progress(t_new, solver.steps() - first_step, &last);
-        }
-        if last.step != solver.steps() {
+    let (result, written) = std::thread::scope(|scope| {
+        let (tx, rx) = mpsc::sync_channel::<writer::Job>(1);
+        let thread = std::thread::Builder::new()
+            .name("meshfree-writer".into())
+            .spawn_scoped(scope, move || writer.serve(rx))
+            .expect("spawning the writer thread");
+        out.jobs = Some(tx);
+        let result = (|| -> Result<(), RunFailure> {
             solver.check().map_err(RunFailure::Fault)?;
-            out.output(&mut *solver, observer)?;
-        }
-        Ok(())
-    })();
+            let mut last = out.take(&mut *solver, &report)?;
+            monitors.sample_due(&mut *solver)?;
+            let mut next_output = interval;
+            loop {
+                let t = solver.time();
+                let taken = solver.steps() - first_step;
+                if reached(t, t_end) || options.max_steps.is_some_and(|n| taken >= n) {
+                    break;
+                }
+                let next_event = next_output
+                    .min(t_end)
+                    .min(monitors.next_time().unwrap_or(f64::INFINITY));
+                let budget = options.max_steps.map_or(u64::MAX, |n| n - taken);
+                let batch = stepper
+                    .batch(&mut *solver, next_event, budget)
+                    .map_err(RunFailure::Fault)?;
+                for (group, n) in batch.opened {
+                    report.line(&format!(
+                        "t = {t:.4}: gate (group {group}) removed, {n} particles"
+                    ));
+                }
+                let t_new = solver.time();
+                if reached(t_new, next_output) {
+                    solver.check().map_err(RunFailure::Fault)?;
+                    last = out.take(&mut *solver, &report)?;
+                    next_output = ((t_new / interval + 1e-9).floor() + 1.0) * interval;
+                }
+                monitors.sample_due(&mut *solver)?;
+                report.progress(t_new, solver.steps() - first_step, &last);
+            }
+            if last.step != solver.steps() {
+                solver.check().map_err(RunFailure::Fault)?;
+                out.take(&mut *solver, &report)?;
+            }
+            Ok(())
+        })();
+        // Closing the channel lets the writer finish the frames it holds.
+        out.jobs = None;
+        let drained = Instant::now();
+        let written = thread.join().expect("the writer thread panicked");
+        out.wait_seconds += drained.elapsed().as_secs_f64();
+        (result, written)
+    });
 
     let steps = solver.steps() - first_step;
     summary.steps = steps;
     summary.simulated_time = solver.time();
-    summary.outputs = out.frames;
     summary.wall_seconds = started.elapsed().as_secs_f64();
     let step_seconds = stepper.stepping_seconds();
     summary.particle_steps_per_second = if step_seconds > 0.0 {
@@ -242,17 +298,28 @@ pub fn run_observed(
         0.0
     };
     summary.final_diagnostics = Some(solver.diagnostics());
-    summary.fluid_clusters = out.last_clusters;
     summary.monitors = monitors.summaries();
-    summary.bodies = out.bodies.summaries();
-    let failure = match result {
-        Ok(()) => None,
-        Err(RunFailure::Fault(f)) => {
+    let failure = match (result, written) {
+        (Err(RunFailure::Io(e)), _) => return Err(e),
+        (_, Err(f)) => return Err(f.into()),
+        (Ok(()), Ok(w)) => {
+            summary.absorb(&w);
+            None
+        }
+        (Err(RunFailure::Fault(f)), Ok(w)) => {
+            summary.absorb(&w);
             summary.status = RunStatus::Failed;
             summary.fault = Some(f.clone());
             Some(f)
         }
-        Err(RunFailure::Io(e)) => return Err(e),
+    };
+    summary.timing = Timing {
+        setup_seconds,
+        stepping_seconds: step_seconds,
+        output_wait_seconds: out.wait_seconds,
+        writer_seconds: summary.timing.writer_seconds,
+        writer_download_seconds: summary.timing.writer_download_seconds,
+        total_seconds: summary.wall_seconds,
     };
     let summary_path = out_dir.join("summary.json");
     summary
@@ -281,64 +348,60 @@ impl From<RunError> for RunFailure {
 }
 
 impl From<(PathBuf, std::io::Error)> for RunFailure {
-    fn from((path, source): (PathBuf, std::io::Error)) -> Self {
-        RunFailure::Io(RunError::Io { path, source })
+    fn from((path, e): (PathBuf, std::io::Error)) -> Self {
+        RunFailure::Io(RunError::Io {
+            path,
+            reason: e.to_string(),
+        })
     }
 }
 
-struct Writer {
-    dir: PathBuf,
-    clusters_csv: std::fs::File,
-    /// [L] link radius of the cluster count.
-    cluster_radius: f32,
-    last_clusters: Option<usize>,
-    /// The elastic bodies and `bodies.csv` (None in a scene without solids).
-    bodies: BodyTracker,
-    bodies_csv: Option<BodiesCsv>,
-    pvd: PvdSeries,
-    csv: DiagnosticsCsv,
-    frames: usize,
-    with_stress: bool,
-    particle_csv: bool,
+/// The stepping side of the outputs: starts each frame's copy and hands it to the writer.
+struct Outputs {
+    /// The writer's queue (None once closed).
+    jobs: Option<mpsc::SyncSender<writer::Job>>,
+    /// The fields each capture copies.
+    capture: Fields,
+    /// [s] time the stepping waited for the writer (a full queue, a staging set in use, the
+    /// final drain).
+    wait_seconds: f64,
+    taken: usize,
+    warned: bool,
 }
 
-impl Writer {
-    /// One output: VTK file, pvd, CSV row. Returns the diagnostics written.
-    fn output(
+impl Outputs {
+    /// One output: diagnostics, the frame's copy started, the job queued. Returns the
+    /// diagnostics. A writer that stopped (a failed write) is reported by the join.
+    fn take(
         &mut self,
         solver: &mut dyn Solver,
-        observer: &mut dyn FnMut(&Frame),
+        report: &Reporter,
     ) -> Result<Diagnostics, RunError> {
         let d = solver.diagnostics();
-        let particles = solver.particles();
-        let name = format!("particles_{:05}.vtu", self.frames);
-        let path = self.dir.join(&name);
-        output::write_vtu(&path, &particles, self.with_stress).map_err(io_err(&path))?;
-        if self.particle_csv {
-            let path = self.dir.join(format!("particles_{:05}.csv", self.frames));
-            output::write_particles_csv(&path, &particles).map_err(io_err(&path))?;
+        let waited = Instant::now();
+        let frame = solver.capture(self.capture);
+        let job = writer::Job {
+            diagnostics: d.clone(),
+            frame,
+        };
+        if let Some(tx) = &self.jobs {
+            if tx.send(job).is_err() {
+                // The writer stopped on an error: close the queue; the join reports it.
+                self.jobs = None;
+            }
         }
-        self.pvd
-            .add(d.time, &name)
-            .map_err(io_err(self.pvd.path()))?;
-        self.csv
-            .write(&d)
-            .map_err(io_err(&self.dir.join("diagnostics.csv")))?;
-        let n = clusters::count_fluid_clusters(&particles, self.cluster_radius);
-        self.last_clusters = Some(n);
-        writeln!(self.clusters_csv, "{},{},{n}", d.step, d.time)
-            .map_err(io_err(&self.dir.join("clusters.csv")))?;
-        if let Some(csv) = self.bodies_csv.as_mut() {
-            let rows = self.bodies.sample(&particles);
-            csv.write(d.step, d.time, &rows)
-                .map_err(io_err(&self.dir.join("bodies.csv")))?;
+        let waited = waited.elapsed().as_secs_f64();
+        self.wait_seconds += waited;
+        self.taken += 1;
+        if waited > 0.5 && !self.warned {
+            self.warned = true;
+            report.line(&format!(
+                "meshfree: output {} waited {waited:.2} s for the writer (the disk is slower than the \
+                 outputs): fewer [output] fields, a longer output interval or format = \"vtu\" \
+                 (uncompressed) help; summary.json's timing says how much in all",
+                self.taken - 1
+            ));
         }
-        observer(&Frame {
-            index: self.frames,
-            diagnostics: &d,
-            particles: &particles,
-        });
-        self.frames += 1;
         Ok(d)
     }
 }
@@ -423,9 +486,22 @@ impl Reporter {
             RunStatus::Completed => "completed".to_string(),
             RunStatus::Failed => "FAILED".to_string(),
         };
+        let t = &s.timing;
         self.line(&format!(
-            "{status}: {} steps to t = {:.4} in {:.2} s ({:.3e} particle-steps/s), {} outputs in {}",
-            s.steps, s.simulated_time, s.wall_seconds, s.particle_steps_per_second, s.outputs, s.output_dir
+            "{status}: {} steps to t = {:.4} in {:.2} s ({:.3e} particle-steps/s); set-up {:.2} s, \
+             stepping {:.2} s, waiting for output {:.2} s (writer busy {:.2} s alongside); {} outputs, \
+             {:.1} MB in {}",
+            s.steps,
+            s.simulated_time,
+            s.wall_seconds,
+            s.particle_steps_per_second,
+            t.setup_seconds,
+            t.stepping_seconds,
+            t.output_wait_seconds,
+            t.writer_seconds,
+            s.outputs,
+            s.output_bytes as f64 / 1e6,
+            s.output_dir
         ));
         for m in &s.monitors {
             self.line(&m.to_string());

@@ -6,8 +6,10 @@ use std::path::Path;
 
 use anyhow::Context;
 use meshfree::cli::{RenderArgs, ShownField, ViewArgs};
-use meshfree::output::{write_vtu, RunStatus, RunSummary};
+use meshfree::output::{write_vtu, RunStatus, RunSummary, Timing};
 use meshfree_core::backend::create;
+use meshfree_core::frame;
+use meshfree_core::scene::format::OutputFormat;
 use meshfree_core::scene::{Counts, Overrides, Scene};
 use meshfree_core::solver::{Diagnostics, Shown, Snapshot, Solver};
 use meshfree_core::step::Stepper;
@@ -147,9 +149,11 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
     // The window closed: write where the run got to.
     let particles = live.solver.particles();
     let vtu = out.join("final.vtu");
-    write_vtu(&vtu, &particles, live.solver.has_solids())
-        .with_context(|| format!("writing {}", vtu.display()))?;
+    let fields = scene.file.output.fields(live.solver.has_solids());
     let d: Diagnostics = live.solver.diagnostics();
+    let frame = frame::FrameData::from_particles(&particles, fields, d.step, d.time);
+    let bytes = write_vtu(&vtu, &frame, fields, false)
+        .with_context(|| format!("writing {}", vtu.display()))?;
     let info = live.solver.info();
     let wall = started.elapsed().as_secs_f64();
     let summary = RunSummary {
@@ -165,6 +169,12 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
         particle_steps_per_second: particles.len() as f64 * d.step as f64 / wall.max(1e-9),
         outputs: 1,
         output_dir: out.display().to_string(),
+        output_format: OutputFormat::Vtu,
+        output_bytes: bytes,
+        timing: Timing {
+            total_seconds: wall,
+            ..Default::default()
+        },
         fluid_clusters: None,
         final_diagnostics: Some(d),
         status: RunStatus::Completed,

@@ -2,6 +2,7 @@
 
 use meshfree::compare::{compare, compare_files, MatchBy};
 use meshfree::output::{read_particles_csv, write_particles_csv};
+use meshfree_core::frame::FrameData;
 use meshfree_core::scene::Scene;
 
 #[test]
@@ -13,7 +14,9 @@ fn csv_round_trips_and_compares() {
         .particles;
     let dir = tempfile::tempdir().unwrap();
     let a = dir.path().join("a.csv");
-    write_particles_csv(&a, &ps).unwrap();
+    let scene = Scene::builtin("tank-2d").unwrap();
+    let fields = scene.file.output.fields(false);
+    write_particles_csv(&a, &FrameData::from_particles(&ps, fields, 0, 0.0), fields).unwrap();
     let back = read_particles_csv(&a).unwrap();
     assert_eq!(back.len(), ps.len());
     assert_eq!(back[17].position, ps[17].position);

@@ -3,6 +3,7 @@
 
 use meshfree::output::{self, diagnostics, PvdSeries};
 use meshfree::run::{self, Progress, RunOptions};
+use meshfree_core::frame::{Field, Fields, FrameData};
 use meshfree_core::particle::{Kind, Particle};
 use meshfree_core::scene::Scene;
 use meshfree_core::solver::Diagnostics;
@@ -23,66 +24,187 @@ fn particles(n: usize) -> Vec<Particle> {
         .collect()
 }
 
-/// (Name, NumberOfComponents, number of values) of every DataArray in a .vtu text.
-fn arrays(text: &str) -> Vec<(String, usize, usize)> {
-    let mut out = Vec::new();
-    let mut rest = text;
-    while let Some(i) = rest.find("<DataArray ") {
-        rest = &rest[i..];
-        let head_end = rest.find('>').unwrap();
-        let head = &rest[..head_end];
-        let attr = |k: &str| {
-            let s = &head[head.find(&format!("{k}=\"")).unwrap() + k.len() + 2..];
-            s[..s.find('"').unwrap()].to_string()
-        };
-        let body_end = rest.find("</DataArray>").unwrap();
-        let values = rest[head_end + 1..body_end].split_whitespace().count();
-        out.push((
-            attr("Name"),
-            attr("NumberOfComponents").parse().unwrap(),
-            values,
-        ));
-        rest = &rest[body_end..];
+/// A .vtu file's XML head (up to the appended data) and the appended bytes after `_`.
+fn split_vtu(bytes: &[u8]) -> (String, Vec<u8>) {
+    let marker = b"<AppendedData encoding=\"raw\">";
+    let at = bytes
+        .windows(marker.len())
+        .position(|w| w == marker)
+        .expect("appended data");
+    let head = String::from_utf8(bytes[..at].to_vec()).unwrap();
+    let rest = &bytes[at + marker.len()..];
+    let underscore = rest.iter().position(|&b| b == b'_').unwrap();
+    let tail = b"\n  </AppendedData>\n</VTKFile>\n";
+    assert!(rest.ends_with(tail), "the file ends with the closing tags");
+    (head, rest[underscore + 1..rest.len() - tail.len()].to_vec())
+}
+
+/// (Name, type, NumberOfComponents, offset) of every DataArray of a .vtu head.
+fn arrays(head: &str) -> Vec<(String, String, usize, usize)> {
+    head.split("<DataArray ")
+        .skip(1)
+        .map(|tag| {
+            let attr = |k: &str| {
+                tag.find(&format!(" {k}=\""))
+                    .or_else(|| tag.find(&format!("{k}=\"")).filter(|&i| i == 0))
+                    .map(|i| {
+                        let s = &tag[tag[i..].find('"').unwrap() + i + 1..];
+                        s[..s.find('"').unwrap()].to_string()
+                    })
+            };
+            (
+                attr("Name").unwrap_or_else(|| "Points".into()),
+                attr("type").unwrap(),
+                attr("NumberOfComponents").unwrap().parse().unwrap(),
+                attr("offset").unwrap().parse().unwrap(),
+            )
+        })
+        .collect()
+}
+
+fn u64_at(b: &[u8], at: usize) -> usize {
+    u64::from_le_bytes(b[at..at + 8].try_into().unwrap()) as usize
+}
+
+/// The decoded bytes of the array at `offset` of the appended data.
+fn array_bytes(data: &[u8], offset: usize, zlib: bool) -> Vec<u8> {
+    if !zlib {
+        let n = u64_at(data, offset);
+        return data[offset + 8..offset + 8 + n].to_vec();
     }
+    use std::io::Read;
+    let blocks = u64_at(data, offset);
+    let mut at = offset + 8 * (3 + blocks);
+    let mut out = Vec::new();
+    for k in 0..blocks {
+        let size = u64_at(data, offset + 8 * (3 + k));
+        let mut d = flate2::read::ZlibDecoder::new(&data[at..at + size]);
+        d.read_to_end(&mut out).unwrap();
+        at += size;
+    }
+    let (block, last) = (u64_at(data, offset + 8), u64_at(data, offset + 16));
+    let full = if last == 0 {
+        blocks * block
+    } else {
+        (blocks - 1) * block + last
+    };
+    assert_eq!(out.len(), full, "the header's sizes match the data");
     out
 }
 
-fn number_of_points(text: &str) -> usize {
-    let s = &text[text.find("NumberOfPoints=\"").unwrap() + 16..];
+fn number_of_points(head: &str) -> usize {
+    let s = &head[head.find("NumberOfPoints=\"").unwrap() + 16..];
     s[..s.find('"').unwrap()].parse().unwrap()
 }
 
+fn floats(b: &[u8]) -> Vec<f32> {
+    b.chunks_exact(4)
+        .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
+        .collect()
+}
+
+/// Binary VTU, raw and zlib, with and without stress, and a chosen field list: the head
+/// names the arrays, the offsets lead to arrays of the right size, and the values are the
+/// frame's; one vertex cell per particle.
 #[test]
-fn vtu_counts_match() {
+fn vtu_arrays_decode_to_the_frame() {
     let dir = tempfile::tempdir().unwrap();
-    for (with_stress, n) in [(false, 7), (true, 40)] {
-        let path = dir.path().join(format!("p{n}.vtu"));
-        output::write_vtu(&path, &particles(n), with_stress).unwrap();
-        let text = std::fs::read_to_string(&path).unwrap();
-        assert!(text.starts_with("<?xml") && text.trim_end().ends_with("</VTKFile>"));
-        assert_eq!(number_of_points(&text), n);
-        let a = arrays(&text);
+    let all = Fields::of(&[
+        Field::Position,
+        Field::Velocity,
+        Field::Density,
+        Field::Pressure,
+        Field::Kind,
+        Field::Id,
+        Field::Group,
+        Field::Stress,
+    ]);
+    let few = Fields::of(&[Field::Position, Field::Pressure]);
+    // 300 000 particles: more than one zlib block per array.
+    for (n, fields, zlib) in [
+        (7, all, false),
+        (40, all, true),
+        (300_000, few, true),
+        (5, few, false),
+    ] {
+        let frame = FrameData::from_particles(&particles(n), all, 3, 0.25);
+        let path = dir.path().join(format!("p{n}{zlib}.vtu"));
+        let bytes = output::write_vtu(&path, &frame, fields, zlib).unwrap();
+        let file = std::fs::read(&path).unwrap();
+        assert_eq!(bytes, file.len() as u64);
+        let (head, data) = split_vtu(&file);
+        assert_eq!(head.contains("vtkZLibDataCompressor"), zlib);
+        assert_eq!(number_of_points(&head), n);
+        assert!(head.contains(&format!("NumberOfCells=\"{n}\"")));
+        let a = arrays(&head);
         let names: Vec<&str> = a.iter().map(|x| x.0.as_str()).collect();
-        let mut expect = vec![
-            "id", "kind", "group", "velocity", "speed", "density", "pressure",
-        ];
-        if with_stress {
-            expect.push("stress");
-        }
+        let mut expect: Vec<&str> = if fields == all {
+            vec![
+                "id", "kind", "group", "velocity", "density", "pressure", "stress",
+            ]
+        } else {
+            vec!["pressure"]
+        };
         expect.extend(["Points", "connectivity", "offsets", "types"]);
         assert_eq!(names, expect);
-        for (name, comps, values) in &a {
-            let want = match name.as_str() {
-                "offsets" | "types" => 1,
-                _ => n * comps,
+        for (name, ty, comps, offset) in &a {
+            let b = array_bytes(&data, *offset, zlib);
+            let size = match ty.as_str() {
+                "UInt8" => 1,
+                "Int64" => 8,
+                _ => 4,
             };
-            assert_eq!(*values, want, "{name}");
+            assert_eq!(b.len(), n * comps * size, "{name}");
+            match name.as_str() {
+                "Points" => assert_eq!(floats(&b)[3 * (n - 1)], (n - 1) as f32 * 0.1),
+                "pressure" => assert!(floats(&b).iter().all(|&p| p == 12.5)),
+                "velocity" => assert_eq!(floats(&b)[..3], [1.0, -2.0, 0.25]),
+                "stress" => assert_eq!(floats(&b)[6..12], [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]),
+                "kind" => assert_eq!(b[..3], [0, 1, 2]),
+                "types" => assert!(b.iter().all(|&t| t == 1), "VTK_VERTEX cells"),
+                "offsets" => {
+                    let last = i32::from_le_bytes(b[b.len() - 4..].try_into().unwrap());
+                    assert_eq!(last as usize, n);
+                }
+                _ => {}
+            }
         }
-        assert!(
-            text.contains(&format!("{}", (1.0f32 + 4.0 + 0.0625).sqrt())),
-            "speed written"
-        );
     }
+}
+
+/// The particle CSV carries the chosen fields' columns, rows ordered by id, and reads back
+/// through `read_particles_csv` (what `meshfree compare` reads).
+#[test]
+fn particle_csv_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("p.csv");
+    let mut frame = FrameData::from_particles(
+        &particles(6),
+        Fields::of(&[
+            Field::Position,
+            Field::Velocity,
+            Field::Density,
+            Field::Pressure,
+            Field::Kind,
+            Field::Id,
+        ]),
+        0,
+        0.0,
+    );
+    // Storage order is not id order.
+    frame.id.reverse();
+    let fields = frame.fields();
+    output::write_particles_csv(&path, &frame, fields).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(
+        text.starts_with("id,kind,x,y,z,vx,vy,vz,density,pressure\n"),
+        "{text}"
+    );
+    let back = output::read_particles_csv(&path).unwrap();
+    assert_eq!(back.len(), 6);
+    assert!(back.windows(2).all(|w| w[0].id < w[1].id));
+    // id 0 sits in the last storage slot, whose position is 0.5.
+    assert_eq!(back[0].position[0], 0.5);
 }
 
 #[test]
@@ -131,9 +253,11 @@ fn csv_rows_match_header() {
 fn run_writes_consistent_output() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("tank");
-    let scene = Scene::builtin("tank-2d").unwrap();
+    let mut scene = Scene::builtin("tank-2d").unwrap();
+    scene.file.output.clusters = true;
+    scene.revalidate().unwrap();
     let options = RunOptions {
-        particle_csv: false,
+        format: None,
         out_dir: Some(out.clone()),
         max_steps: Some(12),
         output_interval: Some(1e-3),
@@ -143,7 +267,9 @@ fn run_writes_consistent_output() {
     let mut seen = 0;
     let summary = run::run_observed(&scene, &options, &mut |f| {
         assert_eq!(f.index, seen);
-        assert!(f.particles.windows(2).all(|w| w[0].id < w[1].id));
+        let ps = f.data.particles();
+        assert_eq!(ps.len(), 2026);
+        assert!(ps.windows(2).all(|w| w[0].id < w[1].id));
         seen += 1;
     })
     .unwrap();
@@ -155,13 +281,18 @@ fn run_writes_consistent_output() {
     let pvd = std::fs::read_to_string(out.join("particles.pvd")).unwrap();
     assert_eq!(pvd.matches("<DataSet ").count(), summary.outputs);
     for i in 0..summary.outputs {
-        let text = std::fs::read_to_string(out.join(format!("particles_{i:05}.vtu"))).unwrap();
-        assert_eq!(number_of_points(&text), 2026);
+        let file = std::fs::read(out.join(format!("particles_{i:05}.vtu"))).unwrap();
+        let (head, _) = split_vtu(&file);
+        assert_eq!(number_of_points(&head), 2026);
         assert!(
-            !text.contains("Name=\"stress\""),
+            !head.contains("Name=\"stress\""),
             "no stress without solids"
         );
     }
+    let t = &summary.timing;
+    assert!(t.setup_seconds > 0.0 && t.stepping_seconds > 0.0 && t.writer_seconds > 0.0);
+    assert!(t.setup_seconds + t.stepping_seconds + t.output_wait_seconds <= t.total_seconds);
+    assert!(summary.output_bytes > 2026 * 30 * summary.outputs as u64);
     let csv = std::fs::read_to_string(out.join("diagnostics.csv")).unwrap();
     assert_eq!(csv.lines().count(), summary.outputs + 1);
     let last: Vec<&str> = csv.lines().last().unwrap().split(',').collect();
@@ -194,7 +325,7 @@ fn blow_up_is_reported() {
     scene.file.time.dt = Some(0.5);
     scene.revalidate().unwrap();
     let options = RunOptions {
-        particle_csv: false,
+        format: None,
         out_dir: Some(out.clone()),
         max_steps: Some(50),
         output_interval: Some(0.5),

@@ -336,7 +336,7 @@ fn bad_override_creates_nothing() {
     let out = dir.path().join("out");
     let s = Scene::from_toml(BASE, "base.toml").unwrap();
     let options = RunOptions {
-        particle_csv: false,
+        format: None,
         out_dir: Some(out.clone()),
         t_end: Some(-1.0),
         progress: Progress::Quiet,

@@ -28,15 +28,20 @@ fn options(dir: &std::path::Path) -> RunOptions {
         max_steps: None,
         output_interval: Some(0.05),
         progress: Progress::Quiet,
-        particle_csv: false,
+        format: None,
     }
 }
 
 #[test]
 fn forward_euler_past_its_cfl_limit_blows_up_with_a_clear_report() {
     let dir = tempfile::tempdir().unwrap();
-    let err = run(&tank(IntegratorChoice::Euler, 1.5), &options(dir.path()))
-        .expect_err("forward Euler at Courant 1.5 must fail");
+    let mut frames = Vec::new();
+    let err = meshfree::run::run_observed(
+        &tank(IntegratorChoice::Euler, 1.5),
+        &options(dir.path()),
+        &mut |f| frames.push(f.data.clone()),
+    )
+    .expect_err("forward Euler at Courant 1.5 must fail");
     let RunError::BlowUp { fault, summary, .. } = err else {
         panic!("expected a blow-up, got {err}")
     };
@@ -47,18 +52,29 @@ fn forward_euler_past_its_cfl_limit_blows_up_with_a_clear_report() {
     );
     assert!(fault.step > 0 && fault.time > 0.0, "{fault:?}");
     assert_eq!(summary.fault.as_ref(), Some(fault.as_ref()));
-    // The output written before the blow-up holds no NaN.
-    for e in std::fs::read_dir(dir.path()).unwrap() {
-        let p = e.unwrap().path();
-        if p.extension().is_some_and(|x| x == "vtu" || x == "csv") {
-            let t = std::fs::read_to_string(&p).unwrap();
-            assert!(
-                !t.contains("NaN") && !t.contains("nan"),
-                "{} holds NaN",
-                p.display()
-            );
-        }
+    // The output written before the blow-up holds no NaN, and every frame has its file.
+    assert!(!frames.is_empty());
+    for f in &frames {
+        let finite = f
+            .position
+            .iter()
+            .chain(&f.velocity)
+            .flatten()
+            .all(|x| x.is_finite())
+            && f.density.iter().chain(&f.pressure).all(|x| x.is_finite());
+        assert!(finite, "frame at step {} holds NaN or inf", f.step);
     }
+    let vtu = std::fs::read_dir(dir.path())
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .extension()
+                .is_some_and(|x| x == "vtu")
+        })
+        .count();
+    assert_eq!(vtu, frames.len());
     let summary_json = std::fs::read_to_string(dir.path().join("summary.json")).unwrap();
     assert!(summary_json.contains("\"failed\""), "{summary_json}");
 }

@@ -67,7 +67,7 @@ fn coarse_re140_holds_the_flow_and_feels_drag() {
             progress: Progress::Quiet,
             ..Default::default()
         },
-        &mut |f| last = f.particles.to_vec(),
+        &mut |f| last = f.data.particles(),
     )
     .expect("the run completes");
     assert_eq!(summary.particles.total, last.len());

@@ -7,6 +7,7 @@ pub mod backend;
 pub mod build_info;
 pub mod consts;
 pub mod dim;
+pub mod frame;
 pub mod kernel;
 pub mod monitor;
 pub mod named;

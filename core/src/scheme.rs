@@ -29,7 +29,7 @@ pub use declare::{Check, Key, KeyDefault, Paper, Param, Refusal, Rule, Table};
 
 use serde::{Deserialize, Serialize};
 
-use crate::scene::format::{Domain, FluidBlock, Inflow, Monitor, SolidObject, Wall};
+use crate::scene::format::{Domain, FluidBlock, Inflow, Monitor, Output, SolidObject, Wall};
 
 /// [-] Quadratic artificial viscosity of the paper's own scheme (`--paper-exact`), eq. (10)
 /// (the paper's 0 < beta < 1).
@@ -73,6 +73,9 @@ pub struct SceneFile {
     /// Force monitors on wall objects (forces.csv, Strouhal number, Cd, Cl).
     #[serde(default)]
     pub monitors: Vec<Monitor>,
+    /// What each output writes: format, fields, cluster count.
+    #[serde(default)]
+    pub output: Output,
 }
 
 choice! {

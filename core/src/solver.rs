@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::frame::{Fields, FrameData, PendingFrame, Ready};
 use crate::params::{SphParams, MF_INTEGRATOR_EULER, MF_NO_SLIP_WALL_VELOCITY};
 use crate::particle::{Kind, Particle};
 
@@ -189,6 +190,14 @@ pub trait Solver: Send {
     fn diagnostics(&mut self) -> Diagnostics;
     /// All particles, ordered by id (a read-back on the GPU).
     fn particles(&mut self) -> Vec<Particle>;
+    /// Start copying `fields` of every particle for an output (`crate::frame`): returns
+    /// at once where the backend can copy in the background (CUDA), and the frame's `wait`
+    /// delivers it in storage order with the ids. The default reads back whole particles.
+    fn capture(&mut self, fields: Fields) -> Box<dyn PendingFrame> {
+        let (step, time) = (self.steps(), self.time());
+        let data = FrameData::from_particles(&self.particles(), fields, step, time);
+        Box::new(Ready(data))
+    }
     /// Positions, kinds and one quantity, for display. The default reads back whole
     /// particles; a GPU backend copies only what is shown.
     fn snapshot(&mut self, shown: Shown, out: &mut Snapshot) {

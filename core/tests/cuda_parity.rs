@@ -1533,3 +1533,84 @@ fn diagnostics_after_200_steps_3d_many_scan_blocks() {
     let setup = with_tall_domain(scene_with(3, V_3D_LEAN, 0.05), 30.0);
     long_run_on::<D3>("V_3D_LEAN, tall domain", setup, 200);
 }
+
+/// Every field of a frame (sorted by id) as `particles()` read it back (mass aside: frames
+/// carry none).
+fn same_particles(what: &str, frame: &[Particle], read: &[Particle]) {
+    assert_eq!(frame.len(), read.len(), "{what}: particle count");
+    for (f, r) in frame.iter().zip(read) {
+        let r = Particle { mass: 0.0, ..*r };
+        assert_eq!(*f, r, "{what}: particle {}", r.id);
+    }
+}
+
+/// Output frames (`Solver::capture`): the device-side copy taken at a step is what
+/// `particles()` reads back at that step, although the solver stepped on before the frame
+/// was downloaded; two frames in flight at once; a frame dropped unread gives its staging
+/// set back; and the CPU backend's capture likewise.
+fn capture_is_a_snapshot<D: Dim>(dim: usize, v: Variant) {
+    use meshfree_core::frame::{Field, Fields};
+    let all = Fields::of(&[
+        Field::Position,
+        Field::Velocity,
+        Field::Density,
+        Field::Pressure,
+        Field::Kind,
+        Field::Id,
+        Field::Group,
+        Field::Stress,
+    ]);
+    let setup = scene(dim, v);
+    let mut g = gpu::<D>(&setup);
+    g.advance(3);
+    let at_a = g.particles();
+    let a = g.capture(all);
+    g.advance(5);
+    let at_b = g.particles();
+    let b = g.capture(all);
+    g.advance(2);
+    let a = a.wait().unwrap();
+    assert_eq!(a.step, 3);
+    assert!(
+        !a.stress.is_empty(),
+        "the scene has a solid: stress is captured"
+    );
+    same_particles("GPU frame A", &a.particles(), &at_a);
+    same_particles("GPU frame B", &b.wait().unwrap().particles(), &at_b);
+    // Both staging sets are free again; a frame dropped unread frees its set too.
+    for _ in 0..3 {
+        drop(g.capture(all));
+    }
+    let few = Fields::of(&[Field::Position, Field::Pressure]);
+    let at_c = g.particles();
+    let c = g.capture(few).wait().unwrap();
+    assert!(c.velocity.is_empty() && c.id.is_empty());
+    let mut pos_c: Vec<[f32; 3]> = c.position.clone();
+    let mut pos_r: Vec<[f32; 3]> = at_c.iter().map(|q| q.position).collect();
+    pos_c.sort_by(|x, y| x.partial_cmp(y).unwrap());
+    pos_r.sort_by(|x, y| x.partial_cmp(y).unwrap());
+    assert_eq!(pos_c, pos_r, "the positions of a frame without ids");
+
+    let mut c = CpuSolver::<D>::new(setup);
+    c.advance(2);
+    let at = c.particles();
+    let frame = c.capture(all).wait().unwrap();
+    same_particles("CPU frame", &frame.particles(), &at);
+}
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn capture_is_a_snapshot_2d() {
+    capture_is_a_snapshot::<D2>(2, V_2D_A);
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn capture_is_a_snapshot_3d() {
+    capture_is_a_snapshot::<D3>(3, V_3D_A);
+}

@@ -296,3 +296,20 @@ fn solids_and_cylinder_displace_fluid() {
     assert!(setup.has_solids());
     assert!((setup.params.solid_rho0 - 0.6).abs() < 1e-7);
 }
+
+/// GPUSPH's dam breaks in our format (`scenes/peers/`, `meshfree bench peers`) parse and
+/// validate (generating them takes too long for a test: up to 13.5 M particles).
+#[test]
+fn peer_scenes_validate() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/peers");
+    let mut n = 0;
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let path = e.unwrap().path();
+        if path.extension().is_some_and(|x| x == "toml") {
+            let s = Scene::from_file(&path).unwrap_or_else(|e| panic!("{e}"));
+            assert!(s.name().starts_with("gpusph-"), "{}", path.display());
+            n += 1;
+        }
+    }
+    assert_eq!(n, 3, "db3d-ppH70, db3d-ppH180, db2d-ppH670");
+}

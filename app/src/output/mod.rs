@@ -1,18 +1,20 @@
-//! Run output: VTK particle files with a `.pvd` series for ParaView (`vtk`), the
-//! diagnostics CSV (`diagnostics`), the force monitors' CSV (`forces_csv`), the elastic
-//! bodies' CSV (`bodies_csv`) and the JSON run summary (`summary`).
+//! Run output: binary VTK particle files with a `.pvd` series for ParaView (`vtk`) or
+//! particle CSV (`particles_csv`), written by the writer thread (`writer`); the diagnostics
+//! CSV (`diagnostics`), the force monitors' CSV (`forces_csv`), the elastic bodies' CSV
+//! (`bodies_csv`) and the JSON run summary (`summary`).
 pub mod bodies_csv;
 pub mod diagnostics;
 pub mod forces_csv;
 pub mod particles_csv;
 pub mod summary;
 pub mod vtk;
+pub mod writer;
 
 pub use bodies_csv::BodiesCsv;
 pub use diagnostics::DiagnosticsCsv;
 pub use forces_csv::ForcesCsv;
 pub use particles_csv::{read_particles_csv, write_particles_csv};
-pub use summary::{RunStatus, RunSummary};
+pub use summary::{RunStatus, RunSummary, Timing};
 pub use vtk::{write_vtu, PvdSeries};
 
 /// Write `bytes` to `path` through a temporary file and a rename, so a reader never sees

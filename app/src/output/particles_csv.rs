@@ -1,32 +1,84 @@
-//! Plain particle CSV, one row per particle, for comparisons with other codes
-//! (`meshfree compare`): `id,kind,x,y,z,vx,vy,vz,density,pressure`, kind as its name.
+//! Plain particle CSV, one row per particle ordered by id, for comparisons with other codes
+//! (`meshfree compare`) and pandas: `id,kind,x,y,z,vx,vy,vz,density,pressure` (kind as its
+//! name), then `group` and the stress `sxx,syy,szz,sxy,sxz,syz`; a field the scene's
+//! `[output] fields` leaves out leaves out its columns.
 
 use std::fmt::Write as _;
 use std::io;
 use std::path::Path;
 
+use meshfree_core::frame::{Field, Fields, FrameData};
 use meshfree_core::particle::{Kind, Particle};
 
 pub const HEADER: &str = "id,kind,x,y,z,vx,vy,vz,density,pressure";
 
-/// Write the particles (callers pass them ordered by id).
-pub fn write_particles_csv(path: &Path, particles: &[Particle]) -> io::Result<()> {
-    let mut s = String::with_capacity(particles.len() * 96 + 64);
-    s.push_str(HEADER);
-    s.push('\n');
-    for p in particles {
-        let [x, y, z] = p.position;
-        let [u, v, w] = p.velocity;
-        let _ = writeln!(
-            s,
-            "{},{},{x},{y},{z},{u},{v},{w},{},{}",
-            p.id,
-            p.kind.name(),
-            p.density,
-            p.pressure
-        );
+/// Write the `fields` of the frame's particles, ordered by id where it has ids (through a temporary file
+/// and a rename). Returns the bytes written.
+pub fn write_particles_csv(path: &Path, f: &FrameData, fields: Fields) -> io::Result<u64> {
+    let mut order: Vec<usize> = (0..f.len).collect();
+    if !f.id.is_empty() {
+        order.sort_unstable_by_key(|&i| f.id[i]);
     }
-    std::fs::write(path, s)
+    let on = |field: Field, len: usize| fields.has(field) && len == f.len && f.len > 0;
+    let mut cols: Vec<&str> = Vec::new();
+    if on(Field::Id, f.id.len()) {
+        cols.push("id");
+    }
+    if on(Field::Kind, f.kind.len()) {
+        cols.push("kind");
+    }
+    cols.extend(["x", "y", "z"]);
+    if on(Field::Velocity, f.velocity.len()) {
+        cols.extend(["vx", "vy", "vz"]);
+    }
+    if on(Field::Density, f.density.len()) {
+        cols.push("density");
+    }
+    if on(Field::Pressure, f.pressure.len()) {
+        cols.push("pressure");
+    }
+    if on(Field::Group, f.group.len()) {
+        cols.push("group");
+    }
+    if on(Field::Stress, f.stress.len()) {
+        cols.extend(["sxx", "syy", "szz", "sxy", "sxz", "syz"]);
+    }
+    let mut s = String::with_capacity(f.len * 96 + 128);
+    s.push_str(&cols.join(","));
+    s.push('\n');
+    for i in order {
+        let mut row = Vec::<String>::with_capacity(cols.len());
+        if on(Field::Id, f.id.len()) {
+            row.push(f.id[i].to_string());
+        }
+        if on(Field::Kind, f.kind.len()) {
+            row.push(
+                Kind::from_code(f.kind[i])
+                    .map_or("?", |k| k.name())
+                    .to_string(),
+            );
+        }
+        let x = f.position.get(i).copied().unwrap_or_default();
+        row.extend(x.iter().map(f32::to_string));
+        if on(Field::Velocity, f.velocity.len()) {
+            row.extend(f.velocity[i].iter().map(f32::to_string));
+        }
+        if on(Field::Density, f.density.len()) {
+            row.push(f.density[i].to_string());
+        }
+        if on(Field::Pressure, f.pressure.len()) {
+            row.push(f.pressure[i].to_string());
+        }
+        if on(Field::Group, f.group.len()) {
+            row.push(f.group[i].to_string());
+        }
+        if on(Field::Stress, f.stress.len()) {
+            row.extend(f.stress[i].iter().map(f32::to_string));
+        }
+        let _ = writeln!(s, "{}", row.join(","));
+    }
+    super::write_atomic(path, s.as_bytes())?;
+    Ok(s.len() as u64)
 }
 
 /// Read a particle CSV written by `write_particles_csv` (or by another code in the same

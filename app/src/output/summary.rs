@@ -4,6 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::analysis::bodies::BodySummary;
 use meshfree_core::monitor::MonitorSummary;
+use meshfree_core::scene::format::OutputFormat;
 use meshfree_core::scene::Counts;
 use meshfree_core::solver::{Diagnostics, Fault};
 
@@ -32,12 +33,19 @@ pub struct RunSummary {
     pub wall_seconds: f64,
     /// Particles x steps / wall seconds (particles counted at the start).
     pub particle_steps_per_second: f64,
-    /// Number of VTK files written.
+    /// Number of outputs (frames) written.
     pub outputs: usize,
     pub output_dir: String,
+    /// The particle files' format.
+    pub output_format: OutputFormat,
+    /// Bytes of particle files written.
+    pub output_bytes: u64,
+    /// How the wall time split.
+    pub timing: Timing,
     pub final_diagnostics: Option<Diagnostics>,
     /// Connected clusters of fluid particles (links under 1.5 dx,
-    /// `analysis::clusters`) at the last output: droplets.
+    /// `analysis::clusters`) at the last output: droplets. Counted where the scene's
+    /// `[output] clusters` asks.
     #[serde(default)]
     pub fluid_clusters: Option<usize>,
     pub status: RunStatus,
@@ -52,7 +60,38 @@ pub struct RunSummary {
     pub bodies: Vec<BodySummary>,
 }
 
+/// How a run's wall time split [s]. The writer works while the solver steps, so
+/// `setup + stepping + output_wait` is the part of `total` the outputs could not hide, and
+/// `writer` (its busy time) overlaps `stepping`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Timing {
+    /// Scene set-up: particle generation, the backend's start (on a GPU: context, modules,
+    /// upload), up to the first step.
+    pub setup_seconds: f64,
+    /// Stepping, as the `Stepper` clocked it (health checks included).
+    pub stepping_seconds: f64,
+    /// Time the stepping waited for the output: starting the copies, a full writer queue,
+    /// and the last frames' writing after the last step.
+    pub output_wait_seconds: f64,
+    /// The writer thread's busy time: downloads, encoding, files (overlapped).
+    pub writer_seconds: f64,
+    /// The part of `writer_seconds` spent waiting for the frames' copies (the downloads).
+    #[serde(default)]
+    pub writer_download_seconds: f64,
+    pub total_seconds: f64,
+}
+
 impl RunSummary {
+    /// Take the writer's counts: frames, bytes, busy time, clusters, bodies.
+    pub fn absorb(&mut self, w: &super::writer::Report) {
+        self.outputs = w.frames;
+        self.output_bytes = w.bytes;
+        self.timing.writer_seconds = w.busy_seconds;
+        self.timing.writer_download_seconds = w.download_seconds;
+        self.fluid_clusters = w.last_clusters;
+        self.bodies = w.bodies.clone();
+    }
+
     pub fn write(&self, path: &std::path::Path) -> std::io::Result<()> {
         let mut text = serde_json::to_string_pretty(self).map_err(std::io::Error::other)?;
         text.push('\n');

@@ -1,158 +1,246 @@
-//! VTK XML output for ParaView: one `.vtu` (UnstructuredGrid, ASCII) per output time with
-//! the particles as one poly-vertex cell, and a `.pvd` collection of all of them.
+//! VTK XML output for ParaView, the `vtk` Python module and meshio: one `.vtu`
+//! (UnstructuredGrid) per output with the arrays as raw binary appended data (optionally
+//! zlib-compressed) and one vertex cell per particle (so ParaView's Threshold and meshio
+//! see every particle), and a `.pvd` collection of all of them.
+//!
+//! Layout (VTK file format version 1.0, little endian, UInt64 headers): each frame field is
+//! a point-data array named as in the scene's `[output] fields` (velocity and stress with 3
+//! and 6 components, stress as xx yy zz xy xz yz), the positions are the Points, and the
+//! cells are n `VTK_VERTEX`es (connectivity i, offsets i + 1, Int32 below 2^31 points).
+//! Arrays appear in the frame's storage order; `id` says which particle a row is.
 
 use std::fmt::Write as _;
-use std::io;
+use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
-use meshfree_core::particle::Particle;
+use rayon::prelude::*;
 
-/// Write the particles (in the order given: callers pass them ordered by id) to `path`.
-/// Point data: id, kind, group, velocity (3), speed, density, pressure, and stress
-/// (6 components xx yy zz xy xz yz) when `with_stress`.
-pub fn write_vtu(path: &Path, particles: &[Particle], with_stress: bool) -> io::Result<()> {
-    let n = particles.len();
-    let mut s = String::with_capacity(n * 160 + 2048);
-    s.push_str("<?xml version=\"1.0\"?>\n");
-    s.push_str("<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n");
-    s.push_str("  <UnstructuredGrid>\n");
-    let cells = if n > 0 { 1 } else { 0 };
-    let _ = writeln!(
-        s,
-        "    <Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{cells}\">"
-    );
+use meshfree_core::frame::{Field, Fields, FrameData};
 
-    s.push_str("      <PointData Scalars=\"speed\" Vectors=\"velocity\">\n");
-    array(
-        &mut s,
-        "id",
-        "UInt32",
-        1,
-        particles.iter().map(|p| p.id.to_string()),
-    );
-    array(
-        &mut s,
-        "kind",
-        "UInt8",
-        1,
-        particles.iter().map(|p| p.kind.code().to_string()),
-    );
-    array(
-        &mut s,
-        "group",
-        "UInt32",
-        1,
-        particles.iter().map(|p| p.group.to_string()),
-    );
-    array(
-        &mut s,
-        "velocity",
-        "Float32",
-        3,
-        particles
-            .iter()
-            .map(|p| format!("{} {} {}", p.velocity[0], p.velocity[1], p.velocity[2])),
-    );
-    array(
-        &mut s,
-        "speed",
-        "Float32",
-        1,
-        particles.iter().map(|p| p.speed().to_string()),
-    );
-    array(
-        &mut s,
-        "density",
-        "Float32",
-        1,
-        particles.iter().map(|p| p.density.to_string()),
-    );
-    array(
-        &mut s,
-        "pressure",
-        "Float32",
-        1,
-        particles.iter().map(|p| p.pressure.to_string()),
-    );
-    if with_stress {
-        array(
-            &mut s,
-            "stress",
-            "Float32",
-            6,
-            particles.iter().map(|p| {
-                p.stress
-                    .iter()
-                    .map(|x| x.to_string())
-                    .collect::<Vec<_>>()
-                    .join(" ")
-            }),
-        );
-    }
-    s.push_str("      </PointData>\n");
+/// VTK's cell type of a single point.
+const VTK_VERTEX: u8 = 1;
 
-    s.push_str("      <Points>\n");
-    array(
-        &mut s,
-        "Points",
-        "Float32",
-        3,
-        particles
-            .iter()
-            .map(|p| format!("{} {} {}", p.position[0], p.position[1], p.position[2])),
-    );
-    s.push_str("      </Points>\n");
+/// Uncompressed bytes per zlib block (VTK's vtkZLibDataCompressor block layout).
+const ZLIB_BLOCK: usize = 1 << 20;
 
-    // One VTK_POLY_VERTEX (type 2) cell holding every point, so ParaView draws them.
-    s.push_str("      <Cells>\n");
-    array(
-        &mut s,
-        "connectivity",
-        "Int64",
-        1,
-        (0..n).map(|i| i.to_string()),
-    );
-    array(
-        &mut s,
-        "offsets",
-        "Int64",
-        1,
-        (0..cells).map(|_| n.to_string()),
-    );
-    array(
-        &mut s,
-        "types",
-        "UInt8",
-        1,
-        (0..cells).map(|_| "2".to_string()),
-    );
-    s.push_str("      </Cells>\n");
-    s.push_str("    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
-    super::write_atomic(path, s.as_bytes())
+/// One array of the appended section.
+struct Array<'a> {
+    name: &'static str,
+    ty: &'static str,
+    comps: usize,
+    bytes: std::borrow::Cow<'a, [u8]>,
 }
 
-/// An ASCII DataArray, 8 tuples a line.
-fn array(s: &mut String, name: &str, ty: &str, comps: usize, values: impl Iterator<Item = String>) {
+fn arr<'a, T: bytemuck::Pod>(
+    name: &'static str,
+    ty: &'static str,
+    comps: usize,
+    v: &'a [T],
+) -> Array<'a> {
+    Array {
+        name,
+        ty,
+        comps,
+        bytes: std::borrow::Cow::Borrowed(bytemuck::cast_slice(v)),
+    }
+}
+
+/// Write `frame` to `path` (through a temporary file and a rename: a reader never sees
+/// half a file): the `fields` it carries (position always). `zlib`: compress each array. Returns the bytes written.
+pub fn write_vtu(path: &Path, frame: &FrameData, fields: Fields, zlib: bool) -> io::Result<u64> {
+    let n = frame.len;
+    let on = |f: Field, len: usize| fields.has(f) && len == n && n > 0;
+    let mut point_data = Vec::new();
+    if on(Field::Id, frame.id.len()) {
+        point_data.push(arr("id", "UInt32", 1, &frame.id));
+    }
+    if on(Field::Kind, frame.kind.len()) {
+        point_data.push(arr("kind", "UInt8", 1, &frame.kind));
+    }
+    if on(Field::Group, frame.group.len()) {
+        point_data.push(arr("group", "UInt32", 1, &frame.group));
+    }
+    if on(Field::Velocity, frame.velocity.len()) {
+        point_data.push(arr("velocity", "Float32", 3, &frame.velocity));
+    }
+    if on(Field::Density, frame.density.len()) {
+        point_data.push(arr("density", "Float32", 1, &frame.density));
+    }
+    if on(Field::Pressure, frame.pressure.len()) {
+        point_data.push(arr("pressure", "Float32", 1, &frame.pressure));
+    }
+    if on(Field::Stress, frame.stress.len()) {
+        point_data.push(arr("stress", "Float32", 6, &frame.stress));
+    }
+    let zeros;
+    let points = if frame.position.is_empty() {
+        zeros = vec![[0.0f32; 3]; n];
+        arr("Points", "Float32", 3, &zeros)
+    } else {
+        arr("Points", "Float32", 3, &frame.position)
+    };
+    let cells = cell_arrays(n);
+
+    let mut xml = String::with_capacity(4096);
+    xml.push_str("<?xml version=\"1.0\"?>\n");
     let _ = writeln!(
-        s,
-        "        <DataArray type=\"{ty}\" Name=\"{name}\" NumberOfComponents=\"{comps}\" format=\"ascii\">"
+        xml,
+        "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"{}>",
+        if zlib { " compressor=\"vtkZLibDataCompressor\"" } else { "" }
     );
-    let per_line = if comps == 1 { 16 } else { 4 };
-    for (i, v) in values.enumerate() {
-        if i % per_line == 0 {
-            if i > 0 {
-                s.push('\n');
-            }
-            s.push_str("          ");
+    xml.push_str("  <UnstructuredGrid>\n");
+    let _ = writeln!(
+        xml,
+        "    <Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{n}\">"
+    );
+
+    // Encode every array (compressed in parallel blocks where asked), then lay out offsets.
+    // A raw array is its UInt64 byte count followed by its bytes, written from the frame.
+    let mut offset = 0usize;
+    let mut blobs: Vec<Vec<u8>> = Vec::new();
+    let mut tag = |xml: &mut String, a: &Array, blobs: &mut Vec<Vec<u8>>| {
+        let blob = if zlib {
+            zlib_blocks(&a.bytes)
         } else {
-            s.push(' ');
+            (a.bytes.len() as u64).to_le_bytes().to_vec()
+        };
+        let raw_len = if zlib { 0 } else { a.bytes.len() };
+        let name = if a.name == "Points" {
+            String::new()
+        } else {
+            format!(" Name=\"{}\"", a.name)
+        };
+        let _ = writeln!(
+            xml,
+            "        <DataArray type=\"{}\"{name} NumberOfComponents=\"{}\" format=\"appended\" offset=\"{offset}\"/>",
+            a.ty, a.comps
+        );
+        offset += blob.len() + raw_len;
+        blobs.push(blob);
+    };
+    let scalars = ["pressure", "density"]
+        .into_iter()
+        .find(|s| point_data.iter().any(|a| a.name == *s));
+    let _ = writeln!(
+        xml,
+        "      <PointData{}{}>",
+        scalars.map_or(String::new(), |s| format!(" Scalars=\"{s}\"")),
+        if on(Field::Velocity, frame.velocity.len()) {
+            " Vectors=\"velocity\""
+        } else {
+            ""
         }
-        s.push_str(&v);
+    );
+    for a in &point_data {
+        tag(&mut xml, a, &mut blobs);
     }
-    s.push_str("\n        </DataArray>\n");
+    xml.push_str("      </PointData>\n      <Points>\n");
+    tag(&mut xml, &points, &mut blobs);
+    xml.push_str("      </Points>\n      <Cells>\n");
+    for a in &cells {
+        tag(&mut xml, a, &mut blobs);
+    }
+    xml.push_str("      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n");
+    xml.push_str("  <AppendedData encoding=\"raw\">\n   _");
+
+    let tmp = tmp_path(path);
+    let written = (|| -> io::Result<u64> {
+        let file = std::fs::File::create(&tmp)?;
+        let mut w = io::BufWriter::with_capacity(1 << 22, file);
+        w.write_all(xml.as_bytes())?;
+        let mut total = xml.len() as u64;
+        let arrays = point_data.iter().chain([&points]).chain(cells.iter());
+        for (head, a) in blobs.iter().zip(arrays) {
+            w.write_all(head)?;
+            total += head.len() as u64;
+            if !zlib {
+                w.write_all(&a.bytes)?;
+                total += a.bytes.len() as u64;
+            }
+        }
+        const TAIL: &[u8] = b"\n  </AppendedData>\n</VTKFile>\n";
+        w.write_all(TAIL)?;
+        w.flush()?;
+        Ok(total + TAIL.len() as u64)
+    })();
+    match written {
+        Ok(bytes) => {
+            std::fs::rename(&tmp, path)?;
+            Ok(bytes)
+        }
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(e)
+        }
+    }
 }
 
-/// A `.pvd` collection, rewritten after every `add` so a partial run is readable.
+/// `path` with `.tmp` appended.
+fn tmp_path(path: &Path) -> PathBuf {
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    PathBuf::from(tmp)
+}
+
+/// connectivity, offsets and types of n vertex cells.
+fn cell_arrays(n: usize) -> [Array<'static>; 3] {
+    fn bytes<T: bytemuck::Pod>(v: Vec<T>) -> Vec<u8> {
+        bytemuck::cast_slice(&v).to_vec()
+    }
+    let (connectivity, offsets, ty) = if n < i32::MAX as usize {
+        let c: Vec<i32> = (0..n as i32).collect();
+        let o: Vec<i32> = (1..=n as i32).collect();
+        (bytes(c), bytes(o), "Int32")
+    } else {
+        let c: Vec<i64> = (0..n as i64).collect();
+        let o: Vec<i64> = (1..=n as i64).collect();
+        (bytes(c), bytes(o), "Int64")
+    };
+    let owned = |name, ty, bytes| Array {
+        name,
+        ty,
+        comps: 1,
+        bytes: std::borrow::Cow::Owned(bytes),
+    };
+    [
+        owned("connectivity", ty, connectivity),
+        owned("offsets", ty, offsets),
+        owned("types", "UInt8", vec![VTK_VERTEX; n]),
+    ]
+}
+
+/// VTK's zlib layout: a header of UInt64s [blocks, block size, size of the last block if
+/// partial (else 0), compressed size of each block], then the compressed blocks. Blocks
+/// are compressed in parallel.
+fn zlib_blocks(data: &[u8]) -> Vec<u8> {
+    let blocks: Vec<Vec<u8>> = data
+        .par_chunks(ZLIB_BLOCK)
+        .map(|chunk| {
+            let mut e = flate2::write::ZlibEncoder::new(
+                Vec::with_capacity(chunk.len() / 2),
+                flate2::Compression::fast(),
+            );
+            e.write_all(chunk).expect("writing to a Vec");
+            e.finish().expect("writing to a Vec")
+        })
+        .collect();
+    let last = data.len() % ZLIB_BLOCK;
+    let mut out =
+        Vec::with_capacity(8 * (3 + blocks.len()) + blocks.iter().map(Vec::len).sum::<usize>());
+    for h in [blocks.len(), ZLIB_BLOCK, last] {
+        out.extend_from_slice(&(h as u64).to_le_bytes());
+    }
+    for b in &blocks {
+        out.extend_from_slice(&(b.len() as u64).to_le_bytes());
+    }
+    for b in &blocks {
+        out.extend_from_slice(b);
+    }
+    out
+}
+
+/// A `.pvd` collection, rewritten (atomically) after every `add` so a partial run is
+/// readable.
 #[derive(Clone, Debug)]
 pub struct PvdSeries {
     path: PathBuf,

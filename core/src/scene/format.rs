@@ -9,6 +9,9 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::frame::{Field, Fields};
+use crate::named::Named;
+
 /// Coordinate axis names.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -242,4 +245,87 @@ fn default_layers() -> u32 {
 }
 fn default_true() -> bool {
     true
+}
+
+/// What each output writes (`[output]`; the times are `time.output_interval`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Output {
+    /// The particle files. Default "vtu".
+    #[serde(default)]
+    pub format: OutputFormat,
+    /// The particle fields (`crate::frame::Field`'s names). Default: position, velocity,
+    /// density, pressure, kind, id, group, and stress where the scene has solids. Position
+    /// is always written.
+    #[serde(default)]
+    pub fields: Option<Vec<Field>>,
+    /// Count the connected fluid clusters (droplets) at each output into `clusters.csv`
+    /// and summary.json's `fluid_clusters` (on the writer thread). Default false.
+    #[serde(default)]
+    pub clusters: bool,
+}
+
+/// The format of the particle files of each output.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum OutputFormat {
+    /// VTK XML UnstructuredGrid with raw binary appended data, `particles_NNNNN.vtu` and
+    /// `particles.pvd` (ParaView, the `vtk` Python module, meshio).
+    #[default]
+    Vtu,
+    /// The same, each array zlib-compressed (smaller, slower to write).
+    VtuZlib,
+    /// Plain text, one row per particle, `particles_NNNNN.csv` (`meshfree compare`, pandas).
+    Csv,
+    /// No particle files (diagnostics, monitors and probes only).
+    None,
+}
+
+impl Named for OutputFormat {
+    const ALL: &'static [(OutputFormat, &'static str, &'static str)] = &[
+        (
+            OutputFormat::Vtu,
+            "vtu",
+            "VTK XML with raw binary data, and particles.pvd (ParaView, vtk, meshio)",
+        ),
+        (
+            OutputFormat::VtuZlib,
+            "vtu-zlib",
+            "the same, zlib-compressed: smaller, slower to write",
+        ),
+        (
+            OutputFormat::Csv,
+            "csv",
+            "plain text, one row per particle (meshfree compare, pandas)",
+        ),
+        (
+            OutputFormat::None,
+            "none",
+            "no particle files: diagnostics, monitors and probes only",
+        ),
+    ];
+}
+
+impl Output {
+    /// The fields each output writes in a scene with (`solids`) or without solid particles.
+    pub fn fields(&self, solids: bool) -> Fields {
+        let chosen = match &self.fields {
+            Some(list) => Fields::of(list),
+            None => {
+                let mut f = Fields::of(&[
+                    Field::Velocity,
+                    Field::Density,
+                    Field::Pressure,
+                    Field::Kind,
+                    Field::Id,
+                    Field::Group,
+                ]);
+                if solids {
+                    f = f.with(Field::Stress);
+                }
+                f
+            }
+        };
+        chosen.with(Field::Position)
+    }
 }

@@ -408,6 +408,14 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
         c.positive(&format!("{field}.reference_velocity"), m.reference_velocity)?;
         c.positive(&format!("{field}.reference_length"), m.reference_length)?;
     }
+    if let Some(fields) = &s.output.fields {
+        if fields.contains(&crate::frame::Field::Stress) && s.solids.is_empty() {
+            return Err(c.err(
+                "output.fields",
+                "`stress` is a field of solid particles and the scene has no [[solids]]",
+            ));
+        }
+    }
     if s.fluid_blocks.is_empty() && s.solids.is_empty() && s.walls.is_empty() {
         return Err(c.err(
             "fluid_blocks",

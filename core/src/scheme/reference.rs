@@ -45,6 +45,7 @@ pub const STRUCTURE: &str = r#"## Geometry and objects
 | `[[walls]]` | `shape` = `box-container` {`min`, `max`, `layers` (3), `open_top` (true)} / `box` {`min`, `max`} / `cylinder` {`center`, `radius`, `layers` (3)} / `segment` (2D) {`from`, `to`, `layers` (3): rows on the left of from -> to; fluid and solids behind it are not generated}; `remove_at` [T] makes it a gate; `motion` [L/T] makes it driven (a piston). At most one driven object (wall or solid) per scene |
 | `[inflow]` | `axis` (`x`, `y` or `z`), `min`, `max` [L] (the band `min <= x[axis] < max`, inside the domain), `velocity` [L/T]: fluid in the band moves at `velocity`, set every step instead of integrated; with a periodic axis, a recirculating channel |
 | `[[monitors]]` | `name` (default `forces`: writes `forces.csv`), `wall` (index in `[[walls]]`), `interval` [T], `reference_velocity` U, `reference_length` D: the force of the fluid on that wall, Cd = Fx / (0.5 rho0 U^2 D^(d-1)), Cl (drag along x, lift along y), the Strouhal number f D / U and the blockage D / H in `summary.json` |
+| `[output]` | what each output (every `time.output_interval`, written by a writer thread while the solver steps on) writes. `format` (default `vtu`): `vtu` = VTK XML UnstructuredGrid, raw binary appended data, one vertex cell per particle, with `particles.pvd` (ParaView, the `vtk` Python module, meshio); `vtu-zlib` = the same, zlib-compressed in 1 MiB blocks; `csv` = `particles_NNNNN.csv`, a row per particle ordered by id, columns `id,kind,x,y,z,vx,vy,vz,density,pressure,group,sxx,syy,szz,sxy,sxz,syz` of the chosen fields (`meshfree compare`, pandas); `none` = no particle files. `meshfree run --format` replaces it. `fields` (default all but `stress`, and `stress` where the scene has solids): any of `position` (always written), `velocity`, `density`, `pressure`, `kind` (0 fluid, 1 solid, 2 boundary), `id`, `group`, `stress` (xx yy zz xy xz yz; only with `[[solids]]`); rows in storage order, `id` names each. `clusters` (default false): count the connected fluid clusters (droplets, links under 1.5 dx) into `clusters.csv` and `summary.json`'s `fluid_clusters` |
 
 Objects are numbered in the order fluid blocks, solids, walls (a particle's `group`);
 walls take precedence over solids, solids over fluid, and within a kind an earlier object
@@ -121,6 +122,11 @@ wall = 1
 interval = 0.02
 reference_velocity = 1.0
 reference_length = 1.0
+
+[output]
+format = "vtu"
+fields = ["position", "velocity", "pressure", "kind", "id"]
+clusters = true
 ```
 "#;
 

@@ -21,6 +21,7 @@ use crate::consts::{
     MF_FAULT_NON_FINITE_DENSITY, MF_FAULT_NON_FINITE_POSITION, MF_FAULT_NON_FINITE_VELOCITY,
 };
 use crate::dim::Dim;
+use crate::frame::{Fields, FrameData, PendingFrame, Ready};
 use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
 use crate::particle::Particle;
 use crate::solver::{BackendInfo, Diagnostics, Fault, Setup, Solver};
@@ -150,6 +151,13 @@ impl<D: Dim> Solver for CpuSolver<D> {
     }
     fn particles(&mut self) -> Vec<Particle> {
         self.state.to_particles()
+    }
+    /// A copy at once, in storage order (no sort by id).
+    fn capture(&mut self, fields: Fields) -> Box<dyn PendingFrame> {
+        let st = &self.state;
+        let storage: Vec<Particle> = (0..st.len()).map(|i| st.particle(i)).collect();
+        let data = FrameData::from_particles(&storage, fields, self.steps, self.time);
+        Box::new(Ready(data))
     }
     fn wall_surface(&self) -> &[[f32; 4]] {
         &self.wall_surface

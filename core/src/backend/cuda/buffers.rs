@@ -33,7 +33,7 @@ pub fn nsym<D: Dim>() -> usize {
     }
 }
 /// Which of the six (xx, yy, zz, xy, xz, yz) components are stored, in order.
-fn sym_slots<D: Dim>() -> &'static [usize] {
+pub(super) fn sym_slots<D: Dim>() -> &'static [usize] {
     if D::D == 2 {
         &[0, 1, 3]
     } else {

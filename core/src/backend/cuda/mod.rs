@@ -6,6 +6,7 @@
 //! back only for `time`, `check`, `diagnostics`, `particles` and `remove_group`.
 
 mod buffers;
+mod capture;
 mod device;
 mod kernels;
 mod launch;
@@ -21,6 +22,7 @@ use crate::consts::{
     MF_FAULT_SLOT_SHIFT,
 };
 use crate::dim::Dim;
+use crate::frame::{Fields, FrameData, PendingFrame, Ready};
 use crate::params::{needs_density_gradient, SphParams, MF_DENSITY_CONTINUITY};
 use crate::particle::Particle;
 use crate::solver::{BackendInfo, Diagnostics, Fault, Setup, Shown, Snapshot, Solver};
@@ -29,6 +31,7 @@ use crate::state::State;
 pub use device::{driver_version, NVCC_VERSION};
 
 use buffers::Buffers;
+use capture::Capturer;
 use device::Device;
 use kernels::{Kernels, LANE_COUNTS};
 use launch::StepGraph;
@@ -78,6 +81,8 @@ pub struct CudaSolver<D: Dim> {
     /// Host buffers of `snapshot`, kept between frames.
     host_pos: Vec<f32>,
     host_vel: Vec<f32>,
+    /// The output frames' download stream and staging sets (made at the first capture).
+    capturer: Option<Capturer>,
     /// Two steps of `Solver::step` captured as a CUDA graph (two, so that the grid's buffer
     /// swap comes back to the captured buffers), replayed by `advance`. Dropped whenever the
     /// buffers or the kernels change.
@@ -129,6 +134,7 @@ impl<D: Dim> CudaSolver<D> {
             steps: 0,
             host_pos: Vec::new(),
             host_vel: Vec::new(),
+            capturer: None,
             graph: None,
             graphs: std::env::var("MESHFREE_CUDA_GRAPHS").map_or(true, |v| v != "0"),
             fused: std::env::var("MESHFREE_CUDA_FUSED").map_or(true, |v| v != "0"),
@@ -394,6 +400,25 @@ impl<D: Dim> Solver for CudaSolver<D> {
     }
     fn particles(&mut self) -> Vec<Particle> {
         self.download_state().to_particles()
+    }
+    /// A device-side copy into a staging set, downloaded by the frame's `wait` on a second
+    /// stream (`capture.rs`); a synchronous read-back where no staging set fits in memory.
+    fn capture(&mut self, fields: Fields) -> Box<dyn PendingFrame> {
+        let (step, time) = (self.steps, self.time());
+        if self.capturer.is_none() {
+            match Capturer::new(&self.dev.ctx) {
+                Ok(c) => self.capturer = Some(c),
+                Err(e) => self.sync_err("creating the download stream", e),
+            }
+        }
+        let c = self.capturer.as_ref().expect("created above");
+        match c.start::<D>(&self.dev.stream, &self.buf, fields, step, time) {
+            Ok(pending) => pending,
+            Err(_) => {
+                let ps = self.download_state().to_particles();
+                Box::new(Ready(FrameData::from_particles(&ps, fields, step, time)))
+            }
+        }
     }
     /// Copies only positions, kinds and the shown quantity (one read-back per drawn frame,
     /// into buffers that keep their size from frame to frame).

@@ -1,0 +1,13 @@
+//! Build script: test cfgs only. `MESHFREE_REQUIRE_PYVTK=1` sets `meshfree_require_pyvtk`:
+//! the test that reads our VTU files with the official VTK Python module and with meshio
+//! (`tests/python_readers.rs`, Python from `MESHFREE_PYTHON`, default `python3`) is
+//! `#[ignore]`d without it and fails without those modules with it (CI installs them).
+
+fn main() {
+    let (var, cfg) = ("MESHFREE_REQUIRE_PYVTK", "meshfree_require_pyvtk");
+    println!("cargo:rerun-if-env-changed={var}");
+    println!("cargo::rustc-check-cfg=cfg({cfg})");
+    if std::env::var(var).is_ok_and(|v| v == "1") {
+        println!("cargo:rustc-cfg={cfg}");
+    }
+}

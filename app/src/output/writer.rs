@@ -1,0 +1,203 @@
+//! The output writer thread: everything an output does after the solver has started the
+//! frame's copy (`Solver::capture`), off the stepping path.
+//!
+//! For each frame, in order: wait for the copy (`PendingFrame::wait`: on the GPU, the
+//! download on the second stream), write the particle file (`[output] format`) and then
+//! rewrite `particles.pvd`, append the row of `diagnostics.csv`, count the fluid clusters
+//! into `clusters.csv` where `[output] clusters` asks, measure the elastic bodies into
+//! `bodies.csv`, and call the run's observer. The channel holds one frame: a run whose
+//! writer falls behind waits at the next output (the run reports that wait as output wait).
+//! The first failure (a full disk, an unwritable directory) stops the thread; the run sees
+//! it at its next output or at the end, with the path and the reason, and every frame
+//! written before it stays readable.
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::mpsc;
+use std::time::Instant;
+
+use meshfree_core::frame::{Fields, FrameData, PendingFrame};
+use meshfree_core::scene::format::OutputFormat;
+use meshfree_core::solver::Diagnostics;
+
+use super::{BodiesCsv, DiagnosticsCsv, PvdSeries};
+use crate::analysis::bodies::{BodySummary, BodyTracker};
+use crate::analysis::clusters;
+
+/// What an observer sees at each output (on the writer thread, after the files landed).
+pub struct Frame<'a> {
+    pub index: usize,
+    pub diagnostics: &'a Diagnostics,
+    /// The captured fields, in storage order (`FrameData::particles` orders them by id).
+    pub data: &'a FrameData,
+}
+
+/// An observer of the frames.
+pub type Observer<'a> = &'a mut (dyn FnMut(&Frame) + Send);
+
+/// One output for the writer.
+pub struct Job {
+    pub diagnostics: Diagnostics,
+    pub frame: Box<dyn PendingFrame>,
+}
+
+/// What the writer needs to know, fixed for a run.
+pub struct Config {
+    pub dir: PathBuf,
+    pub format: OutputFormat,
+    /// The fields the particle files carry.
+    pub fields: Fields,
+    /// [L] the cluster count's link radius, where the scene asks for clusters.
+    pub cluster_radius: Option<f32>,
+    /// The elastic bodies (empty without solids).
+    pub bodies: BodyTracker,
+    /// [M] every particle's mass by id (the bodies' measures weigh by mass; frames carry
+    /// no mass). Empty without bodies.
+    pub masses: Vec<f32>,
+}
+
+/// What the writer did, at the end of the run.
+#[derive(Debug, Default)]
+pub struct Report {
+    pub frames: usize,
+    /// Bytes of particle files.
+    pub bytes: u64,
+    /// [s] time the writer spent waiting for copies, encoding and writing (overlapped with
+    /// the stepping).
+    pub busy_seconds: f64,
+    /// [s] the part of `busy_seconds` spent waiting for the frames' copies (on a GPU, the
+    /// downloads).
+    pub download_seconds: f64,
+    /// The cluster count of the last output, where counted.
+    pub last_clusters: Option<usize>,
+    pub bodies: Vec<BodySummary>,
+}
+
+/// Why the writer stopped: the file and the reason.
+#[derive(Debug)]
+pub struct Failure {
+    pub path: PathBuf,
+    pub reason: String,
+}
+
+/// The writer's state on its thread.
+pub struct Writer<'o> {
+    cfg: Config,
+    pvd: PvdSeries,
+    diagnostics: DiagnosticsCsv,
+    clusters: Option<std::fs::File>,
+    bodies_csv: Option<BodiesCsv>,
+    observer: Observer<'o>,
+    report: Report,
+}
+
+fn fail(path: &Path) -> impl FnOnce(std::io::Error) -> Failure + '_ {
+    move |e| Failure {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    }
+}
+
+impl<'o> Writer<'o> {
+    /// Create the CSV files (before the run's first step: an unwritable directory stops the
+    /// run before it starts).
+    pub fn create(cfg: Config, observer: Observer<'o>) -> Result<Writer<'o>, Failure> {
+        let d = cfg.dir.join("diagnostics.csv");
+        let diagnostics = DiagnosticsCsv::create(&d).map_err(fail(&d))?;
+        let clusters = match cfg.cluster_radius {
+            Some(_) => {
+                let path = cfg.dir.join("clusters.csv");
+                let mut f = std::fs::File::create(&path).map_err(fail(&path))?;
+                writeln!(f, "step,time,fluid_clusters").map_err(fail(&path))?;
+                Some(f)
+            }
+            None => None,
+        };
+        let bodies_csv = if cfg.bodies.is_empty() {
+            None
+        } else {
+            let path = cfg.dir.join("bodies.csv");
+            Some(BodiesCsv::create(&path).map_err(fail(&path))?)
+        };
+        Ok(Writer {
+            pvd: PvdSeries::new(cfg.dir.join("particles.pvd")),
+            cfg,
+            diagnostics,
+            clusters,
+            bodies_csv,
+            observer,
+            report: Report::default(),
+        })
+    }
+
+    /// Write every job until the channel closes or a write fails.
+    pub fn serve(mut self, jobs: mpsc::Receiver<Job>) -> Result<Report, Failure> {
+        for job in jobs {
+            let started = Instant::now();
+            self.write(job)?;
+            self.report.busy_seconds += started.elapsed().as_secs_f64();
+        }
+        self.report.bodies = self.cfg.bodies.summaries();
+        Ok(self.report)
+    }
+
+    fn write(&mut self, job: Job) -> Result<(), Failure> {
+        let dir = self.cfg.dir.clone();
+        let waited = Instant::now();
+        let data = job.frame.wait().map_err(|reason| Failure {
+            path: dir.clone(),
+            reason,
+        })?;
+        self.report.download_seconds += waited.elapsed().as_secs_f64();
+        let index = self.report.frames;
+        let d = &job.diagnostics;
+        let fields = self.cfg.fields;
+        let file = match self.cfg.format {
+            OutputFormat::Vtu | OutputFormat::VtuZlib => {
+                let name = format!("particles_{index:05}.vtu");
+                let path = dir.join(&name);
+                let zlib = self.cfg.format == OutputFormat::VtuZlib;
+                self.report.bytes +=
+                    super::write_vtu(&path, &data, fields, zlib).map_err(fail(&path))?;
+                Some(name)
+            }
+            OutputFormat::Csv => {
+                let path = dir.join(format!("particles_{index:05}.csv"));
+                self.report.bytes +=
+                    super::write_particles_csv(&path, &data, fields).map_err(fail(&path))?;
+                None
+            }
+            OutputFormat::None => None,
+        };
+        if let Some(name) = file {
+            self.pvd.add(d.time, &name).map_err(fail(self.pvd.path()))?;
+        }
+        let path = dir.join("diagnostics.csv");
+        self.diagnostics.write(d).map_err(fail(&path))?;
+        let needs_particles = self.cfg.cluster_radius.is_some() || self.bodies_csv.is_some();
+        if needs_particles {
+            let mut particles = data.particles();
+            for q in &mut particles {
+                q.mass = self.cfg.masses.get(q.id as usize).copied().unwrap_or(0.0);
+            }
+            if let (Some(r), Some(csv)) = (self.cfg.cluster_radius, self.clusters.as_mut()) {
+                let n = clusters::count_fluid_clusters(&particles, r);
+                self.report.last_clusters = Some(n);
+                let path = dir.join("clusters.csv");
+                writeln!(csv, "{},{},{n}", d.step, d.time).map_err(fail(&path))?;
+            }
+            if let Some(csv) = self.bodies_csv.as_mut() {
+                let rows = self.cfg.bodies.sample(&particles);
+                let path = dir.join("bodies.csv");
+                csv.write(d.step, d.time, &rows).map_err(fail(&path))?;
+            }
+        }
+        (self.observer)(&Frame {
+            index,
+            diagnostics: d,
+            data: &data,
+        });
+        self.report.frames += 1;
+        Ok(())
+    }
+}
