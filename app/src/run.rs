@@ -300,8 +300,9 @@ pub fn run_observed(
     summary.final_diagnostics = Some(solver.diagnostics());
     summary.monitors = monitors.summaries();
     let failure = match (result, written) {
-        (Err(RunFailure::Io(e)), _) => return Err(e),
+        // A failed write first: it is why the stepping stopped.
         (_, Err(f)) => return Err(f.into()),
+        (Err(RunFailure::Io(e)), _) => return Err(e),
         (Ok(()), Ok(w)) => {
             summary.absorb(&w);
             None
@@ -384,11 +385,14 @@ impl Outputs {
             diagnostics: d.clone(),
             frame,
         };
-        if let Some(tx) = &self.jobs {
-            if tx.send(job).is_err() {
-                // The writer stopped on an error: close the queue; the join reports it.
-                self.jobs = None;
-            }
+        let sent = self.jobs.as_ref().is_some_and(|tx| tx.send(job).is_ok());
+        if !sent {
+            // The writer stopped on an error: stop the run; the join reports which.
+            self.jobs = None;
+            return Err(RunError::Io {
+                path: PathBuf::from("(output)"),
+                reason: "the output writer stopped".into(),
+            });
         }
         let waited = waited.elapsed().as_secs_f64();
         self.wait_seconds += waited;

@@ -315,6 +315,34 @@ fn run_writes_consistent_output() {
     assert!(out.join("scene.toml").exists());
 }
 
+/// A write that fails mid-run (here the second frame's temporary file is a directory: what
+/// a full disk or a lost mount does at that point) stops the run with the file and the
+/// reason; the first frame stays readable and `particles.pvd` lists it alone.
+#[test]
+fn a_failed_write_stops_the_run_and_keeps_earlier_frames() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("w");
+    std::fs::create_dir_all(out.join("particles_00001.vtu.tmp")).unwrap();
+    let options = RunOptions {
+        out_dir: Some(out.clone()),
+        max_steps: Some(40),
+        output_interval: Some(2e-4),
+        progress: Progress::Quiet,
+        ..Default::default()
+    };
+    let err = run::run(&Scene::builtin("tank-2d").unwrap(), &options).unwrap_err();
+    let run::RunError::Io { path, reason } = &err else {
+        panic!("expected an output error, got {err}")
+    };
+    assert!(path.ends_with("particles_00001.vtu"), "{err}");
+    assert!(!reason.is_empty(), "{err}");
+    let (head, _) = split_vtu(&std::fs::read(out.join("particles_00000.vtu")).unwrap());
+    assert_eq!(number_of_points(&head), 2026);
+    let pvd = std::fs::read_to_string(out.join("particles.pvd")).unwrap();
+    assert_eq!(pvd.matches("<DataSet ").count(), 1);
+    assert!(!out.join("particles_00002.vtu").exists(), "the run stopped");
+}
+
 /// A fixed step far beyond the CFL limit blows up: the run stops with the fault, keeps
 /// its output and writes a failed summary.
 #[test]
