@@ -29,7 +29,7 @@ pub use declare::{Check, Key, KeyDefault, Paper, Param, Refusal, Rule, Table};
 
 use serde::{Deserialize, Serialize};
 
-use crate::scene::format::{Domain, FluidBlock, Inflow, Monitor, SolidObject, Wall};
+use crate::scene::format::{Domain, FluidBlock, Gauge, Inflow, Monitor, Probe, SolidObject, Wall};
 
 /// [-] Quadratic artificial viscosity of the paper's own scheme (`--paper-exact`), eq. (10)
 /// (the paper's 0 < beta < 1).
@@ -73,6 +73,12 @@ pub struct SceneFile {
     /// Force monitors on wall objects (forces.csv, Strouhal number, Cd, Cl).
     #[serde(default)]
     pub monitors: Vec<Monitor>,
+    /// Probes: pressure, velocity and density interpolated at points (probes.csv).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub probes: Vec<Probe>,
+    /// Free-surface gauges along lines (gauges.csv).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub gauges: Vec<Gauge>,
 }
 
 choice! {

@@ -45,10 +45,21 @@ pub const STRUCTURE: &str = r#"## Geometry and objects
 | `[[walls]]` | `shape` = `box-container` {`min`, `max`, `layers` (3), `open_top` (true)} / `box` {`min`, `max`} / `cylinder` {`center`, `radius`, `layers` (3)} / `segment` (2D) {`from`, `to`, `layers` (3): rows on the left of from -> to; fluid and solids behind it are not generated}; `remove_at` [T] makes it a gate; `motion` [L/T] makes it driven (a piston). At most one driven object (wall or solid) per scene |
 | `[inflow]` | `axis` (`x`, `y` or `z`), `min`, `max` [L] (the band `min <= x[axis] < max`, inside the domain), `velocity` [L/T]: fluid in the band moves at `velocity`, set every step instead of integrated; with a periodic axis, a recirculating channel |
 | `[[monitors]]` | `name` (default `forces`: writes `forces.csv`), `wall` (index in `[[walls]]`), `interval` [T], `reference_velocity` U, `reference_length` D: the force of the fluid on that wall, Cd = Fx / (0.5 rho0 U^2 D^(d-1)), Cl (drag along x, lift along y), the Strouhal number f D / U and the blockage D / H in `summary.json` |
+| `[[probes]]` | `name` (letters, digits, `-`, `_`; unique), `points` [L] (one or more points inside the domain), `interval` [T], `fields` (default all of `"pressure"`, `"velocity"`, `"density"`), `walls` (default false; true lets the wall particles enter too, which needs `[boundary] wall_coupling = "dynamic"`): each field kernel-interpolated at each point with Shepard normalisation, f(x) = sum_j f_j W(x - x_j) m_j/rho_j / sum_j W(x - x_j) m_j/rho_j over the fluid particles within the support (elastic solids never enter) (eqs. (1)-(4); a particle's pressure from its density by eq. (9)), on the device, into `probes.csv`; empty (NaN) where no particle is within the support |
+| `[[gauges]]` | `name` (as a probe's), `start`, `end` [L] (inside the domain), `interval` [T], `step` [L] (default dx / 2): the free surface along the line start -> end, as DualSPHysics' GaugeSWL: the last of the line's points (`step` apart) where the fluid's colour sum_j W m_j/rho_j is at least 1/2, interpolated towards the next, into `gauges.csv` (its position and distance from `start`; the end where the fluid reaches past it, empty where the line is dry) |
 
 Objects are numbered in the order fluid blocks, solids, walls (a particle's `group`);
 walls take precedence over solids, solids over fluid, and within a kind an earlier object
 over a later one (`core/src/scene/generate.rs`).
+
+`probes.csv` and `gauges.csv` are long CSV, one row per point (per gauge) and sample, which
+pandas reads as they are: `probes.csv` has `time,step,probe,point,x,y[,z]` (the point's index
+in `points` and its position), then `pressure`, `velocity_x,velocity_y[,velocity_z]`,
+`density` for each field any probe samples (empty for a probe that does not);
+`df.pivot_table(index="time", columns=["probe", "point"], values="pressure")` gives a column
+per point. `gauges.csv` has `time,step,gauge,x,y[,z],distance`. Probes and gauges sample at
+t = 0 and at the first step at or after each multiple of their `interval`, from the state
+after the step (the neighbour grid is rebuilt for them where the particles moved).
 
 An example with every table (each scheme table with its required keys and a few
 switches; the tables below give the rest):
@@ -121,6 +132,18 @@ wall = 1
 interval = 0.02
 reference_velocity = 1.0
 reference_length = 1.0
+
+[[probes]]
+name = "floor"
+points = [[0.5, 0.05], [0.5, 0.5]]
+interval = 0.01
+fields = ["pressure", "velocity"]
+
+[[gauges]]
+name = "left"
+start = [0.5, 0.0]
+end = [0.5, 2.0]
+interval = 0.01
 ```
 "#;
 
