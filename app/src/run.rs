@@ -29,6 +29,7 @@ use crate::analysis::bodies::BodyTracker;
 use crate::analysis::clusters;
 use crate::monitors::Monitors;
 use crate::output::{self, BodiesCsv, DiagnosticsCsv, PvdSeries, RunStatus, RunSummary};
+use crate::probes::Probes;
 
 /// How to report progress on stderr.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -150,6 +151,8 @@ pub fn run_observed(
     };
     let mut monitors = Monitors::create(&scene, &out_dir)
         .map_err(|(path, source)| RunError::Io { path, source })?;
+    let mut probes =
+        Probes::create(&scene, &out_dir).map_err(|(path, source)| RunError::Io { path, source })?;
 
     let t_end = scene.file.time.end;
     let interval = scene.file.time.output_interval;
@@ -195,6 +198,7 @@ pub fn run_observed(
         solver.check().map_err(RunFailure::Fault)?;
         let mut last = out.output(&mut *solver, observer)?;
         monitors.sample_due(&mut *solver)?;
+        probes.sample_due(&mut *solver)?;
         let mut next_output = interval;
         loop {
             let t = solver.time();
@@ -204,7 +208,8 @@ pub fn run_observed(
             }
             let next_event = next_output
                 .min(t_end)
-                .min(monitors.next_time().unwrap_or(f64::INFINITY));
+                .min(monitors.next_time().unwrap_or(f64::INFINITY))
+                .min(probes.next_time().unwrap_or(f64::INFINITY));
             let budget = options.max_steps.map_or(u64::MAX, |n| n - taken);
             let batch = stepper
                 .batch(&mut *solver, next_event, budget)
@@ -221,6 +226,7 @@ pub fn run_observed(
                 next_output = ((t_new / interval + 1e-9).floor() + 1.0) * interval;
             }
             monitors.sample_due(&mut *solver)?;
+            probes.sample_due(&mut *solver)?;
             report.progress(t_new, solver.steps() - first_step, &last);
         }
         if last.step != solver.steps() {
