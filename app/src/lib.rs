@@ -1,5 +1,5 @@
 //! The `meshfree` binary's library: the command line, the run driver and its output,
-//! monitors' files, analyses of particle sets, benchmarks and comparisons. The solver is
+//! monitors' and probes' files, analyses of particle sets, benchmarks and comparisons. The solver is
 //! `meshfree_core`; validation, stability maps and charts are `meshfree_lab`.
 pub mod analysis;
 pub mod bench;
@@ -10,4 +10,5 @@ pub mod monitors;
 pub mod output;
 pub mod paper_bench;
 pub mod peers_bench;
+pub mod probes;
 pub mod run;

@@ -15,7 +15,8 @@
 //! zlib VTU, CSV or none), the row of `diagnostics.csv`, `clusters.csv` where `[output]
 //! clusters` asks, and, in a scene with elastic bodies, a row per body to `bodies.csv`.
 //! Force monitors (`crate::monitors`) sample at t = 0 and every `interval` after it (a step
-//! boundary at or past the time) into `<name>.csv`. `summary.json` is written at the end,
+//! boundary at or past the time) into `<name>.csv`; probes and gauges (`crate::probes`)
+//! likewise into `probes.csv` and `gauges.csv`, sampled on the device. `summary.json` is written at the end,
 //! also after a blow-up, with the timing split (set-up, stepping, output waits, the
 //! writer's busy time), the cluster count of the last output and each body's extremes.
 
@@ -37,6 +38,7 @@ use crate::analysis::clusters;
 use crate::monitors::Monitors;
 use crate::output::writer::{self, Writer};
 use crate::output::{RunStatus, RunSummary, Timing};
+use crate::probes::Probes;
 
 pub use crate::output::writer::Frame;
 
@@ -181,6 +183,10 @@ pub fn run_observed(
         path,
         reason: e.to_string(),
     })?;
+    let mut probes = Probes::create(&scene, &out_dir).map_err(|(path, e)| RunError::Io {
+        path,
+        reason: e.to_string(),
+    })?;
 
     let t_end = scene.file.time.end;
     let interval = scene.file.time.output_interval;
@@ -245,6 +251,7 @@ pub fn run_observed(
             solver.check().map_err(RunFailure::Fault)?;
             let mut last = out.take(&mut *solver, &report)?;
             monitors.sample_due(&mut *solver)?;
+            probes.sample_due(&mut *solver)?;
             let mut next_output = interval;
             loop {
                 let t = solver.time();
@@ -254,7 +261,8 @@ pub fn run_observed(
                 }
                 let next_event = next_output
                     .min(t_end)
-                    .min(monitors.next_time().unwrap_or(f64::INFINITY));
+                    .min(monitors.next_time().unwrap_or(f64::INFINITY))
+                    .min(probes.next_time().unwrap_or(f64::INFINITY));
                 let budget = options.max_steps.map_or(u64::MAX, |n| n - taken);
                 let batch = stepper
                     .batch(&mut *solver, next_event, budget)
@@ -271,6 +279,7 @@ pub fn run_observed(
                     next_output = ((t_new / interval + 1e-9).floor() + 1.0) * interval;
                 }
                 monitors.sample_due(&mut *solver)?;
+                probes.sample_due(&mut *solver)?;
                 report.progress(t_new, solver.steps() - first_step, &last);
             }
             if last.step != solver.steps() {

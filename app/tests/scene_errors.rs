@@ -533,3 +533,101 @@ fn solid_density_diffusion_out_of_range_or_with_summation() {
     let p = Scene::from_toml(&t, "ok").unwrap().setup().unwrap().params;
     assert_eq!(p.solid_density_diffusion, 0.02);
 }
+
+/// A probe table of two points and a gauge, valid in `BASE`.
+const PROBES: &str = r#"
+[[probes]]
+name = "p"
+points = [[0.5, 0.25], [0.5, 0.4]]
+interval = 0.005
+
+[[gauges]]
+name = "g"
+start = [0.5, 0.0]
+end = [0.5, 1.0]
+interval = 0.005
+"#;
+
+fn with_probes(old: &str, new: &str) -> String {
+    assert!(PROBES.contains(old), "PROBES lacks `{old}`");
+    BASE.to_string() + &PROBES.replacen(old, new, 1)
+}
+
+#[test]
+fn probes_and_gauges_are_valid() {
+    let s = Scene::from_toml(&(BASE.to_string() + PROBES), "probes").unwrap();
+    assert_eq!((s.file.probes.len(), s.file.gauges.len()), (1, 1));
+    assert_eq!(s.file.probes[0].fields.len(), 3);
+}
+
+#[test]
+fn probe_outside_the_domain() {
+    expect_error(
+        &with_probes("[0.5, 0.4]", "[0.5, 1.5]"),
+        "probes[0].points[1]",
+        "the point [0.5, 1.5] is outside the domain: x[1] = 1.5 is not within \
+         [domain.min[1], domain.max[1]] = [-0.2, 1.2]",
+    );
+}
+
+#[test]
+fn gauge_outside_the_domain() {
+    expect_error(
+        &with_probes("end = [0.5, 1.0]", "end = [1.3, 1.0]"),
+        "gauges[0].end",
+        "is outside the domain: x[0] = 1.3",
+    );
+}
+
+#[test]
+fn probe_and_gauge_intervals_must_be_positive() {
+    expect_error(
+        &with_probes(
+            "interval = 0.005\n\n[[gauges]]",
+            "interval = 0.0\n\n[[gauges]]",
+        ),
+        "probes[0].interval",
+        "must be a positive number, found 0",
+    );
+    expect_error(
+        &with_probes(
+            "end = [0.5, 1.0]\ninterval = 0.005",
+            "end = [0.5, 1.0]\ninterval = -1.0",
+        ),
+        "gauges[0].interval",
+        "must be a positive number, found -1",
+    );
+}
+
+#[test]
+fn probe_field_must_be_known_and_listed_once() {
+    expect_error(
+        &with_probes(
+            "interval = 0.005\n\n[[gauges]]",
+            "interval = 0.005\nfields = [\"pressure\", \"presure\"]\n\n[[gauges]]",
+        ),
+        "probes[0].fields[1]",
+        "unknown variant `presure`, expected one of `pressure`, `velocity`, `density`",
+    );
+    expect_error(
+        &with_probes(
+            "interval = 0.005\n\n[[gauges]]",
+            "interval = 0.005\nfields = [\"density\", \"density\"]\n\n[[gauges]]",
+        ),
+        "probes[0].fields[1]",
+        "\"density\" is listed twice",
+    );
+}
+
+#[test]
+fn probe_and_gauge_names_must_be_unique() {
+    let twice = BASE.to_string()
+        + PROBES
+        + "\n[[probes]]\nname = \"p\"\npoints = [[0.1, 0.1]]\ninterval = 0.01\n";
+    expect_error(&twice, "probes[1].name", "\"p\" names an earlier entry");
+    expect_error(
+        &with_probes("name = \"g\"", "name = \"g,1\""),
+        "gauges[0].name",
+        "must be a non-empty name of letters, digits",
+    );
+}

@@ -80,6 +80,12 @@
 #define MF_JACOBI_OFF_MIN 1e-20f
 #define MF_JACOBI_PIVOT_MIN 1e-30f
 
+/* ---- probes (Solver::sample_points) ---- */
+
+/* Floats per point that the probes kernel writes (sph_sample_points, device/probes.cuh):
+ * pressure, velocity x, y, z, density, colour, the neighbour count (an unsigned's bits), 0. */
+#define MF_SAMPLE_FLOATS 8
+
 /* ---- time step ---- */
 
 /* The viscous limit of the step, dt <= MF_VISCOUS_DT h^2 / nu (with laminar viscosity). [-] */

@@ -13,6 +13,7 @@ pub mod monitor;
 pub mod named;
 pub mod params;
 pub mod particle;
+pub mod probe;
 pub mod scene;
 pub mod scheme;
 pub mod solver;

@@ -29,7 +29,9 @@ pub use declare::{Check, Key, KeyDefault, Paper, Param, Refusal, Rule, Table};
 
 use serde::{Deserialize, Serialize};
 
-use crate::scene::format::{Domain, FluidBlock, Inflow, Monitor, Output, SolidObject, Wall};
+use crate::scene::format::{
+    Domain, FluidBlock, Gauge, Inflow, Monitor, Output, Probe, SolidObject, Wall,
+};
 
 /// [-] Quadratic artificial viscosity of the paper's own scheme (`--paper-exact`), eq. (10)
 /// (the paper's 0 < beta < 1).
@@ -76,6 +78,12 @@ pub struct SceneFile {
     /// What each output writes: format, fields, cluster count.
     #[serde(default)]
     pub output: Output,
+    /// Probes: pressure, velocity and density interpolated at points (probes.csv).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub probes: Vec<Probe>,
+    /// Free-surface gauges along lines (gauges.csv).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub gauges: Vec<Gauge>,
 }
 
 choice! {

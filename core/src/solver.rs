@@ -111,6 +111,38 @@ pub struct Snapshot {
     pub kinds: Vec<u8>,
 }
 
+/// Fields kernel-interpolated at one point (`Solver::sample_points`): eqs. (1)-(4) with
+/// Shepard normalisation, f(x) = sum_j f_j W(x - x_j) V_j / sum_j W(x - x_j) V_j with
+/// V_j = m_j / rho_j, over the fluid particles within the support of x (and the wall
+/// particles too where asked). Elastic solid particles never enter.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PointSample {
+    /// [M L^-d L^2 T^-2] each neighbour's pressure from its density by its equation of
+    /// state (eq. (9), with the background pressure); NaN where no particle is near.
+    pub pressure: f32,
+    /// [L/T] (z = 0 in 2D); NaN where no particle is near.
+    pub velocity: [f32; 3],
+    /// [M L^-d] NaN where no particle is near.
+    pub density: f32,
+    /// [-] the fluid's colour sum_j W(x - x_j) m_j / rho_j over fluid particles only
+    /// (whatever the walls): about 1 inside the fluid, 1/2 on its free surface, 0 outside
+    /// (the free-surface gauges, `crate::probe`).
+    pub colour: f32,
+    /// Particles in the interpolation (fluid, and walls where asked).
+    pub neighbours: u32,
+}
+
+impl PointSample {
+    /// The sample of a point with no particle near: NaN fields, zero colour.
+    pub const EMPTY: PointSample = PointSample {
+        pressure: f32::NAN,
+        velocity: [f32::NAN; 3],
+        density: f32::NAN,
+        colour: 0.0,
+        neighbours: 0,
+    };
+}
+
 /// The solver stages (Fig. 1) and the read-back the driver, output and tests need.
 pub trait Solver: Send {
     fn info(&self) -> BackendInfo;
@@ -215,6 +247,20 @@ pub trait Solver: Send {
             });
         }
     }
+    /// Pressure, velocity, density and the fluid's colour at each of `points` [L] (z
+    /// ignored in 2D), kernel-interpolated on the device with Shepard normalisation
+    /// (`PointSample`), over fluid particles and, where `include_walls`, the wall
+    /// particles too; `out` gets one sample per point, in order. Nothing per particle is
+    /// read back. The neighbour grid is rebuilt first where the particles moved since the
+    /// last build (a step ends with the drift, so after every step): the sums then see
+    /// every particle within the support, and the stepping that follows is unchanged (the
+    /// next step's build gives the same order from the same positions).
+    fn sample_points(
+        &mut self,
+        points: &[[f32; 3]],
+        include_walls: bool,
+        out: &mut Vec<PointSample>,
+    );
     /// Remove every particle of a scene group (opening a gate). Returns how many went.
     fn remove_group(&mut self, group: u32) -> usize;
     /// `Setup::wall_surface` as the solver took it (empty unless `no_slip`), for the force

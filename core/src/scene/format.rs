@@ -67,6 +67,79 @@ fn default_monitor_name() -> String {
     "forces".into()
 }
 
+/// A field that a probe samples (`Probe::fields`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ProbeField {
+    /// [M L^-d L^2 T^-2] each particle's pressure from its density by its equation of
+    /// state, eq. (9).
+    Pressure,
+    /// [L/T] `dimension` components.
+    Velocity,
+    /// [M L^-d]
+    Density,
+}
+
+impl ProbeField {
+    pub const ALL: [ProbeField; 3] = [
+        ProbeField::Pressure,
+        ProbeField::Velocity,
+        ProbeField::Density,
+    ];
+
+    /// The name scene files give it.
+    pub fn name(self) -> &'static str {
+        match self {
+            ProbeField::Pressure => "pressure",
+            ProbeField::Velocity => "velocity",
+            ProbeField::Density => "density",
+        }
+    }
+}
+
+/// Points where fields are kernel-interpolated with Shepard normalisation every `interval`
+/// (`Solver::sample_points`), written to `probes.csv`, one row per point and sample.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Probe {
+    /// The probe's name in `probes.csv` (letters, digits, '-' and '_'; unique).
+    pub name: String,
+    /// [L] one or more points, `dimension` numbers each, inside the domain.
+    pub points: Vec<Vec<f64>>,
+    /// [T] time between samples.
+    pub interval: f64,
+    /// What to sample. Default all: pressure, velocity, density.
+    #[serde(default = "all_probe_fields")]
+    pub fields: Vec<ProbeField>,
+    /// Whether the (dynamic) wall particles enter the interpolation besides the fluid's.
+    /// Default false.
+    #[serde(default)]
+    pub walls: bool,
+}
+
+fn all_probe_fields() -> Vec<ProbeField> {
+    ProbeField::ALL.to_vec()
+}
+
+/// A free-surface gauge (DualSPHysics' GaugeSWL): the last point along the line `start` ->
+/// `end` where the fluid's colour sum_j W m_j / rho_j is at least 1/2, every `interval`,
+/// written to `gauges.csv`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Gauge {
+    /// The gauge's name in `gauges.csv` (letters, digits, '-' and '_'; unique).
+    pub name: String,
+    /// [L] the line's ends, inside the domain; usually `start` at the bottom and `end` above
+    /// the highest surface.
+    pub start: Vec<f64>,
+    pub end: Vec<f64>,
+    /// [T] time between samples.
+    pub interval: f64,
+    /// [L] distance between the line's points. Default half the particle spacing.
+    #[serde(default)]
+    pub step: Option<f64>,
+}
+
 /// The simulation box. Particles leaving it on a non-periodic axis stop the run.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -5,6 +5,7 @@
 
 use super::format::*;
 use super::SceneError;
+use crate::probe::MAX_GAUGE_POINTS;
 use crate::scheme::*;
 
 type R = Result<(), SceneError>;
@@ -416,11 +417,131 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
             ));
         }
     }
+    probes_and_gauges(&c, s)?;
     if s.fluid_blocks.is_empty() && s.solids.is_empty() && s.walls.is_empty() {
         return Err(c.err(
             "fluid_blocks",
             "the scene has no objects (fluid_blocks, solids or walls)",
         ));
+    }
+    Ok(())
+}
+
+/// `[[probes]]` and `[[gauges]]`: names (plain, unique within each table), points inside
+/// the domain, positive intervals and steps, known and distinct fields, and walls in the
+/// interpolation only where they carry density and pressure (dynamic walls).
+fn probes_and_gauges(c: &Ctx, s: &SceneFile) -> R {
+    let name_ok = |field: &str, name: &str, seen: &mut std::collections::HashSet<String>| {
+        let plain = !name.is_empty()
+            && name
+                .chars()
+                .all(|ch| ch.is_ascii_alphanumeric() || ch == '-' || ch == '_');
+        if !plain {
+            return Err(c.err(
+                format!("{field}.name"),
+                format!(
+                    "must be a non-empty name of letters, digits, '-' and '_' (it is a CSV \
+                     value), found {name:?}"
+                ),
+            ));
+        }
+        if !seen.insert(name.to_string()) {
+            return Err(c.err(
+                format!("{field}.name"),
+                format!("{name:?} names an earlier entry of the same table too"),
+            ));
+        }
+        Ok(())
+    };
+    let point = |field: &str, x: &[f64]| -> R {
+        c.vec(field, x)?;
+        let d = &s.domain;
+        for a in 0..c.dim {
+            let tol = 1e-9 * (d.max[a] - d.min[a]);
+            if x[a] < d.min[a] - tol || x[a] > d.max[a] + tol {
+                return Err(c.err(
+                    field,
+                    format!(
+                        "the point {x:?} is outside the domain: x[{a}] = {} is not within \
+                         [domain.min[{a}], domain.max[{a}]] = [{}, {}]",
+                        fmt(x[a]),
+                        d.min[a],
+                        d.max[a]
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    };
+    let lj_walls = s
+        .boundary
+        .as_ref()
+        .is_some_and(|b| b.wall_coupling == WallCoupling::LennardJonesOnly);
+    let mut names = std::collections::HashSet::new();
+    for (i, pr) in s.probes.iter().enumerate() {
+        let field = format!("probes[{i}]");
+        name_ok(&field, &pr.name, &mut names)?;
+        if pr.points.is_empty() {
+            return Err(c.err(format!("{field}.points"), "needs at least one point"));
+        }
+        for (k, x) in pr.points.iter().enumerate() {
+            point(&format!("{field}.points[{k}]"), x)?;
+        }
+        c.positive(&format!("{field}.interval"), pr.interval)?;
+        if pr.fields.is_empty() {
+            return Err(c.err(
+                format!("{field}.fields"),
+                "needs at least one of \"pressure\", \"velocity\", \"density\"",
+            ));
+        }
+        for (k, f) in pr.fields.iter().enumerate() {
+            if pr.fields[..k].contains(f) {
+                return Err(c.err(
+                    format!("{field}.fields[{k}]"),
+                    format!("{:?} is listed twice", f.name()),
+                ));
+            }
+        }
+        if pr.walls && lj_walls {
+            return Err(c.err(
+                format!("{field}.walls"),
+                "wall particles carry no density or pressure with [boundary] wall_coupling = \
+                 \"lennard-jones-only\"; interpolate over the fluid alone (walls = false)",
+            ));
+        }
+    }
+    let mut names = std::collections::HashSet::new();
+    for (i, g) in s.gauges.iter().enumerate() {
+        let field = format!("gauges[{i}]");
+        name_ok(&field, &g.name, &mut names)?;
+        point(&format!("{field}.start"), &g.start)?;
+        point(&format!("{field}.end"), &g.end)?;
+        let len = (0..c.dim)
+            .map(|a| (g.end[a] - g.start[a]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        if len <= 0.0 {
+            return Err(c.err(
+                format!("{field}.end"),
+                "the line has no length: end = start",
+            ));
+        }
+        c.positive(&format!("{field}.interval"), g.interval)?;
+        if let Some(step) = g.step {
+            c.positive(&format!("{field}.step"), step)?;
+        }
+        let step = g.step.unwrap_or(0.5 * s.discretisation.spacing);
+        if len / step > MAX_GAUGE_POINTS as f64 {
+            return Err(c.err(
+                format!("{field}.step"),
+                format!(
+                    "the line is {} long: {} steps of {} is more than {MAX_GAUGE_POINTS} points",
+                    fmt(len),
+                    (len / step).ceil(),
+                    fmt(step)
+                ),
+            ));
+        }
     }
     Ok(())
 }

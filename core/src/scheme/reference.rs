@@ -46,10 +46,21 @@ pub const STRUCTURE: &str = r#"## Geometry and objects
 | `[inflow]` | `axis` (`x`, `y` or `z`), `min`, `max` [L] (the band `min <= x[axis] < max`, inside the domain), `velocity` [L/T]: fluid in the band moves at `velocity`, set every step instead of integrated; with a periodic axis, a recirculating channel |
 | `[[monitors]]` | `name` (default `forces`: writes `forces.csv`), `wall` (index in `[[walls]]`), `interval` [T], `reference_velocity` U, `reference_length` D: the force of the fluid on that wall, Cd = Fx / (0.5 rho0 U^2 D^(d-1)), Cl (drag along x, lift along y), the Strouhal number f D / U and the blockage D / H in `summary.json` |
 | `[output]` | what each output (every `time.output_interval`, written by a writer thread while the solver steps on) writes. `format` (default `vtu`): `vtu` = VTK XML UnstructuredGrid, raw binary appended data, one vertex cell per particle, with `particles.pvd` (ParaView, the `vtk` Python module, meshio); `vtu-zlib` = the same, zlib-compressed in 1 MiB blocks; `csv` = `particles_NNNNN.csv`, a row per particle ordered by id, columns `id,kind,x,y,z,vx,vy,vz,density,pressure,group,sxx,syy,szz,sxy,sxz,syz` of the chosen fields (`meshfree compare`, pandas); `none` = no particle files. `meshfree run --format` replaces it. `fields` (default all but `stress`, and `stress` where the scene has solids): any of `position` (always written), `velocity`, `density`, `pressure`, `kind` (0 fluid, 1 solid, 2 boundary), `id`, `group`, `stress` (xx yy zz xy xz yz; only with `[[solids]]`); rows in storage order, `id` names each. `clusters` (default false): count the connected fluid clusters (droplets, links under 1.5 dx) into `clusters.csv` and `summary.json`'s `fluid_clusters` |
+| `[[probes]]` | `name` (letters, digits, `-`, `_`; unique), `points` [L] (one or more points inside the domain), `interval` [T], `fields` (default all of `"pressure"`, `"velocity"`, `"density"`), `walls` (default false; true lets the wall particles enter too, which needs `[boundary] wall_coupling = "dynamic"`): each field kernel-interpolated at each point with Shepard normalisation, f(x) = sum_j f_j W(x - x_j) m_j/rho_j / sum_j W(x - x_j) m_j/rho_j over the fluid particles within the support (elastic solids never enter) (eqs. (1)-(4); a particle's pressure from its density by eq. (9)), on the device, into `probes.csv`; empty (NaN) where no particle is within the support |
+| `[[gauges]]` | `name` (as a probe's), `start`, `end` [L] (inside the domain), `interval` [T], `step` [L] (default dx / 2): the free surface along the line start -> end, as DualSPHysics' GaugeSWL: the last of the line's points (`step` apart) where the fluid's colour sum_j W m_j/rho_j is at least 1/2, interpolated towards the next, into `gauges.csv` (its position and distance from `start`; the end where the fluid reaches past it, empty where the line is dry) |
 
 Objects are numbered in the order fluid blocks, solids, walls (a particle's `group`);
 walls take precedence over solids, solids over fluid, and within a kind an earlier object
 over a later one (`core/src/scene/generate.rs`).
+
+`probes.csv` and `gauges.csv` are long CSV, one row per point (per gauge) and sample, which
+pandas reads as they are: `probes.csv` has `time,step,probe,point,x,y[,z]` (the point's index
+in `points` and its position), then `pressure`, `velocity_x,velocity_y[,velocity_z]`,
+`density` for each field any probe samples (empty for a probe that does not);
+`df.pivot_table(index="time", columns=["probe", "point"], values="pressure")` gives a column
+per point. `gauges.csv` has `time,step,gauge,x,y[,z],distance`. Probes and gauges sample at
+t = 0 and at the first step at or after each multiple of their `interval`, from the state
+after the step (the neighbour grid is rebuilt for them where the particles moved).
 
 An example with every table (each scheme table with its required keys and a few
 switches; the tables below give the rest):
@@ -127,6 +138,18 @@ reference_length = 1.0
 format = "vtu"
 fields = ["position", "velocity", "pressure", "kind", "id"]
 clusters = true
+
+[[probes]]
+name = "floor"
+points = [[0.5, 0.05], [0.5, 0.5]]
+interval = 0.01
+fields = ["pressure", "velocity"]
+
+[[gauges]]
+name = "left"
+start = [0.5, 0.0]
+end = [0.5, 2.0]
+interval = 0.01
 ```
 "#;
 

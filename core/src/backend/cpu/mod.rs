@@ -5,6 +5,7 @@ mod density;
 mod forces;
 mod grid;
 mod integrate;
+mod probes;
 mod rates;
 mod reduce;
 mod stress;
@@ -12,6 +13,7 @@ mod stress;
 pub use density::pressure;
 pub use forces::{cohesion_over_r, ForceSum};
 pub use grid::{cell_coords, cell_index, separation, Grid};
+pub use probes::PointSum;
 pub use rates::shift_velocity;
 pub use reduce::step_size;
 pub use stress::{artificial_stress, jacobi_eigen};
@@ -24,7 +26,7 @@ use crate::dim::Dim;
 use crate::frame::{Fields, FrameData, PendingFrame, Ready};
 use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
 use crate::particle::Particle;
-use crate::solver::{BackendInfo, Diagnostics, Fault, Setup, Solver};
+use crate::solver::{BackendInfo, Diagnostics, Fault, PointSample, Setup, Solver};
 use crate::state::State;
 
 /// The whole state in host memory, worked on by rayon.
@@ -32,6 +34,9 @@ pub struct CpuSolver<D: Dim> {
     params: SphParams,
     state: State<D>,
     grid: Grid,
+    /// Whether the particles moved (or were removed) since the last `build_grid`, or none
+    /// was built: `sample_points` then builds one.
+    grid_stale: bool,
     /// `Setup::wall_surface` (empty unless `no_slip`).
     wall_surface: Vec<[f32; 4]>,
     time: f64,
@@ -56,6 +61,7 @@ impl<D: Dim> CpuSolver<D> {
             params: p,
             state,
             grid: Grid::default(),
+            grid_stale: true,
             wall_surface: setup.wall_surface,
             time: 0.0,
             steps: 0,
@@ -97,6 +103,7 @@ impl<D: Dim> Solver for CpuSolver<D> {
     }
     fn build_grid(&mut self) {
         self.grid.build(&self.params, &mut self.state);
+        self.grid_stale = false;
     }
     fn density(&mut self) {
         density::density(&self.params, &self.grid, &mut self.state);
@@ -121,6 +128,7 @@ impl<D: Dim> Solver for CpuSolver<D> {
     }
     fn drift(&mut self) {
         integrate::drift(&self.params, self.dt, &mut self.state);
+        self.grid_stale = true;
         self.time += self.dt as f64;
         self.steps += 1;
     }
@@ -162,10 +170,29 @@ impl<D: Dim> Solver for CpuSolver<D> {
     fn wall_surface(&self) -> &[[f32; 4]] {
         &self.wall_surface
     }
+    fn sample_points(
+        &mut self,
+        points: &[[f32; 3]],
+        include_walls: bool,
+        out: &mut Vec<PointSample>,
+    ) {
+        if self.grid_stale {
+            self.build_grid();
+        }
+        probes::sample(
+            &self.params,
+            &self.grid,
+            &self.state,
+            points,
+            include_walls,
+            out,
+        );
+    }
     fn remove_group(&mut self, group: u32) -> usize {
         let before = self.state.len();
         let g = self.state.group.clone();
         self.state.retain(|i| g[i] != group);
+        self.grid_stale = true;
         before - self.state.len()
     }
 }

@@ -93,6 +93,7 @@ pub enum Family {
     Diagnostics,
     Check,
     ParamsLayout,
+    SamplePoints,
 }
 
 /// What the table says of a family.
@@ -122,7 +123,7 @@ macro_rules! forces_params {
 
 impl Family {
     /// Every family, in the order of the discriminants.
-    pub const ALL: [Family; 17] = [
+    pub const ALL: [Family; 18] = [
         Family::GridHist,
         Family::ScanLocal,
         Family::ScanTop,
@@ -140,6 +141,7 @@ impl Family {
         Family::Diagnostics,
         Family::Check,
         Family::ParamsLayout,
+        Family::SamplePoints,
     ];
 
     /// The table.
@@ -266,6 +268,14 @@ impl Family {
                 "sph_params_layout",
                 One,
                 "const SphParams p, unsigned* out",
+            ),
+            Family::SamplePoints => (
+                "probes",
+                "sph_sample_points",
+                Dims,
+                "const SphParams p, unsigned n_points, const float* points, unsigned walls, \
+                 const unsigned* cell_start, const float* pos, const float* vel, \
+                 const float* rho, const unsigned char* kind, float* out",
             ),
         };
         Spec {

@@ -4,11 +4,13 @@
 
 use std::sync::Arc;
 
-use cudarc::driver::{CudaSlice, CudaStream, DeviceRepr, DriverError, LaunchConfig, PushKernelArg};
+use cudarc::driver::{
+    CudaSlice, CudaStream, CudaView, DeviceRepr, DriverError, LaunchConfig, PushKernelArg,
+};
 
 use super::buffers::Buffers;
 use super::kernels::{Family, Kernel, Kernels, Scheme};
-use crate::consts::{MF_BLOCK, MF_SCAN_BLOCK, MF_SCAN_CELLS};
+use crate::consts::{MF_BLOCK, MF_SAMPLE_FLOATS, MF_SCAN_BLOCK, MF_SCAN_CELLS};
 use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
 
 // SAFETY: SphParams is the bindgen image of the C struct in `cuda/sph_params.h` (repr(C),
@@ -430,6 +432,44 @@ pub fn check(
         }
     }
     Ok(s.clone_dtoh(&b.first)?[0])
+}
+
+/// The probes' sums at the points `points` (float4 each) into `out` (`MF_SAMPLE_FLOATS`
+/// per point), from the grid of the last build, which must list the particles at their
+/// current positions (`Solver::sample_points`).
+pub fn sample_points(
+    k: &Kernels,
+    s: &Arc<CudaStream>,
+    p: &SphParams,
+    b: &Buffers,
+    (points, walls): (&CudaView<f32>, bool),
+    out: &mut CudaSlice<f32>,
+) -> Result<(), DriverError> {
+    let n_points = points.len() / 4;
+    assert!(out.len() >= MF_SAMPLE_FLOATS as usize * n_points);
+    if n_points == 0 || b.n == 0 {
+        return Ok(());
+    }
+    let (np, w) = (n_points as u32, walls as u32);
+    let c = &b.cur;
+    // SAFETY: the arguments of `Family::SamplePoints`; points holds n_points float4 and out
+    // MF_SAMPLE_FLOATS floats per point (asserted above); cell_start n_cells + 1 entries of
+    // the last grid build over the n particles of `cur`.
+    unsafe {
+        s.launch_builder(&k.get(Family::SamplePoints).f)
+            .arg(p)
+            .arg(&np)
+            .arg(points)
+            .arg(&w)
+            .arg(&b.cell_start)
+            .arg(&c.pos)
+            .arg(&c.vel)
+            .arg(&c.rho)
+            .arg(&c.kind)
+            .arg(&mut *out)
+            .launch(cfg(n_points))?;
+    }
+    Ok(())
 }
 
 /// nvcc's (sizeof(SphParams), offsetof dt, offsetof gravity, p.dim as received).

@@ -13,19 +13,19 @@ mod launch;
 
 use std::marker::PhantomData;
 
-use cudarc::driver::sys;
+use cudarc::driver::{sys, CudaSlice};
 
 use crate::backend::cpu::fault;
 use crate::backend::BackendError;
 use crate::consts::{
     MF_FAULT_ESCAPED, MF_FAULT_NON_FINITE_POSITION, MF_FAULT_NON_FINITE_VELOCITY,
-    MF_FAULT_SLOT_SHIFT,
+    MF_FAULT_SLOT_SHIFT, MF_SAMPLE_FLOATS,
 };
 use crate::dim::Dim;
 use crate::frame::{Fields, FrameData, PendingFrame, Ready};
 use crate::params::{needs_density_gradient, SphParams, MF_DENSITY_CONTINUITY};
 use crate::particle::Particle;
-use crate::solver::{BackendInfo, Diagnostics, Fault, Setup, Shown, Snapshot, Solver};
+use crate::solver::{BackendInfo, Diagnostics, Fault, PointSample, Setup, Shown, Snapshot, Solver};
 use crate::state::State;
 
 pub use device::{driver_version, NVCC_VERSION};
@@ -78,6 +78,14 @@ pub struct CudaSolver<D: Dim> {
     /// `Setup::wall_surface` (empty unless `no_slip`); on the device in `buf`.
     wall_surface: Vec<[f32; 4]>,
     steps: u64,
+    /// Whether the grid's cell ranges list the particles at their current positions: set
+    /// by `build_grid`, cleared by whatever moves, removes or replaces particles (a drift,
+    /// a replayed graph, an upload, `remove_group`). `sample_points` builds a grid where not.
+    grid_current: bool,
+    /// The probes' points (float4 each) and sums (`MF_SAMPLE_FLOATS` per point) on the
+    /// device, grown to the largest request.
+    probe_points: Option<CudaSlice<f32>>,
+    probe_out: Option<CudaSlice<f32>>,
     /// Host buffers of `snapshot`, kept between frames.
     host_pos: Vec<f32>,
     host_vel: Vec<f32>,
@@ -132,6 +140,9 @@ impl<D: Dim> CudaSolver<D> {
             buf,
             wall_surface: setup.wall_surface,
             steps: 0,
+            grid_current: false,
+            probe_points: None,
+            probe_out: None,
             host_pos: Vec::new(),
             host_vel: Vec::new(),
             capturer: None,
@@ -161,6 +172,7 @@ impl<D: Dim> CudaSolver<D> {
         if let Err(e) = self.buf.write_state(&self.dev.stream, state) {
             self.sync_err("uploading a state", e)
         }
+        self.grid_current = false;
     }
 
     /// Whether the last grid build applied the equation of state (continuity density without
@@ -265,6 +277,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
     }
     fn build_grid(&mut self) {
         launch::build_grid(&self.k, &self.dev.stream, &self.params, &mut self.buf);
+        self.grid_current = true;
     }
     fn density(&mut self) {
         launch::density(&self.k, &self.dev.stream, &self.params, &mut self.buf);
@@ -292,11 +305,13 @@ impl<D: Dim> Solver for CudaSolver<D> {
     }
     fn drift(&mut self) {
         launch::drift(&self.k, &self.dev.stream, &self.params, &mut self.buf);
+        self.grid_current = false;
         self.steps += 1;
     }
     /// One kernel for both (`cuda/integrate.cu`).
     fn drift_kick(&mut self) {
         launch::drift_kick(&self.k, &self.dev.stream, &self.params, &mut self.buf);
+        self.grid_current = false;
         self.steps += 1;
     }
     fn advance(&mut self, steps: u64) {
@@ -323,6 +338,9 @@ impl<D: Dim> Solver for CudaSolver<D> {
                 }
                 left -= 2 * pairs;
                 self.steps += 2 * pairs;
+                if pairs > 0 {
+                    self.grid_current = false;
+                }
             }
         }
         for _ in 0..left {
@@ -474,6 +492,66 @@ impl<D: Dim> Solver for CudaSolver<D> {
     fn wall_surface(&self) -> &[[f32; 4]] {
         &self.wall_surface
     }
+    /// One kernel over the points (`cuda/probes.cu`) after a grid build where the particles
+    /// moved since the last (which leaves the stepping as it was: the next step's build finds
+    /// the same order; a replayed graph first takes one single step, `advance`). Uploads the
+    /// points and reads back `MF_SAMPLE_FLOATS` floats per point, nothing per particle.
+    fn sample_points(
+        &mut self,
+        points: &[[f32; 3]],
+        include_walls: bool,
+        out: &mut Vec<PointSample>,
+    ) {
+        out.clear();
+        if points.is_empty() {
+            return;
+        }
+        if self.buf.n == 0 {
+            out.resize(points.len(), PointSample::EMPTY);
+            return;
+        }
+        if !self.grid_current {
+            self.build_grid();
+        }
+        let n = points.len();
+        let per = MF_SAMPLE_FLOATS as usize;
+        let s = self.dev.stream.clone();
+        let flat: Vec<f32> = points
+            .iter()
+            .flat_map(|x| [x[0], x[1], x[2], 0.0])
+            .collect();
+        let r = (|| {
+            if self.probe_points.as_ref().is_none_or(|b| b.len() < 4 * n) {
+                self.probe_points = Some(s.alloc_zeros::<f32>(4 * n)?);
+                self.probe_out = Some(s.alloc_zeros::<f32>(per * n)?);
+            }
+            let (pts, sums) = (
+                self.probe_points.as_mut().expect("allocated above"),
+                self.probe_out.as_mut().expect("allocated above"),
+            );
+            s.memcpy_htod(&flat, &mut *pts)?;
+            launch::sample_points(
+                &self.k,
+                &s,
+                &self.params,
+                &self.buf,
+                (&pts.slice(..4 * n), include_walls),
+                sums,
+            )?;
+            let mut host = vec![0.0f32; per * n];
+            s.memcpy_dtoh(&sums.slice(..per * n), &mut host)?;
+            s.synchronize()?;
+            Ok(host)
+        })();
+        let host = r.unwrap_or_else(|e| self.sync_err("sampling the probes", e));
+        out.extend(host.chunks_exact(per).map(|c| PointSample {
+            pressure: c[0],
+            velocity: [c[1], c[2], c[3]],
+            density: c[4],
+            colour: c[5],
+            neighbours: c[6].to_bits(),
+        }));
+    }
     fn remove_group(&mut self, group: u32) -> usize {
         let mut st = self.download_state();
         let before = st.len();
@@ -501,6 +579,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
             }
             self.buf = buf;
             self.graph = None;
+            self.grid_current = false;
         }
         removed
     }
