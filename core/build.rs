@@ -1,17 +1,29 @@
 //! Build script: Rust bindings of `cuda/sph_params.h` and `cuda/sph_consts.h` (bindgen) and
-//! PTX of every `cuda/*.cu` (nvcc). It never probes a GPU.
+//! a fatbin of every `cuda/*.cu` (nvcc). It never probes a GPU.
 //!
 //! * Bindings: generated with bindgen where libclang loads; elsewhere the committed copies
 //!   (`src/params/bindings.rs`, `src/consts/bindings.rs`) are used (`tests/bindings.rs` checks
 //!   that they agree with bindgen's where libclang exists).
-//! * PTX: nvcc is looked up in `NVCC`, `CUDA_HOME`/`CUDA_PATH` (`bin/nvcc`), then `PATH`.
-//!   Without nvcc the crate builds the CPU backend only and says so once;
+//! * CUDA modules: nvcc is looked up in `NVCC`, `CUDA_HOME`/`CUDA_PATH` (`bin/nvcc`), then
+//!   `PATH`. Without nvcc the crate builds the CPU backend only and says so once;
 //!   `MESHFREE_REQUIRE_NVCC=1` turns that into an error (CI sets it).
-//!   `MESHFREE_CUDA_ARCH` overrides the virtual architecture (default `compute_75`, Turing:
-//!   the driver JIT-compiles it for any newer GPU).
+//!   Each module becomes one fatbin (`src/backend/cuda/device.rs` loads it; the driver picks
+//!   the code for the GPU at hand): by default machine code (SASS) for every real
+//!   architecture that the nvcc lists (`nvcc --list-gpu-code`) from Turing on (sm_75 ...
+//!   sm_121 for nvcc 13.0; not the family-specific `a`/`f` variants), all compiled from one
+//!   `compute_75` PTX, plus the PTX of the newest virtual architecture, which the driver
+//!   JIT-compiles only for a GPU newer than the nvcc. So no GPU waits for the driver's JIT
+//!   at its first run (33 s on an H100 with the PTX-only builds before), at the price of a
+//!   longer build: `ptxas` runs once per architecture, on every core (`--threads 0`), and
+//!   the modules compile `NUM_JOBS` at a time.
+//!   `MESHFREE_CUDA_ARCH` overrides the targets with a comma-separated list of `sm_XY`
+//!   (machine code) and `compute_XY` (PTX): `MESHFREE_CUDA_ARCH=sm_90` builds the H100's
+//!   machine code alone (a fast developer build, the same code as the default build's
+//!   sm_90), `compute_75` the PTX alone (what the driver JIT-compiles for any GPU).
 //!   Modules are the `cuda/*.cu` files only; the headers they include (`cuda/*.h`,
 //!   `cuda/device/*.cuh`) are not compiled on their own, but a change to any file under
-//!   `cuda/` (nested folders included) reruns the build.
+//!   `cuda/` (nested folders included) reruns the build. The PTX text of each module is
+//!   kept beside its fatbin for the kernel table's test (`src/backend/cuda/kernels.rs`).
 //! * Test cfgs: `MESHFREE_REQUIRE_CUDA=1` sets `meshfree_require_cuda`, under which the GPU
 //!   tests (`tests/cuda_parity.rs`) are not `#[ignore]`d and fail without a usable GPU;
 //!   `MESHFREE_REQUIRE_LIBCLANG=1` sets `meshfree_require_libclang`, and bindings made by
@@ -94,7 +106,7 @@ fn main() {
     if source == "bindgen" {
         println!("cargo:rustc-cfg=meshfree_bindgen");
     }
-    ptx(&out);
+    cuda_modules(&out);
     commit();
 }
 
@@ -190,7 +202,130 @@ fn find_nvcc() -> Option<PathBuf> {
     })
 }
 
-fn ptx(out: &Path) {
+/// What nvcc builds into every module: machine code (SASS, `sm_XY`) and PTX (`compute_XY`).
+struct Targets {
+    /// Compute capabilities (10 major + minor) with machine code, ascending.
+    sass: Vec<u32>,
+    /// Virtual architectures whose PTX is embedded, ascending.
+    ptx: Vec<u32>,
+}
+
+/// The oldest architecture the kernels are written for (Turing). The machine code of every
+/// target is compiled from this one PTX (one front-end pass for all of them): for the H100 the
+/// same code that the driver's JIT made from the `compute_75` PTX of earlier builds.
+const BASE_ARCH: u32 = 75;
+
+/// The `XY` of `sm_XY` / `compute_XY` in nvcc's `--list-gpu-code` / `--list-gpu-arch` output
+/// from `BASE_ARCH` on, without the family-specific `a`/`f` variants.
+fn listed(nvcc: &Path, flag: &str, prefix: &str) -> Vec<u32> {
+    let out = Command::new(nvcc).arg(flag).output().ok();
+    let text = out
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
+        .unwrap_or_default();
+    let mut v: Vec<u32> = text
+        .split_whitespace()
+        .filter_map(|w| w.strip_prefix(prefix)?.parse().ok())
+        .filter(|&n| n >= BASE_ARCH)
+        .collect();
+    v.sort_unstable();
+    v.dedup();
+    v
+}
+
+impl Targets {
+    /// `MESHFREE_CUDA_ARCH` (a comma- or space-separated list of `sm_XY` and `compute_XY`),
+    /// or by default machine code for every real architecture nvcc lists from Turing on
+    /// and PTX for the newest virtual one (what the driver JIT-compiles for a GPU newer than
+    /// this nvcc).
+    fn choose(nvcc: &Path) -> Targets {
+        if let Ok(v) = env::var("MESHFREE_CUDA_ARCH") {
+            let mut t = Targets {
+                sass: Vec::new(),
+                ptx: Vec::new(),
+            };
+            for w in v.split([',', ' ']).filter(|w| !w.is_empty()) {
+                let parsed = |p: &str| w.strip_prefix(p).and_then(|n| n.parse::<u32>().ok());
+                match (parsed("sm_"), parsed("compute_")) {
+                    (Some(n), _) => t.sass.push(n),
+                    (_, Some(n)) => t.ptx.push(n),
+                    _ => panic!(
+                        "MESHFREE_CUDA_ARCH={v:?}: `{w}` is neither sm_XY (machine code) nor \
+                         compute_XY (PTX)"
+                    ),
+                }
+            }
+            assert!(
+                !t.sass.is_empty() || !t.ptx.is_empty(),
+                "MESHFREE_CUDA_ARCH={v:?} names no architecture"
+            );
+            t.sass.sort_unstable();
+            t.sass.dedup();
+            t.ptx.sort_unstable();
+            t.ptx.dedup();
+            return t;
+        }
+        let mut sass = listed(nvcc, "--list-gpu-code", "sm_");
+        if sass.is_empty() {
+            // An nvcc that cannot list them: the architectures of CUDA 12.
+            sass = vec![75, 80, 86, 89, 90];
+        }
+        let newest = listed(nvcc, "--list-gpu-arch", "compute_")
+            .last()
+            .copied()
+            .unwrap_or(*sass.last().expect("one architecture"));
+        Targets {
+            sass,
+            ptx: vec![newest],
+        }
+    }
+
+    /// nvcc's `-gencode` arguments.
+    fn gencode(&self) -> Vec<String> {
+        let mut g = Vec::new();
+        if let Some(&lowest) = self.sass.first() {
+            let codes: Vec<String> = self.sass.iter().map(|n| format!("sm_{n}")).collect();
+            g.push(format!(
+                "arch=compute_{},code=[{}]",
+                lowest.min(BASE_ARCH),
+                codes.join(",")
+            ));
+        }
+        for n in &self.ptx {
+            g.push(format!("arch=compute_{n},code=compute_{n}"));
+        }
+        g.into_iter().flat_map(|g| ["-gencode".into(), g]).collect()
+    }
+
+    fn describe(&self) -> String {
+        let sass = self.sass.iter().map(|n| format!("sm_{n}"));
+        let ptx = self.ptx.iter().map(|n| format!("compute_{n}"));
+        sass.chain(ptx).collect::<Vec<_>>().join(",")
+    }
+}
+
+/// The PTX that nvcc kept (`--keep`) for module `stem` in `dir`: `<stem>.ptx` where one
+/// virtual architecture was compiled, else the first `<stem>.compute_XY.ptx`.
+fn kept_ptx(dir: &Path, stem: &str) -> Option<PathBuf> {
+    let single = dir.join(format!("{stem}.ptx"));
+    if single.is_file() {
+        return Some(single);
+    }
+    let mut found: Vec<PathBuf> = fs::read_dir(dir)
+        .ok()?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.file_name().is_some_and(|n| {
+                let n = n.to_string_lossy();
+                n.starts_with(&format!("{stem}.compute_")) && n.ends_with(".ptx")
+            })
+        })
+        .collect();
+    found.sort();
+    found.into_iter().next()
+}
+
+fn cuda_modules(out: &Path) {
     let require = env::var("MESHFREE_REQUIRE_NVCC").is_ok_and(|v| v == "1");
     let mut sources: Vec<PathBuf> = fs::read_dir("cuda")
         .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).collect())
@@ -198,7 +333,8 @@ fn ptx(out: &Path) {
     sources.retain(|p| p.extension().is_some_and(|e| e == "cu"));
     sources.sort();
 
-    let registry = out.join("ptx.rs");
+    let registry = out.join("modules.rs");
+    let texts = out.join("ptx_text.rs");
     let Some(nvcc) = find_nvcc() else {
         if require {
             panic!(
@@ -210,11 +346,17 @@ fn ptx(out: &Path) {
             "cargo:warning=nvcc not found (NVCC, CUDA_HOME, CUDA_PATH, PATH): building the CPU \
              backend only"
         );
-        fs::write(&registry, "pub const MODULES: &[(&str, &str)] = &[];\n").unwrap();
+        fs::write(
+            &registry,
+            "pub const MODULES: &[(&str, &[u8])] = &[];\npub const SASS: &[u32] = &[];\n\
+             pub const PTX: &[u32] = &[];\n",
+        )
+        .unwrap();
+        fs::write(&texts, "pub const PTX_TEXT: &[(&str, &str)] = &[];\n").unwrap();
         println!("cargo:rustc-env=MESHFREE_NVCC_VERSION=none (no nvcc at build time)");
         return;
     };
-    // The nvcc release, for the error a PTX load failure reports.
+    // The nvcc release, for the error a module load failure reports.
     let version = Command::new(&nvcc)
         .arg("--version")
         .output()
@@ -231,27 +373,39 @@ fn ptx(out: &Path) {
         version,
         nvcc.display()
     );
-    let arch = env::var("MESHFREE_CUDA_ARCH").unwrap_or_else(|_| "compute_75".into());
+    let targets = Targets::choose(&nvcc);
     // Extra nvcc flags for experiments (e.g. `-DMF_NO_QUEUE` for an A/B measurement).
     let extra = env::var("MESHFREE_NVCC_FLAGS").unwrap_or_default();
-    let mut entries = String::from("pub const MODULES: &[(&str, &str)] = &[\n");
-    for src in &sources {
+    let compile = |src: &PathBuf| -> (String, PathBuf, PathBuf) {
         let stem = src.file_stem().unwrap().to_string_lossy().into_owned();
-        let dst = out.join(format!("{stem}.ptx"));
+        let dst = out.join(format!("{stem}.fatbin"));
+        // nvcc's intermediate files, of which the PTX is kept (the kernel table's test reads
+        // it: the fatbin's copy is compressed).
+        let keep = out.join("nvcc").join(&stem);
+        let _ = fs::remove_dir_all(&keep);
+        fs::create_dir_all(&keep).expect("create nvcc's keep folder");
         let mut cmd = Command::new(&nvcc);
         // -ftz=true: denormal floats flush to zero, so that a reciprocal, reciprocal root or
         // division in the pair sums is one instruction, not a range test and rescale around it
         // (3D step 8 % shorter on the H100, docs/reference/performance.md, "-ftz=true"). No SPH quantity
         // of a scene comes near 1e-38 in SI units; the parity tests hold unchanged.
+        // --threads 0: the targets' ptxas runs on every core; -compress-all: the machine code
+        // is compressed too (the driver unpacks it at load), 7x smaller.
         cmd.args([
-            "--ptx",
+            "-fatbin",
             "-std=c++17",
             "-O3",
             "-ftz=true",
             "-lineinfo",
             "-Icuda",
+            "--threads",
+            "0",
+            "-Xfatbin=-compress-all",
+            "--keep",
         ])
-        .arg(format!("-arch={arch}"))
+        .arg("--keep-dir")
+        .arg(&keep)
+        .args(targets.gencode())
         .args(extra.split_whitespace())
         .arg(src)
         .arg("-o")
@@ -267,19 +421,89 @@ fn ptx(out: &Path) {
                 String::from_utf8_lossy(&result.stderr)
             );
         }
+        let ptx = kept_ptx(&keep, &stem).unwrap_or_else(|| {
+            panic!(
+                "nvcc kept no PTX of {} in {}",
+                src.display(),
+                keep.display()
+            )
+        });
+        let text = out.join(format!("{stem}.ptx"));
+        fs::rename(&ptx, &text).expect("move the kept PTX");
+        // The rest (preprocessed sources, one cubin per target) is large and unused.
+        let _ = fs::remove_dir_all(&keep);
+        (stem, dst, text)
+    };
+    // The modules on `NUM_JOBS` threads (cargo's -j), each nvcc on every core: the machine
+    // code of one large module for all targets takes minutes on one.
+    let started = std::time::Instant::now();
+    let jobs = env::var("NUM_JOBS")
+        .ok()
+        .and_then(|n| n.parse::<usize>().ok())
+        .unwrap_or(1)
+        .clamp(1, sources.len().max(1));
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let mut built: Vec<(usize, (String, PathBuf, PathBuf))> = std::thread::scope(|s| {
+        let workers: Vec<_> = (0..jobs)
+            .map(|_| {
+                s.spawn(|| {
+                    let mut mine = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        let Some(src) = sources.get(i) else {
+                            return mine;
+                        };
+                        mine.push((i, compile(src)));
+                    }
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|w| w.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+            .collect()
+    });
+    built.sort_by_key(|(i, _)| *i);
+    let list = |v: &[u32]| {
+        v.iter()
+            .map(|n| n.to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut entries = String::from(
+        "/// Per module (`cuda/<stem>.cu`): its fatbin.\n\
+         pub const MODULES: &[(&str, &[u8])] = &[\n",
+    );
+    let mut text_entries = String::from("pub const PTX_TEXT: &[(&str, &str)] = &[\n");
+    for (_, (stem, fatbin, text)) in &built {
         entries += &format!(
+            "    ({stem:?}, include_bytes!({:?})),\n",
+            fatbin.display().to_string()
+        );
+        text_entries += &format!(
             "    ({stem:?}, include_str!({:?})),\n",
-            dst.display().to_string()
+            text.display().to_string()
         );
     }
-    entries += "];\n";
+    entries += &format!(
+        "];\n/// Compute capabilities (10 major + minor) with machine code in every module.\n\
+         pub const SASS: &[u32] = &[{}];\n\
+         /// Virtual architectures (10 major + minor) whose PTX every module carries.\n\
+         pub const PTX: &[u32] = &[{}];\n",
+        list(&targets.sass),
+        list(&targets.ptx)
+    );
+    text_entries += "];\n";
     fs::write(&registry, entries).unwrap();
+    fs::write(&texts, text_entries).unwrap();
     if !sources.is_empty() {
         println!("cargo:rustc-cfg=meshfree_ptx");
     }
     println!(
-        "cargo:warning=nvcc {} compiled {} CUDA modules for {arch}",
+        "cargo:warning=nvcc {} compiled {} CUDA modules for {} in {:.0} s",
         nvcc.display(),
-        sources.len()
+        sources.len(),
+        targets.describe(),
+        started.elapsed().as_secs_f64()
     );
 }

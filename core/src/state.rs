@@ -8,6 +8,8 @@
 use crate::dim::Dim;
 use crate::particle::{Kind, Particle};
 
+use rayon::prelude::*;
+
 /// Struct-of-arrays particle state. Index `i` is a storage slot; `id[i]` is the particle's
 /// stable identity. The backends keep the storage sorted by (grid cell, id).
 #[derive(Clone, Debug, Default)]
@@ -52,21 +54,25 @@ impl<D: Dim> State<D> {
     /// Composite -> raw arrays, in the given order.
     pub fn from_particles(particles: &[Particle], continuity: bool, art_stress: bool) -> Self {
         let n = particles.len();
-        let has_solids = particles.iter().any(|p| p.kind == Kind::Solid);
+        // Every array filled by all threads: 13 M particles took 3 s on one.
+        fn each<T: Send>(ps: &[Particle], f: impl Fn(&Particle) -> T + Sync + Send) -> Vec<T> {
+            ps.par_iter().map(f).collect()
+        }
+        let has_solids = particles.par_iter().any(|p| p.kind == Kind::Solid);
         let solid = has_solids.then(|| SolidState {
-            stress: particles.iter().map(|p| D::sym_from6(p.stress)).collect(),
+            stress: each(particles, |p| D::sym_from6(p.stress)),
             stress_rate: vec![D::zero(); n],
             art_stress: art_stress.then(|| vec![D::zero(); n]),
         });
         State {
-            id: particles.iter().map(|p| p.id).collect(),
-            kind: particles.iter().map(|p| p.kind.code()).collect(),
-            group: particles.iter().map(|p| p.group).collect(),
-            mass: particles.iter().map(|p| p.mass).collect(),
-            pos: particles.iter().map(|p| D::from3(p.position)).collect(),
-            vel: particles.iter().map(|p| D::from3(p.velocity)).collect(),
-            rho: particles.iter().map(|p| p.density).collect(),
-            p: particles.iter().map(|p| p.pressure).collect(),
+            id: each(particles, |p| p.id),
+            kind: each(particles, |p| p.kind.code()),
+            group: each(particles, |p| p.group),
+            mass: each(particles, |p| p.mass),
+            pos: each(particles, |p| D::from3(p.position)),
+            vel: each(particles, |p| D::from3(p.velocity)),
+            rho: each(particles, |p| p.density),
+            p: each(particles, |p| p.pressure),
             acc: vec![D::V::default(); n],
             xsph: vec![D::V::default(); n],
             drho: continuity.then(|| vec![0.0; n]),

@@ -24,6 +24,9 @@
 //!   block's top (`wall_hydrostatic`).
 
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+use rayon::prelude::*;
 
 use super::format::*;
 use crate::particle::{Kind, Particle};
@@ -223,39 +226,196 @@ fn segment_points(from: &[f64], to: &[f64], layers: u32, dx: f64) -> Vec<P3> {
     out
 }
 
-/// A hash grid of kept positions with cell size dx.
+/// A hash grid of positions with cell size `cell`, built once and then read from every
+/// thread: per cell a chain of indices through `next` (no allocation per cell), and a bit
+/// per cell of the points' bounding box saying which cells hold any, so that most empty
+/// cells cost no hash lookup.
 struct Grid {
-    dx: f64,
-    cells: HashMap<[i64; 3], Vec<P3>>,
+    cell: f64,
+    /// Per packed cell key (`pack`): the last point of that cell, `NONE` ends a chain.
+    heads: HashMap<u64, u32, BuildHasherDefault<CellHasher>>,
+    points: Vec<P3>,
+    /// Per point: the point before it in the same cell (or in one that shares its packed
+    /// key), `NONE` where none.
+    next: Vec<u32>,
+    /// The occupied cells, where the bounding box has at most `Occupied::MAX_CELLS` cells.
+    occupied: Option<Occupied>,
+}
+
+const NONE: u32 = u32::MAX;
+
+/// Packs a cell's integer coordinates into one key, 21 bits each: cells 2^21 apart on an
+/// axis share a key, which only adds candidates that the distance test then rejects.
+fn pack(k: [i64; 3]) -> u64 {
+    const M: u64 = (1 << 21) - 1;
+    (k[0] as u64 & M) | ((k[1] as u64 & M) << 21) | ((k[2] as u64 & M) << 42)
+}
+
+/// The hash of a packed cell key (the finaliser of MurmurHash3): `HashMap`'s default
+/// SipHash took half of a large scene's set-up.
+#[derive(Default)]
+struct CellHasher(u64);
+
+impl Hasher for CellHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.0 = (self.0 ^ u64::from(*b)).wrapping_mul(0x100_0000_01b3);
+        }
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = x;
+    }
+    fn finish(&self) -> u64 {
+        let mut h = self.0;
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+        h ^ (h >> 33)
+    }
+}
+
+/// One bit per cell of the box of cells `lo..lo + size`, x fastest.
+struct Occupied {
+    lo: [i64; 3],
+    size: [i64; 3],
+    bits: Vec<u64>,
+}
+
+impl Occupied {
+    /// At most 2^30 cells (128 MiB); a larger box goes without.
+    const MAX_CELLS: i64 = 1 << 30;
+
+    fn index(&self, k: [i64; 3]) -> Option<usize> {
+        let mut i = 0;
+        for a in (0..3).rev() {
+            let o = k[a] - self.lo[a];
+            if o < 0 || o >= self.size[a] {
+                return None;
+            }
+            i = i * self.size[a] + o;
+        }
+        Some(i as usize)
+    }
+
+    fn has(&self, k: [i64; 3]) -> bool {
+        self.index(k)
+            .is_some_and(|i| self.bits[i / 64] >> (i % 64) & 1 == 1)
+    }
 }
 
 impl Grid {
-    fn key(&self, p: &P3) -> [i64; 3] {
-        [0, 1, 2].map(|a| (p[a] / self.dx).floor() as i64)
+    fn key(cell: f64, p: &P3) -> [i64; 3] {
+        [0, 1, 2].map(|a| (p[a] / cell).floor() as i64)
     }
 
+    fn new(cell: f64, points: Vec<P3>) -> Grid {
+        let keys: Vec<[i64; 3]> = points.par_iter().map(|p| Grid::key(cell, p)).collect();
+        let mut heads: HashMap<u64, u32, _> = HashMap::default();
+        heads.reserve(points.len());
+        let mut next = Vec::with_capacity(points.len());
+        for (i, k) in keys.iter().enumerate() {
+            next.push(heads.insert(pack(*k), i as u32).unwrap_or(NONE));
+        }
+        let occupied = keys.first().and_then(|first| {
+            let (mut lo, mut hi) = (*first, *first);
+            for k in &keys {
+                for a in 0..3 {
+                    lo[a] = lo[a].min(k[a]);
+                    hi[a] = hi[a].max(k[a]);
+                }
+            }
+            let size = [0, 1, 2].map(|a| hi[a] - lo[a] + 1);
+            let cells = size
+                .iter()
+                .try_fold(1i64, |n, &s| n.checked_mul(s))
+                .filter(|&n| n <= Occupied::MAX_CELLS)?;
+            let mut o = Occupied {
+                lo,
+                size,
+                bits: vec![0; (cells as usize).div_ceil(64)],
+            };
+            for k in &keys {
+                let i = o.index(*k).expect("inside the bounding box");
+                o.bits[i / 64] |= 1 << (i % 64);
+            }
+            Some(o)
+        });
+        Grid {
+            cell,
+            heads,
+            points,
+            next,
+            occupied,
+        }
+    }
+
+    /// Whether a point of the grid lies closer than `r` (at most the cell size) to `p`.
+    /// Only the cells that the ball of radius `r` reaches are searched (of the 27 around
+    /// `p`'s own): 8 where `r` is half a cell.
     fn near(&self, p: &P3, r: f64) -> bool {
-        let k = self.key(p);
-        for dz in -1..=1 {
-            for dy in -1..=1 {
-                for dx in -1..=1 {
-                    if let Some(v) = self.cells.get(&[k[0] + dx, k[1] + dy, k[2] + dz]) {
-                        if v.iter()
-                            .any(|q| (0..3).map(|a| (p[a] - q[a]).powi(2)).sum::<f64>() < r * r)
-                        {
+        if self.points.is_empty() {
+            return false;
+        }
+        let k = Grid::key(self.cell, p);
+        let span = |a: usize| {
+            let lo = ((p[a] - r) / self.cell).floor() as i64;
+            let hi = ((p[a] + r) / self.cell).floor() as i64;
+            lo.max(k[a] - 1)..=hi.min(k[a] + 1)
+        };
+        for z in span(2) {
+            for y in span(1) {
+                for x in span(0) {
+                    if self.occupied.as_ref().is_some_and(|o| !o.has([x, y, z])) {
+                        continue;
+                    }
+                    let mut i = self.heads.get(&pack([x, y, z])).copied().unwrap_or(NONE);
+                    while i != NONE {
+                        let q = &self.points[i as usize];
+                        if (0..3).map(|a| (p[a] - q[a]).powi(2)).sum::<f64>() < r * r {
                             return true;
                         }
+                        i = self.next[i as usize];
                     }
                 }
             }
         }
         false
     }
+}
 
-    fn insert(&mut self, p: P3) {
-        let k = self.key(&p);
-        self.cells.entry(k).or_default().push(p);
-    }
+/// The points of `all` that may lie within `r` of one of `points`: those inside the
+/// bounding box of `points` grown by 2 r (a margin that no rounding can cross).
+fn near_box(all: &[P3], points: &[P3], r: f64) -> Vec<P3> {
+    let Some(first) = points.first() else {
+        return Vec::new();
+    };
+    let (lo, hi) = points
+        .par_iter()
+        .fold(
+            || (*first, *first),
+            |(mut lo, mut hi), p| {
+                for a in 0..3 {
+                    lo[a] = lo[a].min(p[a]);
+                    hi[a] = hi[a].max(p[a]);
+                }
+                (lo, hi)
+            },
+        )
+        .reduce(
+            || (*first, *first),
+            |(mut lo, mut hi), (l, h)| {
+                for a in 0..3 {
+                    lo[a] = lo[a].min(l[a]);
+                    hi[a] = hi[a].max(h[a]);
+                }
+                (lo, hi)
+            },
+        );
+    all.par_iter()
+        .filter(|q| (0..3).all(|a| q[a] >= lo[a] - 2.0 * r && q[a] <= hi[a] + 2.0 * r))
+        .copied()
+        .collect()
 }
 
 /// The hydrostatic pressure of eq. (9)'s set-up: p = rho0 g . (x - x_top), with x_top the
@@ -398,34 +558,34 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
     let mut order: Vec<usize> = (0..objects.len()).collect();
     order.sort_by_key(|&i| (rank(objects[i].kind), objects[i].group));
 
-    let mut grid = Grid {
-        dx,
-        cells: HashMap::new(),
-    };
+    // The objects in precedence order, each against the ones before it: a grid of the points
+    // kept so far near the object, then its points tested in parallel (each test reads only
+    // what earlier objects kept), in their order.
+    let r = 0.5 * dx;
+    let mut all: Vec<P3> = Vec::new();
     let mut kept: Vec<Vec<P3>> = vec![Vec::new(); objects.len()];
     for (n, &i) in order.iter().enumerate() {
         let obj = &objects[i];
-        let earlier = &order[..n];
-        let mut mine = Vec::with_capacity(obj.points.len());
-        for p in &obj.points {
-            if grid.near(p, 0.5 * dx) {
-                continue;
-            }
-            let covered = earlier.iter().any(|&j| {
-                let other = &objects[j];
-                let blocks = match obj.kind {
-                    Kind::Fluid => other.kind != Kind::Fluid,
-                    Kind::Solid => other.kind == Kind::Boundary,
-                    Kind::Boundary => false,
-                };
-                blocks && other.region.contains(p, dim)
-            });
-            if !covered {
-                mine.push(*p);
-            }
-        }
-        for p in &mine {
-            grid.insert(*p);
+        let blockers: Vec<&Region> = order[..n]
+            .iter()
+            .map(|&j| &objects[j])
+            .filter(|other| match obj.kind {
+                Kind::Fluid => other.kind != Kind::Fluid,
+                Kind::Solid => other.kind == Kind::Boundary,
+                Kind::Boundary => false,
+            })
+            .map(|other| &other.region)
+            .collect();
+        let grid = Grid::new(dx, near_box(&all, &obj.points, r));
+        let mine: Vec<P3> = obj
+            .points
+            .par_iter()
+            .filter(|p| !grid.near(p, r) && !blockers.iter().any(|b| b.contains(p, dim)))
+            .copied()
+            .collect();
+        // No object comes after the last.
+        if n + 1 < order.len() {
+            all.extend_from_slice(&mine);
         }
         kept[i] = mine;
     }
@@ -442,13 +602,7 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
         (0..n_fluid as usize)
             .filter(|&i| s.fluid_blocks[i].hydrostatic)
             .map(|i| {
-                let mut near = Grid {
-                    dx: support,
-                    cells: HashMap::new(),
-                };
-                for p in &kept[i] {
-                    near.insert(*p);
-                }
+                let near = Grid::new(support, kept[i].clone());
                 Column {
                     block: &s.fluid_blocks[i],
                     near,
@@ -464,7 +618,7 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
     };
     let tait_b = f.density * f.sound_speed * f.sound_speed / f.gamma;
     let dxd = dx.powi(dim as i32);
-    let mut out = Vec::new();
+    let mut out: Vec<Particle> = Vec::with_capacity(kept.iter().map(Vec::len).sum());
     for (i, obj) in objects.iter().enumerate() {
         let (rho_ref, velocity) = match obj.kind {
             Kind::Fluid => (f.density, vec3(s.fluid_blocks[i].velocity.as_ref())),
@@ -481,7 +635,8 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
                 vec3(s.walls[i - (n_fluid + n_solid) as usize].motion()),
             ),
         };
-        for p in &kept[i] {
+        let first = out.len() as u32;
+        let particle = |(j, p): (usize, &P3)| {
             let (mut density, mut pressure) = (rho_ref, 0.0);
             if obj.kind == Kind::Fluid && s.fluid_blocks[i].hydrostatic {
                 pressure = hydrostatic_pressure(&s.fluid_blocks[i], &g, f.density, p, dim);
@@ -494,8 +649,8 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
                     density = f.density * (1.0 + pressure / tait_b).powf(1.0 / f.gamma);
                 }
             }
-            out.push(Particle {
-                id: out.len() as u32,
+            Particle {
+                id: first + j as u32,
                 kind: obj.kind,
                 group: obj.group,
                 position: p.map(|x| x as f32),
@@ -504,8 +659,9 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
                 pressure: pressure as f32,
                 mass: (rho_ref * dxd) as f32,
                 stress: [0.0; 6],
-            });
-        }
+            }
+        };
+        out.par_extend(kept[i].par_iter().enumerate().map(particle));
     }
     out
 }

@@ -8,6 +8,7 @@
 use std::sync::Arc;
 
 use cudarc::driver::{CudaSlice, CudaStream, DeviceRepr, DriverError, ValidAsZeroBits};
+use rayon::prelude::*;
 
 use crate::consts::MF_SCAN_CELLS;
 use crate::dim::Dim;
@@ -318,31 +319,34 @@ fn mass_of<D: Dim>(pos: &[f32], vel: &[f32], n: usize) -> Vec<f32> {
 }
 
 /// Vectors -> float2 (2D) or float4 (3D) with `w(i)` in the w slot.
-fn flat_v<D: Dim>(v: &[D::V], w: impl Fn(usize) -> f32) -> Vec<f32> {
+fn flat_v<D: Dim>(v: &[D::V], w: impl Fn(usize) -> f32 + Sync) -> Vec<f32> {
     let vs = vstride::<D>();
     let mut out = vec![0.0f32; v.len() * vs];
-    for (i, x) in v.iter().enumerate() {
-        let a = D::to3(*x);
-        out[i * vs..i * vs + D::D].copy_from_slice(&a[..D::D]);
-        if vs == 4 {
-            out[i * vs + 3] = w(i);
-        }
-    }
+    out.par_chunks_mut(vs)
+        .zip(v.par_iter())
+        .enumerate()
+        .for_each(|(i, (o, x))| {
+            o[..D::D].copy_from_slice(&D::to3(*x)[..D::D]);
+            if vs == 4 {
+                o[3] = w(i);
+            }
+        });
     out
 }
 /// Velocities -> float4 (`vel_load` in cuda/device/packing.cuh): w = `w(i)`, and in 2D z =
 /// the mass.
-fn flat_vel<D: Dim>(v: &[D::V], mass: &[f32], w: impl Fn(usize) -> f32) -> Vec<f32> {
+fn flat_vel<D: Dim>(v: &[D::V], mass: &[f32], w: impl Fn(usize) -> f32 + Sync) -> Vec<f32> {
     let mut out = vec![0.0f32; v.len() * VEL_STRIDE];
-    for (i, x) in v.iter().enumerate() {
-        let a = D::to3(*x);
-        let o = &mut out[i * VEL_STRIDE..(i + 1) * VEL_STRIDE];
-        o[..D::D].copy_from_slice(&a[..D::D]);
-        if D::D == 2 {
-            o[2] = mass[i];
-        }
-        o[3] = w(i);
-    }
+    out.par_chunks_mut(VEL_STRIDE)
+        .zip(v.par_iter())
+        .enumerate()
+        .for_each(|(i, (o, x))| {
+            o[..D::D].copy_from_slice(&D::to3(*x)[..D::D]);
+            if D::D == 2 {
+                o[2] = mass[i];
+            }
+            o[3] = w(i);
+        });
     out
 }
 fn unflat_v<D: Dim>(f: &[f32], n: usize) -> Vec<D::V> {
