@@ -5,6 +5,7 @@ mod density;
 mod forces;
 mod grid;
 mod integrate;
+mod monitor;
 mod rates;
 mod reduce;
 mod stress;
@@ -12,6 +13,7 @@ mod stress;
 pub use density::pressure;
 pub use forces::{cohesion_over_r, ForceSum};
 pub use grid::{cell_coords, cell_index, separation, Grid};
+pub use monitor::{refresh_pressure, wall_force};
 pub use rates::shift_velocity;
 pub use reduce::step_size;
 pub use stress::{artificial_stress, jacobi_eigen};
@@ -153,6 +155,19 @@ impl<D: Dim> Solver for CpuSolver<D> {
     }
     fn wall_surface(&self) -> &[[f32; 4]] {
         &self.wall_surface
+    }
+    /// On the state itself (`monitor.rs`): the grid rebuilt from the current positions (the
+    /// drift moved the particles since the last build, and before the first step there is
+    /// none) and the pressures of the current densities (`refresh_pressure`), as the next
+    /// step's `build_grid` and `density` make them: that step then finds the storage sorted
+    /// and runs as it would have without the sample, bit for bit.
+    fn wall_forces(&mut self, groups: &[u32]) -> Vec<[f64; 3]> {
+        self.grid.build(&self.params, &mut self.state);
+        refresh_pressure(&self.params, &mut self.state);
+        groups
+            .iter()
+            .map(|&g| wall_force(&self.params, &self.state, &self.grid, &self.wall_surface, g))
+            .collect()
     }
     fn remove_group(&mut self, group: u32) -> usize {
         let before = self.state.len();
