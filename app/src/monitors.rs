@@ -1,9 +1,11 @@
 //! The scene's force monitors during a run (`[[monitors]]`): when each samples next, its
-//! samples and its `<name>.csv`. The force itself is `meshfree_core::monitor::wall_force`.
+//! samples and its `<name>.csv`. The force itself is `Solver::wall_forces` (on the solver's
+//! own state; summed on the device by the CUDA backend), whose sum is
+//! `meshfree_core::monitor::wall_force`'s.
 
 use std::path::{Path, PathBuf};
 
-use meshfree_core::monitor::{wall_force, ForceSample, MonitorSummary};
+use meshfree_core::monitor::{ForceSample, MonitorSummary};
 use meshfree_core::scene::{format, Scene};
 use meshfree_core::solver::Solver;
 use meshfree_core::step::reached;
@@ -59,18 +61,20 @@ impl Monitors {
         self.list.iter().map(|m| m.next).min_by(f64::total_cmp)
     }
 
-    /// Sample every monitor whose time the clock reached (`step::reached`): one particle
-    /// read-back for all of them.
+    /// Sample every monitor whose time the clock reached (`step::reached`): one call of
+    /// `Solver::wall_forces` for all of them.
     pub fn sample_due(&mut self, solver: &mut dyn Solver) -> Result<(), (PathBuf, std::io::Error)> {
         let t = solver.time();
         if self.next_time().is_none_or(|n| !reached(t, n)) {
             return Ok(());
         }
-        let particles = solver.particles();
-        let p = *solver.params();
-        let surface = solver.wall_surface();
-        for m in self.list.iter_mut().filter(|m| reached(t, m.next)) {
-            let force = wall_force(&p, &particles, surface, m.group);
+        let due: Vec<usize> = (0..self.list.len())
+            .filter(|&k| reached(t, self.list[k].next))
+            .collect();
+        let groups: Vec<u32> = due.iter().map(|&k| self.list[k].group).collect();
+        let forces = solver.wall_forces(&groups);
+        for (&k, force) in due.iter().zip(forces) {
+            let m = &mut self.list[k];
             let (u, d) = (m.spec.reference_velocity, m.spec.reference_length);
             let q = 0.5 * self.rho0 * u * u * d.powi(self.dim - 1);
             let s = ForceSample {

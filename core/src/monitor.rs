@@ -1,25 +1,28 @@
 //! Force monitors (`[[monitors]]` in a scene): the force the fluid and solids exert on one
 //! wall object, its drag and lift coefficients, and the Strouhal number of the lift.
 //!
-//! The force is computed from a particle read-back (`Solver::particles`, either backend)
-//! by the CPU force stage's own pair sum (`ForceSum` in `src/backend/cpu/forces.rs`): for
-//! every wall particle j of the object and every fluid or solid neighbour i, the
-//! acceleration that j contributes to i (Lennard-Jones eq. (17); with dynamic walls also the
-//! pressure term of eqs. (7)/(16) with the wall cut-off, the artificial viscosity eq. (10)
-//! and the laminar viscosity of Morris, Fox & Zhu 1997). By Newton's third law the wall
-//! feels F = - sum_i m_i a_i(from wall). [M L T^-2] (per unit depth in 2D: [M T^-2]).
-//! Pressures are the Tait / solid EOS of the read-back density, as the next force stage
-//! would take them.
+//! A run samples the force with `Solver::wall_forces`, on the solver's own state (the CPU
+//! backend: `src/backend/cpu/monitor.rs`; the CUDA backend: `cuda/monitor.cu`, summed on the
+//! device). `wall_force` here is the same sum from a particle read-back (`Solver::particles`,
+//! either backend), the trait's default and the parity tests' reference: for every wall
+//! particle j of the object and every fluid or solid neighbour i, the acceleration that j
+//! contributes to i in the CPU force stage's own pair sum (`ForceSum` in
+//! `src/backend/cpu/forces.rs`: Lennard-Jones eq. (17); with dynamic walls also the pressure
+//! term of eqs. (7)/(16) with the wall cut-off, the artificial viscosity eq. (10) and the
+//! laminar viscosity of Morris, Fox & Zhu 1997). By Newton's third law the wall feels
+//! F = - sum_i m_i a_i(from wall). [M L T^-2] (per unit depth in 2D: [M T^-2]). Pressures are
+//! the Tait / solid EOS of the read-back density, as the next force stage would take them.
 
-use crate::backend::cpu::{pressure, ForceSum, Grid};
+use crate::backend::cpu::{self, Grid};
 use crate::dim::{Dim, D2, D3};
-use crate::params::{SphParams, MF_KIND_BOUNDARY};
+use crate::params::SphParams;
 use crate::particle::{Kind, Particle};
 use crate::state::State;
 
 /// The force [M L T^-2] that fluid and solid particles exert on the boundary particles of
-/// scene group `group`, as three numbers (z = 0 in 2D). `surface`: the solver's
-/// `Setup::wall_surface` (`Solver::wall_surface`; empty unless `no_slip`).
+/// scene group `group`, as three numbers (z = 0 in 2D), from `particles` (any order).
+/// `surface`: the solver's `Setup::wall_surface` (`Solver::wall_surface`; empty unless
+/// `no_slip`).
 pub fn wall_force(
     p: &SphParams,
     particles: &[Particle],
@@ -68,6 +71,8 @@ fn near_wall(p: &SphParams, particles: &[Particle], group: u32) -> Option<Vec<Pa
     )
 }
 
+/// The particles as a state, its pressures from the equation of state, eq. (9), its grid,
+/// then the CPU backend's sum over the pairs (`cpu::wall_force`).
 fn wall_force_d<D: Dim>(
     p: &SphParams,
     particles: &[Particle],
@@ -75,31 +80,10 @@ fn wall_force_d<D: Dim>(
     group: u32,
 ) -> [f64; 3] {
     let mut s = State::<D>::from_particles(particles, false, false);
-    for i in 0..s.len() {
-        s.p[i] = pressure(p, s.kind[i], s.rho[i]); // eq. (9)
-    }
+    cpu::refresh_pressure(p, &mut s); // eq. (9)
     let mut grid = Grid::default();
     grid.build(p, &mut s);
-    let mut force = [0.0f64; 3];
-    for j in 0..s.len() {
-        if s.kind[j] as u32 != MF_KIND_BOUNDARY || s.group[j] != group {
-            continue;
-        }
-        grid.for_each_neighbor::<D>(p, &s.pos, s.pos[j], |i, r_ji, r2| {
-            // The force stage computes no acceleration of a wall particle.
-            if s.kind[i] as u32 == MF_KIND_BOUNDARY {
-                return;
-            }
-            // The force stage's pair term of wall particle j on particle i, alone.
-            let mut f = ForceSum::new(p, &s, surface, i, D::V::default());
-            f.add(p, j, -r_ji, r2); // r_ij = x_i - x_j
-            let a = D::to3(f.acc);
-            for (f, a) in force.iter_mut().zip(a) {
-                *f -= s.mass[i] as f64 * a as f64;
-            }
-        });
-    }
-    force
+    cpu::wall_force(p, &s, &grid, surface, group)
 }
 
 /// One sample of a monitor.

@@ -192,6 +192,19 @@ fn wall_force_is_the_wall_part_of_the_force_stage_with_no_slip_walls() {
 /// in sum m_i a_i as fluid-fluid ones do.
 #[test]
 fn wall_force_with_a_body_on_the_wall_is_the_wall_part_of_the_force_stage() {
+    let scene = block_on_floor();
+    let c = check_monitor_against_force_stage(&scene);
+    assert!(
+        c.state().solid.as_ref().is_some_and(|so| so
+            .stress
+            .iter()
+            .any(|m| !m.abs_diff_eq(Default::default(), 1.0))),
+        "the block carries a deviatoric stress after 200 steps"
+    );
+}
+
+/// A tank of water beside an elastic block, both on the monitored floor (dynamic walls).
+fn block_on_floor() -> Scene {
     let text = r#"dimension = 2
 name = "block-on-floor"
 gravity = [0.0, -9.81]
@@ -237,13 +250,143 @@ min = [0.0, 0.0]
 max = [1.0, 1.2]
 layers = 3
 "#;
-    let scene = Scene::from_toml(text, "tests/monitor.rs").unwrap();
-    let c = check_monitor_against_force_stage(&scene);
-    assert!(
-        c.state().solid.as_ref().is_some_and(|so| so
-            .stress
+    Scene::from_toml(text, "tests/monitor.rs").unwrap()
+}
+
+/// The CPU backend's own `wall_forces` (on its state: the grid rebuilt from the current
+/// positions, the pressures of the current densities) against the read-back path
+/// (`wall_force` on `particles()`), at t = 0 (unsorted storage, no grid yet) and between
+/// steps, for the wall object and a group with no particles (zero); then the sampled run
+/// against an unsampled twin. Both sums visit the same pairs in the same order (the
+/// read-back's state is a subset of the same particles, sorted by the same (cell, id) key),
+/// so they agree bit for bit, and so do the two runs.
+fn check_direct_against_read_back(what: &str, scene: &Scene) {
+    let setup = scene.setup().unwrap();
+    let p = setup.params;
+    let groups = [scene.wall_group(0), u32::MAX];
+    let (mut a, mut twin) = (cpu_solver(setup.clone()), cpu_solver(setup));
+    for round in 0..4 {
+        if round > 0 {
+            for _ in 0..25 {
+                a.step();
+                twin.step();
+            }
+        }
+        let parts = a.particles();
+        let want: Vec<[f64; 3]> = groups
             .iter()
-            .any(|m| !m.abs_diff_eq(Default::default(), 1.0))),
-        "the block carries a deviatoric stress after 200 steps"
+            .map(|&g| wall_force(&p, &parts, a.wall_surface(), g))
+            .collect();
+        let got = a.wall_forces(&groups);
+        eprintln!("{what}, t = {:.4}: {got:?}", a.time());
+        assert_eq!(got, want, "{what}, t = {}: direct vs read-back", a.time());
+        assert!(got[0].iter().any(|f| *f != 0.0), "{what}: no force");
+        assert_eq!(got[1], [0.0; 3]);
+    }
+    for _ in 0..10 {
+        a.step();
+        twin.step();
+    }
+    assert_eq!(
+        a.particles(),
+        twin.particles(),
+        "{what}: sampling changed the run"
     );
+}
+
+#[test]
+fn cpu_wall_forces_equal_the_read_back_path() {
+    let mut tank = Scene::builtin("tank-2d")
+        .unwrap()
+        .with_spacing(0.05)
+        .unwrap();
+    tank.file.fluid.viscosity = 0.01;
+    tank.revalidate().unwrap();
+    check_direct_against_read_back("tank-2d with laminar viscosity", &tank);
+    check_direct_against_read_back(
+        "tank-2d, Morris no-slip walls",
+        &common::tank_2d_morris(0.05),
+    );
+    check_direct_against_read_back("block on the floor", &block_on_floor());
+}
+
+/// The trait's default (`Solver::wall_forces` reads the particles back and sums with
+/// `wall_force`) is what a backend without its own sum gives: here a wrapper around the CPU
+/// solver that forwards everything else, against the CPU backend's own sum.
+#[test]
+fn default_wall_forces_is_the_read_back_path() {
+    struct Plain(Box<dyn Solver>);
+    impl Solver for Plain {
+        fn info(&self) -> meshfree_core::solver::BackendInfo {
+            self.0.info()
+        }
+        fn params(&self) -> &meshfree_core::params::SphParams {
+            self.0.params()
+        }
+        fn len(&self) -> usize {
+            self.0.len()
+        }
+        fn has_solids(&self) -> bool {
+            self.0.has_solids()
+        }
+        fn build_grid(&mut self) {
+            self.0.build_grid()
+        }
+        fn density(&mut self) {
+            self.0.density()
+        }
+        fn forces(&mut self) {
+            self.0.forces()
+        }
+        fn rates(&mut self) {
+            self.0.rates()
+        }
+        fn time_step(&mut self) {
+            self.0.time_step()
+        }
+        fn kick(&mut self) {
+            self.0.kick()
+        }
+        fn drift(&mut self) {
+            self.0.drift()
+        }
+        fn time(&mut self) -> f64 {
+            self.0.time()
+        }
+        fn steps(&self) -> u64 {
+            self.0.steps()
+        }
+        fn check(&mut self) -> Result<(), meshfree_core::solver::Fault> {
+            self.0.check()
+        }
+        fn diagnostics(&mut self) -> meshfree_core::solver::Diagnostics {
+            self.0.diagnostics()
+        }
+        fn particles(&mut self) -> Vec<meshfree_core::particle::Particle> {
+            self.0.particles()
+        }
+        fn remove_group(&mut self, group: u32) -> usize {
+            self.0.remove_group(group)
+        }
+        fn wall_surface(&self) -> &[[f32; 4]] {
+            self.0.wall_surface()
+        }
+        fn sample_points(
+            &mut self,
+            points: &[[f32; 3]],
+            include_walls: bool,
+            out: &mut Vec<meshfree_core::solver::PointSample>,
+        ) {
+            self.0.sample_points(points, include_walls, out)
+        }
+    }
+    let scene = block_on_floor();
+    let setup = scene.setup().unwrap();
+    let groups = [scene.wall_group(0)];
+    let (mut plain, mut own) = (Plain(cpu_solver(setup.clone())), cpu_solver(setup));
+    for _ in 0..20 {
+        plain.step();
+        own.step();
+    }
+    assert_eq!(plain.wall_forces(&groups), own.wall_forces(&groups));
 }

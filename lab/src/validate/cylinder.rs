@@ -20,7 +20,7 @@
 
 use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
-use meshfree_core::monitor::{wall_force, ForceSample, MonitorSummary};
+use meshfree_core::monitor::{ForceSample, MonitorSummary};
 use meshfree_core::particle::Kind;
 use meshfree_core::scene::Scene;
 
@@ -141,7 +141,6 @@ pub fn simulate(
     let mut scene = Scene::from_toml(&scene_text(dx, t_end, re), "validate:cylinder")?;
     edit(&mut scene);
     scene.revalidate()?;
-    let p = scene.params();
     let group = scene.wall_group(0);
     let mut setup = scene.setup()?;
     if kick_amplitude != 0.0 {
@@ -158,12 +157,7 @@ pub fn simulate(
     let n = (t_end_ud / sample_ud).round() as usize;
     for k in 0..=n {
         sim.advance_to(k as f64 * sample_ud * D / U)?;
-        let f = wall_force(
-            &p,
-            &sim.solver.particles(),
-            sim.solver.wall_surface(),
-            group,
-        );
+        let f = sim.solver.wall_forces(&[group])[0];
         samples.push(ForceSample {
             t: sim.solver.time(),
             force: f,

@@ -6,6 +6,7 @@ mod forces;
 mod grid;
 mod integrate;
 mod probes;
+mod monitor;
 mod rates;
 mod reduce;
 mod stress;
@@ -14,6 +15,7 @@ pub use density::pressure;
 pub use forces::{cohesion_over_r, ForceSum};
 pub use grid::{cell_coords, cell_index, separation, Grid};
 pub use probes::PointSum;
+pub use monitor::{refresh_pressure, wall_force};
 pub use rates::shift_velocity;
 pub use reduce::step_size;
 pub use stress::{artificial_stress, jacobi_eigen};
@@ -187,6 +189,20 @@ impl<D: Dim> Solver for CpuSolver<D> {
             include_walls,
             out,
         );
+    }
+    /// On the state itself (`monitor.rs`): the grid rebuilt from the current positions (the
+    /// drift moved the particles since the last build, and before the first step there is
+    /// none) and the pressures of the current densities (`refresh_pressure`), as the next
+    /// step's `build_grid` and `density` make them: that step then finds the storage sorted
+    /// and runs as it would have without the sample, bit for bit.
+    fn wall_forces(&mut self, groups: &[u32]) -> Vec<[f64; 3]> {
+        self.grid.build(&self.params, &mut self.state);
+        self.grid_stale = false;
+        refresh_pressure(&self.params, &mut self.state);
+        groups
+            .iter()
+            .map(|&g| wall_force(&self.params, &self.state, &self.grid, &self.wall_surface, g))
+            .collect()
     }
     fn remove_group(&mut self, group: u32) -> usize {
         let before = self.state.len();

@@ -89,6 +89,11 @@ pub struct Buffers {
     pub diag_counts: CudaSlice<u32>,
     pub first: CudaSlice<u64>,
     pub layout: CudaSlice<u32>,
+    /// The force monitors' block partial sums (3 doubles per block and wall group) and
+    /// totals (3 per group), `cuda/monitor.cu`: allocated by the first sample
+    /// (`launch::wall_forces`).
+    pub wall_partial: Option<CudaSlice<f64>>,
+    pub wall_force: Option<CudaSlice<f64>>,
     /// Bytes allocated on the device for all of the above.
     pub bytes: usize,
     /// Flips at each swap of `cur` and `alt` (a captured graph is bound to one assignment).
@@ -192,6 +197,8 @@ impl Buffers {
             diag_counts: a.z(3)?,
             first: a.z(1)?,
             layout: a.z(4)?,
+            wall_partial: None,
+            wall_force: None,
             bytes: 0,
             swapped: false,
             eos_done: false,

@@ -94,6 +94,10 @@ pub enum Family {
     Check,
     ParamsLayout,
     SamplePoints,
+    MonitorEos,
+    WallForce,
+    WallForceFluid,
+    WallForceSum,
 }
 
 /// What the table says of a family.
@@ -121,9 +125,17 @@ macro_rules! forces_params {
     };
 }
 
+/// The parameters of the force monitors' pair sums (`cuda/monitor.cu`), with and without
+/// solids.
+const WALL_FORCE_PARAMS: &str =
+    "const SphParams p, unsigned n, unsigned wall_group, unsigned slot, \
+     const unsigned* cell_start, const float* pos, const float* vel, const float* rho, \
+     const float* pr, const unsigned char* kind, const unsigned* group, const float* stress, \
+     const unsigned* id, const float* surf, double* partial";
+
 impl Family {
     /// Every family, in the order of the discriminants.
-    pub const ALL: [Family; 18] = [
+    pub const ALL: [Family; 22] = [
         Family::GridHist,
         Family::ScanLocal,
         Family::ScanTop,
@@ -142,6 +154,10 @@ impl Family {
         Family::Check,
         Family::ParamsLayout,
         Family::SamplePoints,
+        Family::MonitorEos,
+        Family::WallForce,
+        Family::WallForceFluid,
+        Family::WallForceSum,
     ];
 
     /// The table.
@@ -276,6 +292,21 @@ impl Family {
                 "const SphParams p, unsigned n_points, const float* points, unsigned walls, \
                  const unsigned* cell_start, const float* pos, const float* vel, \
                  const float* rho, const unsigned char* kind, float* out",
+            ),
+            Family::MonitorEos => (
+                "monitor",
+                "sph_monitor_eos",
+                One,
+                "const SphParams p, unsigned n, const unsigned char* kind, const float* rho, \
+                 float* pr, float* vel",
+            ),
+            Family::WallForce => ("monitor", "sph_wall_force", Dims, WALL_FORCE_PARAMS),
+            Family::WallForceFluid => ("monitor", "sph_wall_force_fluid", Dims, WALL_FORCE_PARAMS),
+            Family::WallForceSum => (
+                "monitor",
+                "sph_wall_force_sum",
+                One,
+                "unsigned n_blocks, const double* partial, double* out",
             ),
         };
         Spec {

@@ -10,7 +10,7 @@ use cudarc::driver::{
 
 use super::buffers::Buffers;
 use super::kernels::{Family, Kernel, Kernels, Scheme};
-use crate::consts::{MF_BLOCK, MF_SAMPLE_FLOATS, MF_SCAN_BLOCK, MF_SCAN_CELLS};
+use crate::consts::{MF_BLOCK, MF_LANES_MAX, MF_SAMPLE_FLOATS, MF_SCAN_BLOCK, MF_SCAN_CELLS};
 use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
 
 // SAFETY: SphParams is the bindgen image of the C struct in `cuda/sph_params.h` (repr(C),
@@ -374,6 +374,125 @@ fn drift_with(f: &Kernel, kick: bool, s: &Arc<CudaStream>, p: &SphParams, b: &mu
     l.arg(&mut b.cell).arg(&mut b.count);
     f.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
     b.hist_done = true;
+}
+
+/// Most blocks of one wall group's pass (`sph_wall_force_*`): its threads stride over the
+/// storage, so any grid covers it; this bounds the partial sums of a large system (a few
+/// kB per group) and the final pass's work.
+const WALL_FORCE_BLOCKS: usize = 1024;
+
+/// The force [M L T^-2] on the wall particles of each of `groups` (`Solver::wall_forces`),
+/// in their order: the grid rebuilt from the current positions (`build_grid`: the drift
+/// moved the particles since the last build, and at t = 0 there was none) and the equation
+/// of state of the current density unless that build applied it (`sph_monitor_eos`), as
+/// the next step's build and density pass will; then one pass per group
+/// (`sph_wall_force_*`, block partial sums) and one for the totals
+/// (`sph_wall_force_sum`), of which only the 3 doubles per group are read back.
+pub fn wall_forces(
+    k: &Kernels,
+    s: &Arc<CudaStream>,
+    p: &SphParams,
+    b: &mut Buffers,
+    groups: &[u32],
+) -> Result<Vec<[f64; 3]>, DriverError> {
+    if b.n == 0 || groups.is_empty() {
+        return Ok(vec![[0.0; 3]; groups.len()]);
+    }
+    build_grid(k, s, p, b);
+    let n = b.n as u32;
+    if !b.eos_done {
+        let c = &mut b.cur;
+        // SAFETY: the arguments of `Family::MonitorEos` (kernels.rs); vel is written only in
+        // its w slots.
+        let ke = k.get(Family::MonitorEos);
+        ke.check(unsafe {
+            s.launch_builder(&ke.f)
+                .arg(p)
+                .arg(&n)
+                .arg(&c.kind)
+                .arg(&c.rho)
+                .arg(&mut c.p)
+                .arg(&mut c.vel)
+                .launch(cfg(b.n))
+                .map(|_| ())
+        });
+    }
+    let blocks = (b.n * MF_LANES_MAX as usize)
+        .div_ceil(MF_BLOCK as usize)
+        .clamp(1, WALL_FORCE_BLOCKS);
+    let g = groups.len();
+    let grow =
+        |have: &Option<CudaSlice<f64>>, want: usize| have.as_ref().is_none_or(|d| d.len() < want);
+    if grow(&b.wall_partial, g * blocks * 3) {
+        b.wall_partial = Some(s.alloc_zeros::<f64>(g * WALL_FORCE_BLOCKS * 3)?);
+        b.bytes += g * WALL_FORCE_BLOCKS * 3 * std::mem::size_of::<f64>();
+    }
+    if grow(&b.wall_force, g * 3) {
+        b.wall_force = Some(s.alloc_zeros::<f64>(g * 3)?);
+        b.bytes += g * 3 * std::mem::size_of::<f64>();
+    }
+    let (Some(partial), Some(out)) = (&mut b.wall_partial, &mut b.wall_force) else {
+        unreachable!("allocated above");
+    };
+    let family = if b.cur.stress.is_some() {
+        Family::WallForce
+    } else {
+        Family::WallForceFluid
+    };
+    let kw = k.get(family);
+    let c = &b.cur;
+    for (slot, group) in groups.iter().enumerate() {
+        let slot = slot as u32;
+        // SAFETY: the arguments of `Family::WallForce` or `Family::WallForceFluid` (one
+        // signature); stress null without solids (the fluid-only entries never read it, the
+        // others need it); surf null unless no_slip (read only then: float4 per boundary
+        // particle by id - wall_first_id); partial holds (slot + 1) x grid x 3 doubles at
+        // least; grid of at most WALL_FORCE_BLOCKS blocks of MF_BLOCK.
+        let mut l = s.launch_builder(&kw.f);
+        l.arg(p)
+            .arg(&n)
+            .arg(group)
+            .arg(&slot)
+            .arg(&b.cell_start)
+            .arg(&c.pos)
+            .arg(&c.vel)
+            .arg(&c.rho)
+            .arg(&c.p)
+            .arg(&c.kind)
+            .arg(&c.group);
+        opt!(l, &c.stress);
+        l.arg(&c.id);
+        opt!(l, &b.wall_surface);
+        l.arg(&mut *partial);
+        kw.check(unsafe {
+            l.launch(LaunchConfig {
+                grid_dim: (blocks as u32, 1, 1),
+                block_dim: (MF_BLOCK, 1, 1),
+                shared_mem_bytes: 0,
+            })
+            .map(|_| ())
+        });
+    }
+    let n_blocks = blocks as u32;
+    // SAFETY: the arguments of `Family::WallForceSum`; one block of MF_BLOCK per group,
+    // partial as written above, out holds 3 doubles per group.
+    let ks = k.get(Family::WallForceSum);
+    ks.check(unsafe {
+        s.launch_builder(&ks.f)
+            .arg(&n_blocks)
+            .arg(&*partial)
+            .arg(&mut *out)
+            .launch(LaunchConfig {
+                grid_dim: (g as u32, 1, 1),
+                block_dim: (MF_BLOCK, 1, 1),
+                shared_mem_bytes: 0,
+            })
+            .map(|_| ())
+    });
+    let v = s.clone_dtoh(&*out)?;
+    Ok((0..g)
+        .map(|i| [v[3 * i], v[3 * i + 1], v[3 * i + 2]])
+        .collect())
 }
 
 pub fn diagnostics(

@@ -552,6 +552,20 @@ impl<D: Dim> Solver for CudaSolver<D> {
             neighbours: c[6].to_bits(),
         }));
     }
+    /// Summed on the device (`cuda/monitor.cu`, `launch::wall_forces`): 3 doubles per group
+    /// come back. The grid is rebuilt and the pressures refreshed as the next step will, so
+    /// the run goes on as without the sample (its next `advance` starts with one single step:
+    /// the rebuild swapped the buffer sets its graph was captured with).
+    fn wall_forces(&mut self, groups: &[u32]) -> Vec<[f64; 3]> {
+        launch::wall_forces(
+            &self.k,
+            &self.dev.stream,
+            &self.params,
+            &mut self.buf,
+            groups,
+        )
+        .unwrap_or_else(|e| self.sync_err("summing the wall forces", e))
+    }
     fn remove_group(&mut self, group: u32) -> usize {
         let mut st = self.download_state();
         let before = st.len();

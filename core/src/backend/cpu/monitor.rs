@@ -1,0 +1,67 @@
+//! Force monitors on the solver's own state: the force the fluid and solids exert on the
+//! wall particles of one scene group (`Solver::wall_forces`; `crate::monitor` for the
+//! read-back path and the statistics). Twin: `cuda/monitor.cu`; parity test
+//! `tests/cuda_parity.rs`.
+//!
+//! For every wall particle j of the group and every fluid or solid neighbour i, the force
+//! stage's own pair term (`ForceSum::add`) of j on i, alone: Lennard-Jones eq. (17); with
+//! dynamic walls also the pressure term of eqs. (7)/(16) with the wall cut-off
+//! (`wall_pair_stress`), the artificial viscosity eq. (10) and the laminar viscosity of
+//! Morris, Fox & Zhu 1997 (with `no_slip`, the wall's extrapolated velocity). By Newton's
+//! third law the wall feels F = - sum_i m_i a_i(from wall). [M L T^-2] (per unit depth in
+//! 2D: [M T^-2]).
+
+use super::density::pressure;
+use super::forces::ForceSum;
+use super::grid::Grid;
+use crate::backend::pair::couples;
+use crate::dim::Dim;
+use crate::params::{SphParams, MF_KIND_BOUNDARY};
+use crate::state::State;
+
+/// The pressures the next force stage takes: the equation of state, eq. (9) (the solid
+/// pressure law for solids), of the density each particle carries now, for every particle
+/// that carries a pressure (`couples`: no wall particle under Lennard-Jones-only walls).
+/// The density pass writes the same values before any stage reads them, so a step after
+/// this is the step without it. [M L^-d L^2 T^-2]
+pub fn refresh_pressure<D: Dim>(p: &SphParams, s: &mut State<D>) {
+    for i in 0..s.len() {
+        if couples(p, s.kind[i]) {
+            s.p[i] = pressure(p, s.kind[i], s.rho[i]); // eq. (9)
+        }
+    }
+}
+
+/// The force [M L T^-2] on the boundary particles of scene group `group` from the fluid and
+/// solid particles of `s`, whose cell ranges are `grid` (built from the current positions)
+/// and whose pressures are `s.p`, as three numbers (z = 0 in 2D). Sums in f64, wall
+/// particle by wall particle in storage order, each over its neighbours in the grid's order.
+/// `surface`: `Setup::wall_surface` (empty unless `no_slip`).
+pub fn wall_force<D: Dim>(
+    p: &SphParams,
+    s: &State<D>,
+    grid: &Grid,
+    surface: &[[f32; 4]],
+    group: u32,
+) -> [f64; 3] {
+    let mut force = [0.0f64; 3];
+    for j in 0..s.len() {
+        if s.kind[j] as u32 != MF_KIND_BOUNDARY || s.group[j] != group {
+            continue;
+        }
+        grid.for_each_neighbor::<D>(p, &s.pos, s.pos[j], |i, r_ji, r2| {
+            // The force stage computes no acceleration of a wall particle.
+            if s.kind[i] as u32 == MF_KIND_BOUNDARY {
+                return;
+            }
+            // The force stage's pair term of wall particle j on particle i, alone.
+            let mut f = ForceSum::new(p, s, surface, i, D::V::default());
+            f.add(p, j, -r_ji, r2); // r_ij = x_i - x_j
+            let a = D::to3(f.acc);
+            for (f, a) in force.iter_mut().zip(a) {
+                *f -= s.mass[i] as f64 * a as f64;
+            }
+        });
+    }
+    force
+}
