@@ -173,9 +173,9 @@ pub fn peers_table(b: &PeersBench) -> String {
     };
     let _ = writeln!(
         s,
-        "`meshfree bench peers`, run {} with build {} on {} ({}): each scene from a fresh \
-         process state as a user runs it (`meshfree run`, 21 binary VTU frames); GPUSPH's \
-         whole process on one H100 beside it ([its figures](../../scenes/peers/README.md)).\n",
+        "`meshfree bench peers`, run {} with build {} on {} ({}): each scene run whole as \
+         `meshfree run` runs it (a fresh solver, 21 binary VTU frames); GPUSPH's whole \
+         process on one H100 beside it ([its figures](../../scenes/peers/README.md)).\n",
         b.date, b.commit, first.device, first.backend
     );
     let _ = writeln!(
