@@ -270,16 +270,8 @@ pub trait Solver: Send {
     /// particles exert on the boundary particles of each scene group of `groups`, in their
     /// order (`[[monitors]]`): the force stage's wall pair terms, F = - sum_i m_i a_i(from
     /// the group's walls), eqs. (7), (9), (10), (16), (17) and the laminar viscosity, at the
-    /// current positions and densities (`crate::monitor`). The default reads every particle
-    /// back once and sums on the CPU (`monitor::wall_force`); a backend may sum on its own
-    /// state (both do), leaving the run as it would be without the sample.
-    fn wall_forces(&mut self, groups: &[u32]) -> Vec<[f64; 3]> {
-        let particles = self.particles();
-        let p = *self.params();
-        let surface = self.wall_surface();
-        groups
-            .iter()
-            .map(|&g| crate::monitor::wall_force(&p, &particles, surface, g))
-            .collect()
-    }
+    /// current positions and densities (`crate::monitor`, whose `wall_force` on a particle
+    /// read-back is the reference: `tests/monitor.rs`, `tests/cuda_parity.rs`). Each backend
+    /// sums on its own state, leaving the run as it would be without the sample.
+    fn wall_forces(&mut self, groups: &[u32]) -> Vec<[f64; 3]>;
 }
