@@ -4,7 +4,7 @@
 //! A run samples the force with `Solver::wall_forces`, on the solver's own state (the CPU
 //! backend: `src/backend/cpu/monitor.rs`; the CUDA backend: `cuda/monitor.cu`, summed on the
 //! device). `wall_force` here is the same sum from a particle read-back (`Solver::particles`,
-//! either backend), the trait's default and the parity tests' reference: for every wall
+//! either backend), the CPU and parity tests' reference: for every wall
 //! particle j of the object and every fluid or solid neighbour i, the acceleration that j
 //! contributes to i in the CPU force stage's own pair sum (`ForceSum` in
 //! `src/backend/cpu/forces.rs`: Lennard-Jones eq. (17); with dynamic walls also the pressure
