@@ -66,8 +66,17 @@ impl Fields {
         fields.iter().fold(Fields::NONE, |s, &f| s.with(f))
     }
 
+    /// Every field.
+    pub fn all() -> Fields {
+        Fields::of(&Field::ALL.iter().map(|(f, _, _)| *f).collect::<Vec<_>>())
+    }
+
     pub fn with(self, f: Field) -> Fields {
         Fields(self.0 | 1 << f as u16)
+    }
+
+    pub fn without(self, f: Field) -> Fields {
+        Fields(self.0 & !(1 << f as u16))
     }
 
     pub fn union(self, other: Fields) -> Fields {
@@ -193,5 +202,19 @@ pub struct Ready(pub FrameData);
 impl PendingFrame for Ready {
     fn wait(self: Box<Self>) -> Result<FrameData, String> {
         Ok(self.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn field_sets() {
+        let all = Fields::all();
+        assert_eq!(all.list().len(), Field::ALL.len());
+        let no_stress = all.without(Field::Stress);
+        assert!(!no_stress.has(Field::Stress) && no_stress.has(Field::Group));
+        assert_eq!(no_stress.with(Field::Stress), all);
     }
 }

@@ -1555,16 +1555,7 @@ fn same_particles(what: &str, frame: &[Particle], read: &[Particle]) {
 /// set back; and the CPU backend's capture likewise.
 fn capture_is_a_snapshot<D: Dim>(dim: usize, v: Variant) {
     use meshfree_core::frame::{Field, Fields};
-    let all = Fields::of(&[
-        Field::Position,
-        Field::Velocity,
-        Field::Density,
-        Field::Pressure,
-        Field::Kind,
-        Field::Id,
-        Field::Group,
-        Field::Stress,
-    ]);
+    let all = Fields::all();
     let setup = scene(dim, v);
     let mut g = gpu::<D>(&setup);
     g.advance(3);

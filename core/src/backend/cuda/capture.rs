@@ -82,13 +82,7 @@ impl Capturer {
         let fields = if has_stress {
             fields
         } else {
-            Fields::of(
-                &fields
-                    .list()
-                    .into_iter()
-                    .filter(|&f| f != Field::Stress)
-                    .collect::<Vec<_>>(),
-            )
+            fields.without(Field::Stress)
         };
         let reuse = {
             let (lock, freed) = &*self.pool;
