@@ -36,7 +36,19 @@ Scene files: copy one of scenes/*.toml and edit it; every key is commented there
 `meshfree scenes --reference` (docs/reference/scene.md) describes them all.
 Output: particles.pvd (open it in ParaView), particles_NNNNN.vtu (binary VTK),
 diagnostics.csv, summary.json (with the wall time's split) and a copy of the scene, in the
-output directory; a scene's [output] table chooses the format, the fields and cluster counts.";
+output directory; a scene's [output] table chooses the format, the fields and cluster counts.
+A directory holding an earlier run is refused unless --overwrite. Ctrl-C (or SIGTERM,
+SIGHUP) stops a run after the current batch of steps, writing the state it reached as a
+last frame and summary.json with status \"interrupted\"; a second Ctrl-C quits at once.
+
+Exit status:
+  0    success
+  1    any other error (a failed validation check, no GPU where one was asked for, ...)
+  2    bad input: a scene file, field or command-line value (the message names it), or an
+       output directory in use
+  3    a blow-up: summary.json holds the fault (particle, time, reason)
+  4    an output file could not be written (the message names the file)
+  130  interrupted by a signal";
 
 /// meshfree: weakly compressible SPH with elastic solids on the CPU or an NVIDIA GPU
 /// (Liu, Wang, Ma & Zhang).
@@ -315,9 +327,13 @@ pub struct RunArgs {
     /// Where to run: `auto` takes CUDA where a driver and a device answer, else the CPU.
     #[arg(long, value_parser = named::<BackendChoice>(), default_value = "auto")]
     pub backend: BackendChoice,
-    /// Output directory [default: out/<scene name>].
+    /// Output directory [default: out/<scene file's stem>, out/<name> for a built-in].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Replace an earlier run's output in the output directory (only files a run writes are
+    /// removed); without it such a directory is refused.
+    #[arg(long)]
+    pub overwrite: bool,
     /// End time, replacing the scene's `time.end`.
     #[arg(long, value_name = "T")]
     pub t_end: Option<f64>,
@@ -366,6 +382,35 @@ pub fn scene_rows() -> anyhow::Result<Vec<SceneRow>> {
             })
         })
         .collect()
+}
+
+/// Exit statuses (listed in `meshfree run --help`).
+pub mod exit {
+    pub const OTHER: u8 = 1;
+    pub const BAD_INPUT: u8 = 2;
+    pub const BLOW_UP: u8 = 3;
+    pub const IO: u8 = 4;
+    pub const INTERRUPTED: u8 = crate::interrupt::EXIT_INTERRUPTED;
+}
+
+/// The exit status for an error `main` returned: the first run or scene error in its chain
+/// decides.
+pub fn exit_code(e: &anyhow::Error) -> u8 {
+    for cause in e.chain() {
+        if let Some(r) = cause.downcast_ref::<run::RunError>() {
+            return match r {
+                run::RunError::Scene(_) | run::RunError::OutputInUse { .. } => exit::BAD_INPUT,
+                run::RunError::BlowUp { .. } => exit::BLOW_UP,
+                run::RunError::Io { .. } => exit::IO,
+                run::RunError::Interrupted { .. } => exit::INTERRUPTED,
+                run::RunError::Backend(_) => exit::OTHER,
+            };
+        }
+        if cause.downcast_ref::<scene::SceneError>().is_some() {
+            return exit::BAD_INPUT;
+        }
+    }
+    exit::OTHER
 }
 
 /// Carry out a parsed command line. `View` and `Render` are carried out by the binary's
@@ -438,6 +483,8 @@ pub fn main(cli: Cli) -> anyhow::Result<()> {
                 format: a.format,
                 backend: a.backend,
                 out_dir: a.out,
+                overwrite: a.overwrite,
+                interrupt: Some(crate::interrupt::install()),
                 t_end: a.t_end,
                 max_steps: a.steps,
                 output_interval: a.output_interval,

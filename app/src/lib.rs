@@ -6,6 +6,7 @@ pub mod bench;
 pub mod cli;
 pub mod compare;
 pub mod docs;
+pub mod interrupt;
 pub mod monitors;
 pub mod output;
 pub mod paper_bench;

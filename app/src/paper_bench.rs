@@ -229,6 +229,9 @@ pub fn run_scenes(o: &PaperBenchOptions, out_dir: &Path) -> Result<PaperBench, P
             output_interval: Some(t_end / 4.0),
             progress: o.progress,
             format: None,
+            // A bench's directory is its own: a rerun replaces it.
+            overwrite: true,
+            interrupt: None,
         };
         let (summary, fault) = match run::run(&scene, &options) {
             Ok(s) => (s, None),

@@ -112,6 +112,8 @@ pub fn run_peers(
             backend,
             out_dir: Some(out.join(peer.scene)),
             progress,
+            // A bench's directory is its own: a rerun replaces it.
+            overwrite: true,
             ..Default::default()
         };
         let s = run::run(&scene, &options)?;

@@ -22,6 +22,7 @@
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::Instant;
 
@@ -29,7 +30,7 @@ use meshfree_core::backend::{self, BackendChoice, BackendError};
 use meshfree_core::frame::{Field, Fields};
 use meshfree_core::named::Named;
 use meshfree_core::scene::format::OutputFormat;
-use meshfree_core::scene::{Counts, Overrides, Scene, SceneError};
+use meshfree_core::scene::{paper_exact, Counts, Overrides, Scene, SceneError, SceneSource};
 use meshfree_core::solver::{Diagnostics, Fault, Solver};
 use meshfree_core::step::{reached, Stepper};
 
@@ -54,12 +55,17 @@ pub enum Progress {
     Quiet,
 }
 
-/// Options of one run. `Default` runs on `auto` into `out/<scene name>`.
+/// Options of one run. `Default` runs on `auto` into `default_out_dir`.
 #[derive(Clone, Debug, Default)]
 pub struct RunOptions {
     pub backend: BackendChoice,
-    /// Default `out/<scene name>`.
+    /// Default `default_out_dir(scene)`.
     pub out_dir: Option<PathBuf>,
+    /// Replace an earlier run's output in `out_dir` (else the run refuses the directory).
+    pub overwrite: bool,
+    /// Raised to stop the run at the next batch with a last frame and an `interrupted`
+    /// summary (`crate::interrupt::install` gives the one the signals raise).
+    pub interrupt: Option<&'static AtomicBool>,
     /// Replaces the scene's `time.end`.
     pub t_end: Option<f64>,
     /// Stop after this many steps (also before `t_end`).
@@ -80,6 +86,18 @@ pub enum RunError {
     Backend(#[from] BackendError),
     #[error("{}: {reason}", path.display())]
     Io { path: PathBuf, reason: String },
+    /// The output directory holds an earlier run's files (`RunOptions::overwrite`).
+    #[error("{}: {reason}", dir.display())]
+    OutputInUse { dir: PathBuf, reason: String },
+    /// Stopped by a signal (or the caller's flag): the last frame and `summary.json` are
+    /// written.
+    #[error("interrupted by {signal} at t = {:.6} after {} steps (last frame and summary.json in {})",
+            summary.simulated_time, summary.steps, out_dir.display())]
+    Interrupted {
+        signal: String,
+        out_dir: PathBuf,
+        summary: Box<RunSummary>,
+    },
     /// A blow-up: output written so far is kept, `summary.json` holds the fault.
     #[error("{fault} (output so far in {})", out_dir.display())]
     BlowUp {
@@ -103,6 +121,87 @@ fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
         path: path.to_path_buf(),
         reason: e.to_string(),
     }
+}
+
+/// The output directory of a scene when none is given: `out/<file stem>` for a scene file
+/// (a copy of a built-in keeps its `name`, not its directory), `out/<name>` otherwise;
+/// `-paper-exact` appended for the paper's form (`Scene::with_paper_exact`).
+pub fn default_out_dir(scene: &Scene) -> PathBuf {
+    let stem = match &scene.source {
+        SceneSource::File(p) => p.file_stem().map(|s| s.to_string_lossy().into_owned()),
+        _ => None,
+    };
+    let Some(mut stem) = stem else {
+        return Path::new("out").join(scene.name());
+    };
+    if scene.name().ends_with(paper_exact::NAME_SUFFIX) {
+        stem.push_str(paper_exact::NAME_SUFFIX);
+    }
+    Path::new("out").join(stem)
+}
+
+/// The files a run writes into its directory: particle files, the series, CSVs, JSON, the
+/// scene copy and temporaries of the atomic writes.
+fn is_run_file(name: &str) -> bool {
+    name == "scene.toml"
+        || [".vtu", ".pvd", ".csv", ".json", ".tmp", ".png"]
+            .iter()
+            .any(|e| name.ends_with(e))
+}
+
+/// Make `dir` ready for a run: refuse an earlier run's output unless `overwrite`, and then
+/// remove only files a run writes (a directory with anything else is refused either way).
+fn prepare_out_dir(dir: &Path, overwrite: bool) -> Result<(), RunError> {
+    let entries = match std::fs::read_dir(dir) {
+        Ok(e) => e,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(io_err(dir)(e)),
+    };
+    let (mut ours, mut others) = (Vec::new(), Vec::new());
+    for entry in entries {
+        let entry = entry.map_err(io_err(dir))?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let file = entry.file_type().map(|t| t.is_file()).unwrap_or(false);
+        if file && is_run_file(&name) {
+            ours.push(entry.path());
+        } else {
+            others.push(name);
+        }
+    }
+    let run_there = ours.iter().any(|p| {
+        p.file_name()
+            .is_some_and(|n| n == "summary.json" || n == "scene.toml" || n == "particles.pvd")
+    });
+    if !run_there {
+        return Ok(());
+    }
+    if !overwrite {
+        return Err(RunError::OutputInUse {
+            dir: dir.to_path_buf(),
+            reason: format!(
+                "holds an earlier run's output ({} files: summary.json, frames, CSVs); pass \
+                 --overwrite to replace it, or --out to write elsewhere",
+                ours.len()
+            ),
+        });
+    }
+    if !others.is_empty() {
+        others.sort();
+        return Err(RunError::OutputInUse {
+            dir: dir.to_path_buf(),
+            reason: format!(
+                "--overwrite clears only a run's own files, and this directory also holds {} \
+                 (`{}`{}): move them or choose another --out",
+                others.len(),
+                others[0],
+                if others.len() > 1 { ", ..." } else { "" }
+            ),
+        });
+    }
+    for path in ours {
+        std::fs::remove_file(&path).map_err(io_err(&path))?;
+    }
+    Ok(())
 }
 
 /// Run `scene` to its end time (or `max_steps`), writing output. See the module docs.
@@ -137,7 +236,8 @@ pub fn run_observed(
     let out_dir = options
         .out_dir
         .clone()
-        .unwrap_or_else(|| Path::new("out").join(scene.name()));
+        .unwrap_or_else(|| default_out_dir(&scene));
+    prepare_out_dir(&out_dir, options.overwrite)?;
     let mut solver = backend::create(options.backend, setup)?;
     let info = solver.info();
     let setup_seconds = started.elapsed().as_secs_f64();
@@ -224,11 +324,22 @@ pub fn run_observed(
         timing: Timing::default(),
         final_diagnostics: None,
         fluid_clusters: None,
-        status: RunStatus::Completed,
+        status: RunStatus::Running,
         fault: None,
+        interrupted_by: None,
+        fault_frame: None,
         monitors: Vec::new(),
         bodies: Vec::new(),
     };
+
+    // A run killed outright (kill -9, power) leaves `running` behind, not an older status.
+    let summary_path = out_dir.join("summary.json");
+    summary
+        .write(&summary_path)
+        .map_err(io_err(&summary_path))?;
+    let interrupted = || options.interrupt.is_some_and(|f| f.load(Ordering::SeqCst));
+    let mut stopped = false;
+    let mut fault_frame = None;
 
     let mut stepper = Stepper::new(scene.gates());
     let first_step = solver.steps();
@@ -257,6 +368,10 @@ pub fn run_observed(
                 let t = solver.time();
                 let taken = solver.steps() - first_step;
                 if reached(t, t_end) || options.max_steps.is_some_and(|n| taken >= n) {
+                    break;
+                }
+                if interrupted() {
+                    stopped = true;
                     break;
                 }
                 let next_event = next_output
@@ -288,6 +403,14 @@ pub fn run_observed(
             }
             Ok(())
         })();
+        // At a blow-up, the failing state is the last frame (its values may be non-finite:
+        // that is what it shows).
+        if let Err(RunFailure::Fault(_)) = &result {
+            // (A fault is found by a health check, which comes before the output of its step.)
+            if out.take(&mut *solver, &report).is_ok() {
+                fault_frame = Some(out.taken - 1);
+            }
+        }
         // Closing the channel lets the writer finish the frames it holds.
         out.jobs = None;
         let drained = Instant::now();
@@ -314,12 +437,19 @@ pub fn run_observed(
         (Err(RunFailure::Io(e)), _) => return Err(e),
         (Ok(()), Ok(w)) => {
             summary.absorb(&w);
+            if stopped {
+                summary.status = RunStatus::Interrupted;
+                summary.interrupted_by = Some(crate::interrupt::signal_name().to_string());
+            } else {
+                summary.status = RunStatus::Completed;
+            }
             None
         }
         (Err(RunFailure::Fault(f)), Ok(w)) => {
             summary.absorb(&w);
             summary.status = RunStatus::Failed;
             summary.fault = Some(f.clone());
+            summary.fault_frame = fault_frame;
             Some(f)
         }
     };
@@ -331,12 +461,16 @@ pub fn run_observed(
         writer_download_seconds: summary.timing.writer_download_seconds,
         total_seconds: summary.wall_seconds,
     };
-    let summary_path = out_dir.join("summary.json");
     summary
         .write(&summary_path)
         .map_err(io_err(&summary_path))?;
     report.finish(&summary);
     match failure {
+        None if stopped => Err(RunError::Interrupted {
+            signal: crate::interrupt::signal_name().to_string(),
+            out_dir,
+            summary: Box::new(summary),
+        }),
         None => Ok(summary),
         Some(fault) => Err(RunError::BlowUp {
             fault: Box::new(fault),
@@ -498,6 +632,11 @@ impl Reporter {
         let status = match s.status {
             RunStatus::Completed => "completed".to_string(),
             RunStatus::Failed => "FAILED".to_string(),
+            RunStatus::Interrupted => format!(
+                "INTERRUPTED ({})",
+                s.interrupted_by.as_deref().unwrap_or("signal")
+            ),
+            RunStatus::Running => "running".to_string(),
         };
         let t = &s.timing;
         self.line(&format!(

@@ -179,6 +179,8 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
         final_diagnostics: Some(d),
         status: RunStatus::Completed,
         fault: None,
+        interrupted_by: None,
+        fault_frame: None,
         monitors: Vec::new(),
         bodies: Vec::new(),
     };

@@ -335,7 +335,7 @@ fn a_failed_write_stops_the_run_and_keeps_earlier_frames() {
 }
 
 /// A fixed step far beyond the CFL limit blows up: the run stops with the fault, keeps
-/// its output and writes a failed summary.
+/// its output, writes the failing state as its last frame and a failed summary.
 #[test]
 fn blow_up_is_reported() {
     let dir = tempfile::tempdir().unwrap();
@@ -361,6 +361,12 @@ fn blow_up_is_reported() {
             assert_eq!(json["status"], "failed");
             assert_eq!(json["fault"]["step"], fault.step);
             assert!(out.join("particles_00000.vtu").exists());
+            // The failing state is the last frame, and the summary names it.
+            let k = summary.fault_frame.expect("the failing frame");
+            assert_eq!(json["fault_frame"], k);
+            assert_eq!(k + 1, summary.outputs);
+            let failing = out.join(format!("particles_{k:05}.vtu"));
+            assert!(failing.exists(), "{} missing", failing.display());
         }
         other => panic!("expected a blow-up, got {other:?}"),
     }

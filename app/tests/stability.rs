@@ -29,6 +29,7 @@ fn options(dir: &std::path::Path) -> RunOptions {
         output_interval: Some(0.05),
         progress: Progress::Quiet,
         format: None,
+        ..Default::default()
     }
 }
 

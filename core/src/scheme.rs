@@ -45,7 +45,8 @@ pub const PAPER_XSPH: f64 = 0.5;
 pub struct SceneFile {
     /// 2 or 3.
     pub dimension: u32,
-    /// Short name, used for the default output directory `out/<name>`.
+    /// Short name; the default output directory of a built-in scene, `out/<name>` (a scene
+    /// file's is `out/<file stem>`).
     pub name: String,
     /// One or two sentences. Default "".
     #[serde(default)]

@@ -8,12 +8,17 @@ use meshfree_core::scene::format::OutputFormat;
 use meshfree_core::scene::Counts;
 use meshfree_core::solver::{Diagnostics, Fault};
 
-/// How the run ended.
+/// How the run ended (`Running` while it runs: a run killed outright leaves that).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum RunStatus {
+    Running,
     Completed,
+    /// A blow-up (`fault` says which particle and why).
     Failed,
+    /// Stopped by a signal or the caller's flag (`interrupted_by`); the last frame holds
+    /// the state it reached.
+    Interrupted,
 }
 
 /// The JSON summary of a run (also what `run::run` returns).
@@ -51,6 +56,13 @@ pub struct RunSummary {
     pub status: RunStatus,
     /// The blow-up that stopped a failed run.
     pub fault: Option<Fault>,
+    /// The output index of the frame that holds the failing state (a failed run's last
+    /// frame: `particles_NNNNN` with that number).
+    #[serde(default)]
+    pub fault_frame: Option<usize>,
+    /// The signal that stopped an interrupted run (`SIGINT`, `SIGTERM`, `SIGHUP`).
+    #[serde(default)]
+    pub interrupted_by: Option<String>,
     /// The scene's force monitors: Strouhal number, mean Cd, rms Cl, blockage ratio.
     #[serde(default)]
     pub monitors: Vec<MonitorSummary>,

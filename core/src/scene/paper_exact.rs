@@ -12,6 +12,10 @@
 use super::{Scene, SceneError};
 use crate::scheme;
 
+/// What `with_paper_exact` appends to a scene's name (and the run to its default output
+/// directory).
+pub const NAME_SUFFIX: &str = "-paper-exact";
+
 /// [-] Lowest linear artificial viscosity, eq. (10): forward Euler amplifies an undamped
 /// oscillation every step, and alpha damps it.
 pub const ALPHA_MIN: f64 = 0.3;
@@ -40,8 +44,8 @@ impl Scene {
         let c = f.solid.as_ref().map_or(f.fluid.sound_speed, |m| {
             m.sound_speed.max(f.fluid.sound_speed)
         });
-        if !f.name.ends_with("-paper-exact") {
-            f.name = format!("{}-paper-exact", f.name);
+        if !f.name.ends_with(NAME_SUFFIX) {
+            f.name = format!("{}{NAME_SUFFIX}", f.name);
         }
         let nu_alpha = alpha_for_viscosity(f.fluid.viscosity, h, f.fluid.sound_speed, f.dimension);
         let alpha = f.fluid.alpha.max(nu_alpha).max(ALPHA_MIN);

@@ -38,7 +38,7 @@ pub const STRUCTURE: &str = r#"## Geometry and objects
 
 | table | keys |
 |---|---|
-| top level | `dimension` (2 or 3), `name` (the default output directory `out/<name>`), `description` (default ""), `gravity` [L/T^2] (default zero) |
+| top level | `dimension` (2 or 3), `name` (a built-in's default output directory `out/<name>`; a scene file's is `out/<file stem>`), `description` (default ""), `gravity` [L/T^2] (default zero) |
 | `[domain]` | `min`, `max` [L]: particles leaving the box on a closed axis stop the run; `periodic` (per axis, default all false; a periodic axis needs at least 3 neighbour cells of 2h) |
 | `[[fluid_blocks]]` | `min`, `max`: fluid on the lattice `min + (i + 0.5) dx`; `velocity` [L/T] (default zero); `hydrostatic` (default false: true starts the block at the Tait density of its hydrostatic column, eq. (9), measured from its top along -gravity) |
 | `[[solids]]` | `shape` = `box` {`min`, `max`} / `disc` (2D) / `sphere` (3D) {`center`, `radius`}; `velocity`; `motion` [L/T] makes it driven (moves at that velocity whatever the forces): a clamp, bonded to every solid it touches so that stress passes into the body it holds (a box clamp must sit on the lattice of a box it touches: its `min` differs by a whole number of spacings) |

@@ -1,0 +1,222 @@
+//! How a run ends besides completing: interrupted (a signal, or the caller's flag), refused
+//! because its output directory holds another run, and the exit statuses that tell them
+//! apart (`meshfree run --help`).
+
+use std::path::Path;
+use std::process::Command;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use meshfree::output::RunStatus;
+use meshfree::run::{self, Progress, RunError, RunOptions};
+use meshfree_core::scene::Scene;
+
+fn summary_json(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn a_raised_flag_stops_the_run_with_a_last_frame_and_an_interrupted_summary() {
+    static STOP: AtomicBool = AtomicBool::new(false);
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r");
+    let options = RunOptions {
+        out_dir: Some(out.clone()),
+        max_steps: Some(400),
+        output_interval: Some(1e-3),
+        progress: Progress::Quiet,
+        interrupt: Some(&STOP),
+        ..Default::default()
+    };
+    let mut frames = 0;
+    let err = run::run_observed(&Scene::builtin("tank-2d").unwrap(), &options, &mut |f| {
+        frames += 1;
+        // Raised after the second frame: the run stops within a batch of steps.
+        if f.index == 1 {
+            STOP.store(true, Ordering::SeqCst);
+        }
+    })
+    .unwrap_err();
+    let RunError::Interrupted { summary, .. } = &err else {
+        panic!("expected an interruption, got {err}")
+    };
+    assert_eq!(summary.status, RunStatus::Interrupted);
+    assert!(
+        summary.steps < 400,
+        "{} steps: the flag did not stop it",
+        summary.steps
+    );
+    // The state it reached is the last frame, and the summary on disk says so.
+    let written = summary_json(&out);
+    assert_eq!(written["status"], "interrupted");
+    assert_eq!(written["steps"], summary.steps);
+    assert_eq!(written["outputs"], frames);
+    assert!(
+        frames >= 3,
+        "{frames} frames: the state at the stop was not written"
+    );
+    assert!(err.to_string().contains("interrupted by"), "{err}");
+}
+
+#[test]
+fn an_earlier_runs_directory_is_refused_unless_overwrite_and_foreign_files_are_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let scene = Scene::builtin("tank-2d").unwrap();
+    let mut options = RunOptions {
+        out_dir: Some(out.clone()),
+        max_steps: Some(2),
+        progress: Progress::Quiet,
+        ..Default::default()
+    };
+    run::run(&scene, &options).unwrap();
+    let err = run::run(&scene, &options).unwrap_err();
+    assert!(
+        matches!(err, RunError::OutputInUse { .. }) && err.to_string().contains("--overwrite"),
+        "{err}"
+    );
+    options.overwrite = true;
+    let s = run::run(&scene, &options).unwrap();
+    assert_eq!(s.status, RunStatus::Completed);
+    assert_eq!(summary_json(&out)["status"], "completed");
+
+    // A file a run does not write: --overwrite refuses rather than deleting it.
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let err = run::run(&scene, &options).unwrap_err();
+    assert!(err.to_string().contains("notes.txt"), "{err}");
+    assert_eq!(
+        std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+        "mine"
+    );
+    assert!(
+        out.join("summary.json").exists(),
+        "nothing is removed when refusing"
+    );
+}
+
+#[test]
+fn a_scene_files_default_output_is_named_after_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("my-copy.toml");
+    std::fs::write(&path, &Scene::builtin("tank-2d").unwrap().text).unwrap();
+    let from_file = Scene::from_file(&path).unwrap();
+    assert_eq!(run::default_out_dir(&from_file), Path::new("out/my-copy"));
+    let paper = from_file.with_paper_exact().unwrap();
+    assert_eq!(
+        run::default_out_dir(&paper),
+        Path::new("out/my-copy-paper-exact")
+    );
+    let builtin = Scene::builtin("tank-2d").unwrap();
+    assert_eq!(run::default_out_dir(&builtin), Path::new("out/tank-2d"));
+}
+
+fn meshfree(args: &[&str], out: &Path) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_meshfree"))
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn exit_statuses_tell_bad_input_and_a_directory_in_use_from_success() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("e");
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, "dimension = 4\n").unwrap();
+    let o = meshfree(&["run", bad.to_str().unwrap(), "--quiet"], &out);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(!out.exists(), "a refused scene writes nothing");
+
+    let args = [
+        "run",
+        "tank-2d",
+        "--backend",
+        "cpu",
+        "--steps",
+        "2",
+        "--quiet",
+    ];
+    let o = meshfree(&args, &out);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let o = meshfree(&args, &out);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--overwrite"));
+    let mut again = args.to_vec();
+    again.push("--overwrite");
+    let o = meshfree(&again, &out);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn sigint_and_sigterm_stop_the_binary_with_status_130_and_an_interrupted_summary() {
+    for (sig, name) in [(libc::SIGINT, "SIGINT"), (libc::SIGTERM, "SIGTERM")] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("s");
+        let mut child = Command::new(env!("CARGO_BIN_EXE_meshfree"))
+            .args([
+                "run",
+                "tank-2d",
+                "--backend",
+                "cpu",
+                "--quiet",
+                "--t-end",
+                "1000",
+                "--output-interval",
+                "1000",
+                "--out",
+            ])
+            .arg(&out)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // The first frame lands once the run is stepping.
+        let started = Instant::now();
+        while !out.join("particles_00000.vtu").exists() {
+            assert!(
+                started.elapsed() < Duration::from_secs(60),
+                "the run never started"
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        assert_eq!(summary_json(&out)["status"], "running");
+        // SAFETY: kill with a live child's pid and a valid signal number.
+        assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, sig) }, 0);
+        let status = child.wait().unwrap();
+        let mut stderr = String::new();
+        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr).unwrap();
+        assert_eq!(status.code(), Some(130), "{name}: {stderr}");
+        assert!(
+            stderr.contains(&format!("interrupted by {name}")),
+            "{stderr}"
+        );
+        let s = summary_json(&out);
+        assert_eq!(s["status"], "interrupted");
+        assert_eq!(s["interrupted_by"], name);
+        assert!(s["steps"].as_u64().unwrap() > 0);
+        assert_eq!(s["outputs"], 2, "the first frame and the state at the stop");
+    }
+}
