@@ -341,7 +341,7 @@ pub fn run_observed(
     let mut stopped = false;
     let mut fault_frame = None;
 
-    let mut stepper = Stepper::new(scene.gates());
+    let mut stepper = Stepper::new(scene.gates()).with_end(t_end);
     let first_step = solver.steps();
     let mut out = Outputs {
         jobs: None,

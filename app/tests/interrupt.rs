@@ -220,3 +220,31 @@ fn sigint_and_sigterm_stop_the_binary_with_status_130_and_an_interrupted_summary
         assert_eq!(s["outputs"], 2, "the first frame and the state at the stop");
     }
 }
+
+#[test]
+fn a_time_step_that_collapses_stops_the_run_with_a_fault_naming_the_term() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = Scene::builtin("tank-2d").unwrap();
+    // The viscous limit of the step takes dt to ~1e-35 s: it used to step forever.
+    scene.file.fluid.viscosity = 1e30;
+    scene.revalidate().unwrap();
+    let options = RunOptions {
+        out_dir: Some(dir.path().join("g")),
+        progress: Progress::Quiet,
+        ..Default::default()
+    };
+    let started = Instant::now();
+    let err = run::run(&scene, &options).unwrap_err();
+    assert!(started.elapsed() < Duration::from_secs(60));
+    let RunError::BlowUp { fault, summary, .. } = &err else {
+        panic!("expected a fault, got {err}")
+    };
+    assert_eq!(fault.quantity, "time step");
+    assert!(fault.value < 1e-12, "{fault}");
+    assert!(fault.reason.contains("viscous term"), "{fault}");
+    assert!(
+        fault.particle != u32::MAX && fault.kind == "fluid",
+        "{fault}"
+    );
+    assert_eq!(summary.status, RunStatus::Failed);
+}

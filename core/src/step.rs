@@ -20,6 +20,11 @@ pub const CHECK_EVERY: u64 = 10;
 /// Most steps between two read-backs of the clock.
 pub const MAX_BATCH: u64 = 32;
 
+/// [-] A run stops with a fault when a batch's mean time step falls below this fraction of
+/// the end time (`Stepper::with_end`): 1e12 steps to go is a run that never ends (a step
+/// collapsed by a huge viscosity or acceleration), not a slow one.
+pub const DT_FLOOR: f64 = 1e-12;
+
 /// Whether the clock `t` [T] has reached `target` [T]: within a relative 1e-9, so that a
 /// fixed step that lands on an output time by rounding counts as there.
 pub fn reached(t: f64, target: f64) -> bool {
@@ -54,6 +59,64 @@ impl Gates {
     }
 }
 
+/// The fault of a time step under the floor: which term of eq. (19) and its limits took it
+/// there (the sound-speed term h / (c + |v|), the acceleration term sqrt(h / |a|), the
+/// viscous term), named at the fastest particle (a read-back: this ends the run).
+fn collapsed_step(solver: &mut dyn Solver, dt: f64, floor: f64) -> Fault {
+    let p = *solver.params();
+    let d = solver.diagnostics();
+    let fastest = solver
+        .particles()
+        .into_iter()
+        .filter(|q| q.kind != crate::particle::Kind::Boundary)
+        .max_by(|a, b| {
+            let s = |q: &crate::particle::Particle| q.velocity.iter().map(|v| v * v).sum::<f32>();
+            s(a).total_cmp(&s(b))
+        });
+    let c = p.c0.max(if d.solid > 0 {
+        p.sound_speed(crate::params::MF_KIND_SOLID as u8)
+    } else {
+        0.0
+    }) as f64;
+    let (h, courant) = (p.h as f64, p.courant as f64);
+    let sound = courant * h / (c + d.max_speed as f64);
+    let term = if p.dt > 0.0 {
+        format!("the scene's fixed time.dt = {}", p.dt)
+    } else if p.viscosity > 0.0
+        && crate::consts::MF_VISCOUS_DT * h * h / (p.viscosity as f64) < 2.0 * dt
+    {
+        format!(
+            "the viscous term {} h^2 / nu (nu = {})",
+            crate::consts::MF_VISCOUS_DT,
+            p.viscosity
+        )
+    } else if sound < 2.0 * dt {
+        format!(
+            "the sound-speed term courant h / (c + |v|max): |v|max = {}",
+            d.max_speed
+        )
+    } else {
+        // dt = courant sqrt(h / a): the acceleration it implies.
+        let a = h * (courant / dt).powi(2);
+        format!(
+            "the acceleration term courant sqrt(h / |a|max): |a|max ~ {a:.3e} (a huge alpha, \
+             beta, viscosity or wall strength, or particles almost on top of each other)"
+        )
+    };
+    Fault {
+        step: solver.steps(),
+        time: solver.time(),
+        particle: fastest.as_ref().map_or(u32::MAX, |q| q.id),
+        kind: fastest.map_or("none".into(), |q| q.kind.name().into()),
+        quantity: "time step".into(),
+        value: dt,
+        reason: format!(
+            "below {DT_FLOOR:e} of the end time ({floor:.3e}): set by {term}; the particle \
+             named is the fastest"
+        ),
+    }
+}
+
 /// What one batch did.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Batch {
@@ -72,6 +135,8 @@ pub struct Stepper {
     dt_estimate: f64,
     /// [s] wall time inside `batch`.
     stepping_seconds: f64,
+    /// [T] a batch's mean dt below this is a fault (0: no floor).
+    dt_floor: f64,
 }
 
 impl Stepper {
@@ -81,6 +146,13 @@ impl Stepper {
             gates: Gates::new(gates),
             ..Stepper::default()
         }
+    }
+
+    /// The same, stopping with a fault when a batch's mean step falls under `DT_FLOOR` of
+    /// the end time `t_end` [T].
+    pub fn with_end(mut self, t_end: f64) -> Stepper {
+        self.dt_floor = DT_FLOOR * t_end;
+        self
     }
 
     /// [s] wall time spent stepping so far (gates, steps and health checks; the clock read
@@ -123,6 +195,9 @@ impl Stepper {
             self.dt_estimate = (solver.time() - t) / n as f64;
         }
         self.stepping_seconds += started.elapsed().as_secs_f64();
+        if n > 0 && self.dt_estimate < self.dt_floor {
+            return Err(collapsed_step(solver, self.dt_estimate, self.dt_floor));
+        }
         Ok(Batch { steps: n, opened })
     }
 
