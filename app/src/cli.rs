@@ -76,7 +76,8 @@ pub enum Command {
         #[arg(long, conflicts_with = "json")]
         reference: bool,
     },
-    /// Validate a scene (file or built-in name) and print its particle counts; writes nothing.
+    /// Validate a scene (file or built-in name) and print its particle counts (above two
+    /// million, the estimate: up to how many and the memory to start); writes nothing.
     Check {
         /// A scene file path or a built-in scene name.
         scene: String,
@@ -330,6 +331,11 @@ pub struct RunArgs {
     /// Output directory [default: out/<scene file's stem>, out/<name> for a built-in].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Refuse the scene if it may hold more particles than this (estimated before anything
+    /// is generated; a scene that needs more memory than the machine has available is
+    /// refused either way).
+    #[arg(long, value_name = "N")]
+    pub max_particles: Option<u64>,
     /// Replace an earlier run's output in the output directory (only files a run writes are
     /// removed); without it such a directory is refused.
     #[arg(long)]
@@ -383,6 +389,10 @@ pub fn scene_rows() -> anyhow::Result<Vec<SceneRow>> {
         })
         .collect()
 }
+
+/// `meshfree check` counts the particles exactly (by generating them) up to this estimate,
+/// and prints the estimate above it, so that it answers within a second for any scene.
+const CHECK_GENERATES_UP_TO: f64 = 2e6;
 
 /// Exit statuses (listed in `meshfree run --help`).
 pub mod exit {
@@ -458,6 +468,23 @@ pub fn main(cli: Cli) -> anyhow::Result<()> {
         }
         Command::Check { scene } => {
             let s = Scene::load(&scene)?;
+            let e = s.check_size(None)?;
+            let p = s.params();
+            if e.particles > CHECK_GENERATES_UP_TO {
+                // Generating would take minutes and gigabytes: the estimate says enough.
+                println!(
+                    "{}: ok: {} ({}D), up to {:.3e} particles (estimated, about {:.1} GB to \
+                     start); h = {}, {} neighbour cells",
+                    s.origin(),
+                    s.name(),
+                    s.file.dimension,
+                    e.particles,
+                    e.host_bytes() / 1e9,
+                    p.h,
+                    p.n_cells
+                );
+                return Ok(());
+            }
             let setup = s.setup()?;
             let c = Counts::of(&setup.particles);
             println!(
@@ -484,6 +511,7 @@ pub fn main(cli: Cli) -> anyhow::Result<()> {
                 backend: a.backend,
                 out_dir: a.out,
                 overwrite: a.overwrite,
+                max_particles: a.max_particles,
                 interrupt: Some(crate::interrupt::install()),
                 t_end: a.t_end,
                 max_steps: a.steps,

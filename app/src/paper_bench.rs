@@ -231,7 +231,7 @@ pub fn run_scenes(o: &PaperBenchOptions, out_dir: &Path) -> Result<PaperBench, P
             format: None,
             // A bench's directory is its own: a rerun replaces it.
             overwrite: true,
-            interrupt: None,
+            ..Default::default()
         };
         let (summary, fault) = match run::run(&scene, &options) {
             Ok(s) => (s, None),

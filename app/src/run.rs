@@ -61,6 +61,9 @@ pub struct RunOptions {
     pub backend: BackendChoice,
     /// Default `default_out_dir(scene)`.
     pub out_dir: Option<PathBuf>,
+    /// Refuse a scene whose estimate holds more particles (`Scene::check_size`; the
+    /// machine's available memory is checked either way).
+    pub max_particles: Option<u64>,
     /// Replace an earlier run's output in `out_dir` (else the run refuses the directory).
     pub overwrite: bool,
     /// Raised to stop the run at the next batch with a last frame and an `interrupted`
@@ -220,6 +223,7 @@ pub fn run_observed(
         t_end: options.t_end,
         output_interval: options.output_interval,
     })?;
+    scene.check_size(options.max_particles)?;
     let setup = scene.setup()?;
     let counts = Counts::of(&setup.particles);
     let with_solids = setup.has_solids();

@@ -248,3 +248,51 @@ fn a_time_step_that_collapses_stops_the_run_with_a_fault_naming_the_term() {
     );
     assert_eq!(summary.status, RunStatus::Failed);
 }
+
+#[test]
+fn a_scene_too_large_for_the_limit_is_refused_before_generation() {
+    let dir = tempfile::tempdir().unwrap();
+    let options = RunOptions {
+        out_dir: Some(dir.path().join("big")),
+        progress: Progress::Quiet,
+        max_particles: Some(1000),
+        ..Default::default()
+    };
+    let err = run::run(&Scene::builtin("tank-2d").unwrap(), &options).unwrap_err();
+    let RunError::Scene(e) = &err else {
+        panic!("expected a scene error, got {err}")
+    };
+    assert_eq!(e.field(), Some("discretisation.spacing"), "{err}");
+    assert!(err.to_string().contains("--max-particles 1000"), "{err}");
+    assert!(!dir.path().join("big").exists(), "nothing written");
+}
+
+#[test]
+fn check_answers_at_once_for_a_scene_of_a_billion_particles() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("huge.toml");
+    let text = Scene::builtin("tank-2d").unwrap().text;
+    let spacing = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("spacing"))
+        .unwrap();
+    std::fs::write(&path, text.replacen(spacing, "spacing = 2.5e-5", 1)).unwrap();
+    let started = Instant::now();
+    let o = Command::new(env!("CARGO_BIN_EXE_meshfree"))
+        .args(["check", path.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        started.elapsed() < Duration::from_secs(5),
+        "check took {:?}",
+        started.elapsed()
+    );
+    // Either the estimate (this machine holds it) or a refusal naming the spacing.
+    assert!(
+        (o.status.success() && out.contains("estimated"))
+            || (o.status.code() == Some(2) && err.contains("discretisation.spacing")),
+        "{out}{err}"
+    );
+}

@@ -25,7 +25,7 @@
 pub mod declare;
 pub mod reference;
 
-pub use declare::{Check, Key, KeyDefault, Paper, Param, Refusal, Rule, Table};
+pub use declare::{single_precision, Check, Key, KeyDefault, Paper, Param, Refusal, Rule, Table};
 
 use serde::{Deserialize, Serialize};
 

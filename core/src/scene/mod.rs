@@ -9,6 +9,7 @@
 //! resolved; `paper_exact.rs`: the map to the paper's own scheme.
 
 mod error;
+pub mod estimate;
 pub mod format;
 mod generate;
 pub mod paper_exact;

@@ -1,6 +1,7 @@
 //! Checks on a parsed scene that serde cannot express: array lengths against `dimension`,
 //! ordering of corners, positive sizes, objects inside the domain, materials present, and
-//! enough neighbour-grid cells on periodic axes; the keys of the scheme's tables are checked
+//! enough neighbour-grid cells on periodic axes, numbers single precision holds
+//! (`scheme::single_precision`), sizes the solver can index (`estimate`); the keys of the scheme's tables are checked
 //! as `crate::scheme` declares them. The first failure is returned.
 
 use super::format::*;
@@ -36,8 +37,8 @@ impl Ctx<'_> {
                 ),
             ));
         }
-        if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-            return Err(self.err(format!("{field}[{i}]"), "not a finite number"));
+        for (i, &x) in v.iter().enumerate() {
+            single_precision(x).map_err(|why| self.err(format!("{field}[{i}]"), why))?;
         }
         Ok(())
     }
@@ -67,17 +68,15 @@ impl Ctx<'_> {
     }
 
     fn positive(&self, field: &str, x: f64) -> R {
-        if !(x.is_finite() && x > 0.0) {
-            return Err(self.err(field, format!("must be a positive number, found {x}")));
-        }
-        Ok(())
+        Rule::Positive
+            .check(Some(x))
+            .map_err(|r| self.err(field, r.reason))
     }
 
     fn non_negative(&self, field: &str, x: f64) -> R {
-        if !(x.is_finite() && x >= 0.0) {
-            return Err(self.err(field, format!("must be zero or positive, found {x}")));
-        }
-        Ok(())
+        Rule::NonNegative
+            .check(Some(x))
+            .map_err(|r| self.err(field, r.reason))
     }
 
     /// The box [lo, hi] (first `dim` axes) lies inside the domain.
@@ -422,6 +421,44 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
         return Err(c.err(
             "fluid_blocks",
             "the scene has no objects (fluid_blocks, solids or walls)",
+        ));
+    }
+    sizes(&c, s)
+}
+
+/// What the solver can index, from the estimate (no allocation): the grid's cells in an
+/// i32, the particles' ids in a u32.
+fn sizes(c: &Ctx, s: &SceneFile) -> R {
+    let e = super::estimate::estimate(s);
+    let d = &s.discretisation;
+    if e.particles > super::estimate::MAX_PARTICLES {
+        return Err(c.err(
+            "discretisation.spacing",
+            format!(
+                "the objects would hold up to {:.3e} particles at this spacing, more than the \
+                 {:.3e} that particle ids number",
+                e.particles,
+                super::estimate::MAX_PARTICLES
+            ),
+        ));
+    }
+    if e.cells > super::estimate::MAX_CELLS {
+        // The field to blame: an unusual h_factor, else the domain's size.
+        let field = if d.h_factor < 0.5 {
+            "discretisation.h_factor"
+        } else {
+            "domain.max"
+        };
+        return Err(c.err(
+            field,
+            format!(
+                "the neighbour grid would have {:.3e} cells (the domain over h = h_factor x \
+                 spacing = {} on each axis), more than the {:.3e} it can index: a larger \
+                 spacing or h_factor, or a smaller domain",
+                e.cells,
+                fmt(d.h_factor * d.spacing),
+                super::estimate::MAX_CELLS
+            ),
         ));
     }
     Ok(())

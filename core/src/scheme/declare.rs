@@ -115,6 +115,7 @@ impl Rule {
     /// Check `x` (`None`: no number to check, e.g. an absent optional value).
     pub fn check(self, x: Option<f64>) -> Result<(), Refusal> {
         let Some(x) = x else { return Ok(()) };
+        single_precision(x).map_err(Refusal::new)?;
         match self {
             Rule::Any => Ok(()),
             Rule::Positive if !(x.is_finite() && x > 0.0) => Err(Refusal::new(format!(
@@ -139,6 +140,27 @@ impl Rule {
             Rule::Fraction(_) => "in [0, 1]",
         }
     }
+}
+
+/// The solver computes in single precision: a number must be finite, no larger in
+/// magnitude than f32::MAX (3.4e38), and either zero or no smaller in magnitude than the
+/// smallest normal f32 (1.2e-38), which would round to zero or lose its digits.
+pub fn single_precision(x: f64) -> Result<(), String> {
+    if !x.is_finite() {
+        return Err(format!("must be a finite number, found {x}"));
+    }
+    if x.abs() > f32::MAX as f64 {
+        return Err(format!(
+            "{x:e} is beyond single precision's range (3.4e38), in which the solver computes"
+        ));
+    }
+    if x != 0.0 && x.abs() < f32::MIN_POSITIVE as f64 {
+        return Err(format!(
+            "{x:e} is below single precision's smallest normal number (1.2e-38), in which the \
+             solver computes: it would round to zero"
+        ));
+    }
+    Ok(())
 }
 
 /// Why a key's value was refused; `at` follows the key's path in the error's field
