@@ -631,3 +631,14 @@ fn probe_and_gauge_names_must_be_unique() {
         "must be a non-empty name of letters, digits",
     );
 }
+
+/// CR-only line endings (classic Mac OS) gave an empty reason.
+#[test]
+fn cr_only_line_endings_are_named() {
+    let text = BASE.replace('\n', "\r");
+    let Err(e) = Scene::from_toml(&text, "mac.toml") else {
+        panic!("a CR-only file parsed")
+    };
+    let s = e.to_string();
+    assert!(s.contains("mac.toml") && s.contains("CR-only"), "{s}");
+}

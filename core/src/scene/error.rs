@@ -66,14 +66,27 @@ impl SceneError {
         } else {
             path
         };
-        // toml's message may span several lines (it quotes the source); keep the first.
-        let reason = inner
+        // toml's message may span several lines (it quotes the source); keep the first that
+        // says something.
+        let mut reason = inner
             .message()
             .lines()
-            .next()
+            .map(str::trim)
+            .find(|l| !l.is_empty())
             .unwrap_or("")
-            .trim()
             .to_string();
+        let bare_cr = text
+            .as_bytes()
+            .windows(2)
+            .any(|w| w[0] == b'\r' && w[1] != b'\n')
+            || text.ends_with('\r');
+        if bare_cr {
+            reason = "the file has bare carriage returns (CR-only line endings, as on classic Mac \
+                      OS): TOML needs LF or CR LF line endings"
+                .to_string();
+        } else if reason.is_empty() {
+            reason = "not valid TOML here".to_string();
+        }
         SceneError::Parse {
             origin: origin.to_string(),
             field,
