@@ -3,7 +3,7 @@
 //! cannot index, and `meshfree check` / `run` compare it with the machine's memory before
 //! generating anything. The particle count is an upper bound: each object's lattice points
 //! (the generator's rules, `generate.rs`), before fluid or solids that another object
-//! covers are left out; `tests/estimate.rs` holds it against the built-in scenes.
+//! covers are left out; `tests/scene_limits.rs` holds it against the built-in scenes.
 
 use super::format::{SolidObject, Wall};
 use crate::params::MF_CELL_REACH;

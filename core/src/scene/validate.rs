@@ -11,6 +11,9 @@ use crate::scheme::*;
 
 type R = Result<(), SceneError>;
 
+/// [bytes] the longest scene `name` (a directory name on every file system).
+const MAX_NAME: usize = 100;
+
 struct Ctx<'a> {
     origin: &'a str,
     dim: usize,
@@ -128,6 +131,17 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
     let dim = c.dim;
     if s.name.trim().is_empty() || s.name.contains(['/', '\\']) || s.name == "." || s.name == ".." {
         return Err(c.err("name", "must be a non-empty name without path separators"));
+    }
+    // It names the default output directory and files: no control characters (NUL, line
+    // breaks), no leading or trailing space, a length every file system takes.
+    if s.name.chars().any(char::is_control) || s.name.trim() != s.name || s.name.len() > MAX_NAME {
+        return Err(c.err(
+            "name",
+            format!(
+                "must be at most {MAX_NAME} bytes without control characters (NUL, line breaks) \
+                 or surrounding spaces: it names the output directory"
+            ),
+        ));
     }
 
     // Domain.

@@ -1,6 +1,7 @@
-//! The scene estimate (`scene::estimate`): an upper bound on the particles that is close to
+//! What a scene may ask for. The estimate (`scene::estimate`): an upper bound on the particles that is close to
 //! the generated count on every built-in scene, the grid's cell count as `params::derive`
-//! makes it, and refusals of sizes the solver cannot index, before anything is allocated.
+//! makes it, and refusals of sizes the solver cannot index, before anything is allocated;
+//! numbers outside single precision and names that cannot name a directory.
 
 use meshfree_core::scene::estimate::estimate;
 use meshfree_core::scene::{builtin_names, Scene, SceneError};
@@ -64,4 +65,12 @@ fn numbers_outside_single_precision_are_refused() {
     let (field, reason) = refused(|f| f.time.dt = Some(1e-40));
     assert_eq!(field, "time.dt", "{reason}");
     assert!(reason.contains("round to zero"), "{reason}");
+}
+
+#[test]
+fn names_that_cannot_name_a_directory_are_refused() {
+    for bad in ["a\0b", "two\nlines", &"n".repeat(300), " padded"] {
+        let (field, reason) = refused(|f| f.name = bad.to_string());
+        assert_eq!(field, "name", "{bad:?}: {reason}");
+    }
 }
