@@ -272,7 +272,8 @@ fn periodic_axis_too_short() {
 fn toml_syntax_error() {
     let e = expect_error(
         &with("density = 1000.0", "density = = 1000.0"),
-        "(document)",
+        // The key of the line (toml itself names none).
+        "fluid.density",
         "invalid",
     );
     match e {
@@ -641,4 +642,17 @@ fn cr_only_line_endings_are_named() {
     };
     let s = e.to_string();
     assert!(s.contains("mac.toml") && s.contains("CR-only"), "{s}");
+}
+
+/// A TOML syntax error names the key of its line, and NaN / Infinity say why.
+#[test]
+fn syntax_errors_name_the_key_and_nan_is_explained() {
+    let text = BASE.replace("spacing = 0.05", "spacing = NaN");
+    let e = Scene::from_toml(&text, "n.toml").unwrap_err();
+    assert_eq!(e.field(), Some("discretisation.spacing"), "{e}");
+    assert!(e.to_string().contains("finite numbers only"), "{e}");
+    let text = BASE.replace("sound_speed = 30.0", "sound_speed = fast");
+    let e = Scene::from_toml(&text, "w.toml").unwrap_err();
+    assert_eq!(e.field(), Some("fluid.sound_speed"), "{e}");
+    assert!(e.to_string().contains("in quotes"), "{e}");
 }

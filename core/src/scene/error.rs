@@ -61,8 +61,10 @@ impl SceneError {
             Some(span) => line_column(text, span.start),
             None => (0, 0),
         };
+        let at = inner.span().map(|s| s.start);
         let field = if path.is_empty() || path == "." {
-            "(document)".to_string()
+            at.and_then(|at| key_at(text, at))
+                .unwrap_or_else(|| "(document)".to_string())
         } else {
             path
         };
@@ -84,6 +86,30 @@ impl SceneError {
             reason = "the file has bare carriage returns (CR-only line endings, as on classic Mac \
                       OS): TOML needs LF or CR LF line endings"
                 .to_string();
+        } else if let Some(word) = at.map(|at| word_at(text, at)).filter(|w| !w.is_empty()) {
+            let lower = word.to_ascii_lowercase();
+            if [
+                "nan",
+                "+nan",
+                "-nan",
+                "infinity",
+                "+infinity",
+                "-infinity",
+                "inf",
+                "+inf",
+                "-inf",
+            ]
+            .contains(&lower.as_str())
+            {
+                reason = format!(
+                    "`{word}` is not a TOML number (TOML spells nan and inf), and a scene takes \
+                     finite numbers only"
+                );
+            } else if reason == "invalid string" || reason.is_empty() {
+                reason = format!(
+                    "`{word}` is not a value: text goes in quotes (\"{word}\"), numbers in digits"
+                );
+            }
         } else if reason.is_empty() {
             reason = "not valid TOML here".to_string();
         }
@@ -95,6 +121,42 @@ impl SceneError {
             column,
         }
     }
+}
+
+/// The dotted key of the `key = value` line holding byte `at` (its table from the last
+/// `[table]` or `[[array]]` header above it), where that line has one.
+fn key_at(text: &str, at: usize) -> Option<String> {
+    let at = at.min(text.len());
+    let start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+    let line = text[start..].lines().next().unwrap_or("");
+    let key = line.split_once('=')?.0.trim();
+    let plain = |k: &str| {
+        !k.is_empty()
+            && k.chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.')
+    };
+    if !plain(key) {
+        return None;
+    }
+    let table = text[..start].lines().rev().find_map(|l| {
+        let l = l.trim();
+        let name = l.strip_prefix("[[").and_then(|r| r.split("]]").next());
+        let name = name.or_else(|| l.strip_prefix('[').and_then(|r| r.split(']').next()));
+        name.map(|n| n.trim().to_string())
+    });
+    Some(match table {
+        Some(t) if plain(&t) => format!("{t}.{key}"),
+        _ => key.to_string(),
+    })
+}
+
+/// The bare word that starts at byte `at` (letters, digits, signs, dots).
+fn word_at(text: &str, at: usize) -> &str {
+    let rest = text.get(at.min(text.len())..).unwrap_or("");
+    let end = rest
+        .find(|c: char| !(c.is_ascii_alphanumeric() || matches!(c, '+' | '-' | '.' | '_')))
+        .unwrap_or(rest.len());
+    &rest[..end]
 }
 
 /// 1-based line and column (in characters) of byte offset `at` in `text`.
