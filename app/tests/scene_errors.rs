@@ -631,3 +631,30 @@ fn probe_and_gauge_names_must_be_unique() {
         "must be a non-empty name of letters, digits",
     );
 }
+
+#[test]
+fn solid_so_stiff_the_step_is_below_a_billionth_of_the_run() {
+    // h = 1.3 x 0.05, courant 0.2, end 0.01: dt = 0.013 / c is below 1e-11 where c > 1.3e9.
+    let solid = |c: &str, g: &str| {
+        format!(
+            "{BASE}\n[solid]\ndensity = 500.0\nsound_speed = {c}\nshear_modulus = {g}\n\n\
+             [[solids]]\nshape = \"disc\"\ncenter = [0.7, 0.7]\nradius = 0.1\n"
+        )
+    };
+    // A sound speed in mm/s given as m/s, say: the step and the number of steps are named.
+    let e = expect_error(&solid("5e9", "1e4"), "solid.sound_speed", "the time step");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("would be 2.600e-12") && msg.contains("3.846e9 steps"),
+        "{msg}"
+    );
+    // A shear modulus that dominates the wave speed names its own field.
+    expect_error(
+        &solid("30.0", "1e22"),
+        "solid.shear_modulus",
+        "below 1e-9 of the end time 0.01",
+    );
+    // Aluminium (c_s = 5100 m/s, G = 26 GPa at rho 2700) runs: about 1e5 steps here.
+    Scene::from_toml(&solid("5100.0", "2.6e10").replace("500.0", "2700.0"), "al")
+        .expect("a stiff but sane solid");
+}

@@ -238,6 +238,7 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
             }
         }
     }
+    solid_time_step(&c, s)?;
     if !s.walls.is_empty() && s.boundary.is_none() {
         return Err(c.err(
             "boundary",
@@ -425,6 +426,57 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
         ));
     }
     Ok(())
+}
+
+/// The fewest steps a run may take per unit of its length: a solid whose sound speed or
+/// shear modulus makes the adaptive step, eq. (19), shorter than `MIN_STEP_FRACTION` of the
+/// end time would take over 1e9 steps; it is a unit error (a modulus in MPa given in Pa, a
+/// density in g/cm^3), not a run to start.
+pub const MIN_STEP_FRACTION: f64 = 1e-9;
+
+/// With `[[solids]]` and the adaptive step: eq. (19)'s acoustic limit for solids,
+/// dt = courant h / c with the longitudinal speed c = sqrt(c_s^2 + 4 G / (3 rho0_s))
+/// (`SphParams::sound_speed`), must be at least `MIN_STEP_FRACTION` of `time.end`. The
+/// error names the larger of the two terms' fields, the step and the number of steps.
+fn solid_time_step(c: &Ctx, s: &SceneFile) -> R {
+    let Some(m) = &s.solid else { return Ok(()) };
+    if s.solids.is_empty() || s.time.dt.is_some() {
+        return Ok(());
+    }
+    let bulk = m.sound_speed * m.sound_speed; // [L^2 T^-2]
+    let shear = 4.0 / 3.0 * m.shear_modulus / m.density; // [L^2 T^-2]
+    let speed = (bulk + shear).sqrt(); // [L/T]
+    let h = s.discretisation.h_factor * s.discretisation.spacing; // [L]
+    let dt = s.time.courant * h / speed; // [T], eq. (19) at rest
+    let end = s.time.end;
+    if dt.is_finite() && dt >= MIN_STEP_FRACTION * end {
+        return Ok(());
+    }
+    let (field, what) = if bulk >= shear {
+        (
+            "solid.sound_speed",
+            format!("the sound speed {}", m.sound_speed),
+        )
+    } else {
+        (
+            "solid.shear_modulus",
+            format!(
+                "the shear modulus {} (with density {})",
+                m.shear_modulus, m.density
+            ),
+        )
+    };
+    Err(c.err(
+        field,
+        format!(
+            "{what} gives the solid a longitudinal wave speed of {speed:.3e}, so the time step \
+             (eq. 19: courant {} x h {h:.3e} / {speed:.3e}) would be {dt:.3e}, below \
+             {MIN_STEP_FRACTION:e} of the end time {end}: {:.3e} steps. Check the units of the \
+             [solid] material",
+            s.time.courant,
+            (end / dt).ceil()
+        ),
+    ))
 }
 
 /// `[[probes]]` and `[[gauges]]`: names (plain, unique within each table), points inside
