@@ -86,13 +86,9 @@ fn a_stiff_solids_density_departure_sums_steps_below_rhos_resolution() {
     c.density();
     let s = c.state();
     let dev = &s.solid.as_ref().unwrap().rho_dev;
-    for i in 0..n {
-        assert_eq!(
-            s.p[i],
-            pressure(&p, MF_KIND_SOLID as u8, s.rho[i], dev[i]),
-            "slot {i}"
-        );
-        let want = p.solid_c0 * p.solid_c0 * dev[i];
-        assert!(s.p[i] > 0.0 && (s.p[i] - want).abs() <= 1e-6 * want);
+    for (i, (&pr, (&rho, &d))) in s.p.iter().zip(s.rho.iter().zip(dev)).enumerate() {
+        assert_eq!(pr, pressure(&p, MF_KIND_SOLID as u8, rho, d), "slot {i}");
+        let want = p.solid_c0 * p.solid_c0 * d;
+        assert!(pr > 0.0 && (pr - want).abs() <= 1e-6 * want);
     }
 }
