@@ -196,7 +196,7 @@ pub fn dam_break(dim: u32, n_fluid: usize) -> Setup {
 /// Mean number of neighbours (self excluded) per non-boundary particle.
 pub fn mean_neighbours<D: Dim>(p: &SphParams, particles: &[Particle]) -> f64 {
     use rayon::prelude::*;
-    let mut s = State::<D>::from_particles(particles, false, false);
+    let mut s = State::<D>::from_particles(particles, false, false, p.solid_rho0);
     let mut grid = Grid::default();
     grid.build(p, &mut s);
     let (sum, cnt) = (0..s.len())

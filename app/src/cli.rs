@@ -641,7 +641,8 @@ pub struct ValidateArgs {
     #[arg(long, value_name = "DIR", default_value = "out/validate")]
     pub out: PathBuf,
     /// Run only this case (repeatable): hydrostatic-tank, dam-break, poiseuille, taylor-green,
-    /// cylinder, cylinder-onset (full tier only: the quick tier skips it), plate, gate.
+    /// cylinder, cylinder-onset (full tier only: the quick tier skips it), plate, cantilever,
+    /// gate.
     #[arg(long, value_name = "NAME")]
     pub case: Vec<String>,
 }

@@ -656,3 +656,47 @@ fn syntax_errors_name_the_key_and_nan_is_explained() {
     assert_eq!(e.field(), Some("fluid.sound_speed"), "{e}");
     assert!(e.to_string().contains("in quotes"), "{e}");
 }
+
+#[test]
+fn solid_so_stiff_the_step_is_below_a_billionth_of_the_run() {
+    // h = 1.3 x 0.05, courant 0.2, end 0.01: dt = 0.013 / c is below 1e-11 where c > 1.3e9.
+    let solid = |c: &str, g: &str| {
+        format!(
+            "{BASE}\n[solid]\ndensity = 500.0\nsound_speed = {c}\nshear_modulus = {g}\n\n\
+             [[solids]]\nshape = \"disc\"\ncenter = [0.7, 0.7]\nradius = 0.1\n"
+        )
+    };
+    // A sound speed in mm/s given as m/s, say: the step and the number of steps are named.
+    let e = expect_error(&solid("5e9", "1e4"), "solid.sound_speed", "the time step");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("would be 2.600e-12") && msg.contains("3.846e9 steps"),
+        "{msg}"
+    );
+    // A shear modulus that dominates the wave speed names its own field.
+    expect_error(
+        &solid("30.0", "1e22"),
+        "solid.shear_modulus",
+        "below 1e-9 of the end time 0.01",
+    );
+    // Aluminium (c_s = 5100 m/s, G = 26 GPa at rho 2700) runs: about 1e5 steps here.
+    Scene::from_toml(&solid("5100.0", "2.6e10").replace("500.0", "2700.0"), "al")
+        .expect("a stiff but sane solid");
+}
+
+#[test]
+fn a_fixed_step_or_a_fluid_sound_speed_that_needs_a_billion_steps_is_refused() {
+    // end 0.01: a fixed dt of 1e-12 is 1e10 steps.
+    let e = expect_error(
+        &with("[time]", "[time]\ndt = 1e-12"),
+        "time.dt",
+        "below 1e-9 of the end time 0.01",
+    );
+    assert!(e.to_string().contains("1.000e10 steps"), "{e}");
+    // A sound speed in mm/s given as m/s: 3e10 (h = 0.065, courant 0.2: dt 4.3e-13).
+    expect_error(
+        &BASE.replace("sound_speed = 30.0", "sound_speed = 3e10"),
+        "fluid.sound_speed",
+        "the time step",
+    );
+}

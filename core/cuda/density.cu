@@ -72,12 +72,14 @@ __device__ Mat<DIM> artificial_stress(const SphParams& p, const Mat<DIM>& si, fl
     return R;
 }
 
-// stress and art: null without solids / without artificial stress (both or art alone).
+// stress, rho_dev and art: null without solids / without artificial stress (all three or art
+// alone). rho_dev: the solids' density departure rho - rho0_s (SolidState::rho_dev), set from
+// the summed density, read under the continuity density.
 template <int DIM, int L>
 __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __restrict__ cell_start,
                              const float* __restrict__ pos, float* __restrict__ vel,
                              const unsigned char* __restrict__ kind,
-                             float* __restrict__ rho, float* __restrict__ pr,
+                             float* __restrict__ rho, float* __restrict__ pr, float* __restrict__ rho_dev,
                              const float* __restrict__ stress, float* __restrict__ art) {
     const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
     const unsigned i = t / L;
@@ -105,7 +107,12 @@ __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __re
     if (i >= n || lane != 0) return;
     float pi = 0.0f;
     if (active) {
-        pi = pressure(p, ki, r);  // eq. (9)
+        float dev = 0.0f;
+        if (rho_dev) {
+            if (p.density_form == MF_DENSITY_SUMMATION && ki == MF_KIND_SOLID) rho_dev[i] = r - p.solid_rho0;
+            dev = rho_dev[i];
+        }
+        pi = pressure(p, ki, r, dev);  // eq. (9)
         pr[i] = pi;
     }
     // The density in the velocity's w slot (see vel_load in device/packing.cuh), every particle.
@@ -125,13 +132,13 @@ __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __re
     template <int DIM>                                                                                         \
     __device__ void sph_density_##L##_body(const SphParams p, unsigned n, const unsigned* cell_start,          \
                                            const float* pos, float* vel, const unsigned char* kind,            \
-                                           float* rho, float* pr, const float* stress,      \
+                                           float* rho, float* pr, float* rho_dev, const float* stress,      \
                                            float* art) {                                                       \
-        density_impl<DIM, L>(p, n, cell_start, pos, vel, kind, rho, pr, stress, art);                     \
+        density_impl<DIM, L>(p, n, cell_start, pos, vel, kind, rho, pr, rho_dev, stress, art);            \
     }                                                                                                          \
     MF_ENTRY2(sph_density_##L,                                                                                 \
               (const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, float* vel,        \
-               const unsigned char* kind, float* rho, float* pr, const float* stress,       \
+               const unsigned char* kind, float* rho, float* pr, float* rho_dev, const float* stress,      \
                float* art),                                                                                    \
-              (p, n, cell_start, pos, vel, kind, rho, pr, stress, art))
+              (p, n, cell_start, pos, vel, kind, rho, pr, rho_dev, stress, art))
 MF_LANES_EACH(MF_DENSITY_ENTRY)

@@ -143,10 +143,12 @@ __device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned n_c
                                      const unsigned* __restrict__ group,
                                      const float* __restrict__ pos, const float* __restrict__ vel,
                                      const float* __restrict__ rho, const float* __restrict__ pr,
-                                     const float* __restrict__ stress, unsigned* __restrict__ id2,
+                                     const float* __restrict__ stress, const float* __restrict__ rho_dev,
+                                     unsigned* __restrict__ id2,
                                      unsigned char* __restrict__ kind2, unsigned* __restrict__ group2,
                                      float* __restrict__ pos2, float* __restrict__ vel2,
-                                     float* __restrict__ rho2, float* __restrict__ pr2, float* __restrict__ stress2) {
+                                     float* __restrict__ rho2, float* __restrict__ pr2, float* __restrict__ stress2,
+                                     float* __restrict__ rho_dev2) {
     unsigned a = blockIdx.x * blockDim.x + threadIdx.x;
     if (a <= n_cells) cell_start[a] = cell_start_of(local, bsum, a);
     if (a >= n) return;
@@ -170,8 +172,13 @@ __device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned n_c
     float4 v = reinterpret_cast<const float4*>(vel)[o];  // float4 in 2D too
     const float r = rho[o];
     rho2[k] = r;
+    float dev = 0.0f;  // the solids' departure rho - rho0_s (null without solids)
+    if (rho_dev) {
+        dev = rho_dev[o];
+        rho_dev2[k] = dev;
+    }
     if (eos && (ki != MF_KIND_BOUNDARY || p.wall_coupling != 0)) {
-        pr2[k] = pressure(p, ki, r);  // eq. (9), as the density pass
+        pr2[k] = pressure(p, ki, r, dev);  // eq. (9), as the density pass
         v.w = vel_w(ki, r);
     } else {
         pr2[k] = pr[o];
@@ -187,7 +194,7 @@ MF_ENTRY2(sph_grid_gather,
           (const SphParams p, unsigned n, unsigned n_cells, unsigned eos, const unsigned* order,
            const unsigned* local, const unsigned* bsum, unsigned* cell_start, const unsigned* id,
            const unsigned char* kind, const unsigned* group, const float* pos, const float* vel, const float* rho,
-           const float* pr, const float* stress, unsigned* id2, unsigned char* kind2, unsigned* group2,
-           float* pos2, float* vel2, float* rho2, float* pr2, float* stress2),
-          (p, n, n_cells, eos, order, local, bsum, cell_start, id, kind, group, pos, vel, rho, pr, stress, id2, kind2,
-           group2, pos2, vel2, rho2, pr2, stress2))
+           const float* pr, const float* stress, const float* rho_dev, unsigned* id2, unsigned char* kind2,
+           unsigned* group2, float* pos2, float* vel2, float* rho2, float* pr2, float* stress2, float* rho_dev2),
+          (p, n, n_cells, eos, order, local, bsum, cell_start, id, kind, group, pos, vel, rho, pr, stress, rho_dev,
+           id2, kind2, group2, pos2, vel2, rho2, pr2, stress2, rho_dev2))

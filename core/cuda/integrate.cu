@@ -1,6 +1,6 @@
 // Time integration: the kick (v += dt a; v set in the inflow band; a driven group's
 // velocity set) and the drift (x += dt (v + xsph), eq. (18), with the periodic wrap;
-// rho += dt d rho/dt; S += dt dS/dt; the device clock; the next grid build's cell counts). dt is read on the device (written
+// rho += dt d rho/dt, for solids rho_dev += dt d rho/dt and rho = rho0_s + rho_dev; S += dt dS/dt; the device clock; the next grid build's cell counts). dt is read on the device (written
 // by sph_step_size): no host round trip per step.
 // Twin: src/backend/cpu/integrate.rs; parity test: tests/cuda_parity.rs.
 #include "device/entries.cuh"
@@ -58,21 +58,31 @@ MF_ENTRY2(sph_kick,
           (p, n, dt_dev, kind, group, pos, vel, acc))
 
 // The drift of one particle (kind k, group g, velocity v) by dt; returns its new position.
-// drho: null without the continuity density; stress, rate: null without solids. The callers
+// drho: null without the continuity density; rho_dev, stress, rate: null without solids. The callers
 // then file the particle in its cell for the next grid build (hist_one).
 template <int DIM>
 __device__ __forceinline__ Vec<DIM> drift_one(const SphParams& p, unsigned n, unsigned i, unsigned char k, unsigned g,
                                               const Vec<DIM>& v, float dt, float* __restrict__ pos,
                                               const float* __restrict__ xsph, float* __restrict__ rho,
-                                              const float* __restrict__ drho, float* __restrict__ stress,
-                                              const float* __restrict__ rate) {
+                                              const float* __restrict__ drho, float* __restrict__ rho_dev,
+                                              float* __restrict__ stress, const float* __restrict__ rate) {
     // Dynamic wall particles take part; their d rho/dt is zero otherwise. Under
     // wall_density_floor a wall's density is held at >= rho0 (`wall_density_floor` in
     // src/backend/cpu/integrate.rs; DualSPHysics' DBC).
+    // Solids integrate their departure from rest, rho_dev += dt d rho/dt, and take
+    // rho = rho0_s + rho_dev [M/L^3] (SolidState::rho_dev: in rho itself a stiff solid's change
+    // per step rounds away). S below needs none: it starts at zero (see `drift` in
+    // src/backend/cpu/integrate.rs).
     if (drho) {
-        float r = rho[i] + dt * drho[i];
-        if (p.wall_density_floor && k == MF_KIND_BOUNDARY) r = fmaxf(r, p.rho0);
-        rho[i] = r;
+        if (rho_dev && k == MF_KIND_SOLID) {
+            const float d = rho_dev[i] + dt * drho[i];
+            rho_dev[i] = d;
+            rho[i] = p.solid_rho0 + d;
+        } else {
+            float r = rho[i] + dt * drho[i];
+            if (p.wall_density_floor && k == MF_KIND_BOUNDARY) r = fmaxf(r, p.rho0);
+            rho[i] = r;
+        }
     }
     Vec<DIM> x = vload<DIM>(pos, i);
     // A driven group moves at its prescribed velocity (no XSPH), whatever its kind.
@@ -107,22 +117,22 @@ __device__ void sph_drift_body(const SphParams p, unsigned n, const float* __res
                                double* __restrict__ time, const unsigned char* __restrict__ kind,
                                const unsigned* __restrict__ group, float* __restrict__ pos, const float* __restrict__ vel,
                                const float* __restrict__ xsph, float* __restrict__ rho,
-                               const float* __restrict__ drho, float* __restrict__ stress,
-                               const float* __restrict__ rate, unsigned* __restrict__ cell,
+                               const float* __restrict__ drho, float* __restrict__ rho_dev,
+                               float* __restrict__ stress, const float* __restrict__ rate, unsigned* __restrict__ cell,
                                unsigned* __restrict__ count) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
     const float dt = *dt_dev;
     if (i == 0) *time += (double)dt;
     if (i >= n) return;
     const Vec<DIM> x =
-        drift_one<DIM>(p, n, i, kind[i], driven_test_group(p, group, i), vel_load<DIM>(vel, i), dt, pos, xsph, rho, drho, stress, rate);
+        drift_one<DIM>(p, n, i, kind[i], driven_test_group(p, group, i), vel_load<DIM>(vel, i), dt, pos, xsph, rho, drho, rho_dev, stress, rate);
     hist_one<DIM>(p, i, x, cell, count);
 }
 MF_ENTRY2(sph_drift,
           (const SphParams p, unsigned n, const float* dt_dev, double* time, const unsigned char* kind,
            const unsigned* group, float* pos, const float* vel, const float* xsph, float* rho, const float* drho,
-           float* stress, const float* rate, unsigned* cell, unsigned* count),
-          (p, n, dt_dev, time, kind, group, pos, vel, xsph, rho, drho, stress, rate, cell, count))
+           float* rho_dev, float* stress, const float* rate, unsigned* cell, unsigned* count),
+          (p, n, dt_dev, time, kind, group, pos, vel, xsph, rho, drho, rho_dev, stress, rate, cell, count))
 
 // The forward Euler's drift then kick in one pass (`Solver::drift_kick`): the drift takes
 // the old velocity, the kick's inflow test the new position, as the two kernels in turn.
@@ -132,7 +142,7 @@ __device__ void sph_drift_kick_body(const SphParams p, unsigned n, const float* 
                                     const unsigned* __restrict__ group, float* __restrict__ pos,
                                     float* __restrict__ vel, const float* __restrict__ xsph,
                                     float* __restrict__ rho, const float* __restrict__ drho,
-                                    float* __restrict__ stress, const float* __restrict__ rate,
+                                    float* __restrict__ rho_dev, float* __restrict__ stress, const float* __restrict__ rate,
                                     const float* __restrict__ acc, unsigned* __restrict__ cell,
                                     unsigned* __restrict__ count) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
@@ -142,12 +152,12 @@ __device__ void sph_drift_kick_body(const SphParams p, unsigned n, const float* 
     const unsigned char k = kind[i];
     const unsigned g = driven_test_group(p, group, i);
     Vec<DIM> v = vel_load<DIM>(vel, i);
-    const Vec<DIM> x = drift_one<DIM>(p, n, i, k, g, v, dt, pos, xsph, rho, drho, stress, rate);
+    const Vec<DIM> x = drift_one<DIM>(p, n, i, k, g, v, dt, pos, xsph, rho, drho, rho_dev, stress, rate);
     if (kick_one<DIM>(p, k, g, x, dt, acc, i, v)) vel_store<DIM>(vel, i, v);  // keeps rho, m
     hist_one<DIM>(p, i, x, cell, count);
 }
 MF_ENTRY2(sph_drift_kick,
           (const SphParams p, unsigned n, const float* dt_dev, double* time, const unsigned char* kind,
            const unsigned* group, float* pos, float* vel, const float* xsph, float* rho, const float* drho,
-           float* stress, const float* rate, const float* acc, unsigned* cell, unsigned* count),
-          (p, n, dt_dev, time, kind, group, pos, vel, xsph, rho, drho, stress, rate, acc, cell, count))
+           float* rho_dev, float* stress, const float* rate, const float* acc, unsigned* cell, unsigned* count),
+          (p, n, dt_dev, time, kind, group, pos, vel, xsph, rho, drho, rho_dev, stress, rate, acc, cell, count))

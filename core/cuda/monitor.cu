@@ -19,12 +19,13 @@
 // slot (vel_w), as the density pass writes them: the step after this is the step without it.
 extern "C" __global__ void __launch_bounds__(MF_BLOCK)
 sph_monitor_eos(const SphParams p, unsigned n, const unsigned char* __restrict__ kind, const float* __restrict__ rho,
-                float* __restrict__ pr, float* __restrict__ vel) {
+                const float* __restrict__ rho_dev, float* __restrict__ pr, float* __restrict__ vel) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
     const unsigned char k = kind[i];
     const float r = rho[i];
-    if (couples(p, k)) pr[i] = pressure(p, k, r);  // eq. (9)
+    // rho_dev: the solids' departure rho - rho0_s (null without solids).
+    if (couples(p, k)) pr[i] = pressure(p, k, r, rho_dev ? rho_dev[i] : 0.0f);  // eq. (9)
     reinterpret_cast<float4*>(vel)[i].w = vel_w(k, r);
 }
 

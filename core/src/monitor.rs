@@ -79,7 +79,7 @@ fn wall_force_d<D: Dim>(
     surface: &[[f32; 4]],
     group: u32,
 ) -> [f64; 3] {
-    let mut s = State::<D>::from_particles(particles, false, false);
+    let mut s = State::<D>::from_particles(particles, false, false, p.solid_rho0);
     cpu::refresh_pressure(p, &mut s); // eq. (9)
     let mut grid = Grid::default();
     grid.build(p, &mut s);

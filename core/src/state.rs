@@ -48,11 +48,25 @@ pub struct SolidState<D: Dim> {
     pub stress_rate: Vec<D::M>,
     /// Artificial stress R^{ab} (Gray, Monaghan & Swift 2001); `None` when switched off.
     pub art_stress: Option<Vec<D::M>>,
+    /// [M L^-d] rho - rho0_s, the solid particles' density as a departure from rest (zero for
+    /// other kinds). The continuity density integrates it, and the solid pressure
+    /// P = c_s^2 (rho - rho0_s) is taken from it: for a stiff solid the change per step,
+    /// dt d rho/dt, is below f32's resolution of rho itself (the ulp of 2700 is 2.4e-4) and
+    /// rounds away in rho += dt d rho/dt, but not in the departure. `rho` stays
+    /// rho0_s + rho_dev (what every other stage reads).
+    pub rho_dev: Vec<f32>,
 }
 
 impl<D: Dim> State<D> {
-    /// Composite -> raw arrays, in the given order.
-    pub fn from_particles(particles: &[Particle], continuity: bool, art_stress: bool) -> Self {
+    /// Composite -> raw arrays, in the given order. `solid_rho0` [M L^-d]: the solids' rest
+    /// density (`SphParams::solid_rho0`), from which the solid particles' density departure
+    /// `SolidState::rho_dev` is taken (unused without solid particles).
+    pub fn from_particles(
+        particles: &[Particle],
+        continuity: bool,
+        art_stress: bool,
+        solid_rho0: f32,
+    ) -> Self {
         let n = particles.len();
         // Every array filled by all threads: 13 M particles took 3 s on one.
         fn each<T: Send>(ps: &[Particle], f: impl Fn(&Particle) -> T + Sync + Send) -> Vec<T> {
@@ -63,6 +77,14 @@ impl<D: Dim> State<D> {
             stress: each(particles, |p| D::sym_from6(p.stress)),
             stress_rate: vec![D::zero(); n],
             art_stress: art_stress.then(|| vec![D::zero(); n]),
+            // Exact in f32 where density and rho0_s are within a factor 2 (Sterbenz).
+            rho_dev: each(particles, |p| {
+                if p.kind == Kind::Solid {
+                    p.density - solid_rho0
+                } else {
+                    0.0
+                }
+            }),
         });
         State {
             id: each(particles, |p| p.id),
@@ -95,6 +117,7 @@ impl<D: Dim> State<D> {
             group: self.group[i],
             position: D::to3(self.pos[i]),
             velocity: D::to3(self.vel[i]),
+            // rho: rho0_s + rho_dev for solids, as the drift and the density pass keep it.
             density: self.rho[i],
             pressure: self.p[i],
             mass: self.mass[i],
@@ -103,6 +126,13 @@ impl<D: Dim> State<D> {
                 .as_ref()
                 .map_or([0.0; 6], |s| D::sym_to6(s.stress[i])),
         }
+    }
+
+    /// The density departure from rest `SolidState::rho_dev` of slot `i` (0 without
+    /// solids). [M L^-d]
+    #[inline]
+    pub fn rho_dev(&self, i: usize) -> f32 {
+        self.solid.as_ref().map_or(0.0, |s| s.rho_dev[i])
     }
 
     pub fn len(&self) -> usize {
@@ -140,6 +170,7 @@ impl<D: Dim> State<D> {
         if let Some(s) = &mut self.solid {
             g(&mut s.stress, order);
             g(&mut s.stress_rate, order);
+            g(&mut s.rho_dev, order);
             if let Some(r) = &mut s.art_stress {
                 g(r, order);
             }

@@ -373,6 +373,16 @@ fn cmp_density<D: Dim>(c: &CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u32], p: 
         2e-5 * p.tait_b * p.tait_gamma,
     );
     if let (Some(a), Some(b)) = (&c.state().solid, &gs.solid) {
+        // The solids' departure rho - rho0_s: the summed density's, or as it was.
+        close(
+            "density rho_dev",
+            ids,
+            1,
+            &a.rho_dev,
+            &b.rho_dev,
+            1e-5,
+            2e-5 * p.solid_rho0,
+        );
         if let (Some(a), Some(b)) = (&a.art_stress, &b.art_stress) {
             close_m::<D>("density artificial stress R", ids, a, b, 1e-4);
         }
@@ -435,6 +445,17 @@ fn check_drift<D: Dim>(c: &mut CpuSolver<D>, g: &mut CudaSolver<D>, gs: &State<D
     close("drift rho", ids, 1, &cs.rho, &gs.rho, 1e-6, 0.0);
     if let (Some(a), Some(b)) = (&cs.solid, &gs.solid) {
         close_m::<D>("drift stress", ids, &a.stress, &b.stress, 1e-5);
+        // rho_dev += dt d rho/dt from the same state (nvcc may fuse the multiply-add).
+        let m = max_abs(&a.rho_dev);
+        close(
+            "drift rho_dev",
+            ids,
+            1,
+            &a.rho_dev,
+            &b.rho_dev,
+            1e-6,
+            1e-6 * m,
+        );
     }
     let (tc, tg) = (c.time(), g.time());
     assert!((tc - tg).abs() <= 1e-5 * tc, "time: cpu {tc} gpu {tg}");
@@ -527,6 +548,12 @@ fn stages_on<D: Dim>(what: &str, setup: Setup) {
             flat_v::<D>(&gs.pos),
             "build_grid: positions differ after the reorder"
         );
+        if let (Some(a), Some(b)) = (&cs.solid, &gs.solid) {
+            assert_eq!(
+                a.rho_dev, b.rho_dev,
+                "build_grid: rho_dev differs after the reorder"
+            );
+        }
         eprintln!("  build_grid: identical order of {} ids", cs.id.len());
         let ids = cs.id.clone();
         // With the continuity density (no artificial stress) the reorder applied the
@@ -835,6 +862,40 @@ fn stages_2d_clamp_deviatoric_artificial_stress() {
     let mut setup = clamped_body(2, V_2D_B);
     setup.params.artificial_stress_from = 1;
     stages_on::<D2>("V_2D_B + clamp, deviatoric artificial stress", setup);
+}
+
+/// `clamped_body` made stiff: a solid sound speed of 1e6 (and shear modulus to match), so
+/// that a step's change of a solid's density, dt d rho/dt, lies below f32's resolution of
+/// rho and only the departure `rho_dev` (`SolidState::rho_dev`) carries it; the pressure
+/// c_s^2 rho_dev must agree between the density pass, the continuity scheme's reorder
+/// (no artificial stress) and the CPU.
+fn stiff_clamp(dim: usize, v: Variant) -> Setup {
+    let mut setup = clamped_body(dim, v);
+    let p = &mut setup.params;
+    p.solid_c0 = 1e6;
+    p.shear_modulus = 0.3 * p.solid_rho0 * p.solid_c0 * p.solid_c0;
+    params::derive(p);
+    setup
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_2d_stiff_clamp_continuity_eos_in_the_reorder() {
+    let v = Variant {
+        art_stress: false,
+        ..V_2D_B
+    };
+    stages_on::<D2>("V_2D_B without R + stiff clamp", stiff_clamp(2, v));
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_3d_stiff_clamp_continuity_euler() {
+    stages_on::<D3>("V_3D_B + stiff clamp", stiff_clamp(3, V_3D_B));
 }
 
 #[test]
@@ -1372,7 +1433,7 @@ fn state_round_trip_through_device() {
     let setup = scene(2, V_2D_A);
     let mut g = gpu::<D2>(&setup);
     let s: State<D2> = g.download_state();
-    let host = State::<D2>::from_particles(&setup.particles, false, true);
+    let host = State::<D2>::from_particles(&setup.particles, false, true, setup.params.solid_rho0);
     assert_eq!(s.id, host.id);
     assert_eq!(flat_v::<D2>(&s.pos), flat_v::<D2>(&host.pos));
     let back = g.particles();
@@ -1900,9 +1961,9 @@ fn gross_wall_force<D: Dim>(
     surface: &[[f32; 4]],
     group: u32,
 ) -> f64 {
-    let mut s = State::<D>::from_particles(parts, false, false);
+    let mut s = State::<D>::from_particles(parts, false, false, p.solid_rho0);
     for i in 0..s.len() {
-        s.p[i] = cpu::pressure(p, s.kind[i], s.rho[i]);
+        s.p[i] = cpu::pressure(p, s.kind[i], s.rho[i], s.rho_dev(i));
     }
     let mut grid = cpu::Grid::default();
     grid.build(p, &mut s);

@@ -259,11 +259,13 @@ layers = 3
 /// steps, for the wall object and a group with no particles (zero); then the sampled run
 /// against an unsampled twin. Both sums visit the same pairs in the same order (the
 /// read-back's state is a subset of the same particles, sorted by the same (cell, id) key),
-/// so they agree bit for bit, and so do the two runs.
+/// so they agree bit for bit (to 1e-5 with solids, whose density the read-back sees rounded:
+/// `SolidState::rho_dev`), and so do the two runs.
 fn check_direct_against_read_back(what: &str, scene: &Scene) {
     let setup = scene.setup().unwrap();
     let p = setup.params;
     let groups = [scene.wall_group(0), u32::MAX];
+    let solids = setup.particles.iter().any(|q| q.kind == Kind::Solid);
     let (mut a, mut twin) = (cpu_solver(setup.clone()), cpu_solver(setup));
     for round in 0..4 {
         if round > 0 {
@@ -279,7 +281,23 @@ fn check_direct_against_read_back(what: &str, scene: &Scene) {
             .collect();
         let got = a.wall_forces(&groups);
         eprintln!("{what}, t = {:.4}: {got:?}", a.time());
-        assert_eq!(got, want, "{what}, t = {}: direct vs read-back", a.time());
+        if solids {
+            // The solver takes a solid's pressure from its density departure rho_dev, the
+            // read-back from the composite density rho0_s + rho_dev rounded to f32: they
+            // differ in rho's last bits (c_s^2 ulp(rho) per particle), not in the pairs.
+            let scale = want[0].iter().fold(0.0f64, |m, f| m.max(f.abs()));
+            for (g, w) in got.iter().zip(&want) {
+                for k in 0..3 {
+                    assert!(
+                        (g[k] - w[k]).abs() <= 1e-5 * scale,
+                        "{what}, t = {}: direct {g:?} vs read-back {w:?}",
+                        a.time()
+                    );
+                }
+            }
+        } else {
+            assert_eq!(got, want, "{what}, t = {}: direct vs read-back", a.time());
+        }
         assert!(got[0].iter().any(|f| *f != 0.0), "{what}: no force");
         assert_eq!(got[1], [0.0; 3]);
     }

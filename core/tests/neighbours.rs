@@ -30,7 +30,7 @@ fn check<D: Dim>(periodic: [i32; 3]) {
     let (lo, hi) = ([0.0; 3], [1.0, 0.8, 0.6]);
     let p = common::params(D::D as i32, 0.05, lo, hi, periodic);
     let particles = scattered(D::D, 600, lo, hi);
-    let mut s = State::<D>::from_particles(&particles, false, false);
+    let mut s = State::<D>::from_particles(&particles, false, false, p.solid_rho0);
     let mut grid = Grid::default();
     grid.build(&p, &mut s);
     // Storage is sorted by (cell, id).

@@ -99,7 +99,7 @@ fn brute_force(s: &mut dyn Solver, x: [f32; 3], walls: bool) -> (f64, f64) {
         }
         let wv = kernel::w(&p, r) as f64 * (q.mass / q.density) as f64;
         w += wv;
-        pw += pressure(&p, q.kind.code(), q.density) as f64 * wv;
+        pw += pressure(&p, q.kind.code(), q.density, q.density - p.solid_rho0) as f64 * wv;
     }
     (pw / w, w)
 }

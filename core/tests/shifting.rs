@@ -152,15 +152,17 @@ fn a_background_pressure_adds_to_the_equation_of_state() {
     scene.revalidate().unwrap();
     let mut p = scene.setup().unwrap().params;
     let (fluid, wall) = (MF_KIND_FLUID as u8, MF_KIND_BOUNDARY as u8);
-    assert_eq!(pressure(&p, fluid, p.rho0), 3.0);
+    assert_eq!(pressure(&p, fluid, p.rho0, 0.0), 3.0);
     let rho = 1.01 * p.rho0;
     let tait = p.tait_b * (1.01f32.powf(p.tait_gamma) - 1.0);
-    assert!((pressure(&p, fluid, rho) - (tait + 3.0)).abs() < 1e-5);
+    assert!((pressure(&p, fluid, rho, 0.0) - (tait + 3.0)).abs() < 1e-5);
     p.wall_coupling = 1;
-    assert_eq!(pressure(&p, wall, p.rho0), 3.0);
+    assert_eq!(pressure(&p, wall, p.rho0, 0.0), 3.0);
     p.wall_coupling = 0;
-    assert_eq!(pressure(&p, wall, p.rho0), 0.0);
+    assert_eq!(pressure(&p, wall, p.rho0, 0.0), 0.0);
     p.solid_rho0 = 2.0;
     p.solid_c0 = 1.0;
-    assert_eq!(pressure(&p, MF_KIND_SOLID as u8, 2.0), 0.0);
+    // Solids: P = c_s^2 (rho - rho0_s) from the departure rho - rho0_s, not from rho.
+    assert_eq!(pressure(&p, MF_KIND_SOLID as u8, 2.0, 0.0), 0.0);
+    assert_eq!(pressure(&p, MF_KIND_SOLID as u8, 2.0, 1e-6), 1e-6);
 }

@@ -35,7 +35,7 @@ fn sample(dim: usize) -> Vec<Particle> {
 
 fn round_trip<D: Dim>() {
     let mut ps = sample(D::D);
-    let s = State::<D>::from_particles(&ps, true, true);
+    let s = State::<D>::from_particles(&ps, true, true, 1.0);
     assert!(s.drho.is_some() && s.solid.is_some());
     let back = s.to_particles();
     ps.sort_by_key(|p| p.id);
@@ -63,7 +63,7 @@ fn fluid_only_state_allocates_no_stress() {
         .into_iter()
         .filter(|p| p.kind != Kind::Solid)
         .collect();
-    let s = State::<D2>::from_particles(&ps, false, true);
+    let s = State::<D2>::from_particles(&ps, false, true, 1.0);
     assert!(s.solid.is_none(), "no solid particles: no stress arrays");
     assert!(s.drho.is_none(), "summation density: no d rho/dt array");
 }

@@ -69,6 +69,7 @@ fn quick_validation_passes_and_writes_reports() {
         "poiseuille.png",
         "taylor-green.png",
         "plate-tip.png",
+        "cantilever-tip.png",
         "gate-x.png",
         "gate-y.png",
     ] {

@@ -6,10 +6,13 @@
 #include "sph_params.h"
 
 // Tait eq. (9) for fluid and dynamic wall particles; P = c_s^2 (rho - rho0_s) for solids
-// (Gray & Monaghan 2001); 0 for the paper's walls.
-// [P] from rho [M/L^3]; the density pass and the continuity scheme's reorder (grid.cu).
-__device__ __forceinline__ float pressure(const SphParams& p, unsigned char kind, float rho) {
-    if (kind == MF_KIND_SOLID) return p.solid_c0 * p.solid_c0 * (rho - p.solid_rho0);
+// (Gray & Monaghan 2001), from the departure rho_dev = rho - rho0_s [M/L^3] (the solids'
+// rho_dev array: rho itself rounds a stiff solid's compression away; unused for other
+// kinds); 0 for the paper's walls.
+// [P] from rho [M/L^3]; the density pass, the continuity scheme's reorder (grid.cu), the
+// monitors' refresh (monitor.cu).
+__device__ __forceinline__ float pressure(const SphParams& p, unsigned char kind, float rho, float rho_dev) {
+    if (kind == MF_KIND_SOLID) return p.solid_c0 * p.solid_c0 * rho_dev;
     // eq. (9) plus the background pressure (cpu/density.rs `pressure`).
     if (kind == MF_KIND_FLUID || p.wall_coupling != 0)
         return p.tait_b * (powf(rho / p.rho0, p.tait_gamma) - 1.0f) + p.background_pressure;

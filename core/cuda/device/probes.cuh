@@ -26,7 +26,8 @@ template <int DIM> struct PointSum {
         const float wv = kernel_w(p, r) * (m / rho);  // W(x - x_j) m_j / rho_j, eqs. (1)-(4)
         if (fluid) colour += wv;
         weight += wv;
-        pressure += ::pressure(p, k, rho) * wv;  // eq. (9) at the neighbour's density
+        // (Fluid and wall particles only: the solid departure argument is never read.)
+        pressure += ::pressure(p, k, rho, rho - p.solid_rho0) * wv;  // eq. (9) at the neighbour's density
         velocity = velocity + v * wv;
         density += rho * wv;
         ++neighbours;

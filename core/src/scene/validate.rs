@@ -437,6 +437,7 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
             "the scene has no objects (fluid_blocks, solids or walls)",
         ));
     }
+    time_step(&c, s)?;
     sizes(&c, s)
 }
 
@@ -476,6 +477,74 @@ fn sizes(c: &Ctx, s: &SceneFile) -> R {
         ));
     }
     Ok(())
+}
+
+/// The shortest step a run may take, as a fraction of its end time: a step shorter than
+/// this would take over 1e9 steps; it is a unit error (a modulus in MPa given in Pa, a
+/// sound speed in mm/s, a fixed dt in the wrong unit), not a run to start. (A step that
+/// collapses during the run stops it at `step::DT_FLOOR`.)
+pub const MIN_STEP_FRACTION: f64 = 1e-9;
+
+/// The step at rest must be at least `MIN_STEP_FRACTION` of `time.end`: the scene's fixed
+/// `time.dt`, or eq. (19)'s acoustic limit dt = courant h / c with the fluid's c0 and, with
+/// `[[solids]]`, the solid's longitudinal speed sqrt(c_s^2 + 4 G / (3 rho0_s))
+/// (`SphParams::sound_speed`). The error names the field that sets the step (the fixed dt,
+/// the fluid's sound speed, or the larger of the solid's two terms), the step and the
+/// number of steps.
+fn time_step(c: &Ctx, s: &SceneFile) -> R {
+    let end = s.time.end;
+    let h = s.discretisation.h_factor * s.discretisation.spacing; // [L]
+    let (dt, field, what) = if let Some(dt) = s.time.dt {
+        (dt, "time.dt", format!("the fixed time step {dt}"))
+    } else {
+        let fluid = s.fluid.sound_speed; // [L/T]
+        let mut speed = (
+            fluid,
+            "fluid.sound_speed",
+            format!("the fluid's sound speed {fluid}"),
+        );
+        if let (Some(m), false) = (&s.solid, s.solids.is_empty()) {
+            let bulk = m.sound_speed * m.sound_speed; // [L^2 T^-2]
+            let shear = 4.0 / 3.0 * m.shear_modulus / m.density; // [L^2 T^-2]
+            let solid = (bulk + shear).sqrt(); // [L/T]
+            if solid > speed.0 {
+                speed = if bulk >= shear {
+                    (
+                        solid,
+                        "solid.sound_speed",
+                        format!("the solid's sound speed {}", m.sound_speed),
+                    )
+                } else {
+                    (
+                        solid,
+                        "solid.shear_modulus",
+                        format!(
+                            "the shear modulus {} (with density {})",
+                            m.shear_modulus, m.density
+                        ),
+                    )
+                };
+                speed.2 = format!("{} (a longitudinal wave speed of {solid:.3e})", speed.2);
+            }
+        }
+        let dt = s.time.courant * h / speed.0; // [T], eq. (19) at rest
+        let how = format!(
+            "{}: the time step (eq. 19: courant {} x h {h:.3e} / {:.3e})",
+            speed.2, s.time.courant, speed.0
+        );
+        (dt, speed.1, how)
+    };
+    if dt.is_finite() && dt >= MIN_STEP_FRACTION * end {
+        return Ok(());
+    }
+    Err(c.err(
+        field,
+        format!(
+            "{what} would be {dt:.3e}, below {MIN_STEP_FRACTION:e} of the end time {end}: \
+             {:.3e} steps. Check the units",
+            (end / dt).ceil()
+        ),
+    ))
 }
 
 /// `[[probes]]` and `[[gauges]]`: names (plain, unique within each table), points inside

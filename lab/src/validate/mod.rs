@@ -15,6 +15,7 @@
 //! reference file's recommendation), "regression" (a looser quick-tier bound that catches
 //! breakage, not a claim of accuracy) or "convergence" (observed order, must be positive).
 
+pub mod cantilever;
 pub mod cylinder;
 pub mod cylinder_onset;
 pub mod dam_break;
@@ -124,6 +125,12 @@ pub const CASES: &[Case] = &[
         name: plate::NAME,
         description: plate::DESCRIPTION,
         run: plate::run,
+        quick: true,
+    },
+    Case {
+        name: cantilever::NAME,
+        description: cantilever::DESCRIPTION,
+        run: cantilever::run,
         quick: true,
     },
     Case {

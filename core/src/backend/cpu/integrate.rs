@@ -78,7 +78,8 @@ pub fn kick<D: Dim>(p: &SphParams, dt: f32, s: &mut State<D>) {
     });
 }
 
-/// The drift: x += dt (v + xsph), eq. (18); rho += dt d rho/dt; S += dt dS/dt. With the
+/// The drift: x += dt (v + xsph), eq. (18); rho += dt d rho/dt (for solids, rho_dev += dt
+/// d rho/dt and rho = rho0_s + rho_dev); S += dt dS/dt. With the
 /// paper's forward Euler, eq. (19), it runs before the kick (x^{n+1} takes v^n); with the
 /// symplectic Euler after it (x^{n+1} takes v^{n+1}). Boundary particles stay put (their
 /// density changes with dynamic walls), except a driven group, which moves at its
@@ -96,13 +97,31 @@ pub fn drift<D: Dim>(p: &SphParams, dt: f32, s: &mut State<D>) {
     });
     if let Some(drho) = &s.drho {
         // Dynamic wall particles (`wall_coupling`) take part; their d rho/dt is zero otherwise.
-        s.rho
-            .par_iter_mut()
-            .zip(drho.par_iter())
-            .enumerate()
-            .for_each(|(i, (r, d))| *r = wall_density_floor(p, kind[i], *r + dt * d));
+        let rho = s.rho.par_iter_mut().zip(drho.par_iter()).enumerate();
+        match s.solid.as_mut() {
+            // Solids integrate their departure from rest, rho_dev += dt d rho/dt, and take
+            // rho = rho0_s + rho_dev [M L^-d] (`SolidState::rho_dev`: in rho itself a stiff
+            // solid's change per step rounds away).
+            Some(so) => rho
+                .zip(so.rho_dev.par_iter_mut())
+                .for_each(|((i, (r, d)), dev)| {
+                    if kind[i] as u32 == MF_KIND_SOLID {
+                        *dev += dt * d;
+                        *r = p.solid_rho0 + *dev;
+                    } else {
+                        *r = wall_density_floor(p, kind[i], *r + dt * d);
+                    }
+                }),
+            None => rho.for_each(|(i, (r, d))| *r = wall_density_floor(p, kind[i], *r + dt * d)),
+        }
     }
     if let Some(solid) = s.solid.as_mut() {
+        // S += dt dS/dt needs no departure: S starts at zero and is its own departure, and
+        // a step's change relative to S is about dt / (the period of the motion), which
+        // does not fall with the stiffness (dt and the elastic periods both go as
+        // 1/sqrt(E)); the same holds for the Jaumann rate, eqs. (12)-(15), made of velocity
+        // differences. rho's step change relative to rho falls as strain x dt / period,
+        // i.e. as 1/E: that is what rounded away.
         let rate = &solid.stress_rate;
         solid.stress.par_iter_mut().enumerate().for_each(|(i, st)| {
             if kind[i] as u32 == MF_KIND_SOLID {

@@ -58,6 +58,7 @@ impl<D: Dim> CpuSolver<D> {
             &setup.particles,
             p.density_form as u32 == MF_DENSITY_CONTINUITY,
             p.artificial_stress > 0.0,
+            p.solid_rho0,
         );
         CpuSolver {
             params: p,

@@ -27,7 +27,7 @@ use crate::state::State;
 pub fn refresh_pressure<D: Dim>(p: &SphParams, s: &mut State<D>) {
     for i in 0..s.len() {
         if couples(p, s.kind[i]) {
-            s.p[i] = pressure(p, s.kind[i], s.rho[i]); // eq. (9)
+            s.p[i] = pressure(p, s.kind[i], s.rho[i], s.rho_dev(i)); // eq. (9)
         }
     }
 }

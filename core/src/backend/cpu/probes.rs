@@ -58,7 +58,8 @@ impl PointSum {
             self.colour += wv;
         }
         self.weight += wv;
-        self.pressure += pressure(p, kind, rho) * wv; // eq. (9) at the neighbour's density
+        // (Fluid and wall particles only: the solid departure argument is never read.)
+        self.pressure += pressure(p, kind, rho, rho - p.solid_rho0) * wv; // eq. (9) at the neighbour's density
         for (a, va) in v.iter().enumerate().take(dim) {
             self.velocity[a] += va * wv;
         }

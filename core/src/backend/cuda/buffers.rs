@@ -52,6 +52,8 @@ pub struct Persistent {
     pub rho: CudaSlice<f32>,
     pub p: CudaSlice<f32>,
     pub stress: Option<CudaSlice<f32>>,
+    /// The solids' density departure rho - rho0_s (`SolidState::rho_dev`); only with solids.
+    pub rho_dev: Option<CudaSlice<f32>>,
 }
 
 /// Every device array of one solver.
@@ -146,6 +148,7 @@ impl Buffers {
                 rho: a.z(n)?,
                 p: a.z(n)?,
                 stress: if solids { Some(a.z(n * ns)?) } else { None },
+                rho_dev: if solids { Some(a.z(n)?) } else { None },
             })
         };
         let cur = persistent(&mut a)?;
@@ -256,6 +259,9 @@ impl Buffers {
             if let Some(d) = &mut c.stress {
                 s.memcpy_htod(&flat_s::<D>(&so.stress), d)?;
             }
+            if let Some(d) = &mut c.rho_dev {
+                s.memcpy_htod(&so.rho_dev, d)?;
+            }
             if let Some(d) = &mut self.stress_rate {
                 s.memcpy_htod(&flat_s::<D>(&so.stress_rate), d)?;
             }
@@ -280,6 +286,14 @@ impl Buffers {
                 art_stress: match &self.art {
                     Some(r) => Some(unflat_s::<D>(&s.clone_dtoh(r)?, n)),
                     None => None,
+                },
+                rho_dev: match &c.rho_dev {
+                    Some(r) => {
+                        let mut v = s.clone_dtoh(r)?;
+                        v.truncate(n);
+                        v
+                    }
+                    None => vec![0.0; n],
                 },
             }),
             None => None,

@@ -197,16 +197,16 @@ impl Family {
                  const unsigned* order, const unsigned* local, const unsigned* bsum, \
                  unsigned* cell_start, const unsigned* id, const unsigned char* kind, \
                  const unsigned* group, const float* pos, const float* vel, const float* rho, \
-                 const float* pr, const float* stress, unsigned* id2, unsigned char* kind2, \
-                 unsigned* group2, float* pos2, float* vel2, float* rho2, float* pr2, \
-                 float* stress2",
+                 const float* pr, const float* stress, const float* rho_dev, unsigned* id2, \
+                 unsigned char* kind2, unsigned* group2, float* pos2, float* vel2, float* rho2, \
+                 float* pr2, float* stress2, float* rho_dev2",
             ),
             Family::Density => (
                 "density",
                 "sph_density",
                 Lanes,
                 "const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, \
-                 float* vel, const unsigned char* kind, float* rho, float* pr, \
+                 float* vel, const unsigned char* kind, float* rho, float* pr, float* rho_dev, \
                  const float* stress, float* art",
             ),
             Family::GradRho => (
@@ -253,7 +253,8 @@ impl Family {
                 "const SphParams p, unsigned n, const float* dt_dev, double* time, \
                  const unsigned char* kind, const unsigned* group, float* pos, \
                  const float* vel, const float* xsph, float* rho, const float* drho, \
-                 float* stress, const float* rate, unsigned* cell, unsigned* count",
+                 float* rho_dev, float* stress, const float* rate, unsigned* cell, \
+                 unsigned* count",
             ),
             Family::DriftKick => (
                 "integrate",
@@ -261,8 +262,9 @@ impl Family {
                 Dims,
                 "const SphParams p, unsigned n, const float* dt_dev, double* time, \
                  const unsigned char* kind, const unsigned* group, float* pos, float* vel, \
-                 const float* xsph, float* rho, const float* drho, float* stress, \
-                 const float* rate, const float* acc, unsigned* cell, unsigned* count",
+                 const float* xsph, float* rho, const float* drho, float* rho_dev, \
+                 float* stress, const float* rate, const float* acc, unsigned* cell, \
+                 unsigned* count",
             ),
             Family::Diagnostics => (
                 "reduce",
@@ -298,7 +300,7 @@ impl Family {
                 "sph_monitor_eos",
                 One,
                 "const SphParams p, unsigned n, const unsigned char* kind, const float* rho, \
-                 float* pr, float* vel",
+                 const float* rho_dev, float* pr, float* vel",
             ),
             Family::WallForce => ("monitor", "sph_wall_force", Dims, WALL_FORCE_PARAMS),
             Family::WallForceFluid => ("monitor", "sph_wall_force_fluid", Dims, WALL_FORCE_PARAMS),

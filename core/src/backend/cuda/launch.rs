@@ -130,9 +130,10 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     let eos_arg = eos as u32;
     {
         let (c, a) = (&b.cur, &mut b.alt);
-        // SAFETY: the arguments of `Family::GridGather` (the eight persistent arrays of
-        // `cur`, then the same eight of `alt`); cell_start has n_cells + 1 entries; stress
-        // null in both sets or in neither; grid of max(n, n_cells + 1) threads.
+        // SAFETY: the arguments of `Family::GridGather` (the nine persistent arrays of
+        // `cur`, then the same nine of `alt`); cell_start has n_cells + 1 entries; stress
+        // and rho_dev null in both sets or in neither (both with solids); grid of
+        // max(n, n_cells + 1) threads.
         let kg = k.get(Family::GridGather);
         let mut l = s.launch_builder(&kg.f);
         l.arg(p)
@@ -150,6 +151,7 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
             .arg(&c.vel);
         l.arg(&c.rho).arg(&c.p);
         opt!(l, &c.stress);
+        opt!(l, &c.rho_dev);
         l.arg(&mut a.id)
             .arg(&mut a.kind)
             .arg(&mut a.group)
@@ -157,6 +159,7 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
             .arg(&mut a.vel);
         l.arg(&mut a.rho).arg(&mut a.p);
         opt!(l, &mut a.stress);
+        opt!(l, &mut a.rho_dev);
         let threads = b.n.max(b.n_cells + 1);
         kg.check(unsafe { l.launch(cfg(threads)).map(|_| ()) });
     }
@@ -173,8 +176,8 @@ pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers)
     let (kd, lanes) = (k.neighbour(Family::Density, scheme(p, b)), k.lanes);
     let c = &mut b.cur;
     // SAFETY: the arguments of `Family::Density` (kernels.rs); vel is written only in its w
-    // slots; art null without artificial stress (then stress is not read), else both hold
-    // n_sym planes of n.
+    // slots; rho_dev null without solids, else n entries; art null without artificial stress
+    // (then stress is not read), else both hold n_sym planes of n.
     let mut l = s.launch_builder(&kd.f);
     l.arg(p)
         .arg(&n)
@@ -184,6 +187,7 @@ pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers)
         .arg(&c.kind)
         .arg(&mut c.rho)
         .arg(&mut c.p);
+    opt!(l, &mut c.rho_dev);
     opt!(l, &c.stress);
     opt!(l, &mut b.art);
     kd.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
@@ -353,7 +357,7 @@ fn drift_with(f: &Kernel, kick: bool, s: &Arc<CudaStream>, p: &SphParams, b: &mu
     let n = b.n as u32;
     let c = &mut b.cur;
     // SAFETY: the arguments of `Family::Drift` or, with `kick`, `Family::DriftKick` (the
-    // same, with vel written and acc before cell); drho, stress and rate may be null; cell
+    // same, with vel written and acc before cell); drho, rho_dev, stress and rate may be null; cell
     // and count as in sph_grid_hist. Launched even for n = 0: it advances the clock.
     let mut l = s.launch_builder(&f.f);
     l.arg(p)
@@ -366,6 +370,7 @@ fn drift_with(f: &Kernel, kick: bool, s: &Arc<CudaStream>, p: &SphParams, b: &mu
         .arg(&mut c.vel);
     l.arg(&b.xsph).arg(&mut c.rho);
     opt!(l, &b.drho);
+    opt!(l, &mut c.rho_dev);
     opt!(l, &mut c.stress);
     opt!(l, &b.stress_rate);
     if kick {
@@ -402,20 +407,14 @@ pub fn wall_forces(
     let n = b.n as u32;
     if !b.eos_done {
         let c = &mut b.cur;
-        // SAFETY: the arguments of `Family::MonitorEos` (kernels.rs); vel is written only in
-        // its w slots.
+        // SAFETY: the arguments of `Family::MonitorEos` (kernels.rs); rho_dev null without
+        // solids; vel is written only in its w slots.
         let ke = k.get(Family::MonitorEos);
-        ke.check(unsafe {
-            s.launch_builder(&ke.f)
-                .arg(p)
-                .arg(&n)
-                .arg(&c.kind)
-                .arg(&c.rho)
-                .arg(&mut c.p)
-                .arg(&mut c.vel)
-                .launch(cfg(b.n))
-                .map(|_| ())
-        });
+        let mut l = s.launch_builder(&ke.f);
+        l.arg(p).arg(&n).arg(&c.kind).arg(&c.rho);
+        opt!(l, &c.rho_dev);
+        l.arg(&mut c.p).arg(&mut c.vel);
+        ke.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
     }
     let blocks = (b.n * MF_LANES_MAX as usize)
         .div_ceil(MF_BLOCK as usize)

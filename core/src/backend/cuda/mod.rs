@@ -122,6 +122,7 @@ impl<D: Dim> CudaSolver<D> {
             &setup.particles,
             p.density_form as u32 == MF_DENSITY_CONTINUITY,
             p.artificial_stress > 0.0,
+            p.solid_rho0,
         );
         let n = state.len();
         let buf = Buffers::new(
