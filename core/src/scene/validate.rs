@@ -437,8 +437,9 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
             "the scene has no objects (fluid_blocks, solids or walls)",
         ));
     }
-    time_step(&c, s)?;
-    sizes(&c, s)
+    // Sizes first: a tiny h_factor is a grid too large before it is a step too short.
+    sizes(&c, s)?;
+    time_step(&c, s)
 }
 
 /// What the solver can index, from the estimate (no allocation): the grid's cells in an
