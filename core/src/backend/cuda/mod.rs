@@ -115,9 +115,17 @@ impl<D: Dim> CudaSolver<D> {
         if let Some(e) = setup.wall_surface_error() {
             return Err(BackendError::Cuda(e));
         }
+        let p = setup.params;
+        if crate::tlsph::total_lagrangian(&p) && setup.has_solids() {
+            return Err(BackendError::Cuda(
+                "[solid] formulation = \"total-lagrangian\" runs on the CPU backend only for now \
+                 (the CUDA twin, cuda/tlsph.cu, is not written yet): use --backend cpu or \
+                 formulation = \"jaumann\""
+                    .into(),
+            ));
+        }
         let dev = Device::open()?;
         let mut k = Kernels::load(&dev, D::D)?;
-        let p = setup.params;
         let state = State::<D>::from_particles(
             &setup.particles,
             p.density_form as u32 == MF_DENSITY_CONTINUITY,
