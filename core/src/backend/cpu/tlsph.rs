@@ -63,7 +63,9 @@ impl<D: Dim> TlBodies<D> {
     pub fn stress(&mut self, p: &SphParams, s: &mut State<D>) {
         let m = Material::of(p);
         let (r, slot, disp) = (&self.reference, &self.slot, &self.disp);
-        let out: Vec<(D::M, D::M, f32, D::M, f32)> = (0..r.len())
+        // Per solid particle: H, P L, and the Cauchy stress's part (`SolidStress`).
+        type Out<M> = (M, M, f32, M, f32);
+        let out: Vec<Out<D::M>> = (0..r.len())
             .into_par_iter()
             .map(|a| {
                 if slot[a] == NONE {
