@@ -24,7 +24,8 @@
 //! latter: the frequency within 2 % at H / dx = 8. Its rows are informational unless they
 //! pass the same bounds. Measured (CPU, release, 2.5 periods, `tests::measure_plate`): total
 //! Lagrangian at H / dx = 4 period +33.4 %, amplitude +28.4 %, decay 0.001 per cycle; at 8
-//! +9.4 %, +6.9 %, 0.000 (the Jaumann rate at 4: +42.8 %, +36.6 %, 0.105). The 2 % target
+//! +9.4 %, +6.9 %, 0.000 (the Jaumann rate at 4: +42.8 %, +36.6 %, 0.105; at 8: +17.6 %,
+//! +14.5 %, 0.040). The 2 % target
 //! at 8 is not met yet.
 //!
 //! Quick tier: H / dx = 4 (coarse: the plate is soft and the clamp compliant), 2.5 periods,
