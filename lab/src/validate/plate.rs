@@ -26,7 +26,10 @@
 //! Lagrangian at H / dx = 4 period +33.4 %, amplitude +28.4 %, decay 0.001 per cycle; at 8
 //! +9.4 %, +6.9 %, 0.000 (the Jaumann rate at 4: +42.8 %, +36.6 %, 0.105; at 8: +17.6 %,
 //! +14.5 %, 0.040). The 2 % target
-//! at 8 is not met yet.
+//! at 8 is not met yet. On the GPU (full tier, 3.5 periods, H100, `cuda/tlsph.cu`): total
+//! Lagrangian period +9.4 % at H / dx = 8, +3.3 % at 16, +1.5 % at 32 (amplitude +6.9 %,
+//! +1.6 %, +0.2 %; decay 0.000 per cycle; observed order of the period error 1.34); the
+//! Jaumann rate +17.7 %, +7.6 %, +7.5 % (amplitude +14.5 %, +7.4 %, +6.1 %; order 0.62).
 //!
 //! Quick tier: H / dx = 4 (coarse: the plate is soft and the clamp compliant), 2.5 periods,
 //! regression bounds. Full tier (GPU): H / dx = 8, 16, 32, 3.5 periods, the JSON's tolerances
