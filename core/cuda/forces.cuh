@@ -144,20 +144,25 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct ForceSum {
         const float inv_r2j = fast_div(1.0f, rhoj * rhoj);
         const bool bonded = SOLIDS && same_body(p, ki, kj, gi, group[j]);
         // Stress term, eq. (16); eq. (7) when both are fluid (sigma = -P I); across two
-        // objects the pressure part only (whole_stress_pair).
+        // objects the pressure part only (whole_stress_pair). Within a total-Lagrangian body
+        // the internal force replaces it (sph_tl_forces in tlsph.cu).
         if constexpr (SOLIDS) {
-            const bool whole = whole_stress_pair(p, bonded);
-            Mat<DIM> sj = whole ? sload<DIM>(stress, j, n) : mzero<DIM>();
-            const float pj = pr[j];
+            const bool tl_internal =
+                bonded && ki == MF_KIND_SOLID && p.solid_formulation == MF_SOLID_TOTAL_LAGRANGIAN;
+            if (!tl_internal) {
+                const bool whole = whole_stress_pair(p, bonded);
+                Mat<DIM> sj = whole ? sload<DIM>(stress, j, n) : mzero<DIM>();
+                const float pj = pr[j];
 #pragma unroll
-            for (int a = 0; a < DIM; ++a)
+                for (int a = 0; a < DIM; ++a)
 #pragma unroll
-                for (int b = 0; b < DIM; ++b) {
-                    // sigma_i / rho_i^2, or its pressure part (0 - P_i delta) / rho_i^2.
-                    const float si_ab = whole ? sig_i.m[a][b] : (0.0f - (a == b ? pi : 0.0f)) * inv_r2i;
-                    sj.m[a][b] = si_ab + (sj.m[a][b] - (a == b ? pj : 0.0f)) * inv_r2j;
-                }
-            acc = acc + mat_vec<DIM>(sj, gw) * mj;
+                    for (int b = 0; b < DIM; ++b) {
+                        // sigma_i / rho_i^2, or its pressure part (0 - P_i delta) / rho_i^2.
+                        const float si_ab = whole ? sig_i.m[a][b] : (0.0f - (a == b ? pi : 0.0f)) * inv_r2i;
+                        sj.m[a][b] = si_ab + (sj.m[a][b] - (a == b ? pj : 0.0f)) * inv_r2j;
+                    }
+                acc = acc + mat_vec<DIM>(sj, gw) * mj;
+            }
         } else {
             acc = acc + (gw * (psi + -pr[j] * inv_r2j)) * mj;
         }
@@ -210,7 +215,9 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct ForceSum {
             vstore<DIM>(acc_out, i, on ? acc : vzero<DIM>());
             if (on) {
                 vmax = sqrtf(dot(vi, vi));
-                amax = sqrtf(dot(acc, acc));
+                // A total-Lagrangian body's |a| comes with its internal force (sph_tl_forces).
+                const bool tl = SOLIDS && ki == MF_KIND_SOLID && p.solid_formulation == MF_SOLID_TOTAL_LAGRANGIAN;
+                amax = tl ? 0.0f : sqrtf(dot(acc, acc));
                 cmax = sound_speed(p, ki);
             }
         }

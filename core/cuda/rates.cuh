@@ -89,7 +89,9 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
                                           const float* __restrict__ grad_rho) {
         ki = k;
         on = i < n && (ki != MF_KIND_BOUNDARY || p.wall_coupling != 0);
-        solid_i = i < n && ki == MF_KIND_SOLID;
+        // A total-Lagrangian body takes its stress from F (tlsph.cu): no Jaumann rate (its
+        // rate stays 0, as the fluid's).
+        solid_i = i < n && ki == MF_KIND_SOLID && p.solid_formulation != MF_SOLID_TOTAL_LAGRANGIAN;
         xs = vzero<DIM>();
         drho = 0.0f;
         // Density diffusion (delta-SPH) within one material (fluid, one body), as in

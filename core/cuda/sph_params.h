@@ -56,6 +56,13 @@
 #define MF_ART_STRESS_FROM_STRESS 0     /* sigma = -P I + S (Gray, Monaghan & Swift 2001) */
 #define MF_ART_STRESS_FROM_DEVIATORIC 1 /* S alone */
 
+/* The elastic solid's formulation (`solid_formulation`). */
+#define MF_SOLID_JAUMANN 0           /* updated Lagrangian, the Jaumann stress rate: the paper's
+                                        eqs. (11)-(16) */
+#define MF_SOLID_TOTAL_LAGRANGIAN 1  /* total Lagrangian (O'Connor & Rogers 2021): the stress
+                                        from the deformation gradient on the reference
+                                        configuration, Saint Venant-Kirchhoff */
+
 /* How wall particles act (`wall_coupling`). */
 #define MF_WALL_COUPLING_LENNARD_JONES_ONLY 0 /* eq. (17) alone: the paper's walls */
 #define MF_WALL_COUPLING_DYNAMIC 1            /* dynamic walls (Crespo et al. 2007), with eq. (17) */
@@ -123,6 +130,17 @@ typedef struct SphParams {
                                       density, whose part drove a particle-scale density mode
                                       in a fine plate (docs/reference/accuracy.md); 0: from the whole
                                       sigma = -P I + S (Gray et al. 2001), the default */
+    int32_t solid_formulation; /* MF_SOLID_*: JAUMANN, the paper's rate form (the default), or
+                                  TOTAL_LAGRANGIAN (O'Connor & Rogers 2021, J. Fluids Struct.
+                                  104, 103312): per body the deformation gradient
+                                  F = I + sum_j V0_j (u_j - u_i) (x) L_i grad W0_ij on the
+                                  reference configuration, the Saint Venant-Kirchhoff stress,
+                                  and the internal force sum_j V0_i V0_j (P_i L_i + P_j L_j)
+                                  grad W0_ij; the pairs of one body skip eq. (16)'s stress
+                                  term; no Jaumann rate, no artificial stress */
+    float hourglass;       /* [-] alpha of the hourglass control of Ganzenmueller 2015 (total
+                              Lagrangian only): a pair force against the part of the pair's
+                              separation that F does not predict; 0 = off */
 
     /* ---- boundary particles: eq. (17) ---- */
     float lj_c0;           /* [L/T^2] C0, strength of the Lennard-Jones force */

@@ -19,3 +19,4 @@ pub mod scheme;
 pub mod solver;
 pub mod state;
 pub mod step;
+pub mod tlsph;

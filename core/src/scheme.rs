@@ -159,6 +159,20 @@ choice! {
 }
 
 choice! {
+    /// How an elastic body's stress is found.
+    pub enum SolidFormulation {
+        /// Updated Lagrangian: the Jaumann stress rate, eqs. (11)-(16), integrated in
+        /// time, and the solid's pressure from its continuity density (the paper's).
+        Jaumann = "jaumann" => MF_SOLID_JAUMANN,
+        /// Total Lagrangian (O'Connor & Rogers 2021; Ganzenmueller 2015's hourglass control):
+        /// the deformation gradient on the reference configuration with a corrected kernel
+        /// gradient, the Saint Venant-Kirchhoff stress, mu = shear_modulus,
+        /// lambda = rho c^2 - 2 mu / 3; free of the tensile instability.
+        TotalLagrangian = "total-lagrangian" => MF_SOLID_TOTAL_LAGRANGIAN,
+    }
+}
+
+choice! {
     /// How wall particles act on the fluid and the bodies.
     pub enum WallCoupling {
         /// Dynamic walls (Crespo, Gomez-Gesteira & Dalrymple 2007): wall particles take
@@ -435,6 +449,23 @@ table! {
             check: [Fraction("Molteni & Colagrossi 2009 use 0.1"); continuity_only, "with the continuity density only"],
             param: [p.solid_density_diffusion],
         },
+        /// How a body's stress is found: the paper's Jaumann rate, or total Lagrangian
+        /// (the stress from the deformation since the start; `density_diffusion` is inert
+        /// there: the density is rho0 / det F).
+        formulation: SolidFormulation {
+            default: [SolidFormulation::Jaumann, "the paper's, for now"],
+            paper: [is SolidFormulation::Jaumann, "eqs. (11)-(16)"],
+            check: [Any; total_lagrangian_without_artificial_stress, "\"total-lagrangian\" with artificial_stress = 0"],
+            param: [p.solid_formulation],
+        },
+        /// [-] alpha of Ganzenmueller 2015's hourglass control (total Lagrangian only):
+        /// damps the zero-energy modes that the deformation gradient does not see.
+        hourglass: f64 {
+            default: [0.1, "TrixiParticles' default for Ganzenmueller's penalty force"],
+            paper: [is 0.1, "inert: the paper's solids are updated Lagrangian"],
+            check: [NonNegative],
+            param: [p.hourglass],
+        },
     }
 }
 
@@ -659,6 +690,21 @@ fn below_tait_stiffness(s: &SceneFile, p: &f64) -> Result<(), Refusal> {
     if *p > b {
         return Err(Refusal::new(format!(
             "must not exceed the Tait stiffness rho0 c0^2 / gamma = {b} (a few rho0 U^2 is enough), found {p}"
+        )));
+    }
+    Ok(())
+}
+
+/// The total-Lagrangian stress has no tensile instability to hold off: the artificial
+/// stress acts on the Jaumann formulation only.
+fn total_lagrangian_without_artificial_stress(
+    s: &SceneFile,
+    f: &SolidFormulation,
+) -> Result<(), Refusal> {
+    let art = s.solid.as_ref().map_or(0.0, |m| m.artificial_stress);
+    if *f == SolidFormulation::TotalLagrangian && art > 0.0 {
+        return Err(Refusal::new(format!(
+            "\"total-lagrangian\" is free of the tensile instability: set artificial_stress = 0 (found {art})"
         )));
     }
     Ok(())

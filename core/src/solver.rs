@@ -158,9 +158,19 @@ pub trait Solver: Send {
     /// Density by summation, eq. (8) (nothing for the continuity form); the Tait equation
     /// of state, eq. (9), and the solid pressure law; the artificial stress of solids.
     fn density(&mut self);
+    /// The total-Lagrangian bodies' stress (`[solid] formulation = "total-lagrangian"`,
+    /// `crate::tlsph`): the deformation gradient from the displacements, the Saint
+    /// Venant-Kirchhoff stress, and its Cauchy pressure, deviator and density written into
+    /// p, S and rho, where the force stage reads them. Nothing under the Jaumann rate (the
+    /// default does nothing).
+    fn solid_stress(&mut self) {}
     /// Accelerations: eqs. (7), (10), (16), (17), laminar viscosity, artificial stress,
     /// gravity.
     fn forces(&mut self);
+    /// The total-Lagrangian bodies' internal force and hourglass control, added to the
+    /// force stage's accelerations (which left out the stress term between particles of one
+    /// total-Lagrangian body). Nothing under the Jaumann rate (the default does nothing).
+    fn solid_forces(&mut self) {}
     /// Rates from the current velocities: d rho/dt (continuity, with the density diffusion
     /// of Molteni & Colagrossi 2009 where `density_diffusion` > 0), the XSPH velocity of
     /// eq. (18), and, with solids, the velocity gradient eq. (15), strain and rotation
@@ -177,7 +187,8 @@ pub trait Solver: Send {
     fn time_step(&mut self);
     /// v += dt a.
     fn kick(&mut self);
-    /// x += dt (v + xsph), rho += dt d rho/dt, S += dt dS/dt; advances the clock.
+    /// x += dt (v + xsph), rho += dt d rho/dt, S += dt dS/dt, and the total-Lagrangian
+    /// bodies' displacement u += dt (v + xsph); advances the clock.
     fn drift(&mut self);
     /// The forward Euler's `drift` then `kick` (the positions move with the old velocity).
     /// A backend may do both in one pass over the particles (the CUDA backend does).
@@ -192,12 +203,15 @@ pub trait Solver: Send {
     fn step(&mut self) {
         self.build_grid();
         self.density();
+        self.solid_stress();
         if self.params().integrator as u32 == MF_INTEGRATOR_EULER {
             self.forces_and_rates();
+            self.solid_forces();
             self.time_step();
             self.drift_kick();
         } else {
             self.forces();
+            self.solid_forces();
             self.time_step();
             self.kick();
             self.rates();

@@ -11,6 +11,9 @@
 //! over the domain, and sampling leaves the GPU's stepping unchanged, bit for bit. The force
 //! monitors' device sums (`Solver::wall_forces`, `cuda/monitor.cu`) against the read-back
 //! path (`monitor::wall_force`) on wall objects in flow, with and without bodies.
+//! Total-Lagrangian bodies (`cuda/tlsph.cu`): the stage scenes with `solid_stress`,
+//! `solid_forces` and the displacements compared too (2D and 3D, both integrators), and runs
+//! of 100-200 steps through captured graphs, one with a body removed halfway.
 //!
 //! The tests that need a GPU are `#[ignore]`d unless the build had `MESHFREE_REQUIRE_CUDA=1`
 //! (`build.rs` turns it into the cfg `meshfree_require_cuda`); `-- --include-ignored` runs
@@ -27,7 +30,7 @@ use meshfree_core::monitor;
 use meshfree_core::params::MF_INTEGRATOR_SYMPLECTIC_EULER;
 use meshfree_core::params::{
     self, SphParams, MF_DENSITY_CONTINUITY, MF_DENSITY_SUMMATION, MF_DIFFUSION_ANTUONO,
-    MF_DIFFUSION_FOURTAKAS, MF_DIFFUSION_MOLTENI, MF_INTEGRATOR_EULER,
+    MF_DIFFUSION_FOURTAKAS, MF_DIFFUSION_MOLTENI, MF_INTEGRATOR_EULER, MF_SOLID_TOTAL_LAGRANGIAN,
 };
 use meshfree_core::particle::{Kind, Particle};
 use meshfree_core::solver::{PointSample, Setup, Solver};
@@ -475,6 +478,47 @@ fn cmp_drift_kick<D: Dim>(c: &mut CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u3
     g.upload_state(c.state());
 }
 
+/// After `solid_stress` (total-Lagrangian bodies, `cuda/tlsph.cu`): the pressure, density
+/// and deviatoric stress it writes into the solids' slots (the others are untouched).
+fn cmp_solid_stress<D: Dim>(c: &CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u32]) {
+    let (cs, gs) = (c.state(), g.download_state());
+    close("solid_stress rho", ids, 1, &cs.rho, &gs.rho, 2e-5, 0.0);
+    close(
+        "solid_stress pressure",
+        ids,
+        1,
+        &cs.p,
+        &gs.p,
+        1e-4,
+        1e-4 * max_abs(&cs.p),
+    );
+    if let (Some(a), Some(b)) = (&cs.solid, &gs.solid) {
+        close_m::<D>("solid_stress deviator", ids, &a.stress, &b.stress, 1e-4);
+    }
+    eprintln!("  solid_stress: as the CPU's");
+    g.upload_state(cs);
+}
+
+/// After `solid_forces`: the accelerations with the internal force and hourglass added.
+fn cmp_solid_forces<D: Dim>(c: &CpuSolver<D>, g: &mut CudaSolver<D>, ids: &[u32]) {
+    let (cs, gs) = (c.state(), g.download_state());
+    close_v::<D>("solid_forces acc", ids, &cs.acc, &gs.acc, 1e-4, 0.0);
+    g.upload_state(cs);
+}
+
+/// The total-Lagrangian displacements u (solid space, by id rank) against the CPU's:
+/// absolute tolerance `scale` x the largest.
+fn cmp_displacement<D: Dim>(c: &CpuSolver<D>, g: &mut CudaSolver<D>, scale: f32) {
+    let uc = &c.tl_bodies().expect("a total-Lagrangian scene").disp;
+    let ug = g.tl_displacement().expect("the GPU holds the bodies too");
+    let ids: Vec<u32> = c.tl_bodies().expect("checked").reference.id.clone();
+    close_v::<D>("displacement u", &ids, uc, &ug, scale, 1e-9);
+}
+
+fn total_lagrangian(p: &SphParams) -> bool {
+    p.solid_formulation as u32 == MF_SOLID_TOTAL_LAGRANGIAN
+}
+
 fn stages<D: Dim>(dim: usize, v: Variant) {
     stages_on::<D>(&format!("{v:?}"), scene(dim, v));
 }
@@ -531,6 +575,8 @@ fn stages_on<D: Dim>(what: &str, setup: Setup) {
         g.info().device
     );
     let euler = p.integrator as u32 == MF_INTEGRATOR_EULER;
+    let tl = total_lagrangian(&p);
+    assert_eq!(tl, c.tl_bodies().is_some());
     for lanes in [8, 4, 2, 1] {
         // Each entry of the neighbour kernels: loops split over 8, 4 or 2 lanes per particle
         // (small systems use 4 in 2D and 8 in 3D; large ones fewer), and one thread per
@@ -580,6 +626,11 @@ fn stages_on<D: Dim>(what: &str, setup: Setup) {
             );
         }
         cmp_density(&c, &mut g, &ids, &p);
+        if tl {
+            c.solid_stress();
+            g.solid_stress();
+            cmp_solid_stress(&c, &mut g, &ids);
+        }
         // The order of `Solver::step`.
         if euler {
             // The CPU runs rates then forces (the trait's default); the GPU one fused pass
@@ -587,6 +638,11 @@ fn stages_on<D: Dim>(what: &str, setup: Setup) {
             c.forces_and_rates();
             g.forces_and_rates();
             cmp_forces_and_rates(&c, &mut g, &ids);
+            if tl {
+                c.solid_forces();
+                g.solid_forces();
+                cmp_solid_forces(&c, &mut g, &ids);
+            }
             cmp_time_step(&mut c, &mut g);
             c.drift_kick();
             g.drift_kick();
@@ -595,6 +651,11 @@ fn stages_on<D: Dim>(what: &str, setup: Setup) {
             c.forces();
             g.forces();
             cmp_forces(&c, &mut g, &ids);
+            if tl {
+                c.solid_forces();
+                g.solid_forces();
+                cmp_solid_forces(&c, &mut g, &ids);
+            }
             cmp_time_step(&mut c, &mut g);
             c.kick();
             g.kick();
@@ -605,6 +666,9 @@ fn stages_on<D: Dim>(what: &str, setup: Setup) {
             c.drift();
             g.drift();
             cmp_drift(&mut c, &mut g, &ids);
+        }
+        if tl {
+            cmp_displacement(&c, &mut g, 1e-4);
         }
     }
     // Health check and read-back by id.
@@ -752,7 +816,11 @@ fn bodies_in_contact(dim: usize, v: Variant, whole: bool) -> Setup {
 /// bonded to it (`same_body`): XSPH, the velocity gradient and the artificial stress cross
 /// the cut.
 fn clamped_body(dim: usize, v: Variant) -> Setup {
-    let mut setup = scene(dim, v);
+    clamped_of(scene(dim, v))
+}
+
+/// `setup`'s elastic body cut in two across x at its centre, as `clamped_body`.
+fn clamped_of(mut setup: Setup) -> Setup {
     let solid: Vec<f32> = (setup.particles.iter())
         .filter(|q| q.kind == Kind::Solid)
         .map(|q| q.position[0])
@@ -2113,4 +2181,157 @@ fn wall_forces_3d_bodies_dynamic_no_slip_walls() {
 fn wall_forces_3d_obstacle_dynamic_no_slip_walls() {
     let setup = obstacle_no_slip(obstacle_in_flow(3, V_3D_B), 2.0);
     wall_force_parity::<D3>("obstacle, V_3D_B + Morris no-slip", setup, &[OBSTACLE, 0]);
+}
+
+/// `setup` with total-Lagrangian bodies (`[solid] formulation = "total-lagrangian"`,
+/// `cuda/tlsph.cu`, twin `src/backend/cpu/tlsph.rs`) and the hourglass control at `alpha`;
+/// its variant has no artificial stress (the formulation refuses it).
+fn total_lagrangian_of(mut setup: Setup, alpha: f32) -> Setup {
+    assert_eq!(setup.params.artificial_stress, 0.0);
+    setup.params.solid_formulation = MF_SOLID_TOTAL_LAGRANGIAN as i32;
+    setup.params.hourglass = alpha;
+    setup
+}
+
+const V_2D_A_TL: Variant = Variant {
+    art_stress: false,
+    ..V_2D_A
+};
+const V_2D_B_TL: Variant = Variant {
+    art_stress: false,
+    ..V_2D_B
+};
+const V_3D_B_TL: Variant = Variant {
+    art_stress: false,
+    ..V_3D_B
+};
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_2d_total_lagrangian_clamped_plate_summation_euler() {
+    let setup = total_lagrangian_of(clamped_body(2, V_2D_A_TL), 0.1);
+    stages_on::<D2>(
+        "V_2D_A, total Lagrangian, clamp holding half the disc",
+        setup,
+    );
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_2d_total_lagrangian_bodies_in_contact_continuity_symplectic() {
+    let setup = total_lagrangian_of(bodies_in_contact(2, V_2D_B_TL, false), 0.1);
+    stages_on::<D2>("V_2D_B, total Lagrangian, bodies in contact", setup);
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_3d_total_lagrangian_clamped_block_continuity_euler() {
+    let setup = total_lagrangian_of(clamped_body(3, V_3D_B_TL), 0.1);
+    stages_on::<D3>(
+        "V_3D_B, total Lagrangian, clamp holding half the sphere",
+        setup,
+    );
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_3d_total_lagrangian_clamped_block_continuity_symplectic() {
+    let setup = total_lagrangian_of(clamped_body(3, V_3D_A), 0.1);
+    stages_on::<D3>(
+        "V_3D_A, total Lagrangian, clamp holding half the sphere",
+        setup,
+    );
+}
+
+/// A total-Lagrangian run of `steps` steps from a calm start, the GPU's through
+/// `Solver::advance` (captured graphs), `remove` (a group) taken away from both halfway:
+/// diagnostics as `long_run_on`, and the displacements within `scale` of the largest.
+fn tl_long_run<D: Dim>(what: &str, setup: Setup, steps: u64, remove: Option<u32>) {
+    let mut g = gpu::<D>(&setup);
+    let mut c = CpuSolver::<D>::new(setup);
+    let half = steps / 2;
+    c.advance(half);
+    g.advance(half);
+    if let Some(grp) = remove {
+        let (rc, rg) = (c.remove_group(grp), g.remove_group(grp));
+        assert_eq!(rc, rg, "remove_group({grp}): removed cpu {rc} gpu {rg}");
+        assert!(rc > 0, "remove_group({grp}) removed nothing");
+    }
+    c.advance(steps - half);
+    g.advance(steps - half);
+    let (dc, dg) = (c.diagnostics(), g.diagnostics());
+    let dim = D::D;
+    eprintln!("{dim}D {what} after {steps} steps:\n  cpu {dc:?}\n  gpu {dg:?}");
+    assert!(c.check().is_ok() && g.check().is_ok(), "a blow-up");
+    assert_eq!(
+        (dc.fluid, dc.solid, dc.boundary),
+        (dg.fluid, dg.solid, dg.boundary)
+    );
+    let rel = |a: f64, b: f64| (a - b).abs() / a.abs().max(1e-30);
+    assert!(
+        rel(dc.time, dg.time) < 1e-3,
+        "time: cpu {} gpu {}",
+        dc.time,
+        dg.time
+    );
+    assert!(
+        rel(dc.kinetic_energy, dg.kinetic_energy) < 2e-2,
+        "kinetic energy: cpu {} gpu {} (rtol 2e-2)",
+        dc.kinetic_energy,
+        dg.kinetic_energy
+    );
+    assert!(
+        (dc.density_error - dg.density_error).abs() < 5e-3,
+        "density error: cpu {} gpu {} (atol 5e-3)",
+        dc.density_error,
+        dg.density_error
+    );
+    cmp_displacement(&c, &mut g, 2e-2);
+}
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn long_run_2d_total_lagrangian_clamped_plate_symplectic() {
+    let setup = total_lagrangian_of(clamped_of(scene_with(2, V_2D_B_TL, 0.05)), 0.1);
+    tl_long_run::<D2>("total Lagrangian clamped plate (V_2D_B)", setup, 200, None);
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn long_run_3d_total_lagrangian_clamped_block_symplectic() {
+    // The symplectic Euler: under the forward Euler this body's elastic modes grow (as an
+    // oscillator's do) and blew the run up on both backends alike by step 200.
+    let setup = total_lagrangian_of(clamped_of(scene_with(3, V_3D_A, 0.05)), 0.1);
+    tl_long_run::<D3>("total Lagrangian clamped block (V_3D_A)", setup, 200, None);
+}
+/// The slot map after `remove_group` (`sph_tl_slots`; twin `TlBodies::map_slots`): one of
+/// the bodies (the solid layer on the wall, group 4) removed halfway.
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn long_run_2d_total_lagrangian_remove_a_body() {
+    let mut setup = bodies_in_contact(2, V_2D_B_TL, false);
+    for q in setup.particles.iter_mut() {
+        for a in 0..2 {
+            q.velocity[a] *= 0.05 / 0.3;
+        }
+    }
+    let setup = total_lagrangian_of(setup, 0.1);
+    tl_long_run::<D2>("total Lagrangian bodies, one removed", setup, 100, Some(4));
 }

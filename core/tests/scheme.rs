@@ -305,3 +305,15 @@ fn the_committed_reference_is_current() {
         reference::PATH
     );
 }
+
+#[test]
+fn total_lagrangian_refuses_the_artificial_stress() {
+    let mut s = example();
+    let solid = s.file.solid.as_mut().unwrap();
+    solid.formulation = meshfree_core::scheme::SolidFormulation::TotalLagrangian;
+    solid.artificial_stress = 0.3;
+    let e = format!("{:#}", s.revalidate().unwrap_err());
+    assert!(e.contains("solid.formulation"), "{e}");
+    s.file.solid.as_mut().unwrap().artificial_stress = 0.0;
+    s.revalidate().unwrap();
+}

@@ -25,12 +25,17 @@ fn pressure_noise(solid: &str) -> f64 {
     let dx = r.h / ratio;
     let t_end = 0.006;
     // The case's own density diffusion out; `solid` in.
-    let text = plate::scene_text(&r, dx, t_end)
-        .replace(
-            &format!("density_diffusion = {:e}\n", plate::SOLID_DIFFUSION),
-            "",
-        )
-        .replace("shear_modulus", &format!("{solid}\nshear_modulus"));
+    let text = plate::scene_text(
+        &r,
+        dx,
+        t_end,
+        meshfree_core::scheme::SolidFormulation::Jaumann,
+    )
+    .replace(
+        &format!("density_diffusion = {:e}\n", plate::SOLID_DIFFUSION),
+        "",
+    )
+    .replace("shear_modulus", &format!("{solid}\nshear_modulus"));
     let scene = Scene::from_toml(&text, "art-stress-test").expect("scene");
     let mut setup = scene.setup().expect("setup");
     for q in setup.particles.iter_mut().filter(|q| q.group == 1) {

@@ -19,6 +19,8 @@ pub const MF_INTERFACE_PRESSURE: u32 = 0;
 pub const MF_INTERFACE_STRESS: u32 = 1;
 pub const MF_ART_STRESS_FROM_STRESS: u32 = 0;
 pub const MF_ART_STRESS_FROM_DEVIATORIC: u32 = 1;
+pub const MF_SOLID_JAUMANN: u32 = 0;
+pub const MF_SOLID_TOTAL_LAGRANGIAN: u32 = 1;
 pub const MF_WALL_COUPLING_LENNARD_JONES_ONLY: u32 = 0;
 pub const MF_WALL_COUPLING_DYNAMIC: u32 = 1;
 #[repr(C)]
@@ -94,6 +96,10 @@ pub struct SphParams {
     pub wall_contact: i32,
     #[doc = " 1: the artificial stress is taken from the deviatoric\nstress S alone, without the pressure of the continuity\ndensity, whose part drove a particle-scale density mode\nin a fine plate (docs/reference/accuracy.md); 0: from the whole\nsigma = -P I + S (Gray et al. 2001), the default"]
     pub artificial_stress_from: i32,
+    #[doc = " MF_SOLID_*: JAUMANN, the paper's rate form (the default), or\nTOTAL_LAGRANGIAN (O'Connor & Rogers 2021, J. Fluids Struct.\n104, 103312): per body the deformation gradient\nF = I + sum_j V0_j (u_j - u_i) (x) L_i grad W0_ij on the\nreference configuration, the Saint Venant-Kirchhoff stress,\nand the internal force sum_j V0_i V0_j (P_i L_i + P_j L_j)\ngrad W0_ij; the pairs of one body skip eq. (16)'s stress\nterm; no Jaumann rate, no artificial stress"]
+    pub solid_formulation: i32,
+    #[doc = " [-] alpha of the hourglass control of Ganzenmueller 2015 (total\nLagrangian only): a pair force against the part of the pair's\nseparation that F does not predict; 0 = off"]
+    pub hourglass: f32,
     #[doc = " [L/T^2] C0, strength of the Lennard-Jones force"]
     pub lj_c0: f32,
     #[doc = " [L] r0, the initial particle spacing"]

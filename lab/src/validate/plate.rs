@@ -17,6 +17,20 @@
 //! particle-scale (odd-even) pressure mode grows at H / dx = 32 and damped the plate by 0.43
 //! per cycle; the diffusion keeps it down (docs/reference/accuracy.md, oscillating plate).
 //!
+//! Both solid formulations run (`[solid] formulation`): the paper's Jaumann rate with the
+//! terms above, and the total-Lagrangian one (`meshfree_core::tlsph`), which needs neither
+//! the artificial stress nor the density diffusion (no tensile instability; its density is
+//! rho0 / det F) and takes the hourglass control at its default. The issue's target for the
+//! latter: the frequency within 2 % at H / dx = 8. Its rows are informational unless they
+//! pass the same bounds. Measured (CPU, release, 2.5 periods, `tests::measure_plate`): total
+//! Lagrangian at H / dx = 4 period +33.4 %, amplitude +28.4 %, decay 0.001 per cycle; at 8
+//! +9.4 %, +6.9 %, 0.000 (the Jaumann rate at 4: +42.8 %, +36.6 %, 0.105; at 8: +17.6 %,
+//! +14.5 %, 0.040). The 2 % target
+//! at 8 is not met yet. On the GPU (full tier, 3.5 periods, H100, `cuda/tlsph.cu`): total
+//! Lagrangian period +9.4 % at H / dx = 8, +3.3 % at 16, +1.5 % at 32 (amplitude +6.9 %,
+//! +1.6 %, +0.2 %; decay 0.000 per cycle; observed order of the period error 1.34); the
+//! Jaumann rate +17.7 %, +7.6 %, +7.5 % (amplitude +14.5 %, +7.4 %, +6.1 %; order 0.62).
+//!
 //! Quick tier: H / dx = 4 (coarse: the plate is soft and the clamp compliant), 2.5 periods,
 //! regression bounds. Full tier (GPU): H / dx = 8, 16, 32, 3.5 periods, the JSON's tolerances
 //! on the finest, and the observed order of the period error.
@@ -24,6 +38,7 @@
 use super::{convergence, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::scene::Scene;
+use meshfree_core::scheme::SolidFormulation;
 
 pub const NAME: &str = "plate";
 pub const DESCRIPTION: &str = "Oscillating cantilever plate (Gray, Monaghan & Swift 2001), 2D plane strain, \
@@ -81,7 +96,13 @@ pub fn reference() -> Reference {
 
 /// The scene at spacing `dx`: a clamp box x in [-L/4, 0] (driven, motion zero) and the
 /// plate x in [0, L], both y in [-H/2, H/2], on one lattice.
-pub fn scene_text(r: &Reference, dx: f64, t_end: f64) -> String {
+pub fn scene_text(r: &Reference, dx: f64, t_end: f64, f: SolidFormulation) -> String {
+    let solid_scheme = match f {
+        SolidFormulation::Jaumann => {
+            format!("artificial_stress = {ART_STRESS:e}\ndensity_diffusion = {SOLID_DIFFUSION:e}")
+        }
+        SolidFormulation::TotalLagrangian => "formulation = \"total-lagrangian\"".to_string(),
+    };
     format!(
         r#"dimension = 2
 name = "validate-plate"
@@ -106,8 +127,7 @@ alpha = {ALPHA:e}
 density = {rho:e}
 sound_speed = {c0:e}    # c_s = sqrt(K / rho)
 shear_modulus = {g:e}
-artificial_stress = {ART_STRESS:e}
-density_diffusion = {SOLID_DIFFUSION:e}
+{solid_scheme}
 
 [[solids]]              # the clamp: held fixed, bonded to the plate
 shape = "box"
@@ -168,8 +188,39 @@ struct Outcome {
     run: RunInfo,
 }
 
-fn simulate(ctx: &Ctx, r: &Reference, dx: f64, t_end: f64) -> anyhow::Result<Outcome> {
-    let scene = Scene::from_toml(&scene_text(r, dx, t_end), "validate:plate")?;
+/// The formulation's name in the scene file.
+pub fn formulation_name(f: SolidFormulation) -> &'static str {
+    match f {
+        SolidFormulation::Jaumann => "jaumann",
+        SolidFormulation::TotalLagrangian => "total-lagrangian",
+    }
+}
+
+pub fn simulate_tip(
+    ctx: &Ctx,
+    ratio: f64,
+    cycles: f64,
+    f: SolidFormulation,
+) -> anyhow::Result<(f64, f64, f64, f64, f64)> {
+    let r = reference();
+    let o = simulate(ctx, &r, r.h / ratio, cycles * r.period, f)?;
+    Ok((
+        o.period,
+        o.amplitude,
+        o.decay,
+        o.mean_dt,
+        o.run.wall_seconds,
+    ))
+}
+
+fn simulate(
+    ctx: &Ctx,
+    r: &Reference,
+    dx: f64,
+    t_end: f64,
+    f: SolidFormulation,
+) -> anyhow::Result<Outcome> {
+    let scene = Scene::from_toml(&scene_text(r, dx, t_end, f), "validate:plate")?;
     let mut setup = scene.setup()?;
     // The initial velocity field of the first mode on the plate (group 1; the clamp is 0).
     let tip_x = setup
@@ -193,7 +244,11 @@ fn simulate(ctx: &Ctx, r: &Reference, dx: f64, t_end: f64) -> anyhow::Result<Out
             / tip.len() as f64
     };
     let y0 = y_tip(&setup.particles);
-    let resolution = format!("dx = {dx} (H / dx = {})", (r.h / dx).round());
+    let resolution = format!(
+        "dx = {dx} (H / dx = {}), {}",
+        (r.h / dx).round(),
+        formulation_name(f)
+    );
     let mut sim = Sim::new(ctx, setup, scene.gates(), resolution)?;
     let samples = (t_end / (r.period / 100.0)).ceil() as usize;
     let mut series = vec![(0.0, 0.0)];
@@ -254,7 +309,19 @@ fn simulate(ctx: &Ctx, r: &Reference, dx: f64, t_end: f64) -> anyhow::Result<Out
 }
 
 pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
+    let mut rows = run_formulation(ctx, SolidFormulation::Jaumann)?;
+    // The total-Lagrangian rows: informational unless they pass the same bounds.
+    for row in run_formulation(ctx, SolidFormulation::TotalLagrangian)? {
+        rows.push(if row.pass { row } else { row.informational() });
+    }
+    Ok(rows)
+}
+
+/// The plate's rows with one solid formulation.
+fn run_formulation(ctx: &Ctx, f: SolidFormulation) -> anyhow::Result<Vec<Check>> {
     let r = reference();
+    let tl = f == SolidFormulation::TotalLagrangian;
+    let name = formulation_name(f);
     let quick = ctx.tier == Tier::Quick;
     let (ratios, cycles): (&[f64], f64) = if quick {
         (&[4.0], 2.5)
@@ -264,15 +331,19 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
     let amp_ref = V_F * r.c0 / r.omega;
     let mut outs = Vec::new();
     for &ratio in ratios {
-        let o = simulate(ctx, &r, r.h / ratio, cycles * r.period)?;
+        let o = simulate(ctx, &r, r.h / ratio, cycles * r.period, f)?;
         ctx.log(&format!(
-            "H / dx = {ratio}: period {:.4} s, amplitude {:.5} m, decay {:.3} per cycle, mean dt {:.2e} s, {:.1} s",
+            "{name}, H / dx = {ratio}: period {:.4} s, amplitude {:.5} m, decay {:.3} per cycle, mean dt {:.2e} s, {:.1} s",
             o.period, o.amplitude, o.decay, o.mean_dt, o.run.wall_seconds
         ));
         outs.push(o);
     }
     let fine = outs.last().expect("one run");
-    let png = "plate-tip.png";
+    let png = if tl {
+        "plate-tip-total-lagrangian.png"
+    } else {
+        "plate-tip.png"
+    };
     let t_max = fine.series.last().map_or(0.0, |s| s.0);
     let theory: Vec<(f64, f64)> = (0..=400)
         .map(|k| {
@@ -284,7 +355,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
         &ctx.out_dir.join(png),
         &Figure {
             title: &format!(
-                "Oscillating plate, H / dx = {}: tip y displacement",
+                "Oscillating plate ({name}), H / dx = {}: tip y displacement",
                 (r.h / fine.dx).round()
             ),
             x_label: "t [s]",
@@ -361,14 +432,27 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
             basis,
             run,
         )
-        .with_note(format!("alpha = {ALPHA}, artificial stress {ART_STRESS}, density diffusion in the body {SOLID_DIFFUSION}; {dt_note}")),
+        .with_note(if tl {
+            format!("total Lagrangian: alpha = {ALPHA}, hourglass control at its default, no artificial stress; {dt_note}")
+        } else {
+            format!("alpha = {ALPHA}, artificial stress {ART_STRESS}, density diffusion in the body {SOLID_DIFFUSION}; {dt_note}")
+        }),
     ];
+    if tl {
+        for row in rows.iter_mut() {
+            row.quantity = format!("{} (total Lagrangian)", row.quantity);
+        }
+    }
     if outs.len() > 1 {
         let dx: Vec<f64> = outs.iter().map(|o| o.dx).collect();
         let runs: Vec<RunInfo> = outs.iter().map(|o| o.run.clone()).collect();
         rows.push(convergence(
             NAME,
-            "the period error",
+            if tl {
+                "the period error (total Lagrangian)"
+            } else {
+                "the period error"
+            },
             &dx,
             &outs.iter().map(period_err).collect::<Vec<_>>(),
             &runs,
@@ -392,6 +476,43 @@ mod tests {
         );
         // Monotone along the plate.
         assert!(mode_shape(0.5 * l, l) > 0.0 && mode_shape(0.5 * l, l) < 1.0);
+    }
+
+    /// The period, amplitude and decay of both formulations at the H / dx of
+    /// `MESHFREE_PLATE_RATIOS` (default "4,8"), 2.5 periods, on the CPU: a measurement
+    /// (release build: `cargo test --release -p meshfree-lab --lib measure_plate --
+    /// --ignored --nocapture`).
+    #[test]
+    #[ignore = "a measurement: minutes in a release build"]
+    fn measure_plate() {
+        use meshfree_core::backend::BackendChoice;
+        let ratios: Vec<f64> = std::env::var("MESHFREE_PLATE_RATIOS")
+            .unwrap_or_else(|_| "4,8".into())
+            .split(',')
+            .map(|s| s.trim().parse().expect("a number"))
+            .collect();
+        let out = std::env::temp_dir();
+        let ctx = Ctx {
+            tier: Tier::Quick,
+            backend: BackendChoice::Cpu,
+            out_dir: &out,
+            verbose: true,
+        };
+        let r = reference();
+        for f in [SolidFormulation::TotalLagrangian, SolidFormulation::Jaumann] {
+            for &ratio in &ratios {
+                let (period, amp, decay, dt, wall) = simulate_tip(&ctx, ratio, 2.5, f).unwrap();
+                eprintln!(
+                    "{} H/dx = {ratio}: period {period:.4} s ({:+.1} % of {:.4}), amplitude {amp:.5} m \
+                     ({:+.1} % of {:.5}), decay {decay:.3} per cycle, mean dt {dt:.2e}, {wall:.0} s",
+                    formulation_name(f),
+                    100.0 * (period / r.period - 1.0),
+                    r.period,
+                    100.0 * (amp / (V_F * r.c0 / r.omega) - 1.0),
+                    V_F * r.c0 / r.omega
+                );
+            }
+        }
     }
 
     #[test]

@@ -9,6 +9,7 @@ use crate::dim::Dim;
 use crate::kernel;
 use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID, MF_NO_SLIP_MORRIS};
 use crate::state::State;
+use crate::tlsph::total_lagrangian;
 
 /// Lennard-Jones boundary force per unit mass, eq. (17): C0 [(r0/r)^p1 - (r0/r)^p2] r_ij/r,
 /// acting for r < r0 (repulsive), or within the support where the scene asks for the
@@ -220,19 +221,23 @@ impl<'a, D: Dim> ForceSum<'a, D> {
         let vr = D::dot(vij, r);
         let bonded = same_body(p, ki, kj, group[i], group[j]);
         // Stress term, eq. (16) (eq. (7) when both are fluid: sigma = -P I); across
-        // two objects the pressure part only (`whole_stress_pair`).
+        // two objects the pressure part only (`whole_stress_pair`). Within a
+        // total-Lagrangian body the internal force replaces it (`Solver::solid_forces`).
         let whole = whole_stress_pair(p, bonded);
-        let sj = match stress {
-            Some(st) if whole => st[j],
-            _ => D::zero(),
-        };
-        let sig_i = if whole { self.sig_i } else { self.sig_i_p };
-        let sig_j = (sj - D::identity() * pr[j]) * (1.0 / (rhoj * rhoj));
-        if kj as u32 == MF_KIND_BOUNDARY {
-            let sig = wall_pair_stress::<D>(sig_i, sig_j, pi, pr[j], rhoi, rhoj);
-            *acc += D::mat_vec(sig, grad_w) * mass[j];
-        } else {
-            *acc += D::mat_vec(sig_i + sig_j, grad_w) * mass[j];
+        let tl_internal = bonded && ki as u32 == MF_KIND_SOLID && total_lagrangian(p);
+        if !tl_internal {
+            let sj = match stress {
+                Some(st) if whole => st[j],
+                _ => D::zero(),
+            };
+            let sig_i = if whole { self.sig_i } else { self.sig_i_p };
+            let sig_j = (sj - D::identity() * pr[j]) * (1.0 / (rhoj * rhoj));
+            if kj as u32 == MF_KIND_BOUNDARY {
+                let sig = wall_pair_stress::<D>(sig_i, sig_j, pi, pr[j], rhoi, rhoj);
+                *acc += D::mat_vec(sig, grad_w) * mass[j];
+            } else {
+                *acc += D::mat_vec(sig_i + sig_j, grad_w) * mass[j];
+            }
         }
         // Artificial viscosity, eq. (10).
         let c_bar = 0.5 * (ci + p.sound_speed(kj));

@@ -10,6 +10,7 @@ mod probes;
 mod rates;
 mod reduce;
 mod stress;
+mod tlsph;
 
 pub use density::pressure;
 pub use forces::{cohesion_over_r, ForceSum};
@@ -19,6 +20,7 @@ pub use probes::PointSum;
 pub use rates::shift_velocity;
 pub use reduce::step_size;
 pub use stress::{artificial_stress, jacobi_eigen};
+pub use tlsph::TlBodies;
 
 use crate::consts::{
     MF_DENSITY_SANE_HIGH, MF_DENSITY_SANE_LOW, MF_FAULT_DENSITY_RANGE, MF_FAULT_ESCAPED,
@@ -41,6 +43,9 @@ pub struct CpuSolver<D: Dim> {
     grid_stale: bool,
     /// `Setup::wall_surface` (empty unless `no_slip`).
     wall_surface: Vec<[f32; 4]>,
+    /// The total-Lagrangian bodies (`crate::tlsph`); `None` under the Jaumann rate or
+    /// without solids.
+    tl: Option<TlBodies<D>>,
     time: f64,
     steps: u64,
     dt: f32,
@@ -60,8 +65,11 @@ impl<D: Dim> CpuSolver<D> {
             p.artificial_stress > 0.0,
             p.solid_rho0,
         );
+        let tl = (crate::tlsph::total_lagrangian(&p) && setup.has_solids())
+            .then(|| TlBodies::new(&p, &setup.particles));
         CpuSolver {
             params: p,
+            tl,
             state,
             grid: Grid::default(),
             grid_stale: true,
@@ -80,6 +88,20 @@ impl<D: Dim> CpuSolver<D> {
     /// The grid of the last `build_grid`.
     pub fn grid(&self) -> &Grid {
         &self.grid
+    }
+
+    /// The total-Lagrangian bodies, where the scene has them.
+    pub fn tl_bodies(&self) -> Option<&TlBodies<D>> {
+        self.tl.as_ref()
+    }
+
+    /// Sort the storage by (cell, id), and map the total-Lagrangian solid space onto it.
+    fn sort(&mut self) {
+        self.grid.build(&self.params, &mut self.state);
+        if let Some(tl) = self.tl.as_mut() {
+            tl.map_slots(&self.state);
+        }
+        self.grid_stale = false;
     }
 
     /// The step size of the last `time_step` [T].
@@ -105,14 +127,18 @@ impl<D: Dim> Solver for CpuSolver<D> {
         self.state.solid.is_some()
     }
     fn build_grid(&mut self) {
-        self.grid.build(&self.params, &mut self.state);
-        self.grid_stale = false;
+        self.sort();
     }
     fn density(&mut self) {
         density::density(&self.params, &self.grid, &mut self.state);
     }
     fn rates(&mut self) {
         rates::rates(&self.params, &self.grid, &mut self.state);
+    }
+    fn solid_stress(&mut self) {
+        if let Some(tl) = self.tl.as_mut() {
+            tl.stress(&self.params, &mut self.state);
+        }
     }
     fn forces(&mut self) {
         forces::forces(
@@ -122,6 +148,11 @@ impl<D: Dim> Solver for CpuSolver<D> {
             &mut self.state,
         );
     }
+    fn solid_forces(&mut self) {
+        if let Some(tl) = self.tl.as_ref() {
+            tl.forces(&self.params, &mut self.state);
+        }
+    }
     fn time_step(&mut self) {
         let (v, a, c) = reduce::extremes(&self.params, &self.state);
         self.dt = step_size(&self.params, c, v, a);
@@ -130,6 +161,9 @@ impl<D: Dim> Solver for CpuSolver<D> {
         integrate::kick(&self.params, self.dt, &mut self.state);
     }
     fn drift(&mut self) {
+        if let Some(tl) = self.tl.as_mut() {
+            tl.drift(&self.params, self.dt, &self.state);
+        }
         integrate::drift(&self.params, self.dt, &mut self.state);
         self.grid_stale = true;
         self.time += self.dt as f64;
@@ -197,8 +231,7 @@ impl<D: Dim> Solver for CpuSolver<D> {
     /// step's `build_grid` and `density` make them: that step then finds the storage sorted
     /// and runs as it would have without the sample, bit for bit.
     fn wall_forces(&mut self, groups: &[u32]) -> Vec<[f64; 3]> {
-        self.grid.build(&self.params, &mut self.state);
-        self.grid_stale = false;
+        self.sort();
         refresh_pressure(&self.params, &mut self.state);
         groups
             .iter()
@@ -209,6 +242,9 @@ impl<D: Dim> Solver for CpuSolver<D> {
         let before = self.state.len();
         let g = self.state.group.clone();
         self.state.retain(|i| g[i] != group);
+        if let Some(tl) = self.tl.as_mut() {
+            tl.map_slots(&self.state);
+        }
         self.grid_stale = true;
         before - self.state.len()
     }

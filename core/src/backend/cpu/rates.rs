@@ -18,6 +18,7 @@ use crate::params::{
     MF_KIND_SOLID,
 };
 use crate::state::State;
+use crate::tlsph::total_lagrangian;
 
 /// The particle shifting velocity [L/T] of a fluid particle, added to its XSPH velocity so
 /// that the drift moves it by dt dv (Lind et al. 2012, J. Comput. Phys. 231, 1499; the
@@ -116,6 +117,9 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
             }
             let (vi, rhoi) = (vel[i], rho[i]);
             let solid_i = ki as u32 == MF_KIND_SOLID;
+            // A total-Lagrangian body takes its stress from F (`Solver::solid_stress`):
+            // no Jaumann rate.
+            let jaumann_i = solid_i && !total_lagrangian(p);
             let mut grad_v = D::zero();
             let mut moment = D::zero();
             // Density diffusion (delta-SPH) within one material: between fluid particles,
@@ -184,7 +188,7 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 let rho_bar = 0.5 * (rhoi + rho[j]);
                 // XSPH, eq. (18), within one material (one body for solids).
                 o.xsph -= vij * (p.xsph * mass[j] / rho_bar * kernel::w(p, rr));
-                if solid_i {
+                if jaumann_i {
                     // Velocity gradient, eq. (15):
                     // dv^a/dx^b = sum_j m_j / rho_bar_ij (v_j - v_i)^a dW_ij/dx_i^b
                     grad_v += D::outer(-vij, grad_w) * (mass[j] / rho_bar);
@@ -200,7 +204,7 @@ pub fn rates<D: Dim>(p: &SphParams, grid: &Grid, s: &mut State<D>) {
                 // particle's material's delta and sound speed.
                 o.drho += delta * p.h * c_i * diffusion;
             }
-            if solid_i {
+            if jaumann_i {
                 // Kernel-gradient correction (Randles & Libersky 1996; Bonet & Lok 1999):
                 // for v = G x the sum above gives G A with A = sum_j V_j (x_j - x_i) (x)
                 // grad W, which is I inside a body but not at its surface, where rigid

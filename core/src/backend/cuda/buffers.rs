@@ -408,3 +408,107 @@ fn unflat_s<D: Dim>(f: &[f32], n: usize) -> Vec<D::M> {
         })
         .collect()
 }
+
+/// The total-Lagrangian bodies on the device (`cuda/tlsph.cu`), in solid space (index a =
+/// the solid particle's rank by id, `crate::tlsph::Reference`): the reference configuration,
+/// uploaded once, and what the stages keep per solid particle. Not reordered by the grid;
+/// `slot` maps solid space onto the storage after each reorder (`sph_tl_slots`).
+pub struct TlBuffers {
+    /// Solid particles.
+    pub n_solid: usize,
+    /// Particle id -> solid index (`tlsph::NONE` for other particles).
+    pub index: CudaSlice<u32>,
+    /// Its length (largest id + 1).
+    pub n_index: usize,
+    /// [L] X0, float2 (2D) / float4 (3D, w = 0).
+    pub x0: CudaSlice<f32>,
+    /// [L^d] V0.
+    pub vol: CudaSlice<f32>,
+    /// [-] L = M^-T, row-major, D x D per solid.
+    pub corr: CudaSlice<f32>,
+    /// CSR of the reference neighbours (solid indices).
+    pub start: CudaSlice<u32>,
+    pub nbr: CudaSlice<u32>,
+    /// Solid index -> storage slot (`tlsph::NONE`: removed).
+    pub slot: CudaSlice<u32>,
+    /// [L] u = x - X0, as x0.
+    pub disp: CudaSlice<f32>,
+    /// [-] H = F - I, row-major D x D.
+    pub grad: CudaSlice<f32>,
+    /// [M L^-d L^2 T^-2] P L, row-major D x D.
+    pub pk1_corr: CudaSlice<f32>,
+    /// Bytes allocated for the above.
+    pub bytes: usize,
+}
+
+/// Tensors -> row-major D x D floats each.
+fn flat_full<D: Dim>(m: &[D::M]) -> Vec<f32> {
+    m.iter()
+        .flat_map(|x| {
+            let mut r = Vec::with_capacity(D::D * D::D);
+            for a in 0..D::D {
+                for b in 0..D::D {
+                    r.push(D::entry(*x, a, b));
+                }
+            }
+            r
+        })
+        .collect()
+}
+
+impl TlBuffers {
+    /// Allocate and upload the reference configuration `r` with zero displacement, every
+    /// slot `NONE` (the first `sph_tl_slots` fills them).
+    pub fn new<D: Dim>(
+        s: &Arc<CudaStream>,
+        r: &crate::tlsph::Reference<D>,
+    ) -> Result<TlBuffers, DriverError> {
+        let n = r.len();
+        let vs = vstride::<D>();
+        let dd = D::D * D::D;
+        let mut a = Alloc { s, bytes: 0 };
+        let mut t = TlBuffers {
+            n_solid: n,
+            index: a.z(r.index_of_id.len())?,
+            n_index: r.index_of_id.len(),
+            x0: a.z(n * vs)?,
+            vol: a.z(n)?,
+            corr: a.z(n * dd)?,
+            start: a.z(n + 1)?,
+            nbr: a.z(r.nbr.len())?,
+            slot: a.z(n)?,
+            disp: a.z(n * vs)?,
+            grad: a.z(n * dd)?,
+            pk1_corr: a.z(n * dd)?,
+            bytes: 0,
+        };
+        t.bytes = a.bytes;
+        if !r.index_of_id.is_empty() {
+            s.memcpy_htod(&r.index_of_id, &mut t.index)?;
+        }
+        if n > 0 {
+            s.memcpy_htod(&flat_v::<D>(&r.x0, |_| 0.0), &mut t.x0)?;
+            s.memcpy_htod(&r.vol, &mut t.vol)?;
+            s.memcpy_htod(&flat_full::<D>(&r.corr), &mut t.corr)?;
+        }
+        s.memcpy_htod(&r.start, &mut t.start)?;
+        if !r.nbr.is_empty() {
+            s.memcpy_htod(&r.nbr, &mut t.nbr)?;
+        }
+        t.clear_slots(s)?;
+        Ok(t)
+    }
+
+    /// Every slot `NONE` (before the map of a storage whose set of solids changed).
+    pub fn clear_slots(&mut self, s: &Arc<CudaStream>) -> Result<(), DriverError> {
+        if self.n_solid > 0 {
+            s.memcpy_htod(&vec![crate::tlsph::NONE; self.n_solid], &mut self.slot)?;
+        }
+        Ok(())
+    }
+
+    /// The displacements u in solid space (read back; for tests).
+    pub fn read_disp<D: Dim>(&self, s: &Arc<CudaStream>) -> Result<Vec<D::V>, DriverError> {
+        Ok(unflat_v::<D>(&s.clone_dtoh(&self.disp)?, self.n_solid))
+    }
+}

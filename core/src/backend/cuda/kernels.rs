@@ -98,6 +98,10 @@ pub enum Family {
     WallForce,
     WallForceFluid,
     WallForceSum,
+    TlSlots,
+    TlStress,
+    TlForces,
+    TlDrift,
 }
 
 /// What the table says of a family.
@@ -135,7 +139,7 @@ const WALL_FORCE_PARAMS: &str =
 
 impl Family {
     /// Every family, in the order of the discriminants.
-    pub const ALL: [Family; 22] = [
+    pub const ALL: [Family; 26] = [
         Family::GridHist,
         Family::ScanLocal,
         Family::ScanTop,
@@ -158,6 +162,10 @@ impl Family {
         Family::WallForce,
         Family::WallForceFluid,
         Family::WallForceSum,
+        Family::TlSlots,
+        Family::TlStress,
+        Family::TlForces,
+        Family::TlDrift,
     ];
 
     /// The table.
@@ -309,6 +317,38 @@ impl Family {
                 "sph_wall_force_sum",
                 One,
                 "unsigned n_blocks, const double* partial, double* out",
+            ),
+            Family::TlSlots => (
+                "tlsph",
+                "sph_tl_slots",
+                One,
+                "unsigned n, unsigned n_index, const unsigned* id, const unsigned char* kind, \
+                 const unsigned* index, unsigned* slot",
+            ),
+            Family::TlStress => (
+                "tlsph",
+                "sph_tl_stress",
+                Dims,
+                "const SphParams p, unsigned n, unsigned n_solid, const unsigned* slot, \
+                 const unsigned* start, const unsigned* nbr, const float* x0, const float* vol, \
+                 const float* corr, const float* disp, float* grad, float* pk1_corr, float* rho, \
+                 float* pr, float* stress, float* vel",
+            ),
+            Family::TlForces => (
+                "tlsph",
+                "sph_tl_forces",
+                Dims,
+                "const SphParams p, unsigned n_solid, const unsigned* slot, const unsigned* start, \
+                 const unsigned* nbr, const float* x0, const float* vol, const float* disp, \
+                 const float* grad, const float* pk1_corr, const float* pos, float* acc, \
+                 unsigned* red",
+            ),
+            Family::TlDrift => (
+                "tlsph",
+                "sph_tl_drift",
+                Dims,
+                "const SphParams p, unsigned n_solid, const float* dt_dev, const unsigned* slot, \
+                 const unsigned* group, const float* vel, const float* xsph, float* disp",
             ),
         };
         Spec {

@@ -30,7 +30,7 @@ use crate::state::State;
 
 pub use device::{driver_version, NVCC_VERSION};
 
-use buffers::Buffers;
+use buffers::{Buffers, TlBuffers};
 use capture::Capturer;
 use device::Device;
 use kernels::{Kernels, LANE_COUNTS};
@@ -75,6 +75,9 @@ pub struct CudaSolver<D: Dim> {
     k: Kernels,
     params: SphParams,
     buf: Buffers,
+    /// The total-Lagrangian bodies (`cuda/tlsph.cu`); `None` under the Jaumann rate or
+    /// without solids.
+    tl: Option<TlBuffers>,
     /// `Setup::wall_surface` (empty unless `no_slip`); on the device in `buf`.
     wall_surface: Vec<[f32; 4]>,
     steps: u64,
@@ -115,9 +118,9 @@ impl<D: Dim> CudaSolver<D> {
         if let Some(e) = setup.wall_surface_error() {
             return Err(BackendError::Cuda(e));
         }
+        let p = setup.params;
         let dev = Device::open()?;
         let mut k = Kernels::load(&dev, D::D)?;
-        let p = setup.params;
         let state = State::<D>::from_particles(
             &setup.particles,
             p.density_form as u32 == MF_DENSITY_CONTINUITY,
@@ -134,7 +137,16 @@ impl<D: Dim> CudaSolver<D> {
         )
         .map_err(|e| oom(n, e))?;
         k.lanes = lanes_for(D::D, n);
+        // The total-Lagrangian bodies' reference configuration, set up on the host by the
+        // shared code (`crate::tlsph`) and uploaded once.
+        let tl = if crate::tlsph::total_lagrangian(&p) && setup.has_solids() {
+            let r = crate::tlsph::Reference::<D>::new(&p, &setup.particles);
+            Some(TlBuffers::new(&dev.stream, &r).map_err(|e| oom(n, e))?)
+        } else {
+            None
+        };
         Ok(CudaSolver {
+            tl,
             dev,
             k,
             params: p,
@@ -174,6 +186,23 @@ impl<D: Dim> CudaSolver<D> {
             self.sync_err("uploading a state", e)
         }
         self.grid_current = false;
+    }
+
+    /// The total-Lagrangian bodies' displacements u in solid space (read back), where the
+    /// scene has them. For parity tests.
+    pub fn tl_displacement(&mut self) -> Option<Vec<D::V>> {
+        let t = self.tl.as_ref()?;
+        Some(
+            t.read_disp::<D>(&self.dev.stream)
+                .unwrap_or_else(|e| self.sync_err("reading the displacements back", e)),
+        )
+    }
+
+    /// Map the total-Lagrangian solid space onto the storage (after a reorder).
+    fn tl_map_slots(&mut self) {
+        if let Some(t) = self.tl.as_mut() {
+            launch::tl_slots(&self.k, &self.dev.stream, &self.buf, t);
+        }
     }
 
     /// Whether the last grid build applied the equation of state (continuity density without
@@ -278,6 +307,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
     }
     fn build_grid(&mut self) {
         launch::build_grid(&self.k, &self.dev.stream, &self.params, &mut self.buf);
+        self.tl_map_slots();
         self.grid_current = true;
     }
     fn density(&mut self) {
@@ -286,8 +316,18 @@ impl<D: Dim> Solver for CudaSolver<D> {
     fn rates(&mut self) {
         launch::rates(&self.k, &self.dev.stream, &self.params, &mut self.buf);
     }
+    fn solid_stress(&mut self) {
+        if let Some(t) = self.tl.as_mut() {
+            launch::tl_stress(&self.k, &self.dev.stream, &self.params, &mut self.buf, t);
+        }
+    }
     fn forces(&mut self) {
         launch::forces(&self.k, &self.dev.stream, &self.params, &mut self.buf);
+    }
+    fn solid_forces(&mut self) {
+        if let Some(t) = self.tl.as_ref() {
+            launch::tl_forces(&self.k, &self.dev.stream, &self.params, &mut self.buf, t);
+        }
     }
     /// One neighbour pass for both (`cuda/forces_rates.cu`), unless `MESHFREE_CUDA_FUSED=0`.
     fn forces_and_rates(&mut self) {
@@ -305,12 +345,19 @@ impl<D: Dim> Solver for CudaSolver<D> {
         launch::kick(&self.k, &self.dev.stream, &self.params, &mut self.buf);
     }
     fn drift(&mut self) {
+        if let Some(t) = self.tl.as_mut() {
+            launch::tl_drift(&self.k, &self.dev.stream, &self.params, &self.buf, t);
+        }
         launch::drift(&self.k, &self.dev.stream, &self.params, &mut self.buf);
         self.grid_current = false;
         self.steps += 1;
     }
     /// One kernel for both (`cuda/integrate.cu`).
     fn drift_kick(&mut self) {
+        // The displacement first: it takes the old velocity, as the positions do.
+        if let Some(t) = self.tl.as_mut() {
+            launch::tl_drift(&self.k, &self.dev.stream, &self.params, &self.buf, t);
+        }
         launch::drift_kick(&self.k, &self.dev.stream, &self.params, &mut self.buf);
         self.grid_current = false;
         self.steps += 1;
@@ -558,14 +605,17 @@ impl<D: Dim> Solver for CudaSolver<D> {
     /// the run goes on as without the sample (its next `advance` starts with one single step:
     /// the rebuild swapped the buffer sets its graph was captured with).
     fn wall_forces(&mut self, groups: &[u32]) -> Vec<[f64; 3]> {
-        launch::wall_forces(
+        let f = launch::wall_forces(
             &self.k,
             &self.dev.stream,
             &self.params,
             &mut self.buf,
             groups,
         )
-        .unwrap_or_else(|e| self.sync_err("summing the wall forces", e))
+        .unwrap_or_else(|e| self.sync_err("summing the wall forces", e));
+        // Its grid build reordered the storage.
+        self.tl_map_slots();
+        f
     }
     fn remove_group(&mut self, group: u32) -> usize {
         let mut st = self.download_state();
@@ -593,6 +643,13 @@ impl<D: Dim> Solver for CudaSolver<D> {
                 self.sync_err("restoring the clock", e)
             }
             self.buf = buf;
+            // The removed solids keep slot NONE; the rest are mapped onto the new storage.
+            if let Some(t) = self.tl.as_mut() {
+                if let Err(e) = t.clear_slots(&self.dev.stream) {
+                    self.sync_err("clearing the total-Lagrangian slot map", e)
+                }
+            }
+            self.tl_map_slots();
             self.graph = None;
             self.grid_current = false;
         }

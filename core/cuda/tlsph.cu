@@ -1,0 +1,293 @@
+// The total-Lagrangian elastic solid (`[solid] formulation = "total-lagrangian"`; O'Connor &
+// Rogers 2021, J. Fluids Struct. 104, 103312; hourglass control of Ganzenmueller 2015,
+// Comput. Methods Appl. Mech. Engrg. 286, 87): the slot map solid index -> storage slot after
+// each reorder, the stress from the deformation gradient (Saint Venant-Kirchhoff), the
+// internal force with the hourglass control, and the displacement's drift. One thread per
+// solid particle (solid index a = its rank by id), its reference neighbours in the CSR order
+// the host built (src/tlsph.rs `Reference`), so the sums run in the CPU's order; no atomics
+// (each solid adds to its own slot). dt is read on the device (written by sph_step_size).
+// Twin: src/backend/cpu/tlsph.rs (material law and reference set-up: src/tlsph.rs); parity
+// test: tests/cuda_parity.rs.
+//
+// Layout (src/backend/cuda/buffers.rs `TlBuffers`): x0 and disp as float2 (2D) / float4 (3D,
+// w = 0) per solid; the DIM x DIM tensors corr (L = M^-T), grad (H = F - I) and pk1_corr (P L)
+// row-major, DIM * DIM floats per solid; slot NONE (0xffffffff) for a removed particle.
+#include "device/entries.cuh"
+#include "device/grid.cuh"
+#include "device/kernel.cuh"
+#include "device/packing.cuh"
+#include "device/particle.cuh"
+#include "device/reductions.cuh"
+#include "device/vectors.cuh"
+
+#define MF_TL_NONE 0xffffffffu
+
+template <int DIM> __device__ __forceinline__ Mat<DIM> tl_mload(const float* __restrict__ a, unsigned i) {
+    Mat<DIM> r;
+#pragma unroll
+    for (int x = 0; x < DIM; ++x)
+#pragma unroll
+        for (int y = 0; y < DIM; ++y) r.m[x][y] = a[i * DIM * DIM + x * DIM + y];
+    return r;
+}
+template <int DIM> __device__ __forceinline__ void tl_mstore(float* __restrict__ a, unsigned i, const Mat<DIM>& r) {
+#pragma unroll
+    for (int x = 0; x < DIM; ++x)
+#pragma unroll
+        for (int y = 0; y < DIM; ++y) a[i * DIM * DIM + x * DIM + y] = r.m[x][y];
+}
+// a b (matrix product), the sum over k in ascending order (glam's).
+template <int DIM> __device__ __forceinline__ Mat<DIM> tl_mul(const Mat<DIM>& a, const Mat<DIM>& b) {
+    Mat<DIM> r;
+#pragma unroll
+    for (int x = 0; x < DIM; ++x)
+#pragma unroll
+        for (int y = 0; y < DIM; ++y) {
+            float s = a.m[x][0] * b.m[0][y];
+#pragma unroll
+            for (int k = 1; k < DIM; ++k) s += a.m[x][k] * b.m[k][y];
+            r.m[x][y] = s;
+        }
+    return r;
+}
+template <int DIM> __device__ __forceinline__ Mat<DIM> tl_transpose(const Mat<DIM>& a) {
+    Mat<DIM> r;
+#pragma unroll
+    for (int x = 0; x < DIM; ++x)
+#pragma unroll
+        for (int y = 0; y < DIM; ++y) r.m[x][y] = a.m[y][x];
+    return r;
+}
+template <int DIM> __device__ __forceinline__ float tl_det(const Mat<DIM>& a) {
+    if constexpr (DIM == 2) {
+        return a.m[0][0] * a.m[1][1] - a.m[0][1] * a.m[1][0];
+    } else {
+        return a.m[0][0] * (a.m[1][1] * a.m[2][2] - a.m[1][2] * a.m[2][1]) -
+               a.m[0][1] * (a.m[1][0] * a.m[2][2] - a.m[1][2] * a.m[2][0]) +
+               a.m[0][2] * (a.m[1][0] * a.m[2][1] - a.m[1][1] * a.m[2][0]);
+    }
+}
+template <int DIM> __device__ __forceinline__ float tl_trace(const Mat<DIM>& a) {
+    float s = a.m[0][0];
+#pragma unroll
+    for (int x = 1; x < DIM; ++x) s += a.m[x][x];
+    return s;
+}
+
+// grad_a W0_ab = f(|X0_ab|) X0_ab with X0_ab = X0_a - X0_b [L^-d-1], and W0_ab [L^-d]
+// (src/tlsph.rs `grad_w0`, kernel::w).
+template <int DIM>
+__device__ __forceinline__ Vec<DIM> tl_grad_w0(const SphParams& p, const Vec<DIM>& x0ab, float& w0) {
+    float f;
+    kernel_wf(p, sqrtf(dot(x0ab, x0ab)), w0, f);
+    return x0ab * f;
+}
+
+// The elastic constants of the Saint Venant-Kirchhoff law (src/tlsph.rs `Material::of`):
+// K = rho0_s c_s^2, mu = G, lambda = K - 2 G / 3, E = 9 K G / (3 K + G) [M L^-d L^2 T^-2].
+__device__ __forceinline__ void tl_material(const SphParams& p, float& lambda, float& mu, float& young) {
+    const float k = p.solid_rho0 * p.solid_c0 * p.solid_c0;
+    const float g = p.shear_modulus;
+    lambda = k - 2.0f * g / 3.0f;
+    mu = g;
+    young = 3.0f * k + g > 0.0f ? 9.0f * k * g / (3.0f * k + g) : 0.0f;
+}
+
+// slot[index[id[i]]] = i for every solid particle i of the storage (after each reorder).
+// Slots of removed solids stay NONE (set at upload; the set of solids changes only there).
+extern "C" __global__ void __launch_bounds__(MF_BLOCK)
+    sph_tl_slots(unsigned n, unsigned n_index, const unsigned* __restrict__ id, const unsigned char* __restrict__ kind,
+                 const unsigned* __restrict__ index, unsigned* __restrict__ slot) {
+    const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n || kind[i] != MF_KIND_SOLID) return;
+    const unsigned q = id[i];
+    if (q >= n_index) return;
+    const unsigned a = index[q];
+    if (a != MF_TL_NONE) slot[a] = i;
+}
+
+// The stress stage of solid a (src/backend/cpu/tlsph.rs `TlBodies::stress`): the displacement
+// gradient H_a = [sum_b V0_b (u_b - u_a) (x) grad_a W0_ab] L_a^T [-] over the reference
+// neighbours present, the Saint Venant-Kirchhoff stress (src/tlsph.rs `svk`): Green strain
+// E = (H + H^T + H^T H) / 2, S = lambda tr(E) I + 2 mu E, P = F S, J = det F; kept: H and P L;
+// written into a's slot: the Cauchy stress sigma = J^-1 P F^T as its pressure
+// p = -tr(sigma) / 3 (2D plane strain: + sigma_zz = J^-1 lambda tr(E)) into pr, its deviator
+// sigma + p I into stress, rho0_s / J into rho and vel.w (the neighbour loops' density).
+template <int DIM>
+__device__ void sph_tl_stress_body(const SphParams p, unsigned n, unsigned n_solid, const unsigned* __restrict__ slot,
+                                   const unsigned* __restrict__ start, const unsigned* __restrict__ nbr,
+                                   const float* __restrict__ x0, const float* __restrict__ vol,
+                                   const float* __restrict__ corr, const float* __restrict__ disp,
+                                   float* __restrict__ grad, float* __restrict__ pk1_corr, float* __restrict__ rho,
+                                   float* __restrict__ pr, float* __restrict__ stress, float* __restrict__ vel) {
+    const unsigned a = blockIdx.x * blockDim.x + threadIdx.x;
+    if (a >= n_solid) return;
+    const unsigned i = slot[a];
+    if (i == MF_TL_NONE) {
+        tl_mstore<DIM>(grad, a, mzero<DIM>());
+        tl_mstore<DIM>(pk1_corr, a, mzero<DIM>());
+        return;
+    }
+    const Vec<DIM> ua = vload<DIM>(disp, a), xa = vload<DIM>(x0, a);
+    Mat<DIM> g = mzero<DIM>();
+    for (unsigned e = start[a], end = start[a + 1]; e < end; ++e) {
+        const unsigned b = nbr[e];
+        if (slot[b] == MF_TL_NONE) continue;
+        float w0;
+        const Vec<DIM> gw = tl_grad_w0<DIM>(p, xa - vload<DIM>(x0, b), w0);
+        const Vec<DIM> du = vload<DIM>(disp, b) - ua;
+        const float vb = vol[b];
+#pragma unroll
+        for (int x = 0; x < DIM; ++x)
+#pragma unroll
+            for (int y = 0; y < DIM; ++y) g.m[x][y] += (du.c[x] * gw.c[y]) * vb;
+    }
+    const Mat<DIM> L = tl_mload<DIM>(corr, a);
+    const Mat<DIM> h = tl_mul<DIM>(g, tl_transpose<DIM>(L));
+    // Saint Venant-Kirchhoff, as `svk`.
+    float lambda, mu, young;
+    tl_material(p, lambda, mu, young);
+    const Mat<DIM> ht = tl_transpose<DIM>(h);
+    const Mat<DIM> hth = tl_mul<DIM>(ht, h);
+    Mat<DIM> e, s, f;
+#pragma unroll
+    for (int x = 0; x < DIM; ++x)
+#pragma unroll
+        for (int y = 0; y < DIM; ++y) e.m[x][y] = (h.m[x][y] + ht.m[x][y] + hth.m[x][y]) * 0.5f;
+    const float tr_e = tl_trace<DIM>(e);
+#pragma unroll
+    for (int x = 0; x < DIM; ++x)
+#pragma unroll
+        for (int y = 0; y < DIM; ++y) {
+            s.m[x][y] = (x == y ? lambda * tr_e : 0.0f) + e.m[x][y] * (2.0f * mu);
+            f.m[x][y] = (x == y ? 1.0f : 0.0f) + h.m[x][y];
+        }
+    const Mat<DIM> pk1 = tl_mul<DIM>(f, s);
+    const float inv_j = 1.0f / tl_det<DIM>(f);
+    Mat<DIM> sigma = tl_mul<DIM>(pk1, tl_transpose<DIM>(f));
+#pragma unroll
+    for (int x = 0; x < DIM; ++x)
+#pragma unroll
+        for (int y = 0; y < DIM; ++y) sigma.m[x][y] *= inv_j;
+    const float zz = DIM == 2 ? lambda * tr_e * inv_j : 0.0f;
+    const float pressure = -(tl_trace<DIM>(sigma) + zz) / 3.0f;
+#pragma unroll
+    for (int x = 0; x < DIM; ++x) sigma.m[x][x] += pressure;  // the deviator sigma + p I
+    tl_mstore<DIM>(grad, a, h);
+    tl_mstore<DIM>(pk1_corr, a, tl_mul<DIM>(pk1, L));
+    const float density = p.solid_rho0 * inv_j;
+    pr[i] = pressure;
+    rho[i] = density;
+    if (stress) sstore<DIM>(stress, i, n, sigma);
+    reinterpret_cast<float4*>(vel)[i].w = vel_w(MF_KIND_SOLID, density);
+}
+MF_ENTRY2(sph_tl_stress,
+          (const SphParams p, unsigned n, unsigned n_solid, const unsigned* slot, const unsigned* start,
+           const unsigned* nbr, const float* x0, const float* vol, const float* corr, const float* disp, float* grad,
+           float* pk1_corr, float* rho, float* pr, float* stress, float* vel),
+          (p, n, n_solid, slot, start, nbr, x0, vol, corr, disp, grad, pk1_corr, rho, pr, stress, vel))
+
+// The internal force of solid a (src/backend/cpu/tlsph.rs `TlBodies::forces`), added to the
+// force stage's acceleration of its slot [L/T^2]:
+// acc_a += (1 / rho0_s) sum_b V0_b (P_a L_a + P_b L_b) grad_a W0_ab (O'Connor & Rogers 2021,
+// m_a dv_a/dt = sum_b V0_a V0_b (...), V0_a / m_a = 1 / rho0_s), plus Ganzenmueller 2015's
+// hourglass control eq. (10) (src/tlsph.rs `hourglass`): with eps = (H_a + H_b) X0_ab - 2 u_ab,
+// acc_a += (alpha / 2) (V0_b / rho0_s) W0_ab / |X0_ab|^2 E (eps . x_ab) x_ab / |x_ab|^2.
+// The internal force and hourglass of solid a in slot i, added to acc[i]; returns the new |acc[i]|.
+template <int DIM>
+__device__ __forceinline__ float tl_force_one(const SphParams& p, unsigned a, unsigned i, const unsigned* __restrict__ slot,
+                                              const unsigned* __restrict__ start, const unsigned* __restrict__ nbr,
+                                              const float* __restrict__ x0, const float* __restrict__ vol,
+                                              const float* __restrict__ disp, const float* __restrict__ grad,
+                                              const float* __restrict__ pk1_corr, const float* __restrict__ pos,
+                                              float* __restrict__ acc) {
+    float lambda, mu, young;
+    tl_material(p, lambda, mu, young);
+    const Mat<DIM> pla = tl_mload<DIM>(pk1_corr, a);
+    const Mat<DIM> ha = p.hourglass > 0.0f ? tl_mload<DIM>(grad, a) : mzero<DIM>();
+    const Vec<DIM> ua = vload<DIM>(disp, a), xa = vload<DIM>(x0, a);
+    const Vec<DIM> xi = p.hourglass > 0.0f ? vload<DIM>(pos, i) : vzero<DIM>();
+    Vec<DIM> sum = vzero<DIM>();
+    for (unsigned e = start[a], end = start[a + 1]; e < end; ++e) {
+        const unsigned b = nbr[e];
+        const unsigned j = slot[b];
+        if (j == MF_TL_NONE) continue;
+        const Vec<DIM> x0ab = xa - vload<DIM>(x0, b);
+        float w0;
+        const Vec<DIM> gw = tl_grad_w0<DIM>(p, x0ab, w0);
+        const float vb = vol[b];
+        Mat<DIM> pl = tl_mload<DIM>(pk1_corr, b);
+#pragma unroll
+        for (int x = 0; x < DIM; ++x)
+#pragma unroll
+            for (int y = 0; y < DIM; ++y) pl.m[x][y] = pla.m[x][y] + pl.m[x][y];
+        sum = sum + mat_vec<DIM>(pl, gw) * (vb / p.solid_rho0);
+        if (p.hourglass > 0.0f) {
+            const Vec<DIM> xab = separation<DIM>(p, xi, vload<DIM>(pos, j));
+            const float r0_2 = dot(x0ab, x0ab), r2 = dot(xab, xab);
+            if (r0_2 > 0.0f && r2 > 0.0f) {
+                Mat<DIM> hs = tl_mload<DIM>(grad, b);
+#pragma unroll
+                for (int x = 0; x < DIM; ++x)
+#pragma unroll
+                    for (int y = 0; y < DIM; ++y) hs.m[x][y] = ha.m[x][y] + hs.m[x][y];
+                const Vec<DIM> eps = mat_vec<DIM>(hs, x0ab) - (ua - vload<DIM>(disp, b)) * 2.0f;
+                const float k = 0.5f * p.hourglass * vb / p.solid_rho0 * w0 / r0_2 * young * dot(eps, xab) / r2;
+                sum = sum + xab * k;
+            }
+        }
+    }
+    const Vec<DIM> out = vload<DIM>(acc, i) + sum;
+    vstore<DIM>(acc, i, out);
+    return sqrtf(dot(out, out));
+}
+
+template <int DIM>
+__device__ void sph_tl_forces_body(const SphParams p, unsigned n_solid, const unsigned* __restrict__ slot,
+                                   const unsigned* __restrict__ start, const unsigned* __restrict__ nbr,
+                                   const float* __restrict__ x0, const float* __restrict__ vol,
+                                   const float* __restrict__ disp, const float* __restrict__ grad,
+                                   const float* __restrict__ pk1_corr, const float* __restrict__ pos,
+                                   float* __restrict__ acc, unsigned* __restrict__ red) {
+    const unsigned a = blockIdx.x * blockDim.x + threadIdx.x;
+    const unsigned i = a < n_solid ? slot[a] : MF_TL_NONE;
+    float amax = 0.0f;
+    if (i != MF_TL_NONE) amax = tl_force_one<DIM>(p, a, i, slot, start, nbr, x0, vol, disp, grad, pk1_corr, pos, acc);
+    // |a| into the step size's maximum (the forces pass left these particles out; twin:
+    // reduce.rs `extremes` over the final accelerations); per warp, as ForceSum::finish.
+    amax = warp_max(amax);
+    if ((threadIdx.x & 31) == 0) atomicMax(&red[1], __float_as_uint(amax));
+}
+MF_ENTRY2(sph_tl_forces,
+          (const SphParams p, unsigned n_solid, const unsigned* slot, const unsigned* start, const unsigned* nbr,
+           const float* x0, const float* vol, const float* disp, const float* grad, const float* pk1_corr,
+           const float* pos, float* acc, unsigned* red),
+          (p, n_solid, slot, start, nbr, x0, vol, disp, grad, pk1_corr, pos, acc, red))
+
+// The displacement's drift (src/backend/cpu/tlsph.rs `TlBodies::drift`): u += dt (v + xsph),
+// or dt times the driven group's velocity, what sph_drift adds to the position (launched
+// before it, so v is the velocity the drift takes: the new one in the symplectic Euler, the
+// old one in sph_drift_kick) [L].
+template <int DIM>
+__device__ void sph_tl_drift_body(const SphParams p, unsigned n_solid, const float* __restrict__ dt_dev,
+                                  const unsigned* __restrict__ slot, const unsigned* __restrict__ group,
+                                  const float* __restrict__ vel, const float* __restrict__ xsph,
+                                  float* __restrict__ disp) {
+    const unsigned a = blockIdx.x * blockDim.x + threadIdx.x;
+    if (a >= n_solid) return;
+    const unsigned i = slot[a];
+    if (i == MF_TL_NONE) return;
+    const float dt = *dt_dev;
+    Vec<DIM> v;
+    if (is_driven(p, group[i])) {
+#pragma unroll
+        for (int d = 0; d < DIM; ++d) v.c[d] = p.driven_velocity[d];
+    } else {
+        v = vel_load<DIM>(vel, i) + vload<DIM>(xsph, i);
+    }
+    vstore<DIM>(disp, a, vload<DIM>(disp, a) + v * dt);
+}
+MF_ENTRY2(sph_tl_drift,
+          (const SphParams p, unsigned n_solid, const float* dt_dev, const unsigned* slot, const unsigned* group,
+           const float* vel, const float* xsph, float* disp),
+          (p, n_solid, dt_dev, slot, group, vel, xsph, disp))

@@ -1,0 +1,162 @@
+//! The total-Lagrangian solid's stages (`crate::tlsph`): the slot map after each grid
+//! build, the stress from the deformation gradient (`Solver::solid_stress`), the internal
+//! force with the hourglass control (`Solver::solid_forces`) and the displacement's drift.
+//! Twin: `cuda/tlsph.cu`; parity test `tests/cuda_parity.rs`.
+
+use rayon::prelude::*;
+
+use super::grid::separation;
+use super::integrate::driven_velocity;
+use crate::dim::Dim;
+use crate::params::{SphParams, MF_KIND_SOLID};
+use crate::particle::Particle;
+use crate::state::State;
+use crate::tlsph::{grad_w0, hourglass, svk, Material, Reference, NONE};
+
+/// The bodies' reference configuration and what the stages keep per solid particle, in
+/// solid space (`crate::tlsph`).
+#[derive(Clone, Debug)]
+pub struct TlBodies<D: Dim> {
+    pub reference: Reference<D>,
+    /// Solid index -> storage slot, rebuilt after every reorder (`NONE`: removed).
+    pub slot: Vec<u32>,
+    /// [L] u = x - X0, advanced with the position in the drift.
+    pub disp: Vec<D::V>,
+    /// [-] H = F - I of the last stress stage.
+    pub grad_u: Vec<D::M>,
+    /// [M L^-d L^2 T^-2] P L of the last stress stage (the internal force's factor).
+    pub pk1_corr: Vec<D::M>,
+}
+
+impl<D: Dim> TlBodies<D> {
+    /// The reference configuration of `particles` as they are: zero displacement.
+    pub fn new(p: &SphParams, particles: &[Particle]) -> Self {
+        let reference = Reference::<D>::new(p, particles);
+        let n = reference.len();
+        TlBodies {
+            reference,
+            slot: vec![NONE; n],
+            disp: vec![D::V::default(); n],
+            grad_u: vec![D::zero(); n],
+            pk1_corr: vec![D::zero(); n],
+        }
+    }
+
+    /// slot[a] = the storage slot of solid a (`NONE` where it is gone), from the ids.
+    pub fn map_slots(&mut self, s: &State<D>) {
+        self.slot.fill(NONE);
+        let index = &self.reference.index_of_id;
+        for (i, (&id, &k)) in s.id.iter().zip(&s.kind).enumerate() {
+            if k as u32 == MF_KIND_SOLID {
+                let a = index[id as usize];
+                if a != NONE {
+                    self.slot[a as usize] = i as u32;
+                }
+            }
+        }
+    }
+
+    /// The stress stage: per solid particle H = F - I from the displacements, the
+    /// Saint Venant-Kirchhoff stress (`svk`), P L kept for the force stage, and the
+    /// Cauchy stress written where the rest of the scheme reads it: its pressure into p,
+    /// its deviator into the stress array, rho0_s / J into rho.
+    pub fn stress(&mut self, p: &SphParams, s: &mut State<D>) {
+        let m = Material::of(p);
+        let (r, slot, disp) = (&self.reference, &self.slot, &self.disp);
+        // Per solid particle: H, P L, and the Cauchy stress's part (`SolidStress`).
+        type Out<M> = (M, M, f32, M, f32);
+        let out: Vec<Out<D::M>> = (0..r.len())
+            .into_par_iter()
+            .map(|a| {
+                if slot[a] == NONE {
+                    return (D::zero(), D::zero(), 0.0, D::zero(), 0.0);
+                }
+                let h =
+                    r.displacement_gradient(p, a, disp[a], |b| (slot[b] != NONE).then(|| disp[b]));
+                let st = svk::<D>(&m, p.solid_rho0, h);
+                (h, st.pk1 * r.corr[a], st.pressure, st.deviator, st.density)
+            })
+            .collect();
+        let stress = s.solid.as_mut().map(|so| &mut so.stress);
+        let mut stress = stress;
+        for (a, (h, pl, pr, dev, rho)) in out.into_iter().enumerate() {
+            self.grad_u[a] = h;
+            self.pk1_corr[a] = pl;
+            let i = slot[a];
+            if i == NONE {
+                continue;
+            }
+            let i = i as usize;
+            s.p[i] = pr;
+            s.rho[i] = rho;
+            if let Some(st) = stress.as_mut() {
+                st[i] = dev;
+            }
+        }
+    }
+
+    /// The internal force: acc_a += (1 / rho0_s) sum_b V0_b (P_a L_a + P_b L_b) grad_a W0_ab
+    /// (O'Connor & Rogers 2021: m_a dv_a/dt = sum_b V0_a V0_b (...), V0_a / m_a = 1 /
+    /// rho0_s) plus the hourglass control (`hourglass`), added to the force stage's sum
+    /// (which skipped the pairs of one body: `ForceSum`). [L/T^2]
+    pub fn forces(&self, p: &SphParams, s: &mut State<D>) {
+        let young = Material::of(p).young;
+        let (r, slot) = (&self.reference, &self.slot);
+        let pos = &s.pos;
+        let add: Vec<D::V> = (0..r.len())
+            .into_par_iter()
+            .map(|a| {
+                let i = slot[a];
+                if i == NONE {
+                    return D::V::default();
+                }
+                let mut acc = D::V::default();
+                let (pla, ha, ua) = (self.pk1_corr[a], self.grad_u[a], self.disp[a]);
+                for &b in r.neighbours(a) {
+                    let b = b as usize;
+                    let j = slot[b];
+                    if j == NONE {
+                        continue;
+                    }
+                    let gw = grad_w0::<D>(p, r.x0[a], r.x0[b]);
+                    acc += D::mat_vec(pla + self.pk1_corr[b], gw) * (r.vol[b] / p.solid_rho0);
+                    if p.hourglass > 0.0 {
+                        let x_ab = separation::<D>(p, pos[i as usize], pos[j as usize]);
+                        acc += hourglass::<D>(
+                            p,
+                            young,
+                            r.vol[b],
+                            r.x0[a] - r.x0[b],
+                            x_ab,
+                            ua - self.disp[b],
+                            ha,
+                            self.grad_u[b],
+                        );
+                    }
+                }
+                acc
+            })
+            .collect();
+        for (a, da) in add.into_iter().enumerate() {
+            if slot[a] != NONE {
+                s.acc[slot[a] as usize] += da;
+            }
+        }
+    }
+
+    /// u += dt (v + xsph), or dt times the driven group's velocity: what the drift adds to
+    /// the position (`integrate::drift`), with the velocity the drift takes (the new one in
+    /// the symplectic Euler, the old one in the forward Euler). [L]
+    pub fn drift(&mut self, p: &SphParams, dt: f32, s: &State<D>) {
+        let slot = &self.slot;
+        self.disp.par_iter_mut().enumerate().for_each(|(a, u)| {
+            let i = slot[a];
+            if i == NONE {
+                return;
+            }
+            let i = i as usize;
+            let v = driven_velocity::<D>(p, s.group[i]).unwrap_or(s.vel[i] + s.xsph[i]);
+            *u += v * dt;
+        });
+    }
+}

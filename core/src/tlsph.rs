@@ -1,0 +1,293 @@
+//! The total-Lagrangian elastic solid (`[solid] formulation = "total-lagrangian"`): the
+//! reference configuration, set up once at start on the host (both backends take it from
+//! here), and the per-particle material law. O'Connor & Rogers 2021 ("A fluid-structure
+//! interaction model for free-surface flows and flexible structures using smoothed particle
+//! hydrodynamics on a GPU", J. Fluids Struct. 104, 103312; equation numbers not checked
+//! against the paper, so none are cited here); the hourglass
+//! control of Ganzenmueller 2015 (Comput. Methods Appl. Mech. Engrg. 286, 87).
+//!
+//! The solid particles live in a fixed *solid space*: index a = their rank by id, whatever
+//! the storage order (which the grid re-sorts every step). Per solid particle: the reference
+//! position X0_a [L], the reference volume V0_a = m_a / rho0_s [L^d], the correction matrix
+//! L_a = M_a^-T with M_a = sum_b V0_b (X0_b - X0_a) (x) grad_a W0_ab [-] (Bonet & Lok 1999:
+//! then the corrected gradient sum_b V0_b (f_b - f_a) (x) L_a grad_a W0_ab is exact for a
+//! linear field f, the body's surface included), and its reference neighbours: the solid
+//! particles of the same body (`same_body`: a clamp is bonded to the body it holds) within
+//! the support at the start, ascending, as a CSR list. grad_a W0_ab = f(|X0_ab|) X0_ab with
+//! X0_ab = X0_a - X0_b (`kernel::f`) is recomputed from X0 where needed.
+//!
+//! The stages (CPU: `backend/cpu/tlsph.rs`; CUDA: `cuda/tlsph.cu`) integrate a displacement
+//! u = x - X0 per solid particle (f32 positions near 1 m resolve strains of about 1e-7 / dx
+//! only, an aluminium plate strains 1e-5), form the displacement gradient H = F - I from it,
+//! the Saint Venant-Kirchhoff stress (`svk`), and the internal force
+//! m_a dv_a/dt = sum_b V0_a V0_b (P_a L_a + P_b L_b) grad_a W0_ab (O'Connor & Rogers 2021;
+//! the derivative of the discrete strain energy, so momentum-conserving).
+
+use std::collections::HashMap;
+
+use crate::backend::pair::same_body;
+use crate::consts::MF_MOMENT_DET_MIN;
+use crate::dim::Dim;
+use crate::kernel;
+use crate::params::{SphParams, MF_KIND_SOLID, MF_SOLID_TOTAL_LAGRANGIAN};
+use crate::particle::{Kind, Particle};
+
+/// No solid index (an id that is not a solid particle's), no storage slot (a solid particle
+/// removed with its group).
+pub const NONE: u32 = u32::MAX;
+
+/// Whether the scene's bodies are total Lagrangian.
+#[inline]
+pub fn total_lagrangian(p: &SphParams) -> bool {
+    p.solid_formulation as u32 == MF_SOLID_TOTAL_LAGRANGIAN
+}
+
+/// The reference configuration of every solid particle, in solid space (rank by id).
+#[derive(Clone, Debug, Default)]
+pub struct Reference<D: Dim> {
+    /// Solid index -> particle id, ascending.
+    pub id: Vec<u32>,
+    /// Particle id -> solid index (`NONE` for other particles); as long as the largest id + 1.
+    pub index_of_id: Vec<u32>,
+    /// [L] X0.
+    pub x0: Vec<D::V>,
+    /// [L^d] V0 = m / rho0_s.
+    pub vol: Vec<f32>,
+    /// [-] L_a = M_a^-T (the identity where M_a is singular: a lone particle, a row).
+    pub corr: Vec<D::M>,
+    /// CSR: the neighbours of a are `nbr[start[a] .. start[a + 1]]` (solid indices).
+    pub start: Vec<u32>,
+    pub nbr: Vec<u32>,
+}
+
+/// grad_a W0_ab = f(|X0_ab|) X0_ab, X0_ab = X0_a - X0_b [L^-d-1].
+#[inline]
+pub fn grad_w0<D: Dim>(p: &SphParams, x0a: D::V, x0b: D::V) -> D::V {
+    let r = x0a - x0b;
+    r * kernel::f(p, D::length2(r).sqrt())
+}
+
+impl<D: Dim> Reference<D> {
+    /// The reference configuration of the solid particles of `particles` (any order, any
+    /// kinds) as they are now.
+    pub fn new(p: &SphParams, particles: &[Particle]) -> Self {
+        let mut solids: Vec<&Particle> =
+            particles.iter().filter(|q| q.kind == Kind::Solid).collect();
+        solids.sort_by_key(|q| q.id);
+        let n = solids.len();
+        let max_id = particles
+            .iter()
+            .map(|q| q.id as usize + 1)
+            .max()
+            .unwrap_or(0);
+        let mut index_of_id = vec![NONE; max_id];
+        for (a, q) in solids.iter().enumerate() {
+            index_of_id[q.id as usize] = a as u32;
+        }
+        let x0: Vec<D::V> = solids.iter().map(|q| D::from3(q.position)).collect();
+        let vol: Vec<f32> = solids.iter().map(|q| q.mass / p.solid_rho0).collect();
+        // Candidates from cells one support wide (3^d cells around each particle).
+        let cell = |x: D::V| {
+            let mut c = [0i32; 3];
+            for (k, ck) in c.iter_mut().enumerate().take(D::D) {
+                *ck = (D::comp(x, k) / p.support).floor() as i32;
+            }
+            c
+        };
+        let mut cells: HashMap<[i32; 3], Vec<u32>> = HashMap::new();
+        for (a, &x) in x0.iter().enumerate() {
+            cells.entry(cell(x)).or_default().push(a as u32);
+        }
+        let reach_z = if D::D == 3 { 1 } else { 0 };
+        let mut start = Vec::with_capacity(n + 1);
+        let mut nbr = Vec::new();
+        start.push(0u32);
+        let solid = MF_KIND_SOLID as u8;
+        for a in 0..n {
+            let c = cell(x0[a]);
+            let mut list = Vec::new();
+            for dz in -reach_z..=reach_z {
+                for dy in -1..=1 {
+                    for dx in -1..=1 {
+                        let Some(v) = cells.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) else {
+                            continue;
+                        };
+                        for &b in v {
+                            let b_us = b as usize;
+                            if b_us != a
+                                && D::length2(x0[a] - x0[b_us]) < p.support2
+                                && same_body(p, solid, solid, solids[a].group, solids[b_us].group)
+                            {
+                                list.push(b);
+                            }
+                        }
+                    }
+                }
+            }
+            list.sort_unstable();
+            nbr.extend_from_slice(&list);
+            start.push(nbr.len() as u32);
+        }
+        let corr = (0..n)
+            .map(|a| {
+                let mut m = D::zero();
+                for &b in &nbr[start[a] as usize..start[a + 1] as usize] {
+                    let b = b as usize;
+                    m += D::outer(x0[b] - x0[a], grad_w0::<D>(p, x0[a], x0[b])) * vol[b];
+                }
+                if D::determinant(m).abs() > MF_MOMENT_DET_MIN as f32 {
+                    D::inverse(D::transpose(m))
+                } else {
+                    D::identity()
+                }
+            })
+            .collect();
+        Reference {
+            id: solids.iter().map(|q| q.id).collect(),
+            index_of_id,
+            x0,
+            vol,
+            corr,
+            start,
+            nbr,
+        }
+    }
+
+    /// Solid particles.
+    pub fn len(&self) -> usize {
+        self.id.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.id.is_empty()
+    }
+
+    /// The reference neighbours of solid index a.
+    #[inline]
+    pub fn neighbours(&self, a: usize) -> &[u32] {
+        &self.nbr[self.start[a] as usize..self.start[a + 1] as usize]
+    }
+
+    /// The displacement gradient H_a = F_a - I = [sum_b V0_b (u_b - u_a) (x) grad_a W0_ab]
+    /// L_a^T [-] (O'Connor & Rogers 2021's F less I, from the displacement rather than
+    /// the position so that small strains survive f32), over the neighbours b for which
+    /// `disp(b)` answers (a removed particle does not).
+    pub fn displacement_gradient(
+        &self,
+        p: &SphParams,
+        a: usize,
+        ua: D::V,
+        disp: impl Fn(usize) -> Option<D::V>,
+    ) -> D::M {
+        let mut g = D::zero();
+        for &b in self.neighbours(a) {
+            let b = b as usize;
+            if let Some(ub) = disp(b) {
+                g += D::outer(ub - ua, grad_w0::<D>(p, self.x0[a], self.x0[b])) * self.vol[b];
+            }
+        }
+        g * D::transpose(self.corr[a])
+    }
+}
+
+/// The elastic constants of the Saint Venant-Kirchhoff law from the scene's solid: mu = G
+/// (`shear_modulus`), lambda = K - 2 G / 3 with the bulk modulus K = rho0_s c_s^2 (`[solid]
+/// sound_speed` is the bulk sound speed), and Young's modulus E = 9 K G / (3 K + G) for the
+/// hourglass control. [M L^-d L^2 T^-2]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    pub lambda: f32,
+    pub mu: f32,
+    pub young: f32,
+}
+
+impl Material {
+    pub fn of(p: &SphParams) -> Self {
+        let k = p.solid_rho0 * p.solid_c0 * p.solid_c0;
+        let g = p.shear_modulus;
+        Material {
+            lambda: k - 2.0 * g / 3.0,
+            mu: g,
+            young: if 3.0 * k + g > 0.0 {
+                9.0 * k * g / (3.0 * k + g)
+            } else {
+                0.0
+            },
+        }
+    }
+}
+
+/// What the stress stage makes of one particle's displacement gradient.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolidStress<M> {
+    /// The first Piola-Kirchhoff stress P = F S [M L^-d L^2 T^-2].
+    pub pk1: M,
+    /// The Cauchy stress's pressure p = -tr(sigma) / 3, sigma = J^-1 P F^T (in 2D plane
+    /// strain with sigma_zz = J^-1 S_zz) [M L^-d L^2 T^-2].
+    pub pressure: f32,
+    /// Its deviator sigma + p I (the D x D block), which the existing stress array carries:
+    /// sigma = -p I + S as eq. (11) [M L^-d L^2 T^-2].
+    pub deviator: M,
+    /// rho0_s / J, J = det F [M L^-d].
+    pub density: f32,
+}
+
+/// Saint Venant-Kirchhoff (as O'Connor & Rogers 2021): the Green strain
+/// E = (F^T F - I) / 2 = (H + H^T + H^T H) / 2 (written in H = F - I so that a strain of 1e-6
+/// is not lost to rounding against I), the second Piola-Kirchhoff stress
+/// S = lambda tr(E) I + 2 mu E, P = F S; objective (a rigid rotation gives E = 0). 2D is
+/// plane strain: F_zz = 1, E_zz = 0, S_zz = lambda tr(E).
+pub fn svk<D: Dim>(m: &Material, rho0: f32, h: D::M) -> SolidStress<D::M> {
+    let ht = D::transpose(h);
+    let e = (h + ht + ht * h) * 0.5;
+    let tr_e = D::trace(e);
+    let s = D::identity() * (m.lambda * tr_e) + e * (2.0 * m.mu);
+    let f = D::identity() + h;
+    let pk1 = f * s;
+    let j = D::determinant(f);
+    let inv_j = 1.0 / j;
+    let sigma = pk1 * D::transpose(f) * inv_j;
+    let zz = if D::D == 2 {
+        m.lambda * tr_e * inv_j
+    } else {
+        0.0
+    };
+    let pressure = -(D::trace(sigma) + zz) / 3.0;
+    SolidStress {
+        pk1,
+        pressure,
+        deviator: sigma + D::identity() * pressure,
+        density: rho0 * inv_j,
+    }
+}
+
+/// Ganzenmueller 2015's hourglass control, eq. (10) as TrixiParticles writes it: the
+/// acceleration [L/T^2] of a from the pair (a, b) that pushes the pair's separation towards
+/// the one the deformation gradients predict. `x0_ab` = X0_a - X0_b, `x_ab` = x_a - x_b
+/// (current), `u_ab` = u_a - u_b, `h_a`, `h_b` the displacement gradients:
+/// eps = (F_a + F_b) X0_ab - 2 x_ab = (H_a + H_b) X0_ab - 2 u_ab (in displacements for
+/// f32), delta = eps . x_ab / |x_ab|, a_a = (alpha / 2) (V0_b / rho0) W0_ab / |X0_ab|^2 E
+/// delta x_ab / |x_ab|.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn hourglass<D: Dim>(
+    p: &SphParams,
+    young: f32,
+    vol_b: f32,
+    x0_ab: D::V,
+    x_ab: D::V,
+    u_ab: D::V,
+    h_a: D::M,
+    h_b: D::M,
+) -> D::V {
+    let r0_2 = D::length2(x0_ab);
+    let r2 = D::length2(x_ab);
+    if r0_2 <= 0.0 || r2 <= 0.0 {
+        return D::V::default();
+    }
+    let eps = D::mat_vec(h_a + h_b, x0_ab) - u_ab * 2.0;
+    let w0 = kernel::w(p, r0_2.sqrt());
+    // delta x_ab / |x_ab| = (eps . x_ab) x_ab / |x_ab|^2.
+    let k = 0.5 * p.hourglass * vol_b / p.solid_rho0 * w0 / r0_2 * young * D::dot(eps, x_ab) / r2;
+    x_ab * k
+}
