@@ -37,6 +37,7 @@
 
 use super::{convergence, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
+use meshfree_core::named::Named;
 use meshfree_core::scene::Scene;
 use meshfree_core::scheme::SolidFormulation;
 
@@ -188,14 +189,6 @@ struct Outcome {
     run: RunInfo,
 }
 
-/// The formulation's name in the scene file.
-pub fn formulation_name(f: SolidFormulation) -> &'static str {
-    match f {
-        SolidFormulation::Jaumann => "jaumann",
-        SolidFormulation::TotalLagrangian => "total-lagrangian",
-    }
-}
-
 pub fn simulate_tip(
     ctx: &Ctx,
     ratio: f64,
@@ -244,11 +237,7 @@ fn simulate(
             / tip.len() as f64
     };
     let y0 = y_tip(&setup.particles);
-    let resolution = format!(
-        "dx = {dx} (H / dx = {}), {}",
-        (r.h / dx).round(),
-        formulation_name(f)
-    );
+    let resolution = format!("dx = {dx} (H / dx = {}), {}", (r.h / dx).round(), f.name());
     let mut sim = Sim::new(ctx, setup, scene.gates(), resolution)?;
     let samples = (t_end / (r.period / 100.0)).ceil() as usize;
     let mut series = vec![(0.0, 0.0)];
@@ -321,7 +310,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
 fn run_formulation(ctx: &Ctx, f: SolidFormulation) -> anyhow::Result<Vec<Check>> {
     let r = reference();
     let tl = f == SolidFormulation::TotalLagrangian;
-    let name = formulation_name(f);
+    let name = f.name();
     let quick = ctx.tier == Tier::Quick;
     let (ratios, cycles): (&[f64], f64) = if quick {
         (&[4.0], 2.5)
@@ -505,7 +494,7 @@ mod tests {
                 eprintln!(
                     "{} H/dx = {ratio}: period {period:.4} s ({:+.1} % of {:.4}), amplitude {amp:.5} m \
                      ({:+.1} % of {:.5}), decay {decay:.3} per cycle, mean dt {dt:.2e}, {wall:.0} s",
-                    formulation_name(f),
+                    f.name(),
                     100.0 * (period / r.period - 1.0),
                     r.period,
                     100.0 * (amp / (V_F * r.c0 / r.omega) - 1.0),
