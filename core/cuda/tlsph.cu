@@ -110,16 +110,18 @@ extern "C" __global__ void __launch_bounds__(MF_BLOCK)
 // gradient H_a = [sum_b V0_b (u_b - u_a) (x) grad_a W0_ab] L_a^T [-] over the reference
 // neighbours present, the Saint Venant-Kirchhoff stress (src/tlsph.rs `svk`): Green strain
 // E = (H + H^T + H^T H) / 2, S = lambda tr(E) I + 2 mu E, P = F S, J = det F; kept: H and P L;
-// written into a's slot: the Cauchy stress sigma = J^-1 P F^T as its pressure
-// p = -tr(sigma) / 3 (2D plane strain: + sigma_zz = J^-1 lambda tr(E)) into pr, its deviator
-// sigma + p I into stress, rho0_s / J into rho and vel.w (the neighbour loops' density).
+// written into a's slot: the deviator sigma + p I of the Cauchy stress sigma = J^-1 P F^T,
+// p = -tr(sigma) / 3 (2D plane strain: + sigma_zz = J^-1 lambda tr(E)), into stress. The
+// slot's density and pressure stay the continuity density's and its equation of state's,
+// as a dynamic wall particle's: they are what the fluid meets at the interface (with the
+// solid's own -p I in them, the fluid ran into the gate and squeezed the impinging bodies).
 template <int DIM>
 __device__ void sph_tl_stress_body(const SphParams p, unsigned n, unsigned n_solid, const unsigned* __restrict__ slot,
                                    const unsigned* __restrict__ start, const unsigned* __restrict__ nbr,
                                    const float* __restrict__ x0, const float* __restrict__ vol,
                                    const float* __restrict__ corr, const float* __restrict__ disp,
-                                   float* __restrict__ grad, float* __restrict__ pk1_corr, float* __restrict__ rho,
-                                   float* __restrict__ pr, float* __restrict__ stress, float* __restrict__ vel) {
+                                   float* __restrict__ grad, float* __restrict__ pk1_corr,
+                                   float* __restrict__ stress) {
     const unsigned a = blockIdx.x * blockDim.x + threadIdx.x;
     if (a >= n_solid) return;
     const unsigned i = slot[a];
@@ -175,17 +177,13 @@ __device__ void sph_tl_stress_body(const SphParams p, unsigned n, unsigned n_sol
     for (int x = 0; x < DIM; ++x) sigma.m[x][x] += pressure;  // the deviator sigma + p I
     tl_mstore<DIM>(grad, a, h);
     tl_mstore<DIM>(pk1_corr, a, tl_mul<DIM>(pk1, L));
-    const float density = p.solid_rho0 * inv_j;
-    pr[i] = pressure;
-    rho[i] = density;
     if (stress) sstore<DIM>(stress, i, n, sigma);
-    reinterpret_cast<float4*>(vel)[i].w = vel_w(MF_KIND_SOLID, density);
 }
 MF_ENTRY2(sph_tl_stress,
           (const SphParams p, unsigned n, unsigned n_solid, const unsigned* slot, const unsigned* start,
            const unsigned* nbr, const float* x0, const float* vol, const float* corr, const float* disp, float* grad,
-           float* pk1_corr, float* rho, float* pr, float* stress, float* vel),
-          (p, n, n_solid, slot, start, nbr, x0, vol, corr, disp, grad, pk1_corr, rho, pr, stress, vel))
+           float* pk1_corr, float* stress),
+          (p, n, n_solid, slot, start, nbr, x0, vol, corr, disp, grad, pk1_corr, stress))
 
 // The internal force of solid a (src/backend/cpu/tlsph.rs `TlBodies::forces`), added to the
 // force stage's acceleration of its slot [L/T^2]:

@@ -58,28 +58,29 @@ impl<D: Dim> TlBodies<D> {
 
     /// The stress stage: per solid particle H = F - I from the displacements, the
     /// Saint Venant-Kirchhoff stress (`svk`), P L kept for the force stage, and the
-    /// Cauchy stress written where the rest of the scheme reads it: its pressure into p,
-    /// its deviator into the stress array, rho0_s / J into rho.
+    /// deviator of the Cauchy stress written into the stress array, where the rest of the
+    /// scheme reads it. The particle's density and pressure stay the continuity density's
+    /// and its equation of state's, as a dynamic wall particle's: they are what the fluid
+    /// meets at the interface (with the solid's own -p I in them, the fluid ran into the gate
+    /// and squeezed the impinging bodies until their density doubled).
     pub fn stress(&mut self, p: &SphParams, s: &mut State<D>) {
         let m = Material::of(p);
         let (r, slot, disp) = (&self.reference, &self.slot, &self.disp);
-        // Per solid particle: H, P L, and the Cauchy stress's part (`SolidStress`).
-        type Out<M> = (M, M, f32, M, f32);
-        let out: Vec<Out<D::M>> = (0..r.len())
+        // Per solid particle: H, P L, and the Cauchy stress's deviator (`SolidStress`).
+        let out: Vec<(D::M, D::M, D::M)> = (0..r.len())
             .into_par_iter()
             .map(|a| {
                 if slot[a] == NONE {
-                    return (D::zero(), D::zero(), 0.0, D::zero(), 0.0);
+                    return (D::zero(), D::zero(), D::zero());
                 }
                 let h =
                     r.displacement_gradient(p, a, disp[a], |b| (slot[b] != NONE).then(|| disp[b]));
                 let st = svk::<D>(&m, p.solid_rho0, h);
-                (h, st.pk1 * r.corr[a], st.pressure, st.deviator, st.density)
+                (h, st.pk1 * r.corr[a], st.deviator)
             })
             .collect();
-        let stress = s.solid.as_mut().map(|so| &mut so.stress);
-        let mut stress = stress;
-        for (a, (h, pl, pr, dev, rho)) in out.into_iter().enumerate() {
+        let mut stress = s.solid.as_mut().map(|so| &mut so.stress);
+        for (a, (h, pl, dev)) in out.into_iter().enumerate() {
             self.grad_u[a] = h;
             self.pk1_corr[a] = pl;
             let i = slot[a];
@@ -87,8 +88,6 @@ impl<D: Dim> TlBodies<D> {
                 continue;
             }
             let i = i as usize;
-            s.p[i] = pr;
-            s.rho[i] = rho;
             if let Some(st) = stress.as_mut() {
                 st[i] = dev;
             }

@@ -331,8 +331,8 @@ impl Family {
                 Dims,
                 "const SphParams p, unsigned n, unsigned n_solid, const unsigned* slot, \
                  const unsigned* start, const unsigned* nbr, const float* x0, const float* vol, \
-                 const float* corr, const float* disp, float* grad, float* pk1_corr, float* rho, \
-                 float* pr, float* stress, float* vel",
+                 const float* corr, const float* disp, float* grad, float* pk1_corr, \
+                 float* stress",
             ),
             Family::TlForces => (
                 "tlsph",

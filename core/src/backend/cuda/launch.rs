@@ -649,8 +649,8 @@ pub fn tl_stress(
     let c = &mut b.cur;
     // SAFETY: the arguments of `Family::TlStress`; slot, vol hold n_solid entries, start
     // n_solid + 1, nbr start[n_solid] (solid indices), x0 and disp n_solid vectors, corr, grad
-    // and pk1_corr n_solid D x D blocks; every slot is NONE or below n; rho, pr hold n, stress
-    // n_sym planes of n (present: the scene has solids), vel n float4.
+    // and pk1_corr n_solid D x D blocks; every slot is NONE or below n; stress n_sym planes of
+    // n (present: the scene has solids).
     let kt = k.get(Family::TlStress);
     let mut l = s.launch_builder(&kt.f);
     l.arg(p)
@@ -664,11 +664,8 @@ pub fn tl_stress(
         .arg(&t.corr)
         .arg(&t.disp)
         .arg(&mut t.grad)
-        .arg(&mut t.pk1_corr)
-        .arg(&mut c.rho)
-        .arg(&mut c.p);
+        .arg(&mut t.pk1_corr);
     opt!(l, &mut c.stress);
-    l.arg(&mut c.vel);
     kt.check(unsafe { l.launch(cfg(t.n_solid)).map(|_| ()) });
 }
 
