@@ -14,36 +14,6 @@
 #include "device/reductions.cuh"
 #include "device/vectors.cuh"
 
-template <int DIM> __device__ __forceinline__ float det(const Mat<DIM>& a) {
-    if constexpr (DIM == 2) {
-        return a.m[0][0] * a.m[1][1] - a.m[0][1] * a.m[1][0];
-    } else {
-        return a.m[0][0] * (a.m[1][1] * a.m[2][2] - a.m[1][2] * a.m[2][1]) -
-               a.m[0][1] * (a.m[1][0] * a.m[2][2] - a.m[1][2] * a.m[2][0]) +
-               a.m[0][2] * (a.m[1][0] * a.m[2][1] - a.m[1][1] * a.m[2][0]);
-    }
-}
-// Inverse by the adjugate (the caller has checked |det| > MF_MOMENT_DET_MIN).
-template <int DIM> __device__ __forceinline__ Mat<DIM> inverse(const Mat<DIM>& a, float d) {
-    Mat<DIM> r;
-    const float s = 1.0f / d;
-    if constexpr (DIM == 2) {
-        r.m[0][0] = a.m[1][1] * s;
-        r.m[0][1] = -a.m[0][1] * s;
-        r.m[1][0] = -a.m[1][0] * s;
-        r.m[1][1] = a.m[0][0] * s;
-    } else {
-#pragma unroll
-        for (int i = 0; i < 3; ++i)
-#pragma unroll
-            for (int j = 0; j < 3; ++j) {
-                // cofactor C_ji, i.e. adj(a)_ij
-                const int r0 = (j + 1) % 3, r1 = (j + 2) % 3, c0 = (i + 1) % 3, c1 = (i + 2) % 3;
-                r.m[i][j] = (a.m[r0][c0] * a.m[r1][c1] - a.m[r0][c1] * a.m[r1][c0]) * s;
-            }
-    }
-    return r;
-}
 
 // rho^H_j - rho^H_i of water at rest under gravity, r = r_i - r_j (Fourtakas et al. 2019): the
 // Tait density of p^H_j - p^H_i = rho0 g . (r_j - r_i); twin of hydrostatic_rho_ji in
@@ -227,17 +197,7 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
             const float d = det<DIM>(mo);
             if (fabsf(d) > MF_MOMENT_DET_MIN) {
                 const Mat<DIM> inv = inverse<DIM>(mo, d);
-                Mat<DIM> g2;
-#pragma unroll
-                for (int a = 0; a < DIM; ++a)
-#pragma unroll
-                    for (int b = 0; b < DIM; ++b) {
-                        float s = gv.m[a][0] * inv.m[0][b];
-#pragma unroll
-                        for (int c = 1; c < DIM; ++c) s += gv.m[a][c] * inv.m[c][b];
-                        g2.m[a][b] = s;
-                    }
-                gv = g2;
+                gv = mat_mul<DIM>(gv, inv);
             }
             Mat<DIM> eps, om;
 #pragma unroll

@@ -36,44 +36,6 @@ template <int DIM> __device__ __forceinline__ void tl_mstore(float* __restrict__
 #pragma unroll
         for (int y = 0; y < DIM; ++y) a[i * DIM * DIM + x * DIM + y] = r.m[x][y];
 }
-// a b (matrix product), the sum over k in ascending order (glam's).
-template <int DIM> __device__ __forceinline__ Mat<DIM> tl_mul(const Mat<DIM>& a, const Mat<DIM>& b) {
-    Mat<DIM> r;
-#pragma unroll
-    for (int x = 0; x < DIM; ++x)
-#pragma unroll
-        for (int y = 0; y < DIM; ++y) {
-            float s = a.m[x][0] * b.m[0][y];
-#pragma unroll
-            for (int k = 1; k < DIM; ++k) s += a.m[x][k] * b.m[k][y];
-            r.m[x][y] = s;
-        }
-    return r;
-}
-template <int DIM> __device__ __forceinline__ Mat<DIM> tl_transpose(const Mat<DIM>& a) {
-    Mat<DIM> r;
-#pragma unroll
-    for (int x = 0; x < DIM; ++x)
-#pragma unroll
-        for (int y = 0; y < DIM; ++y) r.m[x][y] = a.m[y][x];
-    return r;
-}
-template <int DIM> __device__ __forceinline__ float tl_det(const Mat<DIM>& a) {
-    if constexpr (DIM == 2) {
-        return a.m[0][0] * a.m[1][1] - a.m[0][1] * a.m[1][0];
-    } else {
-        return a.m[0][0] * (a.m[1][1] * a.m[2][2] - a.m[1][2] * a.m[2][1]) -
-               a.m[0][1] * (a.m[1][0] * a.m[2][2] - a.m[1][2] * a.m[2][0]) +
-               a.m[0][2] * (a.m[1][0] * a.m[2][1] - a.m[1][1] * a.m[2][0]);
-    }
-}
-template <int DIM> __device__ __forceinline__ float tl_trace(const Mat<DIM>& a) {
-    float s = a.m[0][0];
-#pragma unroll
-    for (int x = 1; x < DIM; ++x) s += a.m[x][x];
-    return s;
-}
-
 // grad_a W0_ab = f(|X0_ab|) X0_ab with X0_ab = X0_a - X0_b [L^-d-1], and W0_ab [L^-d]
 // (src/tlsph.rs `grad_w0`, kernel::w).
 template <int DIM>
@@ -145,18 +107,18 @@ __device__ void sph_tl_stress_body(const SphParams p, unsigned n, unsigned n_sol
             for (int y = 0; y < DIM; ++y) g.m[x][y] += (du.c[x] * gw.c[y]) * vb;
     }
     const Mat<DIM> L = tl_mload<DIM>(corr, a);
-    const Mat<DIM> h = tl_mul<DIM>(g, tl_transpose<DIM>(L));
+    const Mat<DIM> h = mat_mul<DIM>(g, transpose<DIM>(L));
     // Saint Venant-Kirchhoff, as `svk`.
     float lambda, mu, young;
     tl_material(p, lambda, mu, young);
-    const Mat<DIM> ht = tl_transpose<DIM>(h);
-    const Mat<DIM> hth = tl_mul<DIM>(ht, h);
+    const Mat<DIM> ht = transpose<DIM>(h);
+    const Mat<DIM> hth = mat_mul<DIM>(ht, h);
     Mat<DIM> e, s, f;
 #pragma unroll
     for (int x = 0; x < DIM; ++x)
 #pragma unroll
         for (int y = 0; y < DIM; ++y) e.m[x][y] = (h.m[x][y] + ht.m[x][y] + hth.m[x][y]) * 0.5f;
-    const float tr_e = tl_trace<DIM>(e);
+    const float tr_e = trace<DIM>(e);
 #pragma unroll
     for (int x = 0; x < DIM; ++x)
 #pragma unroll
@@ -164,19 +126,19 @@ __device__ void sph_tl_stress_body(const SphParams p, unsigned n, unsigned n_sol
             s.m[x][y] = (x == y ? lambda * tr_e : 0.0f) + e.m[x][y] * (2.0f * mu);
             f.m[x][y] = (x == y ? 1.0f : 0.0f) + h.m[x][y];
         }
-    const Mat<DIM> pk1 = tl_mul<DIM>(f, s);
-    const float inv_j = 1.0f / tl_det<DIM>(f);
-    Mat<DIM> sigma = tl_mul<DIM>(pk1, tl_transpose<DIM>(f));
+    const Mat<DIM> pk1 = mat_mul<DIM>(f, s);
+    const float inv_j = 1.0f / det<DIM>(f);
+    Mat<DIM> sigma = mat_mul<DIM>(pk1, transpose<DIM>(f));
 #pragma unroll
     for (int x = 0; x < DIM; ++x)
 #pragma unroll
         for (int y = 0; y < DIM; ++y) sigma.m[x][y] *= inv_j;
     const float zz = DIM == 2 ? lambda * tr_e * inv_j : 0.0f;
-    const float pressure = -(tl_trace<DIM>(sigma) + zz) / 3.0f;
+    const float pressure = -(trace<DIM>(sigma) + zz) / 3.0f;
 #pragma unroll
     for (int x = 0; x < DIM; ++x) sigma.m[x][x] += pressure;  // the deviator sigma + p I
     tl_mstore<DIM>(grad, a, h);
-    tl_mstore<DIM>(pk1_corr, a, tl_mul<DIM>(pk1, L));
+    tl_mstore<DIM>(pk1_corr, a, mat_mul<DIM>(pk1, L));
     if (stress) sstore<DIM>(stress, i, n, sigma);
 }
 MF_ENTRY2(sph_tl_stress,

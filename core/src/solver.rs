@@ -160,9 +160,10 @@ pub trait Solver: Send {
     fn density(&mut self);
     /// The total-Lagrangian bodies' stress (`[solid] formulation = "total-lagrangian"`,
     /// `crate::tlsph`): the deformation gradient from the displacements, the Saint
-    /// Venant-Kirchhoff stress, and its Cauchy pressure, deviator and density written into
-    /// p, S and rho, where the force stage reads them. Nothing under the Jaumann rate (the
-    /// default does nothing).
+    /// Venant-Kirchhoff stress, and the deviator of its Cauchy stress written into S, where
+    /// the force stage reads it (the particle's density and pressure stay the continuity
+    /// density's, the interface's). Nothing under the Jaumann rate (the default does
+    /// nothing).
     fn solid_stress(&mut self) {}
     /// Accelerations: eqs. (7), (10), (16), (17), laminar viscosity, artificial stress,
     /// gravity.
