@@ -69,7 +69,8 @@ fn quick_validation_passes_and_writes_reports() {
         "poiseuille.png",
         "taylor-green.png",
         "plate-tip.png",
-        "cantilever-tip.png",
+        "cantilever-tip-jaumann.png",
+        "cantilever-tip-total-lagrangian.png",
         "gate-x.png",
         "gate-y.png",
     ] {
