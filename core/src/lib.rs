@@ -5,6 +5,7 @@
 //! laboratory (`lab/`). See `ARCHITECTURE.md`.
 pub mod backend;
 pub mod build_info;
+pub mod checkpoint;
 pub mod consts;
 pub mod dim;
 pub mod frame;

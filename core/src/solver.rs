@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::checkpoint::SolverCheckpoint;
 use crate::frame::{Fields, FrameData, PendingFrame, Ready};
 use crate::params::{SphParams, MF_INTEGRATOR_EULER, MF_NO_SLIP_WALL_VELOCITY};
 use crate::particle::{Kind, Particle};
@@ -276,6 +277,16 @@ pub trait Solver: Send {
         include_walls: bool,
         out: &mut Vec<PointSample>,
     );
+    /// The state a restart needs (`crate::checkpoint`), at this step boundary (a
+    /// read-back on the GPU).
+    fn save(&mut self) -> SolverCheckpoint;
+    /// Continue from `saved`, taken by `save` from a solver of the same scene on either
+    /// backend (this one started afresh, its gates opened as they were): the particles, the
+    /// total-Lagrangian displacements, the clock and the step count replaced. On the same
+    /// backend and build the steps that follow are those the saved solver would have taken,
+    /// bit for bit. Err: why the checkpoint does not fit (`SolverCheckpoint::mismatch`);
+    /// the solver is then unchanged.
+    fn restore(&mut self, saved: &SolverCheckpoint) -> Result<(), String>;
     /// Remove every particle of a scene group (opening a gate). Returns how many went.
     fn remove_group(&mut self, group: u32) -> usize;
     /// `Setup::wall_surface` as the solver took it (empty unless `no_slip`), for the force

@@ -22,6 +22,7 @@ pub use reduce::step_size;
 pub use stress::{artificial_stress, jacobi_eigen};
 pub use tlsph::TlBodies;
 
+use crate::checkpoint::SolverCheckpoint;
 use crate::consts::{
     MF_DENSITY_SANE_HIGH, MF_DENSITY_SANE_LOW, MF_FAULT_DENSITY_RANGE, MF_FAULT_ESCAPED,
     MF_FAULT_NON_FINITE_DENSITY, MF_FAULT_NON_FINITE_POSITION, MF_FAULT_NON_FINITE_VELOCITY,
@@ -237,6 +238,25 @@ impl<D: Dim> Solver for CpuSolver<D> {
             .iter()
             .map(|&g| wall_force(&self.params, &self.state, &self.grid, &self.wall_surface, g))
             .collect()
+    }
+    fn save(&mut self) -> SolverCheckpoint {
+        let disp = self.tl.as_ref().map_or(&[][..], |t| &t.disp[..]);
+        SolverCheckpoint::of_state(&self.state, self.time, self.steps, self.dt, disp)
+    }
+    fn restore(&mut self, saved: &SolverCheckpoint) -> Result<(), String> {
+        let state = saved.to_state(&self.state)?;
+        let n_solid = self.tl.as_ref().map_or(0, |t| t.disp.len());
+        let disp = saved.tl_displacements::<D>(n_solid)?;
+        self.state = state;
+        if let Some(tl) = self.tl.as_mut() {
+            tl.disp = disp;
+            tl.map_slots(&self.state);
+        }
+        self.grid_stale = true;
+        self.time = saved.time;
+        self.steps = saved.steps;
+        self.dt = saved.dt;
+        Ok(())
     }
     fn remove_group(&mut self, group: u32) -> usize {
         let before = self.state.len();

@@ -507,7 +507,20 @@ impl TlBuffers {
         Ok(())
     }
 
-    /// The displacements u in solid space (read back; for tests).
+    /// Overwrite the displacements u in solid space (`n_solid` of them).
+    pub fn write_disp<D: Dim>(
+        &mut self,
+        s: &Arc<CudaStream>,
+        disp: &[D::V],
+    ) -> Result<(), DriverError> {
+        assert_eq!(disp.len(), self.n_solid, "write_disp: another solid count");
+        if self.n_solid > 0 {
+            s.memcpy_htod(&flat_v::<D>(disp, |_| 0.0), &mut self.disp)?;
+        }
+        Ok(())
+    }
+
+    /// The displacements u in solid space (read back).
     pub fn read_disp<D: Dim>(&self, s: &Arc<CudaStream>) -> Result<Vec<D::V>, DriverError> {
         Ok(unflat_v::<D>(&s.clone_dtoh(&self.disp)?, self.n_solid))
     }

@@ -17,6 +17,7 @@ use cudarc::driver::{sys, CudaSlice};
 
 use crate::backend::cpu::fault;
 use crate::backend::BackendError;
+use crate::checkpoint::SolverCheckpoint;
 use crate::consts::{
     MF_FAULT_ESCAPED, MF_FAULT_NON_FINITE_POSITION, MF_FAULT_NON_FINITE_VELOCITY,
     MF_FAULT_SLOT_SHIFT, MF_SAMPLE_FLOATS,
@@ -196,6 +197,17 @@ impl<D: Dim> CudaSolver<D> {
             t.read_disp::<D>(&self.dev.stream)
                 .unwrap_or_else(|e| self.sync_err("reading the displacements back", e)),
         )
+    }
+
+    /// Set the simulated time [T] and the last step size [T] on the device.
+    fn set_clock(&mut self, time: f64, dt: f32) {
+        let s = &self.dev.stream;
+        let r = s
+            .memcpy_htod(&[time][..], &mut self.buf.time)
+            .and_then(|_| s.memcpy_htod(&[dt][..], &mut self.buf.dt));
+        if let Err(e) = r {
+            self.sync_err("setting the clock", e)
+        }
     }
 
     /// Map the total-Lagrangian solid space onto the storage (after a reorder).
@@ -617,6 +629,30 @@ impl<D: Dim> Solver for CudaSolver<D> {
         self.tl_map_slots();
         f
     }
+    fn save(&mut self) -> SolverCheckpoint {
+        let state = self.download_state();
+        let disp = self.tl_displacement().unwrap_or_default();
+        let (time, dt) = (self.time(), self.dt());
+        SolverCheckpoint::of_state(&state, time, self.steps, dt, &disp)
+    }
+    fn restore(&mut self, saved: &SolverCheckpoint) -> Result<(), String> {
+        let state = saved.to_state(&self.download_state())?;
+        let n_solid = self.tl.as_ref().map_or(0, |t| t.n_solid);
+        let disp = saved.tl_displacements::<D>(n_solid)?;
+        self.upload_state(&state);
+        let s = &self.dev.stream;
+        let written = self.tl.as_mut().map_or(Ok(()), |t| {
+            t.write_disp::<D>(s, &disp).and_then(|_| t.clear_slots(s))
+        });
+        if let Err(e) = written {
+            self.sync_err("restoring the total-Lagrangian displacements", e)
+        }
+        self.tl_map_slots();
+        self.set_clock(saved.time, saved.dt);
+        self.steps = saved.steps;
+        self.graph = None;
+        Ok(())
+    }
     fn remove_group(&mut self, group: u32) -> usize {
         let mut st = self.download_state();
         let before = st.len();
@@ -627,7 +663,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
             let time = self.time();
             let dt = self.dt();
             let n = st.len();
-            let mut buf = Buffers::new(
+            let buf = Buffers::new(
                 &self.dev.stream,
                 &st,
                 self.buf.n_cells,
@@ -635,14 +671,8 @@ impl<D: Dim> Solver for CudaSolver<D> {
                 needs_density_gradient(&self.params),
             )
             .unwrap_or_else(|e| panic!("{}", oom(n, e)));
-            let s = &self.dev.stream;
-            let r = s
-                .memcpy_htod(&[time][..], &mut buf.time)
-                .and_then(|_| s.memcpy_htod(&[dt][..], &mut buf.dt));
-            if let Err(e) = r {
-                self.sync_err("restoring the clock", e)
-            }
             self.buf = buf;
+            self.set_clock(time, dt);
             // The removed solids keep slot NONE; the rest are mapped onto the new storage.
             if let Some(t) = self.tl.as_mut() {
                 if let Err(e) = t.clear_slots(&self.dev.stream) {

@@ -1,0 +1,218 @@
+//! The solver state a restart needs (`Solver::save`, `Solver::restore`), in storage order
+//! and in a form that neither the backend nor the dimension's vector types shape: vectors
+//! as three components (z = 0 in 2D), symmetric tensors as six. The file around it (its
+//! version, checksum and the run's own state) is the app's (`meshfree run --resume`).
+//!
+//! Kept: everything a step reads that an earlier step wrote. Positions, velocities and
+//! density, the deviatoric stress and the solids' density departure from rest, the
+//! total-Lagrangian displacements, the clock, the step count and the last step size; the
+//! ids, kinds, groups and masses with them, to check that the restored scene is the saved
+//! one. The pressure rides along (a restored solver reads back as the saved one did).
+//! Left out: what a step writes before it reads it (accelerations, XSPH velocities,
+//! d rho/dt, the stress rate, the artificial stress, the total-Lagrangian deformation
+//! gradients and first Piola-Kirchhoff stresses) and what the scene gives again (the
+//! total-Lagrangian reference configuration, the walls' surface normals).
+//!
+//! Restored in the saved storage order, a run steps on exactly as it would have: every
+//! stage's sums visit the neighbours in the (cell, id) order of the next grid build, which
+//! the positions alone fix.
+
+use crate::dim::Dim;
+use crate::state::{SolidState, State};
+
+/// The solver state of one step boundary (`Solver::save`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SolverCheckpoint {
+    /// 2 or 3.
+    pub dim: u32,
+    /// [T] the simulated time.
+    pub time: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// [T] the last step's size (0 before the first).
+    pub dt: f32,
+    pub id: Vec<u32>,
+    /// `Kind` codes.
+    pub kind: Vec<u8>,
+    pub group: Vec<u32>,
+    /// [M]
+    pub mass: Vec<f32>,
+    /// [L]
+    pub pos: Vec<[f32; 3]>,
+    /// [L/T]
+    pub vel: Vec<[f32; 3]>,
+    /// [M L^-d]
+    pub rho: Vec<f32>,
+    /// [M L^-d L^2 T^-2]
+    pub p: Vec<f32>,
+    /// The deviatoric stress S (xx, yy, zz, xy, xz, yz) [M L^-d L^2 T^-2]; empty without
+    /// solid particles.
+    pub stress: Vec<[f32; 6]>,
+    /// [M L^-d] the solids' rho - rho0_s (`SolidState::rho_dev`); empty without solids.
+    pub rho_dev: Vec<f32>,
+    /// [L] the total-Lagrangian displacements u = x - X0, in solid space (the reference's
+    /// order, not the storage's); empty under the Jaumann rate.
+    pub tl_disp: Vec<[f32; 3]>,
+}
+
+impl SolverCheckpoint {
+    /// The checkpoint of `state` (storage order) at the clock `time` [T] after `steps`
+    /// steps, the last of size `dt` [T], with the total-Lagrangian displacements `tl_disp`
+    /// (empty where there are none).
+    pub fn of_state<D: Dim>(
+        state: &State<D>,
+        time: f64,
+        steps: u64,
+        dt: f32,
+        tl_disp: &[D::V],
+    ) -> SolverCheckpoint {
+        let solid = state.solid.as_ref();
+        SolverCheckpoint {
+            dim: D::D as u32,
+            time,
+            steps,
+            dt,
+            id: state.id.clone(),
+            kind: state.kind.clone(),
+            group: state.group.clone(),
+            mass: state.mass.clone(),
+            pos: state.pos.iter().map(|&v| D::to3(v)).collect(),
+            vel: state.vel.iter().map(|&v| D::to3(v)).collect(),
+            rho: state.rho.clone(),
+            p: state.p.clone(),
+            stress: solid.map_or_else(Vec::new, |s| {
+                s.stress.iter().map(|&m| D::sym_to6(m)).collect()
+            }),
+            rho_dev: solid.map_or_else(Vec::new, |s| s.rho_dev.clone()),
+            tl_disp: tl_disp.iter().map(|&v| D::to3(v)).collect(),
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.id.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.id.is_empty()
+    }
+
+    /// Why this checkpoint cannot have been taken from a solver whose state is laid out as
+    /// `like` (a solver of the same scene, started afresh, its gates opened alike): another
+    /// dimension, particle set, kind, group or mass (compared by id, bit for bit), array
+    /// lengths that disagree, or solids on one side only. None where it fits.
+    pub fn mismatch<D: Dim>(&self, like: &State<D>) -> Option<String> {
+        let n = self.len();
+        if self.dim != D::D as u32 {
+            return Some(format!(
+                "it holds a {}D state and the scene is {}D",
+                self.dim,
+                D::D
+            ));
+        }
+        let lengths = [
+            self.kind.len(),
+            self.group.len(),
+            self.mass.len(),
+            self.pos.len(),
+            self.vel.len(),
+            self.rho.len(),
+            self.p.len(),
+        ];
+        if lengths.iter().any(|&l| l != n) {
+            return Some(format!(
+                "its arrays disagree in length ({n} ids; {lengths:?})"
+            ));
+        }
+        if n != like.len() {
+            return Some(format!(
+                "it holds {n} particles and the scene has {}",
+                like.len()
+            ));
+        }
+        let solids = like.solid.is_some();
+        let (stress, rho_dev) = (self.stress.len(), self.rho_dev.len());
+        if (stress, rho_dev) != if solids { (n, n) } else { (0, 0) } {
+            return Some(format!(
+                "it holds stress for {stress} and density departures for {rho_dev} of {n} \
+                 particles, and the scene has {} solid particles",
+                if solids { "some" } else { "no" }
+            ));
+        }
+        // Compare by id: the two storages are ordered differently.
+        let by_id = |ids: &[u32]| {
+            let mut order: Vec<usize> = (0..ids.len()).collect();
+            order.sort_unstable_by_key(|&i| ids[i]);
+            order
+        };
+        let (mine, theirs) = (by_id(&self.id), by_id(&like.id));
+        for (&a, &b) in mine.iter().zip(&theirs) {
+            let (id, other) = (self.id[a], like.id[b]);
+            if id != other {
+                return Some(format!(
+                    "particle {} is in {} only",
+                    id.min(other),
+                    if id < other { "it" } else { "the scene" }
+                ));
+            }
+            let what = if self.kind[a] != like.kind[b] {
+                Some("kind")
+            } else if self.group[a] != like.group[b] {
+                Some("group")
+            } else if self.mass[a].to_bits() != like.mass[b].to_bits() {
+                Some("mass")
+            } else {
+                None
+            };
+            if let Some(what) = what {
+                return Some(format!(
+                    "particle {id} has another {what} in it than in the scene"
+                ));
+            }
+        }
+        None
+    }
+
+    /// The state in the saved storage order, with the arrays `like` has (the continuity
+    /// density's d rho/dt, the solids' stress rate and artificial stress: zero, as a step
+    /// writes them before it reads them). Err: `mismatch`.
+    pub fn to_state<D: Dim>(&self, like: &State<D>) -> Result<State<D>, String> {
+        if let Some(why) = self.mismatch(like) {
+            return Err(why);
+        }
+        let n = self.len();
+        let vectors = |v: &[[f32; 3]]| v.iter().map(|&a| D::from3(a)).collect::<Vec<_>>();
+        let solid = like.solid.as_ref().map(|s| SolidState {
+            stress: self.stress.iter().map(|&m| D::sym_from6(m)).collect(),
+            stress_rate: vec![D::zero(); n],
+            art_stress: s.art_stress.as_ref().map(|_| vec![D::zero(); n]),
+            rho_dev: self.rho_dev.clone(),
+        });
+        Ok(State {
+            id: self.id.clone(),
+            kind: self.kind.clone(),
+            group: self.group.clone(),
+            mass: self.mass.clone(),
+            pos: vectors(&self.pos),
+            vel: vectors(&self.vel),
+            rho: self.rho.clone(),
+            p: self.p.clone(),
+            acc: vec![D::V::default(); n],
+            xsph: vec![D::V::default(); n],
+            drho: like.drho.as_ref().map(|_| vec![0.0; n]),
+            solid,
+        })
+    }
+
+    /// The total-Lagrangian displacements for a solver whose solid space holds `n_solid`
+    /// particles. Err: another count.
+    pub fn tl_displacements<D: Dim>(&self, n_solid: usize) -> Result<Vec<D::V>, String> {
+        if self.tl_disp.len() != n_solid {
+            return Err(format!(
+                "it holds {} total-Lagrangian displacements and the scene has {n_solid} \
+                 total-Lagrangian solid particles",
+                self.tl_disp.len()
+            ));
+        }
+        Ok(self.tl_disp.iter().map(|&a| D::from3(a)).collect())
+    }
+}
