@@ -30,6 +30,7 @@ Examples:
   meshfree run dam-break-2d                run a built-in scene into out/dam-break-2d
   meshfree run my.toml --out runs/a        run a scene file
   meshfree run tank-2d --backend cpu --steps 100 --quiet
+  meshfree run --resume out/dam-break-2d   continue a stopped or killed run from its checkpoint
   meshfree check my.toml                   validate a scene and count its particles
 
 Scene files: copy one of scenes/*.toml and edit it; every key is commented there, and
@@ -39,7 +40,14 @@ diagnostics.csv, summary.json (with the wall time's split) and a copy of the sce
 output directory; a scene's [output] table chooses the format, the fields and cluster counts.
 A directory holding an earlier run is refused unless --overwrite. Ctrl-C (or SIGTERM,
 SIGHUP) stops a run after the current batch of steps, writing the state it reached as a
-last frame and summary.json with status \"interrupted\"; a second Ctrl-C quits at once.
+last frame, a checkpoint and summary.json with status \"interrupted\"; a second Ctrl-C
+quits at once.
+Checkpoints: checkpoint.bin holds the whole state (binary, versioned, checksummed, replaced
+atomically); one is written wherever a run stops (its end, --steps, a signal; not at a
+blow-up) and every [output] checkpoint_interval of simulated time. `run --resume DIR`
+continues from it, also after kill -9 or a power cut, with the files of later outputs
+removed first; on the same backend and build the result is bit for bit the uninterrupted
+run's. --t-end extends a finished run; --backend may differ from the run's.
 
 Exit status:
   0    success
@@ -324,7 +332,13 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 #[derive(Debug, clap::Args)]
 pub struct RunArgs {
     /// A scene file path (e.g. scenes/tank-2d.toml) or a built-in scene name (see `meshfree scenes`).
-    pub scene: String,
+    #[arg(required_unless_present = "resume")]
+    pub scene: Option<String>,
+    /// Continue the run in DIR from its checkpoint (checkpoint.bin), with its own scene,
+    /// output interval and format; --backend, --t-end (to extend it), --steps and --quiet
+    /// apply.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["scene", "out", "overwrite", "format", "output_interval", "paper_exact", "max_particles"])]
+    pub resume: Option<PathBuf>,
     /// Where to run: `auto` takes CUDA where a driver and a device answer, else the CPU.
     #[arg(long, value_parser = named::<BackendChoice>(), default_value = "auto")]
     pub backend: BackendChoice,
@@ -409,7 +423,9 @@ pub fn exit_code(e: &anyhow::Error) -> u8 {
     for cause in e.chain() {
         if let Some(r) = cause.downcast_ref::<run::RunError>() {
             return match r {
-                run::RunError::Scene(_) | run::RunError::OutputInUse { .. } => exit::BAD_INPUT,
+                run::RunError::Scene(_)
+                | run::RunError::OutputInUse { .. }
+                | run::RunError::Checkpoint { .. } => exit::BAD_INPUT,
                 run::RunError::BlowUp { .. } => exit::BLOW_UP,
                 run::RunError::Io { .. } => exit::IO,
                 run::RunError::Interrupted { .. } => exit::INTERRUPTED,
@@ -502,10 +518,6 @@ pub fn main(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Run(a) => {
-            let mut s = Scene::load(&a.scene)?;
-            if a.paper_exact {
-                s = s.with_paper_exact()?;
-            }
             let options = RunOptions {
                 format: a.format,
                 backend: a.backend,
@@ -522,11 +534,30 @@ pub fn main(cli: Cli) -> anyhow::Result<()> {
                     Progress::Auto
                 },
             };
-            let summary = match run::run(&s, &options) {
+            let (result, what) = match (&a.resume, &a.scene) {
+                (Some(dir), _) => (
+                    run::resume(dir, &options),
+                    format!("resuming the run in {}", dir.display()),
+                ),
+                (None, Some(scene)) => {
+                    let mut s = Scene::load(scene)?;
+                    if a.paper_exact {
+                        s = s.with_paper_exact()?;
+                    }
+                    (
+                        run::run(&s, &options),
+                        format!("running scene `{}`", s.name()),
+                    )
+                }
+                (None, None) => unreachable!("clap requires a scene without --resume"),
+            };
+            let summary = match result {
                 Ok(summary) => summary,
-                // Scene errors already read `<file>: <field>: <reason>`.
-                Err(run::RunError::Scene(e)) => return Err(e.into()),
-                Err(e) => return Err(e).with_context(|| format!("running scene `{}`", s.name())),
+                // Scene and checkpoint errors already name their file.
+                Err(e @ (run::RunError::Scene(_) | run::RunError::Checkpoint { .. })) => {
+                    return Err(e.into())
+                }
+                Err(e) => return Err(e).with_context(|| what),
             };
             println!(
                 "{}: {} steps to t = {:.4} on {} ({}), {:.3e} particle-steps/s; output in {}",

@@ -12,4 +12,5 @@ pub mod output;
 pub mod paper_bench;
 pub mod peers_bench;
 pub mod probes;
+pub mod resume;
 pub mod run;

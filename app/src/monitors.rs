@@ -5,6 +5,8 @@
 
 use std::path::{Path, PathBuf};
 
+use serde::{Deserialize, Serialize};
+
 use meshfree_core::monitor::{ForceSample, MonitorSummary};
 use meshfree_core::scene::{format, Scene};
 use meshfree_core::solver::Solver;
@@ -31,19 +33,36 @@ struct Active {
     path: PathBuf,
 }
 
+/// The monitors' part of a checkpoint: per monitor, the next sample time [T] and the
+/// samples so far (the summary's statistics take them all), and the length of each CSV.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct MonitorsState {
+    pub next: Vec<f64>,
+    pub samples: Vec<Vec<ForceSample>>,
+    /// (file name in the run directory, bytes).
+    pub files: Vec<(String, u64)>,
+}
+
 impl Monitors {
-    /// Open `<name>.csv` in `dir` for each of the scene's monitors.
-    pub fn create(scene: &Scene, dir: &Path) -> Result<Monitors, (PathBuf, std::io::Error)> {
+    /// Open `<name>.csv` in `dir` for each of the scene's monitors; continuing a run from a
+    /// checkpoint (`resume`), open them at their ends and carry on from its state.
+    pub fn create(
+        scene: &Scene,
+        dir: &Path,
+        resume: Option<&MonitorsState>,
+    ) -> Result<Monitors, (PathBuf, std::io::Error)> {
         let f = &scene.file;
         let mut list = Vec::new();
-        for m in &f.monitors {
+        for (k, m) in f.monitors.iter().enumerate() {
             let path = dir.join(format!("{}.csv", m.name));
-            let csv = ForcesCsv::create(&path).map_err(|e| (path.clone(), e))?;
+            let csv = ForcesCsv::open(&path, resume.is_some()).map_err(|e| (path.clone(), e))?;
             list.push(Active {
                 spec: m.clone(),
                 group: scene.wall_group(m.wall),
-                next: 0.0,
-                samples: Vec::new(),
+                next: resume.and_then(|r| r.next.get(k).copied()).unwrap_or(0.0),
+                samples: resume
+                    .and_then(|r| r.samples.get(k).cloned())
+                    .unwrap_or_default(),
                 csv,
                 path,
             });
@@ -53,6 +72,23 @@ impl Monitors {
             rho0: f.fluid.density,
             dim: f.dimension as i32,
             height: f.domain.max[1] - f.domain.min[1],
+        })
+    }
+
+    /// The monitors' part of a checkpoint (every row so far flushed).
+    pub fn state(&self) -> Result<MonitorsState, (PathBuf, std::io::Error)> {
+        let mut files = Vec::new();
+        for m in &self.list {
+            let len = std::fs::metadata(&m.path)
+                .map_err(|e| (m.path.clone(), e))?
+                .len();
+            let name = m.path.file_name().unwrap_or_default().to_string_lossy();
+            files.push((name.into_owned(), len));
+        }
+        Ok(MonitorsState {
+            next: self.list.iter().map(|m| m.next).collect(),
+            samples: self.list.iter().map(|m| m.samples.clone()).collect(),
+            files,
         })
     }
 

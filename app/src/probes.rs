@@ -25,8 +25,19 @@ use meshfree_core::scene::format::{Gauge, Probe, ProbeField};
 use meshfree_core::scene::Scene;
 use meshfree_core::solver::{PointSample, Solver};
 use meshfree_core::step::reached;
+use serde::{Deserialize, Serialize};
 
 type IoResult = Result<(), (PathBuf, std::io::Error)>;
+
+/// The probes' part of a checkpoint: each probe's and gauge's next sample time [T], and
+/// the length of each CSV.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct ProbesState {
+    pub probes: Vec<f64>,
+    pub gauges: Vec<f64>,
+    /// (file name in the run directory, bytes).
+    pub files: Vec<(String, u64)>,
+}
 
 /// The scene's probes and gauges during a run.
 pub struct Probes {
@@ -62,13 +73,8 @@ struct Csv {
 }
 
 impl Csv {
-    fn create(path: PathBuf, header: &str) -> Result<Csv, (PathBuf, std::io::Error)> {
-        let mut w = File::create(&path)
-            .map(BufWriter::new)
-            .map_err(|e| (path.clone(), e))?;
-        writeln!(w, "{header}")
-            .and_then(|_| w.flush())
-            .map_err(|e| (path.clone(), e))?;
+    fn open(path: PathBuf, header: &str, append: bool) -> Result<Csv, (PathBuf, std::io::Error)> {
+        let w = crate::output::open_csv(&path, header, append).map_err(|e| (path.clone(), e))?;
         Ok(Csv { w, path })
     }
     fn err(&self) -> impl FnOnce(std::io::Error) -> (PathBuf, std::io::Error) + '_ {
@@ -93,7 +99,15 @@ fn next_after(t: f64, interval: f64) -> f64 {
 impl Probes {
     /// Open `probes.csv` (if the scene has probes) and `gauges.csv` (if it has gauges) in
     /// `dir` and write their headers.
-    pub fn create(scene: &Scene, dir: &Path) -> Result<Probes, (PathBuf, std::io::Error)> {
+    ///
+    /// Continuing a run from a checkpoint (`resume`), the files are opened at their ends and
+    /// the sample times carried on.
+    pub fn create(
+        scene: &Scene,
+        dir: &Path,
+        resume: Option<&ProbesState>,
+    ) -> Result<Probes, (PathBuf, std::io::Error)> {
+        let append = resume.is_some();
         let f = &scene.file;
         let dim = f.dimension as usize;
         let axes = ["x", "y", "z"];
@@ -118,15 +132,15 @@ impl Probes {
                     _ => header += &format!(",{}", c.name()),
                 }
             }
-            Some(Csv::create(dir.join("probes.csv"), &header)?)
+            Some(Csv::open(dir.join("probes.csv"), &header, append)?)
         };
         let gauges_csv = if f.gauges.is_empty() {
             None
         } else {
             let header = format!("time,step,gauge,{},distance", axes[..dim].join(","));
-            Some(Csv::create(dir.join("gauges.csv"), &header)?)
+            Some(Csv::open(dir.join("gauges.csv"), &header, append)?)
         };
-        let probes = f
+        let mut probes: Vec<ActiveProbe> = f
             .probes
             .iter()
             .map(|p| ActiveProbe {
@@ -139,7 +153,7 @@ impl Probes {
                 next: 0.0,
             })
             .collect();
-        let gauges = f
+        let mut gauges: Vec<ActiveGauge> = f
             .gauges
             .iter()
             .map(|g| ActiveGauge {
@@ -148,6 +162,14 @@ impl Probes {
                 next: 0.0,
             })
             .collect();
+        if let Some(r) = resume {
+            for (p, &t) in probes.iter_mut().zip(&r.probes) {
+                p.next = t;
+            }
+            for (g, &t) in gauges.iter_mut().zip(&r.gauges) {
+                g.next = t;
+            }
+        }
         Ok(Probes {
             probes,
             gauges,
@@ -157,6 +179,21 @@ impl Probes {
             dim,
             points: Vec::new(),
             samples: Vec::new(),
+        })
+    }
+
+    /// The probes' part of a checkpoint (every row so far flushed).
+    pub fn state(&self) -> Result<ProbesState, (PathBuf, std::io::Error)> {
+        let mut files = Vec::new();
+        for csv in [&self.probes_csv, &self.gauges_csv].into_iter().flatten() {
+            let len = std::fs::metadata(&csv.path).map_err(csv.err())?.len();
+            let name = csv.path.file_name().unwrap_or_default().to_string_lossy();
+            files.push((name.into_owned(), len));
+        }
+        Ok(ProbesState {
+            probes: self.probes.iter().map(|p| p.next).collect(),
+            gauges: self.gauges.iter().map(|g| g.next).collect(),
+            files,
         })
     }
 

@@ -89,13 +89,17 @@ pub enum RunError {
     Backend(#[from] BackendError),
     #[error("{}: {reason}", path.display())]
     Io { path: PathBuf, reason: String },
+    /// A checkpoint that cannot be resumed (`meshfree run --resume`): missing, damaged, of
+    /// another scene or build layout, or output changed since.
+    #[error("{}: {reason}", path.display())]
+    Checkpoint { path: PathBuf, reason: String },
     /// The output directory holds an earlier run's files (`RunOptions::overwrite`).
     #[error("{}: {reason}", dir.display())]
     OutputInUse { dir: PathBuf, reason: String },
     /// Stopped by a signal (or the caller's flag): the last frame and `summary.json` are
     /// written.
-    #[error("interrupted by {signal} at t = {:.6} after {} steps (last frame and summary.json in {})",
-            summary.simulated_time, summary.steps, out_dir.display())]
+    #[error("interrupted by {signal} at t = {:.6} after {} steps (last frame, checkpoint and summary.json in {}; `meshfree run --resume {}` continues it)",
+            summary.simulated_time, summary.steps, out_dir.display(), out_dir.display())]
     Interrupted {
         signal: String,
         out_dir: PathBuf,
@@ -108,6 +112,15 @@ pub enum RunError {
         out_dir: PathBuf,
         summary: Box<RunSummary>,
     },
+}
+
+impl From<(PathBuf, std::io::Error)> for RunError {
+    fn from((path, e): (PathBuf, std::io::Error)) -> Self {
+        RunError::Io {
+            path,
+            reason: e.to_string(),
+        }
+    }
 }
 
 impl From<writer::Failure> for RunError {
@@ -147,7 +160,7 @@ pub fn default_out_dir(scene: &Scene) -> PathBuf {
 /// scene copy and temporaries of the atomic writes.
 fn is_run_file(name: &str) -> bool {
     name == "scene.toml"
-        || [".vtu", ".pvd", ".csv", ".json", ".tmp", ".png"]
+        || [".vtu", ".pvd", ".csv", ".json", ".tmp", ".png", ".bin"]
             .iter()
             .any(|e| name.ends_with(e))
 }
@@ -218,6 +231,45 @@ pub fn run_observed(
     options: &RunOptions,
     observer: writer::Observer,
 ) -> Result<RunSummary, RunError> {
+    drive(scene, options, observer, None)
+}
+
+/// Continue the run in `dir` from its checkpoint (`crate::resume`) to its end time, or to
+/// `options.t_end` where given (a later one extends a finished run). The run's own output
+/// interval and format hold (`options.output_interval`, `format`, `out_dir` and `overwrite`
+/// are not used); the backend is `options.backend`, which may differ from the run's (then
+/// the result is not bit for bit the uninterrupted run's: the other backend rounds its
+/// sums differently).
+pub fn resume(dir: &Path, options: &RunOptions) -> Result<RunSummary, RunError> {
+    let r = crate::resume::load(dir)?;
+    let t_end = options.t_end.unwrap_or(r.run.t_end);
+    if t_end < r.solver.time {
+        return Err(RunError::Checkpoint {
+            path: dir.join(crate::output::checkpoint::FILE),
+            reason: format!(
+                "--t-end {t_end} is before the checkpoint's time {}",
+                r.solver.time
+            ),
+        });
+    }
+    let options = RunOptions {
+        t_end: Some(t_end),
+        output_interval: Some(r.run.output_interval),
+        format: Some(r.run.format),
+        out_dir: Some(dir.to_path_buf()),
+        ..options.clone()
+    };
+    let scene = r.scene.clone();
+    drive(&scene, &options, &mut |_| {}, Some(r))
+}
+
+/// A run from the start (`resume` None) or from a checkpoint.
+fn drive(
+    scene: &Scene,
+    options: &RunOptions,
+    observer: writer::Observer,
+    resume: Option<crate::resume::Resume>,
+) -> Result<RunSummary, RunError> {
     let started = Instant::now();
     let scene = scene.with_overrides(&Overrides {
         t_end: options.t_end,
@@ -241,10 +293,24 @@ pub fn run_observed(
         .out_dir
         .clone()
         .unwrap_or_else(|| default_out_dir(&scene));
-    prepare_out_dir(&out_dir, options.overwrite)?;
+    match &resume {
+        None => prepare_out_dir(&out_dir, options.overwrite)?,
+        Some(r) => crate::resume::rollback(&out_dir, &r.run)?,
+    }
     let mut solver = backend::create(options.backend, setup)?;
     let info = solver.info();
-    let setup_seconds = started.elapsed().as_secs_f64();
+    let mut stepper = Stepper::new(scene.gates()).with_end(scene.file.time.end);
+    if let Some(r) = &resume {
+        stepper.resume(&r.run.stepper, &mut *solver);
+        solver
+            .restore(&r.solver)
+            .map_err(|reason| RunError::Checkpoint {
+                path: out_dir.join(crate::output::checkpoint::FILE),
+                reason: format!("does not fit the scene: {reason}"),
+            })?;
+    }
+    let before = resume.as_ref().map(|r| r.run.timing).unwrap_or_default();
+    let setup_seconds = before.setup_seconds + started.elapsed().as_secs_f64();
 
     let spec = &scene.file.output;
     let format = options.format.unwrap_or(spec.format);
@@ -270,8 +336,10 @@ pub fn run_observed(
     }
 
     std::fs::create_dir_all(&out_dir).map_err(io_err(&out_dir))?;
-    let scene_copy = out_dir.join("scene.toml");
-    std::fs::write(&scene_copy, &scene.text).map_err(io_err(&scene_copy))?;
+    if resume.is_none() {
+        let scene_copy = out_dir.join("scene.toml");
+        std::fs::write(&scene_copy, &scene.text).map_err(io_err(&scene_copy))?;
+    }
     let writer = Writer::create(
         writer::Config {
             dir: out_dir.clone(),
@@ -282,19 +350,25 @@ pub fn run_observed(
             masses,
         },
         observer,
+        resume.as_ref().map(|r| &r.run.writer),
     )?;
-    let mut monitors = Monitors::create(&scene, &out_dir).map_err(|(path, e)| RunError::Io {
-        path,
-        reason: e.to_string(),
-    })?;
-    let mut probes = Probes::create(&scene, &out_dir).map_err(|(path, e)| RunError::Io {
-        path,
-        reason: e.to_string(),
-    })?;
+    let mut monitors =
+        Monitors::create(&scene, &out_dir, resume.as_ref().map(|r| &r.run.monitors))?;
+    let mut probes = Probes::create(&scene, &out_dir, resume.as_ref().map(|r| &r.run.probes))?;
 
     let t_end = scene.file.time.end;
     let interval = scene.file.time.output_interval;
     let mut report = Reporter::new(options.progress, t_end, options.max_steps);
+    if let Some(r) = &resume {
+        report.line(&format!(
+            "meshfree: resuming {} from its checkpoint at t = {} (step {}, written by {} on build {})",
+            out_dir.display(),
+            r.solver.time,
+            r.solver.steps,
+            r.run.backend,
+            r.run.build
+        ));
+    }
     report.line(&format!(
         "meshfree: {} ({}) on {} ({}): {} particles ({} fluid, {} solid, {} boundary) -> {} ({}, set-up {:.2} s)",
         scene.name(),
@@ -334,6 +408,12 @@ pub fn run_observed(
         fault_frame: None,
         monitors: Vec::new(),
         bodies: Vec::new(),
+        checkpoint_time: resume.as_ref().map(|r| r.solver.time),
+        resumed_from: resume.as_ref().map_or_else(Vec::new, |r| {
+            let mut v = r.run.resumed_from.clone();
+            v.push(r.solver.time);
+            v
+        }),
     };
 
     // A run killed outright (kill -9, power) leaves `running` behind, not an older status.
@@ -345,15 +425,32 @@ pub fn run_observed(
     let mut stopped = false;
     let mut fault_frame = None;
 
-    let mut stepper = Stepper::new(scene.gates()).with_end(t_end);
     let first_step = solver.steps();
     let mut out = Outputs {
         jobs: None,
         capture,
-        wait_seconds: 0.0,
-        taken: 0,
+        wait_seconds: before.output_wait_seconds,
+        taken: resume.as_ref().map_or(0, |r| r.run.writer.frames),
         warned: false,
     };
+    // What each checkpoint records of the run besides the solver (`crate::resume`).
+    let run_state = crate::resume::RunState {
+        build: meshfree_core::build_info::COMMIT.to_string(),
+        backend: info.backend.clone(),
+        scene_digest: crate::resume::digest(&scene.text),
+        t_end,
+        output_interval: interval,
+        format,
+        next_output: interval,
+        next_checkpoint: spec.checkpoint_interval,
+        stepper: Default::default(),
+        monitors: Default::default(),
+        probes: Default::default(),
+        writer: Default::default(),
+        timing: Timing::default(),
+        resumed_from: summary.resumed_from.clone(),
+    };
+    let checkpoint_path = out_dir.join(crate::output::checkpoint::FILE);
 
     let (result, written) = std::thread::scope(|scope| {
         let (tx, rx) = mpsc::sync_channel::<writer::Job>(1);
@@ -364,10 +461,59 @@ pub fn run_observed(
         out.jobs = Some(tx);
         let result = (|| -> Result<(), RunFailure> {
             solver.check().map_err(RunFailure::Fault)?;
-            let mut last = out.take(&mut *solver, &report)?;
-            monitors.sample_due(&mut *solver)?;
-            probes.sample_due(&mut *solver)?;
-            let mut next_output = interval;
+            let mut last = match &resume {
+                // The checkpoint's outputs and samples are on the disk already.
+                Some(_) => solver.diagnostics(),
+                None => {
+                    let d = out.take(&mut *solver, &report)?;
+                    monitors.sample_due(&mut *solver)?;
+                    probes.sample_due(&mut *solver)?;
+                    d
+                }
+            };
+            let mut next_output = resume.as_ref().map_or(interval, |r| r.run.next_output);
+            let mut next_checkpoint = match &resume {
+                Some(r) => r.run.next_checkpoint,
+                None => spec.checkpoint_interval,
+            };
+            // A checkpoint of the run as it stands (after this step's output and samples).
+            let checkpoint =
+                |solver: &mut dyn Solver,
+                 out: &mut Outputs,
+                 stepper: &Stepper,
+                 monitors: &Monitors,
+                 probes: &Probes,
+                 next_output: f64,
+                 next_checkpoint: Option<f64>|
+                 -> Result<(), RunFailure> {
+                    let mut state = run_state.clone();
+                    state.next_output = next_output;
+                    state.next_checkpoint = next_checkpoint;
+                    state.stepper = stepper.state();
+                    state.monitors = monitors.state()?;
+                    state.probes = probes.state()?;
+                    state.timing = Timing {
+                        setup_seconds,
+                        stepping_seconds: stepper.stepping_seconds(),
+                        output_wait_seconds: out.wait_seconds,
+                        total_seconds: before.total_seconds + started.elapsed().as_secs_f64(),
+                        ..Timing::default()
+                    };
+                    let waited = Instant::now();
+                    let saved = solver.save();
+                    let path = checkpoint_path.clone();
+                    out.send(writer::Job::Checkpoint(Box::new(move |w| {
+                        state.writer = w;
+                        let bytes = crate::output::checkpoint::write(&path, &saved, &state)
+                            .map_err(|e| writer::Failure {
+                                path: path.clone(),
+                                reason: e.to_string(),
+                            })?;
+                        Ok((saved.time, bytes))
+                    })))?;
+                    out.wait_seconds += waited.elapsed().as_secs_f64();
+                    Ok(())
+                };
             loop {
                 let t = solver.time();
                 let taken = solver.steps() - first_step;
@@ -380,6 +526,7 @@ pub fn run_observed(
                 }
                 let next_event = next_output
                     .min(t_end)
+                    .min(next_checkpoint.unwrap_or(f64::INFINITY))
                     .min(monitors.next_time().unwrap_or(f64::INFINITY))
                     .min(probes.next_time().unwrap_or(f64::INFINITY));
                 let budget = options.max_steps.map_or(u64::MAX, |n| n - taken);
@@ -399,10 +546,41 @@ pub fn run_observed(
                 }
                 monitors.sample_due(&mut *solver)?;
                 probes.sample_due(&mut *solver)?;
+                if let (Some(at), Some(every)) = (next_checkpoint, spec.checkpoint_interval) {
+                    if reached(t_new, at) && !reached(t_new, t_end) {
+                        solver.check().map_err(RunFailure::Fault)?;
+                        next_checkpoint = Some(((t_new / every + 1e-9).floor() + 1.0) * every);
+                        checkpoint(
+                            &mut *solver,
+                            &mut out,
+                            &stepper,
+                            &monitors,
+                            &probes,
+                            next_output,
+                            next_checkpoint,
+                        )?;
+                    }
+                }
                 report.progress(t_new, solver.steps() - first_step, &last);
             }
-            if last.step != solver.steps() {
+            // A checkpoint wherever the run stops short of a blow-up (its end, --steps, a
+            // signal), and the state it reached as a last frame where no output took it.
+            // The checkpoint comes first: a resumed run removes that off-schedule frame and
+            // goes on as the run in one go would have.
+            let unsaved = last.step != solver.steps();
+            if unsaved {
                 solver.check().map_err(RunFailure::Fault)?;
+            }
+            checkpoint(
+                &mut *solver,
+                &mut out,
+                &stepper,
+                &monitors,
+                &probes,
+                next_output,
+                next_checkpoint,
+            )?;
+            if unsaved {
                 out.take(&mut *solver, &report)?;
             }
             Ok(())
@@ -423,10 +601,11 @@ pub fn run_observed(
         (result, written)
     });
 
-    let steps = solver.steps() - first_step;
+    // The whole run, every part of it where it was resumed.
+    let steps = solver.steps();
     summary.steps = steps;
     summary.simulated_time = solver.time();
-    summary.wall_seconds = started.elapsed().as_secs_f64();
+    summary.wall_seconds = before.total_seconds + started.elapsed().as_secs_f64();
     let step_seconds = stepper.stepping_seconds();
     summary.particle_steps_per_second = if step_seconds > 0.0 {
         counts.total as f64 * steps as f64 / step_seconds
@@ -518,6 +697,21 @@ struct Outputs {
 }
 
 impl Outputs {
+    /// Queue a job for the writer. A writer that stopped (a failed write) is reported by
+    /// the join.
+    fn send(&mut self, job: writer::Job) -> Result<(), RunError> {
+        let sent = self.jobs.as_ref().is_some_and(|tx| tx.send(job).is_ok());
+        if !sent {
+            // The writer stopped on an error: stop the run; the join reports which.
+            self.jobs = None;
+            return Err(RunError::Io {
+                path: PathBuf::from("(output)"),
+                reason: "the output writer stopped".into(),
+            });
+        }
+        Ok(())
+    }
+
     /// One output: diagnostics, the frame's copy started, the job queued. Returns the
     /// diagnostics. A writer that stopped (a failed write) is reported by the join.
     fn take(
@@ -528,19 +722,10 @@ impl Outputs {
         let d = solver.diagnostics();
         let waited = Instant::now();
         let frame = solver.capture(self.capture);
-        let job = writer::Job {
+        self.send(writer::Job::Frame(writer::FrameJob {
             diagnostics: d.clone(),
             frame,
-        };
-        let sent = self.jobs.as_ref().is_some_and(|tx| tx.send(job).is_ok());
-        if !sent {
-            // The writer stopped on an error: stop the run; the join reports which.
-            self.jobs = None;
-            return Err(RunError::Io {
-                path: PathBuf::from("(output)"),
-                reason: "the output writer stopped".into(),
-            });
-        }
+        }))?;
         let waited = waited.elapsed().as_secs_f64();
         self.wait_seconds += waited;
         self.taken += 1;

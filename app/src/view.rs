@@ -183,6 +183,8 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
         fault_frame: None,
         monitors: Vec::new(),
         bodies: Vec::new(),
+        checkpoint_time: None,
+        resumed_from: Vec::new(),
     };
     let path = out.join("summary.json");
     std::fs::write(&path, serde_json::to_string_pretty(&summary)?)

@@ -216,7 +216,7 @@ fn pvd_lists_every_file() {
 fn csv_rows_match_header() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("d.csv");
-    let mut csv = output::DiagnosticsCsv::create(&path).unwrap();
+    let mut csv = output::DiagnosticsCsv::open(&path, false).unwrap();
     let d = Diagnostics {
         step: 3,
         time: 0.5,

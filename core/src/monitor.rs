@@ -87,7 +87,7 @@ fn wall_force_d<D: Dim>(
 }
 
 /// One sample of a monitor.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ForceSample {
     /// [T]
     pub t: f64,

@@ -126,6 +126,19 @@ pub struct Batch {
     pub opened: Vec<(u32, usize)>,
 }
 
+/// What a `Stepper` carries from batch to batch, for a run that continues from a
+/// checkpoint (`Stepper::state`, `Stepper::resume`): a run resumed with it opens the same
+/// gates and sizes its batches as the saved run would have.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct StepperState {
+    /// The gates not yet opened: (group, opening time [T]).
+    pub pending_gates: Vec<(u32, f64)>,
+    /// [T] mean dt of the last batch (0: none yet).
+    pub dt_estimate: f64,
+    /// [s] wall time spent stepping so far.
+    pub stepping_seconds: f64,
+}
+
 /// Steps one scene's solver: its gates, the dt estimate that sizes the batches, and the
 /// wall time spent stepping.
 #[derive(Clone, Debug, Default)]
@@ -153,6 +166,36 @@ impl Stepper {
     pub fn with_end(mut self, t_end: f64) -> Stepper {
         self.dt_floor = DT_FLOOR * t_end;
         self
+    }
+
+    /// What a resumed run needs of this stepper.
+    pub fn state(&self) -> StepperState {
+        StepperState {
+            pending_gates: self.gates.pending.clone(),
+            dt_estimate: self.dt_estimate,
+            stepping_seconds: self.stepping_seconds,
+        }
+    }
+
+    /// The stepper of a run continued from `state`; the solver's gates that `state` lists as
+    /// opened (`opened`) are removed from it first, as the saved run removed them: the
+    /// groups of `gates` (`Scene::gates`) not pending in `state`. Returns them.
+    pub fn resume(&mut self, state: &StepperState, solver: &mut dyn Solver) -> Vec<u32> {
+        let pending = &state.pending_gates;
+        let opened: Vec<u32> = self
+            .gates
+            .pending
+            .iter()
+            .filter(|g| !pending.iter().any(|p| p.0 == g.0))
+            .map(|g| g.0)
+            .collect();
+        for &g in &opened {
+            solver.remove_group(g);
+        }
+        self.gates.pending.clone_from(pending);
+        self.dt_estimate = state.dt_estimate;
+        self.stepping_seconds = state.stepping_seconds;
+        opened
     }
 
     /// [s] wall time spent stepping so far (gates, steps and health checks; the clock read

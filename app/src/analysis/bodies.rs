@@ -177,4 +177,20 @@ impl BodyTracker {
     pub fn summaries(&self) -> Vec<BodySummary> {
         self.summary.clone()
     }
+
+    /// Continue the extremes of a run from `summaries` (its `summaries` at a checkpoint).
+    /// Err: they name other bodies than this tracker's.
+    pub fn resume(&mut self, summaries: &[BodySummary]) -> Result<(), String> {
+        let groups =
+            |v: &[BodySummary]| v.iter().map(|b| (b.group, b.particles)).collect::<Vec<_>>();
+        if groups(summaries) != groups(&self.summary) {
+            return Err(format!(
+                "its bodies (group, particles) {:?} are not the scene's {:?}",
+                groups(summaries),
+                groups(&self.summary)
+            ));
+        }
+        self.summary = summaries.to_vec();
+        Ok(())
+    }
 }

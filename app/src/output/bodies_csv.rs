@@ -18,12 +18,12 @@ pub struct BodiesCsv {
 }
 
 impl BodiesCsv {
-    /// Create (truncate) the file and write the header.
-    pub fn create(path: &Path) -> io::Result<BodiesCsv> {
-        let mut w = BufWriter::new(File::create(path)?);
-        writeln!(w, "{BODIES_HEADER}")?;
-        w.flush()?;
-        Ok(BodiesCsv { w })
+    /// Create (truncate) the file and write the header, or, continuing a run (`append`),
+    /// open it at its end.
+    pub fn open(path: &Path, append: bool) -> io::Result<BodiesCsv> {
+        Ok(BodiesCsv {
+            w: super::open_csv(path, BODIES_HEADER, append)?,
+        })
     }
 
     /// Append the rows of one output and flush.

@@ -35,12 +35,12 @@ pub struct DiagnosticsCsv {
 }
 
 impl DiagnosticsCsv {
-    /// Create (truncate) the file and write the header.
-    pub fn create(path: &Path) -> io::Result<DiagnosticsCsv> {
-        let mut w = BufWriter::new(File::create(path)?);
-        writeln!(w, "{CSV_HEADER}")?;
-        w.flush()?;
-        Ok(DiagnosticsCsv { w })
+    /// Create (truncate) the file and write the header, or, continuing a run (`append`),
+    /// open it at its end.
+    pub fn open(path: &Path, append: bool) -> io::Result<DiagnosticsCsv> {
+        Ok(DiagnosticsCsv {
+            w: super::open_csv(path, CSV_HEADER, append)?,
+        })
     }
 
     /// Append a row and flush.

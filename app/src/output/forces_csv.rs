@@ -16,12 +16,12 @@ pub struct ForcesCsv {
 }
 
 impl ForcesCsv {
-    /// Create (truncate) the file and write the header.
-    pub fn create(path: &Path) -> io::Result<ForcesCsv> {
-        let mut w = BufWriter::new(File::create(path)?);
-        writeln!(w, "{FORCES_HEADER}")?;
-        w.flush()?;
-        Ok(ForcesCsv { w })
+    /// Create (truncate) the file and write the header, or, continuing a run (`append`),
+    /// open it at its end.
+    pub fn open(path: &Path, append: bool) -> io::Result<ForcesCsv> {
+        Ok(ForcesCsv {
+            w: super::open_csv(path, FORCES_HEADER, append)?,
+        })
     }
 
     /// Append a row and flush.

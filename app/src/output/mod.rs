@@ -3,6 +3,7 @@
 //! CSV (`diagnostics`), the force monitors' CSV (`forces_csv`), the elastic bodies' CSV
 //! (`bodies_csv`) and the JSON run summary (`summary`).
 pub mod bodies_csv;
+pub mod checkpoint;
 pub mod diagnostics;
 pub mod forces_csv;
 pub mod particles_csv;
@@ -25,4 +26,23 @@ pub(crate) fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> std::io::Res
     let tmp = std::path::PathBuf::from(tmp);
     std::fs::write(&tmp, bytes)?;
     std::fs::rename(&tmp, path)
+}
+
+/// Open one of a run's CSV files: created with its `header` line, or, where the run
+/// continues from a checkpoint (`append`), opened at its end (`crate::resume` cut it back
+/// to the checkpoint's length first).
+pub(crate) fn open_csv(
+    path: &std::path::Path,
+    header: &str,
+    append: bool,
+) -> std::io::Result<std::io::BufWriter<std::fs::File>> {
+    use std::io::Write as _;
+    if append {
+        let f = std::fs::OpenOptions::new().append(true).open(path)?;
+        return Ok(std::io::BufWriter::new(f));
+    }
+    let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
+    writeln!(w, "{header}")?;
+    w.flush()?;
+    Ok(w)
 }

@@ -70,6 +70,14 @@ pub struct RunSummary {
     /// volume) and of radius of gyration over the outputs (`analysis::bodies`).
     #[serde(default)]
     pub bodies: Vec<BodySummary>,
+    /// The simulated time [T] of the last checkpoint (`checkpoint.bin`, from which `meshfree
+    /// run --resume` continues); none where the run wrote none.
+    #[serde(default)]
+    pub checkpoint_time: Option<f64>,
+    /// The times [T] of the checkpoints this run was resumed from, in order (empty for a
+    /// run in one go). The counts and timings cover the whole run, every part of it.
+    #[serde(default)]
+    pub resumed_from: Vec<f64>,
 }
 
 /// How a run's wall time split [s]. The writer works while the solver steps, so
@@ -94,8 +102,12 @@ pub struct Timing {
 }
 
 impl RunSummary {
-    /// Take the writer's counts: frames, bytes, busy time, clusters, bodies.
+    /// Take the writer's counts: frames, bytes, busy time, clusters, bodies, the last
+    /// checkpoint.
     pub fn absorb(&mut self, w: &super::writer::Report) {
+        if let Some((t, _)) = w.checkpoint {
+            self.checkpoint_time = Some(t);
+        }
         self.outputs = w.frames;
         self.output_bytes = w.bytes;
         self.timing.writer_seconds = w.busy_seconds;

@@ -264,9 +264,23 @@ impl PvdSeries {
         &self.entries
     }
 
+    /// The series `path` listing `entries` (time, relative file name), as a run continued
+    /// from a checkpoint has it; nothing written yet.
+    pub fn with_entries(path: impl Into<PathBuf>, entries: Vec<(f64, String)>) -> PvdSeries {
+        PvdSeries {
+            path: path.into(),
+            entries,
+        }
+    }
+
     /// Add a data file (relative name) at `time` and rewrite the collection.
     pub fn add(&mut self, time: f64, file: &str) -> io::Result<()> {
         self.entries.push((time, file.to_string()));
+        self.write()
+    }
+
+    /// Write the collection (atomically).
+    pub fn write(&self) -> io::Result<()> {
         let mut s = String::new();
         s.push_str("<?xml version=\"1.0\"?>\n");
         s.push_str("<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n");

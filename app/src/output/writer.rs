@@ -19,10 +19,16 @@ use std::time::Instant;
 use meshfree_core::frame::{Fields, FrameData, PendingFrame};
 use meshfree_core::scene::format::OutputFormat;
 use meshfree_core::solver::Diagnostics;
+use serde::{Deserialize, Serialize};
 
 use super::{BodiesCsv, DiagnosticsCsv, PvdSeries};
 use crate::analysis::bodies::{BodySummary, BodyTracker};
 use crate::analysis::clusters;
+
+/// The CSV files the writer appends to.
+const DIAGNOSTICS: &str = "diagnostics.csv";
+const CLUSTERS: &str = "clusters.csv";
+const BODIES: &str = "bodies.csv";
 
 /// What an observer sees at each output (on the writer thread, after the files landed).
 pub struct Frame<'a> {
@@ -36,9 +42,36 @@ pub struct Frame<'a> {
 pub type Observer<'a> = &'a mut (dyn FnMut(&Frame) + Send);
 
 /// One output for the writer.
-pub struct Job {
+pub struct FrameJob {
     pub diagnostics: Diagnostics,
     pub frame: Box<dyn PendingFrame>,
+}
+
+/// A checkpoint's last part: given the writer's state (after every frame queued before
+/// it landed), write the file (`crate::resume`). Returns its simulated time [T] and its
+/// size in bytes.
+pub type CheckpointJob = Box<dyn FnOnce(WriterState) -> Result<(f64, u64), Failure> + Send>;
+
+/// What the writer does next, in queue order.
+pub enum Job {
+    Frame(FrameJob),
+    Checkpoint(CheckpointJob),
+}
+
+/// The writer's part of a checkpoint: its counts, the series and the bodies' extremes so
+/// far, and the length of each CSV file it appends to (a resumed run cuts them back).
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct WriterState {
+    pub frames: usize,
+    pub bytes: u64,
+    pub busy_seconds: f64,
+    pub download_seconds: f64,
+    pub last_clusters: Option<usize>,
+    /// `particles.pvd`'s entries: (time [T], file).
+    pub series: Vec<(f64, String)>,
+    pub bodies: Vec<BodySummary>,
+    /// (file name in the run directory, bytes).
+    pub files: Vec<(String, u64)>,
 }
 
 /// What the writer needs to know, fixed for a run.
@@ -71,6 +104,8 @@ pub struct Report {
     /// The cluster count of the last output, where counted.
     pub last_clusters: Option<usize>,
     pub bodies: Vec<BodySummary>,
+    /// The last checkpoint written: its simulated time [T] and size in bytes.
+    pub checkpoint: Option<(f64, u64)>,
 }
 
 /// Why the writer stopped: the file and the reason.
@@ -85,7 +120,7 @@ pub struct Writer<'o> {
     cfg: Config,
     pvd: PvdSeries,
     diagnostics: DiagnosticsCsv,
-    clusters: Option<std::fs::File>,
+    clusters: Option<std::io::BufWriter<std::fs::File>>,
     bodies_csv: Option<BodiesCsv>,
     observer: Observer<'o>,
     report: Report,
@@ -100,15 +135,21 @@ fn fail(path: &Path) -> impl FnOnce(std::io::Error) -> Failure + '_ {
 
 impl<'o> Writer<'o> {
     /// Create the CSV files (before the run's first step: an unwritable directory stops the
-    /// run before it starts).
-    pub fn create(cfg: Config, observer: Observer<'o>) -> Result<Writer<'o>, Failure> {
-        let d = cfg.dir.join("diagnostics.csv");
-        let diagnostics = DiagnosticsCsv::create(&d).map_err(fail(&d))?;
+    /// run before it starts), or, continuing a run from a checkpoint (`resume`: the
+    /// writer's state there), open them at their ends and carry on its counts.
+    pub fn create(
+        mut cfg: Config,
+        observer: Observer<'o>,
+        resume: Option<&WriterState>,
+    ) -> Result<Writer<'o>, Failure> {
+        let append = resume.is_some();
+        let d = cfg.dir.join(DIAGNOSTICS);
+        let diagnostics = DiagnosticsCsv::open(&d, append).map_err(fail(&d))?;
         let clusters = match cfg.cluster_radius {
             Some(_) => {
-                let path = cfg.dir.join("clusters.csv");
-                let mut f = std::fs::File::create(&path).map_err(fail(&path))?;
-                writeln!(f, "step,time,fluid_clusters").map_err(fail(&path))?;
+                let path = cfg.dir.join(CLUSTERS);
+                let f = super::open_csv(&path, "step,time,fluid_clusters", append)
+                    .map_err(fail(&path))?;
                 Some(f)
             }
             None => None,
@@ -116,17 +157,61 @@ impl<'o> Writer<'o> {
         let bodies_csv = if cfg.bodies.is_empty() {
             None
         } else {
-            let path = cfg.dir.join("bodies.csv");
-            Some(BodiesCsv::create(&path).map_err(fail(&path))?)
+            let path = cfg.dir.join(BODIES);
+            Some(BodiesCsv::open(&path, append).map_err(fail(&path))?)
+        };
+        let mut report = Report::default();
+        let pvd = cfg.dir.join("particles.pvd");
+        let pvd = match resume {
+            None => PvdSeries::new(pvd),
+            Some(w) => {
+                cfg.bodies.resume(&w.bodies).map_err(|reason| Failure {
+                    path: cfg.dir.join(super::checkpoint::FILE),
+                    reason,
+                })?;
+                report.frames = w.frames;
+                report.bytes = w.bytes;
+                report.busy_seconds = w.busy_seconds;
+                report.download_seconds = w.download_seconds;
+                report.last_clusters = w.last_clusters;
+                PvdSeries::with_entries(pvd, w.series.clone())
+            }
         };
         Ok(Writer {
-            pvd: PvdSeries::new(cfg.dir.join("particles.pvd")),
+            pvd,
             cfg,
             diagnostics,
             clusters,
             bodies_csv,
             observer,
-            report: Report::default(),
+            report,
+        })
+    }
+
+    /// The writer's part of a checkpoint (every frame before it written and flushed).
+    fn state(&self) -> Result<WriterState, Failure> {
+        let mut files = Vec::new();
+        let mut csv = vec![DIAGNOSTICS];
+        if self.clusters.is_some() {
+            csv.push(CLUSTERS);
+        }
+        if self.bodies_csv.is_some() {
+            csv.push(BODIES);
+        }
+        for name in csv {
+            let path = self.cfg.dir.join(name);
+            let len = std::fs::metadata(&path).map_err(fail(&path))?.len();
+            files.push((name.to_string(), len));
+        }
+        Ok(WriterState {
+            frames: self.report.frames,
+            bytes: self.report.bytes,
+            busy_seconds: self.report.busy_seconds,
+            download_seconds: self.report.download_seconds,
+            last_clusters: self.report.last_clusters,
+            series: self.pvd.entries().to_vec(),
+            bodies: self.cfg.bodies.summaries(),
+            files,
         })
     }
 
@@ -134,14 +219,20 @@ impl<'o> Writer<'o> {
     pub fn serve(mut self, jobs: mpsc::Receiver<Job>) -> Result<Report, Failure> {
         for job in jobs {
             let started = Instant::now();
-            self.write(job)?;
+            match job {
+                Job::Frame(f) => self.write(f)?,
+                Job::Checkpoint(write) => {
+                    let state = self.state()?;
+                    self.report.checkpoint = Some(write(state)?);
+                }
+            }
             self.report.busy_seconds += started.elapsed().as_secs_f64();
         }
         self.report.bodies = self.cfg.bodies.summaries();
         Ok(self.report)
     }
 
-    fn write(&mut self, job: Job) -> Result<(), Failure> {
+    fn write(&mut self, job: FrameJob) -> Result<(), Failure> {
         let dir = self.cfg.dir.clone();
         let waited = Instant::now();
         let data = job.frame.wait().map_err(|reason| Failure {
@@ -172,7 +263,7 @@ impl<'o> Writer<'o> {
         if let Some(name) = file {
             self.pvd.add(d.time, &name).map_err(fail(self.pvd.path()))?;
         }
-        let path = dir.join("diagnostics.csv");
+        let path = dir.join(DIAGNOSTICS);
         self.diagnostics.write(d).map_err(fail(&path))?;
         let needs_particles = self.cfg.cluster_radius.is_some() || self.bodies_csv.is_some();
         if needs_particles {
@@ -183,12 +274,14 @@ impl<'o> Writer<'o> {
             if let (Some(r), Some(csv)) = (self.cfg.cluster_radius, self.clusters.as_mut()) {
                 let n = clusters::count_fluid_clusters(&particles, r);
                 self.report.last_clusters = Some(n);
-                let path = dir.join("clusters.csv");
-                writeln!(csv, "{},{},{n}", d.step, d.time).map_err(fail(&path))?;
+                let path = dir.join(CLUSTERS);
+                writeln!(csv, "{},{},{n}", d.step, d.time)
+                    .and_then(|_| csv.flush())
+                    .map_err(fail(&path))?;
             }
             if let Some(csv) = self.bodies_csv.as_mut() {
                 let rows = self.cfg.bodies.sample(&particles);
-                let path = dir.join("bodies.csv");
+                let path = dir.join(BODIES);
                 csv.write(d.step, d.time, &rows).map_err(fail(&path))?;
             }
         }

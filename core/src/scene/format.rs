@@ -336,6 +336,11 @@ pub struct Output {
     /// and summary.json's `fluid_clusters` (on the writer thread). Default false.
     #[serde(default)]
     pub clusters: bool,
+    /// [T] simulated time between checkpoints (`checkpoint.bin`, from which `meshfree run
+    /// --resume` continues). Default none: a checkpoint only where the run stops (its end,
+    /// `--steps`, a signal).
+    #[serde(default)]
+    pub checkpoint_interval: Option<f64>,
 }
 
 /// The format of the particle files of each output.

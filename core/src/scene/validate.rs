@@ -430,6 +430,9 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
             ));
         }
     }
+    if let Some(t) = s.output.checkpoint_interval {
+        c.positive("output.checkpoint_interval", t)?;
+    }
     probes_and_gauges(&c, s)?;
     if s.fluid_blocks.is_empty() && s.solids.is_empty() && s.walls.is_empty() {
         return Err(c.err(
