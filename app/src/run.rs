@@ -242,7 +242,9 @@ pub fn run_observed(
 /// sums differently).
 pub fn resume(dir: &Path, options: &RunOptions) -> Result<RunSummary, RunError> {
     let r = crate::resume::load(dir)?;
-    let t_end = options.t_end.unwrap_or(r.run.t_end);
+    // Without --t-end a finished run's checkpoint (at or just past its end) has nothing to
+    // do: the run completes at once.
+    let t_end = options.t_end.unwrap_or(r.run.t_end.max(r.solver.time));
     if t_end < r.solver.time {
         return Err(RunError::Checkpoint {
             path: dir.join(crate::output::checkpoint::FILE),

@@ -114,16 +114,3 @@ MF_WALL_FORCE_ENTRY(sph_wall_force_3d, 3, true)
 MF_WALL_FORCE_ENTRY(sph_wall_force_fluid_2d, 2, false)
 MF_WALL_FORCE_ENTRY(sph_wall_force_fluid_3d, 3, false)
 
-// The totals: block g (one per wall group) sums the n_blocks partials of slot g in a fixed
-// order into out[3 g + axis] [M L T^-2].
-extern "C" __global__ void __launch_bounds__(MF_BLOCK)
-sph_wall_force_sum(unsigned n_blocks, const double* __restrict__ partial, double* __restrict__ out) {
-    __shared__ double sh[MF_BLOCK / 32];
-    const double* q = partial + (size_t)blockIdx.x * n_blocks * 3;
-    for (int a = 0; a < 3; ++a) {
-        double s = 0.0;
-        for (unsigned b = threadIdx.x; b < n_blocks; b += blockDim.x) s += q[(size_t)b * 3 + a];
-        s = block_sum(s, sh);
-        if (threadIdx.x == 0) out[(size_t)blockIdx.x * 3 + a] = s;
-    }
-}

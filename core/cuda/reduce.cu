@@ -24,12 +24,30 @@ extern "C" __global__ void sph_step_size(const SphParams p, unsigned* __restrict
     *dt_out = dt;
 }
 
-// sums = (kinetic energy, momentum x, y, z); maxes = (max speed, density error) as float
-// bits; counts = (fluid, solid, boundary). The caller zeroes them.
+// Totals of per-block partial sums, in a fixed order (so that they come out the same bits
+// from run to run, as atomics would not): block g sums the n_blocks partials of slot g,
+// partial[(g * n_blocks + b) * 3 + k], k = 0..2, into out[3 g + k]. The force monitors'
+// wall forces and the diagnostics' sums end here.
+extern "C" __global__ void __launch_bounds__(MF_BLOCK)
+sph_sum_partials(unsigned n_blocks, const double* __restrict__ partial, double* __restrict__ out) {
+    __shared__ double sh[MF_BLOCK / 32];
+    const double* q = partial + (size_t)blockIdx.x * n_blocks * 3;
+    for (int a = 0; a < 3; ++a) {
+        double s = 0.0;
+        for (unsigned b = threadIdx.x; b < n_blocks; b += blockDim.x) s += q[(size_t)b * 3 + a];
+        s = block_sum(s, sh);
+        if (threadIdx.x == 0) out[(size_t)blockIdx.x * 3 + a] = s;
+    }
+}
+
+// The sums, as per-block partials for sph_sum_partials (two slots: kinetic energy [M L^2
+// T^-2] and momentum x, y [M L/T]; momentum z and two zeros); maxes = (max speed, density
+// error) as float bits; counts = (fluid, solid, boundary). The caller zeroes maxes and
+// counts.
 template <int DIM>
 __device__ void sph_diagnostics_body(const SphParams p, unsigned n, const unsigned char* __restrict__ kind,
                                      const float* __restrict__ pos, const float* __restrict__ vel,
-                                     const float* __restrict__ rho, double* __restrict__ sums,
+                                     const float* __restrict__ rho, double* __restrict__ partial,
                                      unsigned* __restrict__ maxes, unsigned* __restrict__ counts) {
     __shared__ double shd[MF_BLOCK / 32];
     __shared__ float shf[MF_BLOCK / 32];
@@ -57,12 +75,10 @@ __device__ void sph_diagnostics_body(const SphParams p, unsigned n, const unsign
         if (bs) atomicAdd(&counts[1], (unsigned)__popc(bs));
         if (bb) atomicAdd(&counts[2], (unsigned)__popc(bb));
     }
-    ke = block_sum(ke, shd);
-    if (threadIdx.x == 0) atomicAdd(&sums[0], ke);
-    for (int a = 0; a < 3; ++a) {
-        double s = block_sum(mom[a], shd);
-        if (threadIdx.x == 0) atomicAdd(&sums[1 + a], s);
-    }
+    const double totals[6] = {block_sum(ke, shd),     block_sum(mom[0], shd), block_sum(mom[1], shd),
+                              block_sum(mom[2], shd), 0.0,                    0.0};
+    if (threadIdx.x == 0)
+        for (int k = 0; k < 6; ++k) partial[((size_t)(k / 3) * gridDim.x + blockIdx.x) * 3 + k % 3] = totals[k];
     vmax = block_max(vmax, shf);
     if (threadIdx.x == 0) atomicMax(&maxes[0], __float_as_uint(vmax));
     derr = block_max(derr, shf);
@@ -70,8 +86,8 @@ __device__ void sph_diagnostics_body(const SphParams p, unsigned n, const unsign
 }
 MF_ENTRY2(sph_diagnostics,
           (const SphParams p, unsigned n, const unsigned char* kind, const float* pos, const float* vel,
-           const float* rho, double* sums, unsigned* maxes, unsigned* counts),
-          (p, n, kind, pos, vel, rho, sums, maxes, counts))
+           const float* rho, double* partial, unsigned* maxes, unsigned* counts),
+          (p, n, kind, pos, vel, rho, partial, maxes, counts))
 
 // Health check: the first unhealthy slot, as atomicMin of (slot << MF_FAULT_SLOT_SHIFT) |
 // fault class (MF_FAULT_* in sph_consts.h) into *first (the caller sets it to ~0).

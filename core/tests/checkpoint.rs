@@ -1,6 +1,6 @@
 //! Restarts (`Solver::save`, `Solver::restore`, `meshfree_core::checkpoint`): a solver
 //! restored from a checkpoint into a fresh solver of the same scene steps on exactly as the
-//! saved one did, bit for bit on the same backend, with elastic bodies under both solid
+//! saved one did, bit for bit on the same backend (its diagnostics too), with elastic bodies under both solid
 //! formulations and a gate opened before the save; a checkpoint of another scene is refused
 //! with the reason. On a GPU (ignored without one): the same on the CUDA backend, and a CPU
 //! checkpoint continued on the GPU stays within the parity tests' tolerances of the CPU.
@@ -86,6 +86,13 @@ fn resumes_bit_for_bit(choice: BackendChoice, formulation: &str, before: u64, af
         panic!("{choice:?} {formulation}: after {after} steps from the checkpoint, {e}")
     });
     assert!(a.check().is_ok() && b.check().is_ok());
+    // The diagnostics' sums come in a fixed order on both backends: the same bits too.
+    let (da, db) = (a.diagnostics(), b.diagnostics());
+    assert!(
+        da.kinetic_energy.to_bits() == db.kinetic_energy.to_bits()
+            && da.momentum.map(f64::to_bits) == db.momentum.map(f64::to_bits),
+        "diagnostics differ: {da:?}\n{db:?}"
+    );
     if formulation == "total-lagrangian" {
         assert!(
             end.tl_disp.iter().flatten().any(|&u| u != 0.0),

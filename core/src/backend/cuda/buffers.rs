@@ -10,7 +10,7 @@ use std::sync::Arc;
 use cudarc::driver::{CudaSlice, CudaStream, DeviceRepr, DriverError, ValidAsZeroBits};
 use rayon::prelude::*;
 
-use crate::consts::MF_SCAN_CELLS;
+use crate::consts::{MF_BLOCK, MF_SCAN_CELLS};
 use crate::dim::Dim;
 use crate::params::MF_KIND_BOUNDARY;
 use crate::state::{SolidState, State};
@@ -86,7 +86,11 @@ pub struct Buffers {
     pub red: CudaSlice<u32>,
     pub dt: CudaSlice<f32>,
     pub time: CudaSlice<f64>,
+    /// The diagnostics' totals: (kinetic energy, momentum x, y), (momentum z, 0, 0).
     pub diag_sums: CudaSlice<f64>,
+    /// Their per-block partial sums (`sph_diagnostics`, summed by `sph_sum_partials`): two
+    /// slots of 3 doubles per block of MF_BLOCK particles.
+    pub diag_partial: CudaSlice<f64>,
     pub diag_max: CudaSlice<u32>,
     pub diag_counts: CudaSlice<u32>,
     pub first: CudaSlice<u64>,
@@ -195,7 +199,8 @@ impl Buffers {
             red: a.z(3)?,
             dt: a.z(1)?,
             time: a.z(1)?,
-            diag_sums: a.z(4)?,
+            diag_sums: a.z(6)?,
+            diag_partial: a.z(2 * 3 * (n.max(1) as u32).div_ceil(MF_BLOCK) as usize)?,
             diag_max: a.z(2)?,
             diag_counts: a.z(3)?,
             first: a.z(1)?,

@@ -97,7 +97,7 @@ pub enum Family {
     MonitorEos,
     WallForce,
     WallForceFluid,
-    WallForceSum,
+    SumPartials,
     TlSlots,
     TlStress,
     TlForces,
@@ -161,7 +161,7 @@ impl Family {
         Family::MonitorEos,
         Family::WallForce,
         Family::WallForceFluid,
-        Family::WallForceSum,
+        Family::SumPartials,
         Family::TlSlots,
         Family::TlStress,
         Family::TlForces,
@@ -279,7 +279,7 @@ impl Family {
                 "sph_diagnostics",
                 Dims,
                 "const SphParams p, unsigned n, const unsigned char* kind, const float* pos, \
-                 const float* vel, const float* rho, double* sums, unsigned* maxes, \
+                 const float* vel, const float* rho, double* partial, unsigned* maxes, \
                  unsigned* counts",
             ),
             Family::Check => (
@@ -312,9 +312,9 @@ impl Family {
             ),
             Family::WallForce => ("monitor", "sph_wall_force", Dims, WALL_FORCE_PARAMS),
             Family::WallForceFluid => ("monitor", "sph_wall_force_fluid", Dims, WALL_FORCE_PARAMS),
-            Family::WallForceSum => (
-                "monitor",
-                "sph_wall_force_sum",
+            Family::SumPartials => (
+                "reduce",
+                "sph_sum_partials",
                 One,
                 "unsigned n_blocks, const double* partial, double* out",
             ),

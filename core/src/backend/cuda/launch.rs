@@ -392,7 +392,7 @@ const WALL_FORCE_BLOCKS: usize = 1024;
 /// of state of the current density unless that build applied it (`sph_monitor_eos`), as
 /// the next step's build and density pass will; then one pass per group
 /// (`sph_wall_force_*`, block partial sums) and one for the totals
-/// (`sph_wall_force_sum`), of which only the 3 doubles per group are read back.
+/// (`sph_sum_partials`), of which only the 3 doubles per group are read back.
 pub fn wall_forces(
     k: &Kernels,
     s: &Arc<CudaStream>,
@@ -472,28 +472,43 @@ pub fn wall_forces(
             .map(|_| ())
         });
     }
-    let n_blocks = blocks as u32;
-    // SAFETY: the arguments of `Family::WallForceSum`; one block of MF_BLOCK per group,
-    // partial as written above, out holds 3 doubles per group.
-    let ks = k.get(Family::WallForceSum);
-    ks.check(unsafe {
-        s.launch_builder(&ks.f)
-            .arg(&n_blocks)
-            .arg(&*partial)
-            .arg(&mut *out)
-            .launch(LaunchConfig {
-                grid_dim: (g as u32, 1, 1),
-                block_dim: (MF_BLOCK, 1, 1),
-                shared_mem_bytes: 0,
-            })
-            .map(|_| ())
-    });
+    sum_partials(k, s, blocks as u32, g as u32, partial, out);
     let v = s.clone_dtoh(&*out)?;
     Ok((0..g)
         .map(|i| [v[3 * i], v[3 * i + 1], v[3 * i + 2]])
         .collect())
 }
 
+/// out[3 g + k] = the sum over b < n_blocks of partial[(g n_blocks + b) 3 + k], for each
+/// of `slots` slots g, in a fixed order (`sph_sum_partials`).
+fn sum_partials(
+    k: &Kernels,
+    s: &Arc<CudaStream>,
+    n_blocks: u32,
+    slots: u32,
+    partial: &CudaSlice<f64>,
+    out: &mut CudaSlice<f64>,
+) {
+    assert!(partial.len() >= (slots * n_blocks * 3) as usize && out.len() >= 3 * slots as usize);
+    // SAFETY: the arguments of `Family::SumPartials`; one block of MF_BLOCK per slot,
+    // partial holds slots x n_blocks x 3 doubles and out 3 per slot (asserted above).
+    let ks = k.get(Family::SumPartials);
+    ks.check(unsafe {
+        s.launch_builder(&ks.f)
+            .arg(&n_blocks)
+            .arg(partial)
+            .arg(out)
+            .launch(LaunchConfig {
+                grid_dim: (slots, 1, 1),
+                block_dim: (MF_BLOCK, 1, 1),
+                shared_mem_bytes: 0,
+            })
+            .map(|_| ())
+    });
+}
+
+/// The diagnostics' reductions: sums in a fixed order (per-block partials, then
+/// `sum_partials`: the same bits from run to run), maxima and counts by atomics (exact).
 pub fn diagnostics(
     k: &Kernels,
     s: &Arc<CudaStream>,
@@ -508,8 +523,9 @@ pub fn diagnostics(
     }
     let n = b.n as u32;
     let c = &b.cur;
-    // SAFETY: the arguments of `Family::Diagnostics`; sums hold 4 doubles, maxes 2 words,
-    // counts 3.
+    let launch = cfg(b.n);
+    // SAFETY: the arguments of `Family::Diagnostics`; partial holds 2 x 3 doubles per block
+    // of the grid (`Buffers::diag_partial`), maxes 2 words, counts 3.
     unsafe {
         s.launch_builder(&k.get(Family::Diagnostics).f)
             .arg(p)
@@ -518,11 +534,19 @@ pub fn diagnostics(
             .arg(&c.pos)
             .arg(&c.vel)
             .arg(&c.rho)
-            .arg(&mut b.diag_sums)
+            .arg(&mut b.diag_partial)
             .arg(&mut b.diag_max)
             .arg(&mut b.diag_counts)
-            .launch(cfg(b.n))?;
+            .launch(launch)?;
     }
+    sum_partials(
+        k,
+        s,
+        launch.grid_dim.0,
+        2,
+        &b.diag_partial,
+        &mut b.diag_sums,
+    );
     Ok(())
 }
 
