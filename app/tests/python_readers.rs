@@ -115,3 +115,69 @@ fn vtk_and_meshio_read_our_files() {
         );
     }
 }
+
+/// The Python reader of `checkpoint.bin` in `docs/reference/checkpoint.md` (its last
+/// ```python block, run as it stands) reads a checkpoint of a run with elastic bodies: the
+/// time, step count, particle count and mean density the Rust reader reads.
+#[test]
+#[cfg_attr(
+    not(meshfree_require_pyvtk),
+    ignore = "needs Python with numpy: build with MESHFREE_REQUIRE_PYVTK=1 (CI does)"
+)]
+fn the_documented_python_reader_reads_a_checkpoint() {
+    let python = std::env::var("MESHFREE_PYTHON").unwrap_or_else(|_| "python3".into());
+    let doc = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/reference/checkpoint.md"),
+    )
+    .unwrap();
+    let code = doc
+        .rsplit("```python\n")
+        .next()
+        .and_then(|rest| rest.split("```").next())
+        .expect("a ```python block in docs/reference/checkpoint.md");
+    let dir = tempfile::tempdir().unwrap();
+    let script = dir.path().join("read_checkpoint.py");
+    std::fs::write(&script, code).unwrap();
+    let out = dir.path().join("run");
+    let summary = run::run(
+        &Scene::builtin("impinging-2d").unwrap(),
+        &RunOptions {
+            backend: meshfree_core::backend::BackendChoice::Cpu,
+            out_dir: Some(out.clone()),
+            max_steps: Some(5),
+            progress: Progress::Quiet,
+            format: Some(OutputFormat::None),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let (c, _): (
+        meshfree_core::checkpoint::SolverCheckpoint,
+        serde_json::Value,
+    ) = meshfree::output::checkpoint::read(&out.join(meshfree::output::checkpoint::FILE)).unwrap();
+    assert_eq!(c.steps, summary.steps);
+    let result = std::process::Command::new(&python)
+        .arg(&script)
+        .arg(out.join(meshfree::output::checkpoint::FILE))
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {python}: {e}"));
+    let stdout = String::from_utf8_lossy(&result.stdout);
+    assert!(
+        result.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    let words: Vec<f64> = stdout
+        .split_whitespace()
+        .map(|w| w.parse().unwrap())
+        .collect();
+    let mean = c.rho.iter().map(|&r| r as f64).sum::<f64>() / c.len() as f64;
+    assert_eq!(words[0], c.time, "time");
+    assert_eq!(words[1], c.steps as f64, "steps");
+    assert_eq!(words[2], c.len() as f64, "particles");
+    assert!(
+        (words[3] - mean).abs() <= 1e-5 * mean,
+        "mean density: python {} rust {mean}",
+        words[3]
+    );
+}

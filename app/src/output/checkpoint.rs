@@ -13,7 +13,8 @@
 //!   name (vectors as 3 floats, symmetric tensors as 6);
 //! - u32: the CRC-32 (IEEE) of everything before it.
 //!
-//! Python reads it with `struct`, `json` and `numpy.frombuffer` (`docs/reference/output.md`).
+//! Python reads it with `struct`, `json`, `zlib` and `numpy.frombuffer`
+//! (`docs/reference/checkpoint.md`, whose reader `tests/python_readers.rs` runs).
 
 use std::io::{self, Write};
 use std::path::Path;
