@@ -1,9 +1,12 @@
 //! `meshfree bench`: time the step of dam-break-like blocks (a fluid block in a walled box,
 //! open at the top) in 2D and 3D at several sizes on the chosen backend. Cubic spline,
 //! support 2h, h = 1.3 dx, f32, continuity density, dynamic walls; symplectic Euler or the
-//! paper's forward Euler (`BenchOptions::integrator`; every row names its scheme). Nothing is read back inside the timed
-//! steps; each repeat ends with one read-back of the simulated time (a synchronisation).
-//! Results: `docs/reference/performance.md`.
+//! paper's forward Euler (`BenchOptions::integrator`). Or any scene (`bench_scenes`,
+//! `meshfree bench --scene`) with its own scheme, from its start (gates opened as a run
+//! opens them). Every row names the scheme it ran (integrator, kernel, density form,
+//! density diffusion, viscosity) and gives the simulated time per wall second. Nothing is
+//! read back inside the timed steps; each repeat ends with one read-back of the simulated
+//! time (a synchronisation). Results: `docs/reference/performance.md`.
 
 use std::path::Path;
 use std::time::Instant;
@@ -13,12 +16,14 @@ use serde::{Deserialize, Serialize};
 use meshfree_core::backend::cpu::{CpuSolver, Grid};
 use meshfree_core::backend::{BackendChoice, BackendError};
 use meshfree_core::dim::{Dim, D2, D3};
+use meshfree_core::named::Named;
 use meshfree_core::params::{
-    self, SphParams, MF_DENSITY_CONTINUITY, MF_INTEGRATOR_EULER, MF_INTEGRATOR_SYMPLECTIC_EULER,
-    MF_KIND_BOUNDARY,
+    self, SphParams, MF_DENSITY_CONTINUITY, MF_INTEGRATOR_SYMPLECTIC_EULER, MF_KIND_BOUNDARY,
 };
 use meshfree_core::particle::{Kind, Particle};
-use meshfree_core::scheme::IntegratorChoice;
+use meshfree_core::scene::Scene;
+use meshfree_core::scheme::declare::ToParam;
+use meshfree_core::scheme::{DensityForm, DiffusionForm, IntegratorChoice, KernelChoice};
 use meshfree_core::solver::{Setup, Solver};
 use meshfree_core::state::State;
 use meshfree_core::step::Stepper;
@@ -85,6 +90,21 @@ pub struct BenchRow {
     /// "continuity" or "summation".
     #[serde(default)]
     pub density: String,
+    /// The scene's name; empty for the dam-break blocks.
+    #[serde(default)]
+    pub scene: String,
+    /// The smoothing kernel ("cubic-spline", "wendland-c2").
+    #[serde(default)]
+    pub kernel: String,
+    /// The density diffusion: "none", or delta and its form, e.g. "0.1 fourtakas".
+    #[serde(default)]
+    pub diffusion: String,
+    /// The viscosity: artificial alpha and laminar nu, e.g. "alpha 0.02, nu 0".
+    #[serde(default)]
+    pub viscosity: String,
+    /// [T/s] simulated time per wall second of the timed steps (median repeat).
+    #[serde(default)]
+    pub simulated_per_second: f64,
     /// The day of the run, `YYYY-MM-DD` (UTC).
     #[serde(default)]
     pub date: String,
@@ -93,13 +113,33 @@ pub struct BenchRow {
     pub commit: String,
 }
 
-/// The name of the integrator in `p` (the scene files' spelling).
-fn integrator_name(p: &SphParams) -> &'static str {
-    if p.integrator as u32 == MF_INTEGRATOR_EULER {
-        "euler"
+/// The scene files' name of the choice `T` whose parameter value is `v`.
+fn choice_name<T: Named + ToParam<i32>>(v: i32) -> &'static str {
+    T::ALL
+        .iter()
+        .find(|(c, _, _)| c.to_param() == v)
+        .map_or("?", |(_, name, _)| *name)
+}
+
+/// The scheme of `p`, in the scene files' words: (integrator, kernel, density form,
+/// density diffusion, viscosity).
+fn scheme(p: &SphParams) -> [String; 5] {
+    let diffusion = if p.density_diffusion > 0.0 {
+        format!(
+            "{} {}",
+            p.density_diffusion,
+            choice_name::<DiffusionForm>(p.density_diffusion_form)
+        )
     } else {
-        "symplectic-euler"
-    }
+        "none".into()
+    };
+    [
+        choice_name::<IntegratorChoice>(p.integrator).into(),
+        choice_name::<KernelChoice>(p.kernel).into(),
+        choice_name::<DensityForm>(p.density_form).into(),
+        diffusion,
+        format!("alpha {}, nu {}", p.alpha, p.viscosity),
+    ]
 }
 
 /// The dam-break-like block: about `n_fluid` fluid particles, a 2:1 (height:width) column
@@ -238,12 +278,19 @@ fn make<D: Dim>(
 
 fn run_one<D: Dim>(o: &BenchOptions, dim: u32, n: usize) -> Result<BenchRow, BackendError> {
     let mut setup = dam_break(dim, n);
-    setup.params.integrator = match o.integrator {
-        IntegratorChoice::SymplecticEuler => MF_INTEGRATOR_SYMPLECTIC_EULER,
-        IntegratorChoice::Euler => MF_INTEGRATOR_EULER,
-    } as i32;
+    setup.params.integrator = o.integrator.to_param();
+    timed::<D>(o, setup, Vec::new(), "")
+}
+
+/// Time `setup` (its gates `gates`, as `Scene::gates`) as `o` asks; `scene` names it.
+fn timed<D: Dim>(
+    o: &BenchOptions,
+    setup: Setup,
+    gates: Vec<(u32, f64)>,
+    scene: &str,
+) -> Result<BenchRow, BackendError> {
+    let dim = setup.params.dim as u32;
     let p = setup.params;
-    let total = setup.particles.len();
     let fluid = setup
         .particles
         .iter()
@@ -251,27 +298,33 @@ fn run_one<D: Dim>(o: &BenchOptions, dim: u32, n: usize) -> Result<BenchRow, Bac
         .count();
     let (mut s, bytes) = make::<D>(o.backend, setup)?;
     // The one stepping path, as a run takes it: batches of CUDA graphs, the clock read
-    // once per batch, the health checked every `step::CHECK_EVERY` steps.
-    let mut stepper = Stepper::default();
+    // once per batch, the health checked every `step::CHECK_EVERY` steps; the gates due at
+    // t = 0 open in the first batch, so the particles are counted after the warm-up.
+    let mut stepper = Stepper::new(gates);
     let mut fault = stepper.advance_steps(s.as_mut(), o.warmup as u64).err();
-    let mut ms = Vec::new();
+    let total = s.len();
+    // (ms per step, simulated time per wall second) of each repeat.
+    let mut repeats = Vec::new();
     for _ in 0..o.repeats.max(1) {
+        let sim0 = s.time();
         let t0 = Instant::now();
         fault = fault.or(stepper.advance_steps(s.as_mut(), o.steps as u64).err());
-        s.time(); // waits for the last batch
-        ms.push(t0.elapsed().as_secs_f64() * 1e3 / o.steps.max(1) as f64);
+        let sim = s.time() - sim0; // waits for the last batch
+        let wall = t0.elapsed().as_secs_f64();
+        repeats.push((wall * 1e3 / o.steps.max(1) as f64, sim / wall));
     }
-    ms.sort_by(|a, b| a.total_cmp(b));
-    let med = ms[ms.len() / 2];
+    repeats.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (med, simulated_per_second) = repeats[repeats.len() / 2];
     let neighbours = if o.count_neighbours {
         mean_neighbours::<D>(&p, &s.particles())
     } else {
         0.0
     };
     if let Some(f) = fault.or(s.check().err()) {
-        eprintln!("bench {dim}D {total}: {f}");
+        eprintln!("bench {scene} {dim}D {total}: {f}");
     }
     let info = s.info();
+    let [integrator, kernel, density, diffusion, viscosity] = scheme(&p);
     Ok(BenchRow {
         backend: info.backend,
         device: info.device,
@@ -284,13 +337,13 @@ fn run_one<D: Dim>(o: &BenchOptions, dim: u32, n: usize) -> Result<BenchRow, Bac
         neighbours,
         bytes_per_particle: bytes as f64 / total as f64,
         bytes_per_fluid_particle: bytes as f64 / fluid.max(1) as f64,
-        integrator: integrator_name(&p).into(),
-        density: if p.density_form as u32 == MF_DENSITY_CONTINUITY {
-            "continuity"
-        } else {
-            "summation"
-        }
-        .into(),
+        integrator,
+        density,
+        scene: scene.into(),
+        kernel,
+        diffusion,
+        viscosity,
+        simulated_per_second,
         date: meshfree_core::build_info::today(),
         commit: meshfree_core::build_info::COMMIT.into(),
     })
@@ -307,33 +360,77 @@ pub fn bench(o: &BenchOptions, out_dir: Option<&Path>) -> Result<Vec<BenchRow>, 
             } else {
                 run_one::<D3>(o, dim, n)?
             };
-            println!(
-                "{}D {:>9} particles ({:>9} fluid): {:>9.4} ms/step, {:.3e} particle-steps/s, {:.1} neighbours, \
-                 {:.0} B/particle ({:.0} B/fluid particle) [{} {}; {}, {} density]",
-                r.dim,
-                r.particles,
-                r.fluid,
-                r.ms_per_step,
-                r.particle_steps_per_s,
-                r.neighbours,
-                r.bytes_per_particle,
-                r.bytes_per_fluid_particle,
-                r.backend,
-                r.device,
-                r.integrator,
-                r.density
-            );
+            print_row(&r);
             rows.push(r);
         }
     }
+    write_rows(&rows, out_dir);
+    Ok(rows)
+}
+
+/// Time each of `scenes` with its own scheme from its start (`o`'s steps, warm-up and
+/// repeats; `o.dims`, `sizes` and `integrator` are the blocks' and not used); print and
+/// write the rows as `bench` does.
+pub fn bench_scenes(
+    o: &BenchOptions,
+    scenes: &[Scene],
+    out_dir: Option<&Path>,
+) -> anyhow::Result<Vec<BenchRow>> {
+    let mut rows = Vec::new();
+    for scene in scenes {
+        let setup = scene.setup()?;
+        let r = if scene.file.dimension == 2 {
+            timed::<D2>(o, setup, scene.gates(), scene.name())?
+        } else {
+            timed::<D3>(o, setup, scene.gates(), scene.name())?
+        };
+        print_row(&r);
+        rows.push(r);
+    }
+    write_rows(&rows, out_dir);
+    Ok(rows)
+}
+
+fn print_row(r: &BenchRow) {
+    let what = if r.scene.is_empty() {
+        String::new()
+    } else {
+        format!("{}: ", r.scene)
+    };
+    println!(
+        "{what}{}D {:>9} particles ({:>9} fluid): {:>9.4} ms/step, {:.3e} particle-steps/s, {:.4e} \
+         simulated s per s, {:.1} neighbours, {:.0} B/particle ({:.0} B/fluid particle) [{} {}; {}, \
+         {}, {} density, diffusion {}, {}]",
+        r.dim,
+        r.particles,
+        r.fluid,
+        r.ms_per_step,
+        r.particle_steps_per_s,
+        r.simulated_per_second,
+        r.neighbours,
+        r.bytes_per_particle,
+        r.bytes_per_fluid_particle,
+        r.backend,
+        r.device,
+        r.integrator,
+        r.kernel,
+        r.density,
+        r.diffusion,
+        r.viscosity
+    );
+}
+
+/// `bench.csv` and `bench.json` of `rows` into `out_dir`, where given.
+fn write_rows(rows: &[BenchRow], out_dir: Option<&Path>) {
     if let Some(dir) = out_dir {
         let _ = std::fs::create_dir_all(dir);
         let mut csv = String::from(
-            "backend,device,dim,particles,fluid,steps,ms_per_step,particle_steps_per_s,neighbours,bytes_per_particle,bytes_per_fluid_particle,integrator,density\n",
+            "scene,backend,device,dim,particles,fluid,steps,ms_per_step,particle_steps_per_s,simulated_per_second,neighbours,bytes_per_particle,bytes_per_fluid_particle,integrator,kernel,density,diffusion,viscosity\n",
         );
-        for r in &rows {
+        for r in rows {
             csv += &format!(
-                "{},{},{},{},{},{},{:.6},{:.6e},{:.2},{:.1},{:.1},{},{}\n",
+                "{},{},{},{},{},{},{},{:.6},{:.6e},{:.6e},{:.2},{:.1},{:.1},{},{},{},{},{}\n",
+                r.scene,
                 r.backend,
                 r.device.replace(',', " "),
                 r.dim,
@@ -342,11 +439,15 @@ pub fn bench(o: &BenchOptions, out_dir: Option<&Path>) -> Result<Vec<BenchRow>, 
                 r.steps,
                 r.ms_per_step,
                 r.particle_steps_per_s,
+                r.simulated_per_second,
                 r.neighbours,
                 r.bytes_per_particle,
                 r.bytes_per_fluid_particle,
                 r.integrator,
-                r.density
+                r.kernel,
+                r.density,
+                r.diffusion,
+                r.viscosity.replace(',', ";")
             );
         }
         let _ = std::fs::write(dir.join("bench.csv"), csv);
@@ -355,5 +456,4 @@ pub fn bench(o: &BenchOptions, out_dir: Option<&Path>) -> Result<Vec<BenchRow>, 
             serde_json::to_string_pretty(&rows).unwrap_or_default(),
         );
     }
-    Ok(rows)
 }

@@ -143,6 +143,11 @@ pub struct BenchArgs {
     /// Where to run.
     #[arg(long, value_parser = named::<BackendChoice>(), default_value = "auto")]
     pub backend: BackendChoice,
+    /// Time these scenes (files or built-in names; repeatable) instead of the dam-break
+    /// blocks, each with its own scheme from its start: ms per step, particle-steps per
+    /// second and simulated seconds per wall second.
+    #[arg(long, value_name = "SCENE", conflicts_with_all = ["dims", "sizes", "integrator"])]
+    pub scene: Vec<String>,
     /// Dimensions to run, e.g. `2,3`.
     #[arg(long, value_delimiter = ',', default_values_t = [2u32, 3])]
     pub dims: Vec<u32>,
@@ -600,6 +605,14 @@ fn bench(a: BenchArgs) -> anyhow::Result<()> {
         o.sizes = vec![3_000, 30_000, 300_000];
     }
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
+    if !a.scene.is_empty() {
+        let scenes = (a.scene.iter())
+            .map(|s| Scene::load(s))
+            .collect::<Result<Vec<_>, _>>()?;
+        crate::bench::bench_scenes(&o, &scenes, Some(&a.out))?;
+        println!("wrote {}/bench.csv and bench.json", a.out.display());
+        return Ok(());
+    }
     crate::bench::bench(&o, Some(&a.out))?;
     println!("wrote {}/bench.csv and bench.json", a.out.display());
     Ok(())
