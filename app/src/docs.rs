@@ -141,25 +141,37 @@ pub fn performance_table(rows: &[BenchRow]) -> String {
     );
     let _ = writeln!(
         s,
-        "| dim | particles | fluid | integrator | ms per step | particle-steps/s | B per fluid particle |"
+        "| case | particles | fluid | scheme | ms per step | particle-steps/s | simulated s per wall s | B per fluid particle |"
     );
-    let _ = writeln!(s, "|---|---|---|---|---|---|---|");
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|");
     for r in rows {
         let other = if r.device != first.device || r.commit != first.commit {
             format!(" ({}, {})", r.device, r.commit)
         } else {
             String::new()
         };
+        let case = if r.scene.is_empty() {
+            format!("{}D block", r.dim)
+        } else {
+            format!("`{}` ({}D)", r.scene, r.dim)
+        };
+        // Rows of older reports name only the integrator.
+        let scheme = [&r.integrator, &r.kernel, &r.diffusion]
+            .iter()
+            .filter(|w| !w.is_empty())
+            .map(|w| w.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+            .replace(", none", "");
+        let simulated = if r.simulated_per_second > 0.0 {
+            format!("{:.3e}", r.simulated_per_second)
+        } else {
+            "-".into()
+        };
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {}{other} | {:.4} | {:.3e} | {:.0} |",
-            r.dim,
-            r.particles,
-            r.fluid,
-            r.integrator,
-            r.ms_per_step,
-            r.particle_steps_per_s,
-            r.bytes_per_fluid_particle
+            "| {case} | {} | {} | {scheme}{other} | {:.4} | {:.3e} | {simulated} | {:.0} |",
+            r.particles, r.fluid, r.ms_per_step, r.particle_steps_per_s, r.bytes_per_fluid_particle
         );
     }
     s
