@@ -169,6 +169,7 @@ pub fn run(options: &Options) -> anyhow::Result<Vec<Point>> {
             let ctx = Ctx {
                 tier: options.tier,
                 backend,
+                courant: None,
                 out_dir: &options.out_dir,
                 verbose: options.verbose,
             };

@@ -13,6 +13,7 @@ fn quick_validation_passes_and_writes_reports() {
         out_dir: dir.path().to_path_buf(),
         cases: Vec::new(),
         verbose: false,
+        courant: None,
     })
     .expect("validation runs");
     for c in &report.checks {
@@ -88,9 +89,33 @@ fn unknown_case_is_an_error() {
         out_dir: dir.path().to_path_buf(),
         cases: vec!["no-such-case".into()],
         verbose: false,
+        courant: None,
     })
     .unwrap_err();
     assert!(err.to_string().contains("taylor-green"), "{err}");
+}
+
+/// `--courant`: every case at another Courant number, said in the report; a number that is
+/// no Courant number is refused.
+#[test]
+fn a_courant_override_runs_and_is_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let options = |c: f64| Options {
+        tier: Tier::Quick,
+        backend: BackendChoice::Cpu,
+        out_dir: dir.path().to_path_buf(),
+        cases: vec!["taylor-green".into()],
+        verbose: false,
+        courant: Some(c),
+    };
+    let r = validate::run(&options(0.3)).unwrap();
+    assert_eq!(r.courant, Some(0.3));
+    assert!(!r.checks.is_empty());
+    assert!(validate::markdown(&r).contains("Courant number 0.3"));
+    for bad in [0.0, -1.0, f64::NAN] {
+        let e = validate::run(&options(bad)).unwrap_err().to_string();
+        assert!(e.contains("--courant"), "{e}");
+    }
 }
 
 #[test]

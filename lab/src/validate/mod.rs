@@ -55,12 +55,17 @@ pub struct Options {
     pub cases: Vec<String>,
     /// Progress lines on stderr.
     pub verbose: bool,
+    /// Run every case at this Courant number (eq. (19)) instead of its own (0.2), to see
+    /// what a larger step costs in accuracy.
+    pub courant: Option<f64>,
 }
 
 /// What a case gets.
 pub struct Ctx<'a> {
     pub tier: Tier,
     pub backend: BackendChoice,
+    /// `Options::courant`.
+    pub courant: Option<f64>,
     /// Where the case writes its plots.
     pub out_dir: &'a Path,
     pub verbose: bool,
@@ -314,6 +319,10 @@ impl Sim {
         resolution: String,
     ) -> anyhow::Result<Sim> {
         let counts = Counts::of(&setup.particles);
+        let mut setup = setup;
+        if let Some(c) = ctx.courant {
+            setup.params.courant = c as f32;
+        }
         let solver = backend::create(ctx.backend, setup)?;
         Ok(Sim {
             solver,
@@ -392,6 +401,9 @@ pub struct Report {
     /// The build's commit (`meshfree_core::build_info::COMMIT`).
     #[serde(default)]
     pub commit: String,
+    /// The Courant number every case ran at instead of its own (`Options::courant`).
+    #[serde(default)]
+    pub courant: Option<f64>,
     pub wall_seconds: f64,
     pub pass: bool,
     pub checks: Vec<Check>,
@@ -432,9 +444,16 @@ pub fn run(options: &Options) -> anyhow::Result<Report> {
     std::fs::create_dir_all(&options.out_dir)
         .with_context(|| format!("creating {}", options.out_dir.display()))?;
     let started = Instant::now();
+    if let Some(c) = options.courant {
+        anyhow::ensure!(
+            c.is_finite() && c > 0.0,
+            "--courant {c}: the Courant number must be a positive number (eq. (19))"
+        );
+    }
     let ctx = Ctx {
         tier: options.tier,
         backend: options.backend,
+        courant: options.courant,
         out_dir: &options.out_dir,
         verbose: options.verbose,
     };
@@ -499,6 +518,7 @@ pub fn run(options: &Options) -> anyhow::Result<Report> {
         machine: machine(),
         date: meshfree_core::build_info::today(),
         commit: meshfree_core::build_info::COMMIT.into(),
+        courant: options.courant,
         wall_seconds: started.elapsed().as_secs_f64(),
         pass: checks.iter().all(|c| c.pass),
         checks,
@@ -534,6 +554,12 @@ pub fn markdown(r: &Report) -> String {
         r.checks.iter().filter(|c| c.pass).count(),
         r.checks.len()
     );
+    if let Some(c) = r.courant {
+        let _ = writeln!(
+            s,
+            "Every case ran at Courant number {c} instead of its own.\n"
+        );
+    }
     let _ = writeln!(
         s,
         "Basis: *literature* = tolerance from the publications or the reference file's \

@@ -484,6 +484,7 @@ mod tests {
         let ctx = Ctx {
             tier: Tier::Quick,
             backend: BackendChoice::Cpu,
+            courant: None,
             out_dir: &out,
             verbose: true,
         };
