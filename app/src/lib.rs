@@ -14,3 +14,4 @@ pub mod peers_bench;
 pub mod probes;
 pub mod resume;
 pub mod run;
+pub mod run_error;

@@ -30,7 +30,7 @@ use crate::output::checkpoint;
 use crate::output::writer::WriterState;
 use crate::output::{PvdSeries, Timing};
 use crate::probes::ProbesState;
-use crate::run::RunError;
+use crate::run_error::RunError;
 
 /// The run's part of a checkpoint.
 #[derive(Clone, Debug, Serialize, Deserialize)]

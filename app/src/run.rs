@@ -26,11 +26,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::Instant;
 
-use meshfree_core::backend::{self, BackendChoice, BackendError};
+use meshfree_core::backend::{self, BackendChoice};
 use meshfree_core::frame::{Field, Fields};
 use meshfree_core::named::Named;
 use meshfree_core::scene::format::OutputFormat;
-use meshfree_core::scene::{paper_exact, Counts, Overrides, Scene, SceneError, SceneSource};
+use meshfree_core::scene::{paper_exact, Counts, Overrides, Scene, SceneSource};
 use meshfree_core::solver::{Diagnostics, Fault, Solver};
 use meshfree_core::step::{reached, Stepper};
 
@@ -42,6 +42,7 @@ use crate::output::{RunStatus, RunSummary, Timing};
 use crate::probes::Probes;
 
 pub use crate::output::writer::Frame;
+pub use crate::run_error::RunError;
 
 /// How to report progress on stderr.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -78,58 +79,6 @@ pub struct RunOptions {
     pub progress: Progress,
     /// Replaces the scene's `[output] format`.
     pub format: Option<OutputFormat>,
-}
-
-/// Why a run did not complete.
-#[derive(Debug, thiserror::Error)]
-pub enum RunError {
-    #[error(transparent)]
-    Scene(#[from] SceneError),
-    #[error(transparent)]
-    Backend(#[from] BackendError),
-    #[error("{}: {reason}", path.display())]
-    Io { path: PathBuf, reason: String },
-    /// A checkpoint that cannot be resumed (`meshfree run --resume`): missing, damaged, of
-    /// another scene or build layout, or output changed since.
-    #[error("{}: {reason}", path.display())]
-    Checkpoint { path: PathBuf, reason: String },
-    /// The output directory holds an earlier run's files (`RunOptions::overwrite`).
-    #[error("{}: {reason}", dir.display())]
-    OutputInUse { dir: PathBuf, reason: String },
-    /// Stopped by a signal (or the caller's flag): the last frame and `summary.json` are
-    /// written.
-    #[error("interrupted by {signal} at t = {:.6} after {} steps (last frame, checkpoint and summary.json in {}; `meshfree run --resume {}` continues it)",
-            summary.simulated_time, summary.steps, out_dir.display(), out_dir.display())]
-    Interrupted {
-        signal: String,
-        out_dir: PathBuf,
-        summary: Box<RunSummary>,
-    },
-    /// A blow-up: output written so far is kept, `summary.json` holds the fault.
-    #[error("{fault} (output so far in {})", out_dir.display())]
-    BlowUp {
-        fault: Box<Fault>,
-        out_dir: PathBuf,
-        summary: Box<RunSummary>,
-    },
-}
-
-impl From<(PathBuf, std::io::Error)> for RunError {
-    fn from((path, e): (PathBuf, std::io::Error)) -> Self {
-        RunError::Io {
-            path,
-            reason: e.to_string(),
-        }
-    }
-}
-
-impl From<writer::Failure> for RunError {
-    fn from(f: writer::Failure) -> Self {
-        RunError::Io {
-            path: f.path,
-            reason: f.reason,
-        }
-    }
 }
 
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
