@@ -27,7 +27,7 @@ use meshfree_core::step::StepperState;
 
 use crate::monitors::MonitorsState;
 use crate::output::checkpoint;
-use crate::output::writer::WriterState;
+use crate::output::writer::{Failure, Job, WriterState};
 use crate::output::{PvdSeries, Timing};
 use crate::probes::ProbesState;
 use crate::run_error::RunError;
@@ -88,6 +88,20 @@ fn bad(path: &Path, reason: impl Into<String>) -> RunError {
         path: path.to_path_buf(),
         reason: reason.into(),
     }
+}
+
+/// The writer's job that completes the checkpoint `run` (all but the writer's part) of
+/// `solver` and writes it to `path` (`output::checkpoint::write`), on the writer thread after
+/// the frames queued before it.
+pub fn checkpoint_job(path: PathBuf, solver: SolverCheckpoint, mut run: RunState) -> Job {
+    Job::Checkpoint(Box::new(move |w| {
+        run.writer = w;
+        let bytes = checkpoint::write(&path, &solver, &run).map_err(|e| Failure {
+            path: path.clone(),
+            reason: e.to_string(),
+        })?;
+        Ok((solver.time, bytes))
+    }))
 }
 
 /// Read `dir`'s checkpoint and scene. Err: no checkpoint (with what to do), an unreadable

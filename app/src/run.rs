@@ -428,43 +428,36 @@ fn drive(
                 None => spec.checkpoint_interval,
             };
             // A checkpoint of the run as it stands (after this step's output and samples).
-            let checkpoint =
-                |solver: &mut dyn Solver,
-                 out: &mut Outputs,
-                 stepper: &Stepper,
-                 monitors: &Monitors,
-                 probes: &Probes,
-                 next_output: f64,
-                 next_checkpoint: Option<f64>|
-                 -> Result<(), RunFailure> {
-                    let mut state = run_state.clone();
-                    state.next_output = next_output;
-                    state.next_checkpoint = next_checkpoint;
-                    state.stepper = stepper.state();
-                    state.monitors = monitors.state()?;
-                    state.probes = probes.state()?;
-                    state.timing = Timing {
-                        setup_seconds,
-                        stepping_seconds: stepper.stepping_seconds(),
-                        output_wait_seconds: out.wait_seconds,
-                        total_seconds: before.total_seconds + started.elapsed().as_secs_f64(),
-                        ..Timing::default()
-                    };
-                    let waited = Instant::now();
-                    let saved = solver.save();
-                    let path = checkpoint_path.clone();
-                    out.send(writer::Job::Checkpoint(Box::new(move |w| {
-                        state.writer = w;
-                        let bytes = crate::output::checkpoint::write(&path, &saved, &state)
-                            .map_err(|e| writer::Failure {
-                                path: path.clone(),
-                                reason: e.to_string(),
-                            })?;
-                        Ok((saved.time, bytes))
-                    })))?;
-                    out.wait_seconds += waited.elapsed().as_secs_f64();
-                    Ok(())
+            let checkpoint = |solver: &mut dyn Solver,
+                              out: &mut Outputs,
+                              stepper: &Stepper,
+                              monitors: &Monitors,
+                              probes: &Probes,
+                              next_output: f64,
+                              next_checkpoint: Option<f64>|
+             -> Result<(), RunFailure> {
+                let mut state = run_state.clone();
+                state.next_output = next_output;
+                state.next_checkpoint = next_checkpoint;
+                state.stepper = stepper.state();
+                state.monitors = monitors.state()?;
+                state.probes = probes.state()?;
+                state.timing = Timing {
+                    setup_seconds,
+                    stepping_seconds: stepper.stepping_seconds(),
+                    output_wait_seconds: out.wait_seconds,
+                    total_seconds: before.total_seconds + started.elapsed().as_secs_f64(),
+                    ..Timing::default()
                 };
+                let waited = Instant::now();
+                out.send(crate::resume::checkpoint_job(
+                    checkpoint_path.clone(),
+                    solver.save(),
+                    state,
+                ))?;
+                out.wait_seconds += waited.elapsed().as_secs_f64();
+                Ok(())
+            };
             loop {
                 let t = solver.time();
                 let taken = solver.steps() - first_step;
