@@ -214,6 +214,20 @@ typedef struct SphParams {
     int32_t integrator;    /* MF_INTEGRATOR_* */
     float courant;         /* [-] Courant number for dt, eq. (19) */
     float dt;        /* [T] fixed time step; 0 = adaptive (CFL, force, viscous limits) */
+
+    /* ---- domain decomposition (crate::exchange): set by the run, not by a scene key ---- */
+    int32_t own_slab;      /* 1: this solver is one subdomain of a decomposed run and owns the
+                              particles with own_lo <= x[own_axis] < own_hi; the others it holds
+                              are its halo, copies of particles its neighbours own, and the step
+                              size's extremes and the wall forces count only the owned ones
+                              (each particle once over the subdomains); 0: one domain, every
+                              particle owned */
+    int32_t own_axis;      /* 0, 1 or 2: the slab's axis */
+    float own_lo;          /* [L] the slab's lower bound (-inf at the domain's low end) */
+    float own_hi;          /* [L] its upper bound, excluded (+inf at the high end) */
+    int32_t own_solids;    /* 1: hold the solids' arrays (stress, rates, density departure)
+                              even where none of the particles this subdomain starts with is
+                              solid: the scene has solids, and its halo may bring some */
 } SphParams;
 
 #endif /* MESHFREE_SPH_PARAMS_H */

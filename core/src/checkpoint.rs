@@ -20,6 +20,16 @@
 use crate::dim::Dim;
 use crate::state::{SolidState, State};
 
+/// The particle arrays `SolverCheckpoint::mismatch` compares against.
+struct Layout<'a> {
+    dim: u32,
+    id: &'a [u32],
+    kind: &'a [u8],
+    group: &'a [u32],
+    mass: &'a [f32],
+    solids: bool,
+}
+
 /// The solver state of one step boundary (`Solver::save`).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SolverCheckpoint {
@@ -101,12 +111,36 @@ impl SolverCheckpoint {
     /// dimension, particle set, kind, group or mass (compared by id, bit for bit), array
     /// lengths that disagree, or solids on one side only. None where it fits.
     pub fn mismatch<D: Dim>(&self, like: &State<D>) -> Option<String> {
+        let like = Layout {
+            dim: D::D as u32,
+            id: &like.id,
+            kind: &like.kind,
+            group: &like.group,
+            mass: &like.mass,
+            solids: like.solid.is_some(),
+        };
+        self.mismatch_layout(&like)
+    }
+
+    /// `mismatch` against another checkpoint's particles (a decomposed solver's, gathered
+    /// from its subdomains), which has solids where it carries stress.
+    pub fn mismatch_with(&self, like: &SolverCheckpoint) -> Option<String> {
+        self.mismatch_layout(&Layout {
+            dim: like.dim,
+            id: &like.id,
+            kind: &like.kind,
+            group: &like.group,
+            mass: &like.mass,
+            solids: !like.stress.is_empty(),
+        })
+    }
+
+    fn mismatch_layout(&self, like: &Layout) -> Option<String> {
         let n = self.len();
-        if self.dim != D::D as u32 {
+        if self.dim != like.dim {
             return Some(format!(
                 "it holds a {}D state and the scene is {}D",
-                self.dim,
-                D::D
+                self.dim, like.dim
             ));
         }
         let lengths = [
@@ -123,13 +157,13 @@ impl SolverCheckpoint {
                 "its arrays disagree in length ({n} ids; {lengths:?})"
             ));
         }
-        if n != like.len() {
+        if n != like.id.len() {
             return Some(format!(
                 "it holds {n} particles and the scene has {}",
-                like.len()
+                like.id.len()
             ));
         }
-        let solids = like.solid.is_some();
+        let solids = like.solids;
         let (stress, rho_dev) = (self.stress.len(), self.rho_dev.len());
         if (stress, rho_dev) != if solids { (n, n) } else { (0, 0) } {
             return Some(format!(
@@ -144,7 +178,7 @@ impl SolverCheckpoint {
             order.sort_unstable_by_key(|&i| ids[i]);
             order
         };
-        let (mine, theirs) = (by_id(&self.id), by_id(&like.id));
+        let (mine, theirs) = (by_id(&self.id), by_id(like.id));
         for (&a, &b) in mine.iter().zip(&theirs) {
             let (id, other) = (self.id[a], like.id[b]);
             if id != other {
@@ -172,6 +206,56 @@ impl SolverCheckpoint {
         None
     }
 
+    /// The checkpoints of a decomposed solver's subdomains as one: their particles one
+    /// after the other, the clock, step count and step size of the first (the same in all).
+    pub fn concat(parts: &[SolverCheckpoint]) -> SolverCheckpoint {
+        let mut all = parts.first().cloned().unwrap_or_default();
+        for q in &parts[1.min(parts.len())..] {
+            all.id.extend_from_slice(&q.id);
+            all.kind.extend_from_slice(&q.kind);
+            all.group.extend_from_slice(&q.group);
+            all.mass.extend_from_slice(&q.mass);
+            all.pos.extend_from_slice(&q.pos);
+            all.vel.extend_from_slice(&q.vel);
+            all.rho.extend_from_slice(&q.rho);
+            all.p.extend_from_slice(&q.p);
+            all.stress.extend_from_slice(&q.stress);
+            all.rho_dev.extend_from_slice(&q.rho_dev);
+            all.tl_disp.extend_from_slice(&q.tl_disp);
+        }
+        all
+    }
+
+    /// The particles whose position `at(x)` takes, in order (one subdomain's share), with
+    /// the clock, step count and step size. Total-Lagrangian displacements are not split
+    /// (a decomposed run has none).
+    pub fn select(&self, at: impl Fn([f32; 3]) -> bool) -> SolverCheckpoint {
+        let keep: Vec<usize> = (0..self.len()).filter(|&i| at(self.pos[i])).collect();
+        fn pick<T: Copy>(v: &[T], keep: &[usize]) -> Vec<T> {
+            if v.is_empty() {
+                return Vec::new();
+            }
+            keep.iter().map(|&i| v[i]).collect()
+        }
+        SolverCheckpoint {
+            dim: self.dim,
+            time: self.time,
+            steps: self.steps,
+            dt: self.dt,
+            id: pick(&self.id, &keep),
+            kind: pick(&self.kind, &keep),
+            group: pick(&self.group, &keep),
+            mass: pick(&self.mass, &keep),
+            pos: pick(&self.pos, &keep),
+            vel: pick(&self.vel, &keep),
+            rho: pick(&self.rho, &keep),
+            p: pick(&self.p, &keep),
+            stress: pick(&self.stress, &keep),
+            rho_dev: pick(&self.rho_dev, &keep),
+            tl_disp: Vec::new(),
+        }
+    }
+
     /// The state in the saved storage order, with the arrays `like` has (the continuity
     /// density's d rho/dt, the solids' stress rate and artificial stress: zero, as a step
     /// writes them before it reads them). Err: `mismatch`.
@@ -179,15 +263,30 @@ impl SolverCheckpoint {
         if let Some(why) = self.mismatch(like) {
             return Err(why);
         }
+        Ok(self.to_state_unchecked(like))
+    }
+
+    /// `to_state` without the check that the particles are `like`'s (a subdomain's share
+    /// of a decomposed checkpoint, `crate::exchange`): the arrays `like` holds. A checkpoint
+    /// without stress gives a state with zero stress where `like` holds solid arrays.
+    pub fn to_state_unchecked<D: Dim>(&self, like: &State<D>) -> State<D> {
         let n = self.len();
         let vectors = |v: &[[f32; 3]]| v.iter().map(|&a| D::from3(a)).collect::<Vec<_>>();
         let solid = like.solid.as_ref().map(|s| SolidState {
-            stress: self.stress.iter().map(|&m| D::sym_from6(m)).collect(),
+            stress: if self.stress.len() == n {
+                self.stress.iter().map(|&m| D::sym_from6(m)).collect()
+            } else {
+                vec![D::zero(); n]
+            },
             stress_rate: vec![D::zero(); n],
             art_stress: s.art_stress.as_ref().map(|_| vec![D::zero(); n]),
-            rho_dev: self.rho_dev.clone(),
+            rho_dev: if self.rho_dev.len() == n {
+                self.rho_dev.clone()
+            } else {
+                vec![0.0; n]
+            },
         });
-        Ok(State {
+        State {
             id: self.id.clone(),
             kind: self.kind.clone(),
             group: self.group.clone(),
@@ -200,7 +299,7 @@ impl SolverCheckpoint {
             xsph: vec![D::V::default(); n],
             drho: like.drho.as_ref().map(|_| vec![0.0; n]),
             solid,
-        })
+        }
     }
 
     /// The total-Lagrangian displacements for a solver whose solid space holds `n_solid`

@@ -144,6 +144,19 @@ impl FrameData {
         }
     }
 
+    /// Append `other`'s particles (a frame of the same fields: another subdomain's).
+    pub fn append(&mut self, other: FrameData) {
+        self.len += other.len;
+        self.position.extend(other.position);
+        self.velocity.extend(other.velocity);
+        self.density.extend(other.density);
+        self.pressure.extend(other.pressure);
+        self.kind.extend(other.kind);
+        self.id.extend(other.id);
+        self.group.extend(other.group);
+        self.stress.extend(other.stress);
+    }
+
     /// The fields this frame carries.
     pub fn fields(&self) -> Fields {
         let mut s = Fields::NONE;

@@ -8,6 +8,7 @@ pub mod build_info;
 pub mod checkpoint;
 pub mod consts;
 pub mod dim;
+pub mod exchange;
 pub mod frame;
 pub mod kernel;
 pub mod monitor;

@@ -18,8 +18,8 @@
 //! leaves open: `Paper::Scene`). `--paper-exact` sets every switch and keeps every value.
 //!
 //! The `SphParams` fields no key writes are listed below: `FROM_SCENE` (the scene's
-//! geometry and objects) and `DERIVED` (`params::derive`); a test checks that every field
-//! of the header is a key's, or in one of the two lists.
+//! geometry and objects), `DERIVED` (`params::derive`) and `FROM_RUN` (a decomposed run's
+//! subdomain); a test checks that every field of the header is a key's, or in one of them.
 
 #[macro_use]
 pub mod declare;
@@ -605,6 +605,10 @@ pub const FROM_SCENE: &[(&str, &str)] = &[
 
 /// `SphParams` fields filled by `params::derive` from the others (marked "derived" in the
 /// header).
+/// The `SphParams` fields the run sets, not the scene: a decomposed run's subdomain
+/// (`crate::exchange`, `meshfree run --decompose`); off in one domain.
+pub const FROM_RUN: &[&str] = &["own_slab", "own_axis", "own_lo", "own_hi", "own_solids"];
+
 pub const DERIVED: &[&str] = &[
     "grid_dims",
     "n_cells",

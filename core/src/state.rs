@@ -151,29 +151,75 @@ impl<D: Dim> State<D> {
 
     /// Reorder every array so that new slot `k` holds old slot `order[k]`.
     pub fn gather(&mut self, order: &[usize]) {
-        fn g<T: Copy>(v: &mut Vec<T>, order: &[usize]) {
-            *v = order.iter().map(|&i| v[i]).collect();
+        *self = self.select(order);
+    }
+
+    /// A state of the slots `order` (new slot `k` is old slot `order[k]`), every array.
+    pub fn select(&self, order: &[usize]) -> Self {
+        fn g<T: Copy>(v: &[T], order: &[usize]) -> Vec<T> {
+            order.iter().map(|&i| v[i]).collect()
         }
-        g(&mut self.id, order);
-        g(&mut self.kind, order);
-        g(&mut self.group, order);
-        g(&mut self.mass, order);
-        g(&mut self.pos, order);
-        g(&mut self.vel, order);
-        g(&mut self.rho, order);
-        g(&mut self.p, order);
-        g(&mut self.acc, order);
-        g(&mut self.xsph, order);
-        if let Some(d) = &mut self.drho {
-            g(d, order);
+        State {
+            id: g(&self.id, order),
+            kind: g(&self.kind, order),
+            group: g(&self.group, order),
+            mass: g(&self.mass, order),
+            pos: g(&self.pos, order),
+            vel: g(&self.vel, order),
+            rho: g(&self.rho, order),
+            p: g(&self.p, order),
+            acc: g(&self.acc, order),
+            xsph: g(&self.xsph, order),
+            drho: self.drho.as_ref().map(|d| g(d, order)),
+            solid: self.solid.as_ref().map(|s| SolidState {
+                stress: g(&s.stress, order),
+                stress_rate: g(&s.stress_rate, order),
+                art_stress: s.art_stress.as_ref().map(|r| g(r, order)),
+                rho_dev: g(&s.rho_dev, order),
+            }),
         }
-        if let Some(s) = &mut self.solid {
-            g(&mut s.stress, order);
-            g(&mut s.stress_rate, order);
-            g(&mut s.rho_dev, order);
-            if let Some(r) = &mut s.art_stress {
-                g(r, order);
+    }
+
+    /// Append `other`'s slots (a state with the same arrays) after this one's.
+    pub fn extend(&mut self, other: &State<D>) {
+        fn e<T: Copy>(v: &mut Vec<T>, w: &[T]) {
+            v.extend_from_slice(w);
+        }
+        e(&mut self.id, &other.id);
+        e(&mut self.kind, &other.kind);
+        e(&mut self.group, &other.group);
+        e(&mut self.mass, &other.mass);
+        e(&mut self.pos, &other.pos);
+        e(&mut self.vel, &other.vel);
+        e(&mut self.rho, &other.rho);
+        e(&mut self.p, &other.p);
+        e(&mut self.acc, &other.acc);
+        e(&mut self.xsph, &other.xsph);
+        if let (Some(d), Some(w)) = (&mut self.drho, &other.drho) {
+            e(d, w);
+        }
+        if let (Some(s), Some(o)) = (&mut self.solid, &other.solid) {
+            e(&mut s.stress, &o.stress);
+            e(&mut s.stress_rate, &o.stress_rate);
+            e(&mut s.rho_dev, &o.rho_dev);
+            if let (Some(r), Some(q)) = (&mut s.art_stress, &o.art_stress) {
+                e(r, q);
             }
         }
+    }
+
+    /// Hold the solid arrays (zero) where there are none: a subdomain of a scene with
+    /// solids that starts with none of them (`SphParams::own_solids`).
+    pub fn with_solid_arrays(mut self, art_stress: bool) -> Self {
+        let n = self.len();
+        if self.solid.is_none() {
+            self.solid = Some(SolidState {
+                stress: vec![D::zero(); n],
+                stress_rate: vec![D::zero(); n],
+                art_stress: art_stress.then(|| vec![D::zero(); n]),
+                rho_dev: vec![0.0; n],
+            });
+        }
+        self
     }
 }

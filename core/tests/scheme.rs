@@ -8,7 +8,9 @@ use std::collections::{BTreeMap, BTreeSet};
 use meshfree_core::params::SphParams;
 use meshfree_core::scene::paper_exact::{ALPHA_MIN, DT_FRACTION};
 use meshfree_core::scene::{builtin_names, Scene, SceneFile, SceneSource};
-use meshfree_core::scheme::{self, reference, Key, KeyDefault, Paper, Param, DERIVED, FROM_SCENE};
+use meshfree_core::scheme::{
+    self, reference, Key, KeyDefault, Paper, Param, DERIVED, FROM_RUN, FROM_SCENE,
+};
 
 /// The fields of the parameter struct with their values, from its `Debug` form
 /// (`SphParams { dim: 2, periodic: [0, 0, 0], ... }`).
@@ -99,6 +101,9 @@ fn every_header_field_is_a_keys_or_set_from_the_scene_or_derived() {
     }
     for f in DERIVED {
         claim(f, "params::derive".into());
+    }
+    for f in FROM_RUN {
+        claim(f, "the run's decomposition".into());
     }
     let claimed_set: BTreeSet<String> = claimed.keys().map(|f| f.to_string()).collect();
     let uncovered: Vec<&String> = header.difference(&claimed_set).collect();

@@ -43,6 +43,8 @@ pub enum BackendError {
     CudaUnavailable(String),
     #[error("CUDA error: {0}")]
     Cuda(String),
+    #[error("cannot decompose this scene: {0}")]
+    Decomposition(String),
 }
 
 /// Build the solver for `setup` on `choice`, in the scene's dimension.
@@ -54,6 +56,46 @@ pub fn create(choice: BackendChoice, setup: Setup) -> Result<Box<dyn Solver>, Ba
         // says which was taken).
         BackendChoice::Auto => cuda_solver(setup.clone()).or_else(|_| Ok(cpu_solver(setup))),
     }
+}
+
+/// `n` subdomains of the scene stepped together in this process
+/// (`crate::exchange::Decomposed`: slabs along the longest axis, one thread each), each a
+/// solver of `choice`; the same results as `create`'s one domain (bit for bit in every
+/// particle; the diagnostics' sums to round-off).
+pub fn create_decomposed(
+    choice: BackendChoice,
+    mut setup: Setup,
+    n: usize,
+) -> Result<Box<dyn Solver>, BackendError> {
+    setup.params.own_solids = setup.has_solids() as i32;
+    match choice {
+        BackendChoice::Cpu => cpu_decomposed(setup, n),
+        BackendChoice::Cuda => cuda_decomposed(setup, n),
+        BackendChoice::Auto => match cuda_solver_available() {
+            Ok(()) => cuda_decomposed(setup, n),
+            Err(_) => cpu_decomposed(setup, n),
+        },
+    }
+}
+
+fn cpu_decomposed(setup: Setup, n: usize) -> Result<Box<dyn Solver>, BackendError> {
+    use crate::exchange::Decomposed;
+    Ok(if setup.params.dim == 2 {
+        Box::new(Decomposed::new(setup, n, |s| {
+            Ok(cpu::CpuSolver::<D2>::new(s))
+        })?)
+    } else {
+        Box::new(Decomposed::new(setup, n, |s| {
+            Ok(cpu::CpuSolver::<D3>::new(s))
+        })?)
+    })
+}
+
+fn cuda_decomposed(setup: Setup, n: usize) -> Result<Box<dyn Solver>, BackendError> {
+    let _ = (setup, n);
+    Err(BackendError::Decomposition(
+        "the CUDA backend cannot serve as a subdomain yet".into(),
+    ))
 }
 
 /// The CUDA solver in the scene's dimension, or why there is none.

@@ -156,4 +156,14 @@ pub struct SphParams {
     pub courant: f32,
     #[doc = " [T] fixed time step; 0 = adaptive (CFL, force, viscous limits)"]
     pub dt: f32,
+    #[doc = " 1: this solver is one subdomain of a decomposed run and owns the\nparticles with own_lo <= x[own_axis] < own_hi; the others it holds\nare its halo, copies of particles its neighbours own, and the step\nsize's extremes and the wall forces count only the owned ones\n(each particle once over the subdomains); 0: one domain, every\nparticle owned"]
+    pub own_slab: i32,
+    #[doc = " 0, 1 or 2: the slab's axis"]
+    pub own_axis: i32,
+    #[doc = " [L] the slab's lower bound (-inf at the domain's low end)"]
+    pub own_lo: f32,
+    #[doc = " [L] its upper bound, excluded (+inf at the high end)"]
+    pub own_hi: f32,
+    #[doc = " 1: hold the solids' arrays (stress, rates, density departure)\neven where none of the particles this subdomain starts with is\nsolid: the scene has solids, and its halo may bring some"]
+    pub own_solids: i32,
 }

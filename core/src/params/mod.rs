@@ -78,6 +78,15 @@ impl SphParams {
         }
     }
 
+    /// Whether this solver owns a particle whose coordinate on the `own_axis` is `c` [L]:
+    /// always in one domain; in a subdomain of a decomposed run (`own_slab`,
+    /// `crate::exchange`) where own_lo <= c < own_hi, so that the reductions that must count
+    /// each particle once (the step size's extremes, the wall forces) skip the halo.
+    #[inline]
+    pub fn owns(&self, c: f32) -> bool {
+        self.own_slab == 0 || (c >= self.own_lo && c < self.own_hi)
+    }
+
     /// Reference density of particles of `kind`.
     pub fn rest_density(&self, kind: u8) -> f32 {
         if kind as u32 == MF_KIND_SOLID {

@@ -10,6 +10,7 @@ mod probes;
 mod rates;
 mod reduce;
 mod stress;
+mod subdomain;
 mod tlsph;
 
 pub use density::pressure;
@@ -60,12 +61,15 @@ impl<D: Dim> CpuSolver<D> {
             panic!("{e}");
         }
         let p = setup.params;
-        let state = State::from_particles(
+        let mut state = State::from_particles(
             &setup.particles,
             p.density_form as u32 == MF_DENSITY_CONTINUITY,
             p.artificial_stress > 0.0,
             p.solid_rho0,
         );
+        if p.own_solids != 0 {
+            state = state.with_solid_arrays(p.artificial_stress > 0.0);
+        }
         let tl = (crate::tlsph::total_lagrangian(&p) && setup.has_solids())
             .then(|| TlBodies::new(&p, &setup.particles));
         CpuSolver {

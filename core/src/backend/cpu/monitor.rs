@@ -46,7 +46,11 @@ pub fn wall_force<D: Dim>(
 ) -> [f64; 3] {
     let mut force = [0.0f64; 3];
     for j in 0..s.len() {
-        if s.kind[j] as u32 != MF_KIND_BOUNDARY || s.group[j] != group {
+        // A halo copy's force is summed by the subdomain that owns it (`SphParams::owns`).
+        if s.kind[j] as u32 != MF_KIND_BOUNDARY
+            || s.group[j] != group
+            || !p.owns(D::comp(s.pos[j], p.own_axis as usize))
+        {
             continue;
         }
         grid.for_each_neighbor::<D>(p, &s.pos, s.pos[j], |i, r_ji, r2| {

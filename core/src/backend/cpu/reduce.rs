@@ -34,11 +34,13 @@ pub fn step_size(p: &SphParams, c_max: f32, v_max: f32, a_max: f32) -> f32 {
     dt
 }
 
-/// Largest speed, acceleration and sound speed over fluid and solid particles.
+/// Largest speed, acceleration and sound speed over the fluid and solid particles this
+/// solver owns (all of them but in a subdomain of a decomposed run: `SphParams::owns`).
 pub fn extremes<D: Dim>(p: &SphParams, s: &State<D>) -> (f32, f32, f32) {
+    let axis = p.own_axis as usize;
     (0..s.len())
         .into_par_iter()
-        .filter(|&i| s.kind[i] as u32 != MF_KIND_BOUNDARY)
+        .filter(|&i| s.kind[i] as u32 != MF_KIND_BOUNDARY && p.owns(D::comp(s.pos[i], axis)))
         .map(|i| {
             (
                 D::length2(s.vel[i]).sqrt(),
