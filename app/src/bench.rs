@@ -47,6 +47,9 @@ pub struct BenchOptions {
     /// The time integrator of every run (default symplectic Euler).
     #[serde(default)]
     pub integrator: IntegratorChoice,
+    /// Step in this many subdomains (`backend::create_decomposed`); None: one domain.
+    #[serde(default)]
+    pub decompose: Option<usize>,
 }
 
 impl Default for BenchOptions {
@@ -60,6 +63,7 @@ impl Default for BenchOptions {
             repeats: 3,
             count_neighbours: true,
             integrator: IntegratorChoice::SymplecticEuler,
+            decompose: None,
         }
     }
 }
@@ -111,6 +115,20 @@ pub struct BenchRow {
     /// The build's commit (`meshfree_core::build_info::COMMIT`).
     #[serde(default)]
     pub commit: String,
+    /// Subdomains (`--decompose`); 1 for one domain.
+    #[serde(default = "one")]
+    pub subdomains: usize,
+    /// [us] the halo exchange and step-size agreement per timed step (the slowest rank);
+    /// 0 for one domain.
+    #[serde(default)]
+    pub exchange_us_per_step: f64,
+    /// Halo bytes received per timed step, over all subdomains; 0 for one domain.
+    #[serde(default)]
+    pub halo_bytes_per_step: f64,
+}
+
+fn one() -> usize {
+    1
 }
 
 /// The scene files' name of the choice `T` whose parameter value is `v`.
@@ -251,11 +269,19 @@ pub fn mean_neighbours<D: Dim>(p: &SphParams, particles: &[Particle]) -> f64 {
     sum as f64 / cnt.max(1) as f64
 }
 
-/// (solver, device bytes) on `choice`.
+/// (solver, device bytes) on `choice`, in `decompose` subdomains where given (device
+/// bytes then 0: not counted).
 fn make<D: Dim>(
     choice: BackendChoice,
     setup: Setup,
+    decompose: Option<usize>,
 ) -> Result<(Box<dyn Solver>, usize), BackendError> {
+    if let Some(n) = decompose {
+        return Ok((
+            meshfree_core::backend::create_decomposed(choice, setup, n)?,
+            0,
+        ));
+    }
     #[cfg(feature = "cuda")]
     if choice != BackendChoice::Cpu {
         match meshfree_core::backend::cuda::CudaSolver::<D>::new(setup.clone()) {
@@ -296,7 +322,7 @@ fn timed<D: Dim>(
         .iter()
         .filter(|q| q.kind == Kind::Fluid)
         .count();
-    let (mut s, bytes) = make::<D>(o.backend, setup)?;
+    let (mut s, bytes) = make::<D>(o.backend, setup, o.decompose)?;
     // The one stepping path, as a run takes it: batches of CUDA graphs, the clock read
     // once per batch, the health checked every `step::CHECK_EVERY` steps; the gates due at
     // t = 0 open in the first batch, so the particles are counted after the warm-up.
@@ -305,6 +331,7 @@ fn timed<D: Dim>(
     let total = s.len();
     // (ms per step, simulated time per wall second) of each repeat.
     let mut repeats = Vec::new();
+    let cost0 = s.exchange_cost().unwrap_or_default();
     for _ in 0..o.repeats.max(1) {
         let sim0 = s.time();
         let t0 = Instant::now();
@@ -313,6 +340,10 @@ fn timed<D: Dim>(
         let wall = t0.elapsed().as_secs_f64();
         repeats.push((wall * 1e3 / o.steps.max(1) as f64, sim / wall));
     }
+    let cost = s.exchange_cost().unwrap_or_default();
+    let timed_steps = (o.steps * o.repeats.max(1)).max(1) as f64;
+    let exchange_us_per_step = (cost.seconds - cost0.seconds) * 1e6 / timed_steps;
+    let halo_bytes_per_step = (cost.bytes - cost0.bytes) as f64 / timed_steps;
     repeats.sort_by(|a, b| a.0.total_cmp(&b.0));
     let (med, simulated_per_second) = repeats[repeats.len() / 2];
     let neighbours = if o.count_neighbours {
@@ -346,6 +377,9 @@ fn timed<D: Dim>(
         simulated_per_second,
         date: meshfree_core::build_info::today(),
         commit: meshfree_core::build_info::COMMIT.into(),
+        subdomains: o.decompose.unwrap_or(1),
+        exchange_us_per_step,
+        halo_bytes_per_step,
     })
 }
 
@@ -392,11 +426,17 @@ pub fn bench_scenes(
 }
 
 fn print_row(r: &BenchRow) {
-    let what = if r.scene.is_empty() {
+    let mut what = if r.scene.is_empty() {
         String::new()
     } else {
         format!("{}: ", r.scene)
     };
+    if r.subdomains > 1 {
+        what += &format!(
+            "{} subdomains (exchange {:.1} us/step, {:.3e} halo B/step): ",
+            r.subdomains, r.exchange_us_per_step, r.halo_bytes_per_step
+        );
+    }
     println!(
         "{what}{}D {:>9} particles ({:>9} fluid): {:>9.4} ms/step, {:.3e} particle-steps/s, {:.4e} \
          simulated s per s, {:.1} neighbours, {:.0} B/particle ({:.0} B/fluid particle) [{} {}; {}, \
@@ -425,11 +465,11 @@ fn write_rows(rows: &[BenchRow], out_dir: Option<&Path>) {
     if let Some(dir) = out_dir {
         let _ = std::fs::create_dir_all(dir);
         let mut csv = String::from(
-            "scene,backend,device,dim,particles,fluid,steps,ms_per_step,particle_steps_per_s,simulated_per_second,neighbours,bytes_per_particle,bytes_per_fluid_particle,integrator,kernel,density,diffusion,viscosity\n",
+            "scene,backend,device,dim,particles,fluid,steps,ms_per_step,particle_steps_per_s,simulated_per_second,neighbours,bytes_per_particle,bytes_per_fluid_particle,integrator,kernel,density,diffusion,viscosity,subdomains,exchange_us_per_step,halo_bytes_per_step\n",
         );
         for r in rows {
             csv += &format!(
-                "{},{},{},{},{},{},{},{:.6},{:.6e},{:.6e},{:.2},{:.1},{:.1},{},{},{},{},{}\n",
+                "{},{},{},{},{},{},{},{:.6},{:.6e},{:.6e},{:.2},{:.1},{:.1},{},{},{},{},{},{},{:.2},{:.1}\n",
                 r.scene,
                 r.backend,
                 r.device.replace(',', " "),
@@ -447,7 +487,10 @@ fn write_rows(rows: &[BenchRow], out_dir: Option<&Path>) {
                 r.kernel,
                 r.density,
                 r.diffusion,
-                r.viscosity.replace(',', ";")
+                r.viscosity.replace(',', ";"),
+                r.subdomains,
+                r.exchange_us_per_step,
+                r.halo_bytes_per_step
             );
         }
         let _ = std::fs::write(dir.join("bench.csv"), csv);

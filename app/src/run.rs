@@ -79,6 +79,10 @@ pub struct RunOptions {
     pub progress: Progress,
     /// Replaces the scene's `[output] format`.
     pub format: Option<OutputFormat>,
+    /// Step in this many subdomains (`meshfree_core::exchange`: slabs along the longest
+    /// axis, one thread each, halos exchanged every step), on `backend`; the particles come
+    /// out as in one domain. None: one domain.
+    pub decompose: Option<usize>,
 }
 
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
@@ -248,7 +252,10 @@ fn drive(
         None => prepare_out_dir(&out_dir, options.overwrite)?,
         Some(r) => crate::resume::rollback(&out_dir, &r.run)?,
     }
-    let mut solver = backend::create(options.backend, setup)?;
+    let mut solver = match options.decompose {
+        None => backend::create(options.backend, setup)?,
+        Some(n) => backend::create_decomposed(options.backend, setup, n)?,
+    };
     let info = solver.info();
     let mut stepper = Stepper::new(scene.gates()).with_end(scene.file.time.end);
     if let Some(r) = &resume {

@@ -77,6 +77,21 @@ pub struct Diagnostics {
     pub boundary: usize,
 }
 
+/// What a decomposed run's exchange cost so far (`crate::exchange`), over all ranks.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ExchangeCost {
+    /// Subdomains (ranks).
+    pub ranks: usize,
+    /// Halo fills of each rank: one per step, and one per wall-force or probe sample.
+    pub fills: u64,
+    /// Halo particles received, summed over the ranks and fills.
+    pub particles: u64,
+    /// Halo bytes received (what a transport between GPUs carries), summed likewise.
+    pub bytes: u64,
+    /// [s] wall time of the slowest rank in halo fills and step-size agreement.
+    pub seconds: f64,
+}
+
 /// A blow-up: the first bad particle found and what was wrong with it.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, thiserror::Error)]
 #[error("blow-up at step {step}, t = {time:.6}: particle {particle} ({kind}) has {quantity} = {value} ({reason})")]
@@ -300,4 +315,9 @@ pub trait Solver: Send {
     /// read-back is the reference: `tests/monitor.rs`, `tests/cuda_parity.rs`). Each backend
     /// sums on its own state, leaving the run as it would be without the sample.
     fn wall_forces(&mut self, groups: &[u32]) -> Vec<[f64; 3]>;
+    /// A decomposed solver's exchange so far (`crate::exchange::Decomposed`); None for one
+    /// domain.
+    fn exchange_cost(&self) -> Option<ExchangeCost> {
+        None
+    }
 }

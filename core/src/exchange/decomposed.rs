@@ -9,7 +9,9 @@ use crate::exchange::{
 use crate::frame::{Fields, FrameData, PendingFrame};
 use crate::params::SphParams;
 use crate::particle::Particle;
-use crate::solver::{BackendInfo, Diagnostics, Fault, PointSample, Setup, Shown, Snapshot, Solver};
+use crate::solver::{
+    BackendInfo, Diagnostics, ExchangeCost, Fault, PointSample, Setup, Shown, Snapshot, Solver,
+};
 
 /// `n` subdomains of one scene, each a rank on its own thread, stepping together.
 pub struct Decomposed<S: Subdomain> {
@@ -280,6 +282,19 @@ impl<S: Subdomain> Solver for Decomposed<S> {
     }
     fn wall_surface(&self) -> &[[f32; 4]] {
         &self.wall_surface
+    }
+    fn exchange_cost(&self) -> Option<ExchangeCost> {
+        let stats = self.exchange_stats();
+        Some(ExchangeCost {
+            ranks: stats.len(),
+            fills: stats.iter().map(|s| s.fills).max().unwrap_or(0),
+            particles: stats.iter().map(|s| s.received).sum(),
+            bytes: stats.iter().map(|s| s.bytes).sum(),
+            seconds: stats
+                .iter()
+                .map(|s| s.time.as_secs_f64())
+                .fold(0.0, f64::max),
+        })
     }
     fn wall_forces(&mut self, groups: &[u32]) -> Vec<[f64; 3]> {
         let all = self.on_all(|r| r.wall_forces(groups));

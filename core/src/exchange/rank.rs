@@ -19,6 +19,8 @@ pub struct ExchangeStats {
     pub fills: u64,
     /// Halo particles received, over all fills.
     pub received: u64,
+    /// Their bytes (`Subdomain::halo_bytes`).
+    pub bytes: u64,
     /// Wall time in the halo fills and the step-size maxima.
     pub time: Duration,
 }
@@ -81,6 +83,7 @@ impl<S: Subdomain, T: Transport<S::Halo>> Rank<S, T> {
             .collect();
         let got: Vec<S::Halo> = self.transport.exchange(out).into_iter().flatten().collect();
         self.stats.received += got.iter().map(|h| S::halo_len(h) as u64).sum::<u64>();
+        self.stats.bytes += got.iter().map(|h| S::halo_bytes(h) as u64).sum::<u64>();
         self.sub.append(got);
         self.stats.fills += 1;
         self.stats.time += t0.elapsed();

@@ -28,6 +28,8 @@ pub trait Subdomain: Solver + Sized {
     ) -> Option<Self::Halo>;
     /// The number of particles `halo` holds.
     fn halo_len(halo: &Self::Halo) -> usize;
+    /// The bytes `halo` holds: what a transport between devices carries.
+    fn halo_bytes(halo: &Self::Halo) -> usize;
     /// Add the copies to the storage (the next `build_grid` sorts them in).
     fn append(&mut self, halos: Vec<Self::Halo>);
     /// Drop every particle outside the owned slab: the halo, and the owned particles the

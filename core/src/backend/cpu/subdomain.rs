@@ -29,6 +29,19 @@ impl<D: Dim> Subdomain for CpuSolver<D> {
     fn halo_len(halo: &State<D>) -> usize {
         halo.len()
     }
+    /// The arrays a step reads that an earlier one wrote, as a device halo packs them.
+    fn halo_bytes(halo: &State<D>) -> usize {
+        let v = std::mem::size_of::<D::V>();
+        let per = 4 * 5 // id, kind (as a word), group, mass, rho
+            + 4 // p
+            + 2 * v // pos, vel
+            + halo.drho.as_ref().map_or(0, |_| 4)
+            + halo
+                .solid
+                .as_ref()
+                .map_or(0, |_| std::mem::size_of::<D::M>() + 4);
+        per * halo.len()
+    }
     fn append(&mut self, halos: Vec<State<D>>) {
         for h in &halos {
             self.state.extend(h);
