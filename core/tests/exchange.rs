@@ -264,3 +264,38 @@ fn total_lagrangian_bodies_are_refused_with_the_reason() {
         .expect("refused");
     assert!(e.to_string().contains("total-Lagrangian"), "{e}");
 }
+
+#[test]
+fn moving_the_cuts_keeps_the_run_exact_and_balances_the_load() {
+    use meshfree_core::backend::cpu::CpuSolver;
+    use meshfree_core::dim::D2;
+    use meshfree_core::exchange::Decomposed;
+    let sc = scene("dam-break-2d", &[("spacing = 0.02", "spacing = 0.03")]);
+    let gates: Vec<u32> = sc.gates().iter().map(|g| g.0).collect();
+    let mut setup = sc.setup().unwrap();
+    setup.params.own_solids = 0;
+    let mut one = backend::create(BackendChoice::Cpu, setup.clone()).unwrap();
+    let mut many = Decomposed::new(setup, 3, |s| Ok(CpuSolver::<D2>::new(s))).unwrap();
+    for &g in &gates {
+        one.remove_group(g);
+        many.remove_group(g);
+    }
+    // The gate's removal unbalanced the cuts made with it.
+    let before = many.imbalance();
+    assert!(before > 1.0);
+    assert!(many.rebalance(1.0).unwrap(), "the cuts did not move");
+    // Whole columns of the lattice go one way or the other: balanced to a few per cent.
+    assert!(
+        many.imbalance() < before && many.imbalance() < 1.05,
+        "{:?}",
+        many.counts()
+    );
+    one.advance(40);
+    many.advance(40);
+    same(&one.particles(), &many.particles()).unwrap();
+    assert!(many.rebalance(1.0).unwrap());
+    one.advance(40);
+    many.advance(40);
+    same(&one.particles(), &many.particles()).unwrap();
+    assert_eq!(many.rebalances(), 2);
+}

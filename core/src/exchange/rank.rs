@@ -56,6 +56,13 @@ impl<S: Subdomain, T: Transport<S::Halo>> Rank<S, T> {
         }
     }
 
+    /// Take new slabs (every rank's, in rank order; `Decomposed::rebalance`): this rank
+    /// owns its own of them from now on.
+    pub fn set_slabs(&mut self, slabs: Vec<Slab>) {
+        self.sub.set_owned(slabs[self.transport.rank()]);
+        self.slabs = slabs;
+    }
+
     /// This rank's index, as its transport numbers it.
     pub fn index(&self) -> usize {
         self.transport.rank()
