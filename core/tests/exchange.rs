@@ -269,13 +269,14 @@ fn total_lagrangian_bodies_are_refused_with_the_reason() {
 fn moving_the_cuts_keeps_the_run_exact_and_balances_the_load() {
     use meshfree_core::backend::cpu::CpuSolver;
     use meshfree_core::dim::D2;
-    use meshfree_core::exchange::Decomposed;
+    use meshfree_core::exchange::{Decomposed, Refused};
     let sc = scene("dam-break-2d", &[("spacing = 0.02", "spacing = 0.03")]);
     let gates: Vec<u32> = sc.gates().iter().map(|g| g.0).collect();
     let mut setup = sc.setup().unwrap();
     setup.params.own_solids = 0;
     let mut one = backend::create(BackendChoice::Cpu, setup.clone()).unwrap();
-    let mut many = Decomposed::new(setup, 3, |s| Ok(CpuSolver::<D2>::new(s))).unwrap();
+    let mut many =
+        Decomposed::new(setup, 3, |s| Ok::<_, Refused>(CpuSolver::<D2>::new(s))).unwrap();
     for &g in &gates {
         one.remove_group(g);
         many.remove_group(g);

@@ -47,6 +47,12 @@ pub enum BackendError {
     Decomposition(String),
 }
 
+impl From<crate::exchange::Refused> for BackendError {
+    fn from(r: crate::exchange::Refused) -> Self {
+        BackendError::Decomposition(r.0)
+    }
+}
+
 /// Build the solver for `setup` on `choice`, in the scene's dimension.
 pub fn create(choice: BackendChoice, setup: Setup) -> Result<Box<dyn Solver>, BackendError> {
     match choice {
@@ -82,11 +88,11 @@ fn cpu_decomposed(setup: Setup, n: usize) -> Result<Box<dyn Solver>, BackendErro
     use crate::exchange::Decomposed;
     Ok(if setup.params.dim == 2 {
         Box::new(Decomposed::new(setup, n, |s| {
-            Ok(cpu::CpuSolver::<D2>::new(s))
+            Ok::<_, BackendError>(cpu::CpuSolver::<D2>::new(s))
         })?)
     } else {
         Box::new(Decomposed::new(setup, n, |s| {
-            Ok(cpu::CpuSolver::<D3>::new(s))
+            Ok::<_, BackendError>(cpu::CpuSolver::<D3>::new(s))
         })?)
     })
 }

@@ -1,10 +1,9 @@
 //! `Decomposed`: the ranks of one process (one thread each, `InProcess` transport) as one
 //! `Solver`, which the run driver, the stepper and the tests use as they use any solver.
 
-use crate::backend::BackendError;
 use crate::checkpoint::SolverCheckpoint;
 use crate::exchange::{
-    balanced, halo_width, longest_axis, ExchangeStats, InProcess, Rank, Slab, Subdomain,
+    balanced, halo_width, longest_axis, ExchangeStats, InProcess, Rank, Slab, Subdomain, Transport,
 };
 use crate::frame::{Fields, FrameData, PendingFrame};
 use crate::params::SphParams;
@@ -13,9 +12,10 @@ use crate::solver::{
     BackendInfo, Diagnostics, ExchangeCost, Fault, PointSample, Setup, Shown, Snapshot, Solver,
 };
 
-/// `n` subdomains of one scene, each a rank on its own thread, stepping together.
-pub struct Decomposed<S: Subdomain> {
-    ranks: Vec<Rank<S, InProcess<S::Halo>>>,
+/// `n` subdomains of one scene, each a rank on its own thread, stepping together and
+/// talking through `T` (`InProcess` by default; NCCL between GPUs).
+pub struct Decomposed<S: Subdomain, T: Transport<S::Halo> = InProcess<<S as Subdomain>::Halo>> {
+    ranks: Vec<Rank<S, T>>,
     /// The whole domain's parameters (`own_slab` off).
     params: SphParams,
     slabs: Vec<Slab>,
@@ -28,6 +28,11 @@ pub struct Decomposed<S: Subdomain> {
 /// cuts: the step waits for the slowest rank, so 10 % more particles on one rank cost
 /// about 10 % of the whole run's speed.
 pub const IMBALANCE: f64 = 1.1;
+
+/// Why a scene cannot be decomposed as asked (`refusal`).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("cannot decompose this scene: {0}")]
+pub struct Refused(pub String);
 
 /// Why a scene cannot be decomposed as asked.
 pub fn refusal(setup: &Setup, n: usize) -> Option<String> {
@@ -48,23 +53,36 @@ pub fn refusal(setup: &Setup, n: usize) -> Option<String> {
 impl<S: Subdomain> Decomposed<S> {
     /// Split `setup` into `n` slabs of equal particle counts along the domain's longest
     /// axis, and build each subdomain's solver with `make` (its particles, the whole
-    /// domain's parameters, the whole wall surface).
-    pub fn new(
+    /// domain's parameters, the whole wall surface); the ranks talk in process.
+    pub fn new<E: From<Refused>>(
         setup: Setup,
         n: usize,
-        make: impl Fn(Setup) -> Result<S, BackendError>,
-    ) -> Result<Self, BackendError> {
+        make: impl Fn(Setup) -> Result<S, E>,
+    ) -> Result<Self, E> {
+        Self::build(setup, n, |_, s| make(s), |_| Ok(InProcess::group(n)))
+    }
+}
+
+impl<S: Subdomain, T: Transport<S::Halo>> Decomposed<S, T> {
+    /// `new` with the transport's ends made by `connect` from the built solvers (an NCCL
+    /// communicator takes their streams), one per rank in rank order; `make` gets the rank
+    /// (a GPU's ordinal) with its part of the scene.
+    pub fn build<E: From<Refused>>(
+        setup: Setup,
+        n: usize,
+        make: impl Fn(usize, Setup) -> Result<S, E>,
+        connect: impl FnOnce(&mut [S]) -> Result<Vec<T>, E>,
+    ) -> Result<Self, E> {
         if let Some(why) = refusal(&setup, n) {
-            return Err(BackendError::Decomposition(why));
+            return Err(Refused(why).into());
         }
         let p = setup.params;
         let axis = longest_axis(&p);
         let coords: Vec<f32> = setup.particles.iter().map(|q| q.position[axis]).collect();
         let width = halo_width(&p);
         let slabs = balanced(&p, axis, &coords, n);
-        let ends = InProcess::group(n);
-        let mut ranks = Vec::with_capacity(n);
-        for (slab, end) in slabs.iter().zip(ends) {
+        let mut subs = Vec::with_capacity(n);
+        for (k, slab) in slabs.iter().enumerate() {
             let part = Setup {
                 params: p,
                 particles: setup
@@ -75,8 +93,15 @@ impl<S: Subdomain> Decomposed<S> {
                     .collect(),
                 wall_surface: setup.wall_surface.clone(),
             };
-            ranks.push(Rank::new(make(part)?, end, slabs.clone(), width));
+            subs.push(make(k, part)?);
         }
+        let ends = connect(&mut subs)?;
+        assert_eq!(ends.len(), n, "one transport end per rank");
+        let ranks = subs
+            .into_iter()
+            .zip(ends)
+            .map(|(sub, end)| Rank::new(sub, end, slabs.clone(), width))
+            .collect();
         Ok(Decomposed {
             ranks,
             params: p,
@@ -147,10 +172,7 @@ impl<S: Subdomain> Decomposed<S> {
 
     /// `f` on every rank at once, each on its own thread (the ranks meet in the transport's
     /// collective calls); the results in rank order.
-    fn on_all<R: Send>(
-        &mut self,
-        f: impl Fn(&mut Rank<S, InProcess<S::Halo>>) -> R + Sync,
-    ) -> Vec<R> {
+    fn on_all<R: Send>(&mut self, f: impl Fn(&mut Rank<S, T>) -> R + Sync) -> Vec<R> {
         if self.ranks.len() == 1 {
             return vec![f(&mut self.ranks[0])];
         }
@@ -169,7 +191,7 @@ impl<S: Subdomain> Decomposed<S> {
     }
 }
 
-impl<S: Subdomain> Solver for Decomposed<S> {
+impl<S: Subdomain, T: Transport<S::Halo>> Solver for Decomposed<S, T> {
     fn info(&self) -> BackendInfo {
         let i = self.ranks[0].info();
         BackendInfo {

@@ -21,7 +21,7 @@ mod slab;
 mod subdomain;
 mod transport;
 
-pub use decomposed::{refusal, Decomposed, IMBALANCE};
+pub use decomposed::{refusal, Decomposed, Refused, IMBALANCE};
 pub use rank::{ExchangeStats, Rank};
 pub use slab::{balanced, halo_width, longest_axis, passes, Slab};
 pub use subdomain::Subdomain;

@@ -10,6 +10,8 @@ mod capture;
 mod device;
 mod kernels;
 mod launch;
+#[cfg(feature = "nccl")]
+pub mod nccl;
 
 use std::marker::PhantomData;
 

@@ -1,0 +1,193 @@
+//! `Transport` between GPUs through NCCL (`run --gpus N`): one rank per GPU, each on its
+//! own thread of one process (`exchange::Decomposed`), one communicator per GPU made by
+//! `ncclCommInitAll` on the ranks' own streams, so that a halo's send follows its packing
+//! and its unpacking follows the receive on the same stream, and nothing is staged
+//! through the host: a halo travels as the one flat device buffer its subdomain packed
+//! (`Words`). Per exchange the halo sizes go first (an all-gather of one row of the
+//! N x N size matrix per rank, 16 N bytes), then one grouped send/receive per neighbour.
+//! The step size's maxima are an all-reduce of 3 floats.
+//!
+//! NCCL is loaded at run time (cudarc's dynamic loading): `libnccl.so` (or
+//! `libnccl.so.13`) must be on the loader path; `available` says whether it is.
+
+use std::marker::PhantomData;
+use std::sync::Arc;
+
+use cudarc::driver::{CudaSlice, CudaStream};
+use cudarc::nccl::{Comm, ReduceOp};
+
+use crate::backend::BackendError;
+use crate::exchange::Transport;
+
+/// A halo that travels as one flat device buffer of 32-bit words.
+pub trait Words: Sized + Send {
+    /// Particles it holds.
+    fn particles(&self) -> usize;
+    /// Its words on the device.
+    fn words(&self) -> &CudaSlice<u32>;
+    /// The halo of `particles` particles received as `words`.
+    fn from_words(particles: usize, words: CudaSlice<u32>) -> Self;
+}
+
+/// Whether NCCL loads here; the error says why not.
+pub fn available() -> Result<(), BackendError> {
+    // SAFETY: only probes whether the library file loads (cudarc's dynamic loading).
+    if unsafe { cudarc::nccl::sys::is_culib_present() } {
+        Ok(())
+    } else {
+        Err(BackendError::CudaUnavailable(
+            "NCCL is not on the loader path (libnccl.so or libnccl.so.13: put the directory \
+             of NCCL's library, e.g. the nvidia-nccl Python package's nvidia/nccl/lib, in \
+             LD_LIBRARY_PATH, with a libnccl.so link to libnccl.so.2)"
+                .into(),
+        ))
+    }
+}
+
+fn err(what: &str, e: impl std::fmt::Debug) -> BackendError {
+    BackendError::Cuda(format!("NCCL {what}: {e:?}"))
+}
+
+/// One rank's end: its communicator and the small device buffers of the collectives.
+pub struct Nccl<H> {
+    comm: Comm,
+    stream: Arc<CudaStream>,
+    /// The step size's maxima (3 floats).
+    maxima: CudaSlice<f32>,
+    /// This rank's row of the size matrix: (particles, words) per receiving rank.
+    sizes: CudaSlice<u64>,
+    /// Every rank's row, gathered.
+    all_sizes: CudaSlice<u64>,
+    _halo: PhantomData<H>,
+}
+
+// SAFETY: a communicator is used by the one thread that drives its rank at a time
+// (`Decomposed::on_all` moves each rank to its own thread); NCCL allows a communicator to
+// be used from any thread, one at a time.
+unsafe impl<H: Send> Send for Nccl<H> {}
+
+impl<H: Words> Nccl<H> {
+    /// One end per stream, in rank order (rank k on `streams[k]`, one GPU each).
+    pub fn group(streams: Vec<Arc<CudaStream>>) -> Result<Vec<Nccl<H>>, BackendError> {
+        available()?;
+        let n = streams.len();
+        let comms = Comm::from_devices(streams.clone()).map_err(|e| err("init", e))?;
+        comms
+            .into_iter()
+            .zip(streams)
+            .map(|(comm, stream)| {
+                let alloc = |k| stream.alloc_zeros::<u64>(k);
+                Ok(Nccl {
+                    maxima: stream.alloc_zeros::<f32>(3).map_err(|e| err("alloc", e))?,
+                    sizes: alloc(2 * n).map_err(|e| err("alloc", e))?,
+                    all_sizes: alloc(2 * n * n).map_err(|e| err("alloc", e))?,
+                    comm,
+                    stream,
+                    _halo: PhantomData,
+                })
+            })
+            .collect()
+    }
+
+    fn fail(&self, what: &str, e: impl std::fmt::Debug) -> ! {
+        panic!(
+            "NCCL {what} failed on rank {} of {}: {e:?}",
+            self.comm.rank(),
+            self.comm.world_size()
+        )
+    }
+}
+
+impl<H: Words> Transport<H> for Nccl<H> {
+    fn rank(&self) -> usize {
+        self.comm.rank()
+    }
+    fn ranks(&self) -> usize {
+        self.comm.world_size()
+    }
+    fn max(&mut self, v: &mut [f32]) {
+        assert!(v.len() <= 3, "Nccl::max takes at most 3 values");
+        let s = self.stream.clone();
+        let r = (|| {
+            let mut view = self.maxima.slice_mut(..v.len());
+            s.memcpy_htod(&*v, &mut view)
+                .map_err(|e| format!("{e:?}"))?;
+            self.comm
+                .all_reduce_in_place(&mut view, &ReduceOp::Max)
+                .map_err(|e| format!("{e:?}"))?;
+            s.memcpy_dtoh(&view, v).map_err(|e| format!("{e:?}"))?;
+            s.synchronize().map_err(|e| format!("{e:?}"))
+        })();
+        if let Err(e) = r {
+            self.fail("all-reduce of the step size", e)
+        }
+    }
+    fn exchange(&mut self, out: Vec<Option<H>>) -> Vec<Option<H>> {
+        let (me, n) = (self.rank(), self.ranks());
+        let s = self.stream.clone();
+        // Sizes first: every rank's row of (particles, words) per receiver.
+        let mut row = vec![0u64; 2 * n];
+        for (to, h) in out.iter().enumerate() {
+            if let (true, Some(h)) = (to != me, h) {
+                row[2 * to] = h.particles() as u64;
+                row[2 * to + 1] = h.words().len() as u64;
+            }
+        }
+        let sizes = (|| {
+            s.memcpy_htod(&row, &mut self.sizes)
+                .map_err(|e| format!("{e:?}"))?;
+            self.comm
+                .all_gather(&self.sizes, &mut self.all_sizes)
+                .map_err(|e| format!("{e:?}"))?;
+            s.clone_dtoh(&self.all_sizes).map_err(|e| format!("{e:?}"))
+        })();
+        let all = sizes.unwrap_or_else(|e| self.fail("all-gather of the halo sizes", e));
+        // What each rank sends here: row `from`, column `me`.
+        let incoming: Vec<(usize, usize)> = (0..n)
+            .map(|from| {
+                let at = from * 2 * n + 2 * me;
+                (all[at] as usize, all[at + 1] as usize)
+            })
+            .collect();
+        let mut bufs: Vec<Option<CudaSlice<u32>>> = incoming
+            .iter()
+            .enumerate()
+            .map(|(from, &(_, words))| {
+                (from != me && words > 0).then(|| {
+                    s.alloc_zeros::<u32>(words)
+                        .unwrap_or_else(|e| self.fail("allocating a halo", e))
+                })
+            })
+            .collect();
+        let sent = (|| {
+            let mut g = self.comm.group();
+            for (to, h) in out.iter().enumerate() {
+                if let (true, Some(h)) = (to != me, h) {
+                    if h.words().len() > 0 {
+                        g.send(h.words().slice(..), to as i32)
+                            .map_err(|e| format!("{e:?}"))?;
+                    }
+                }
+            }
+            for (from, b) in bufs.iter_mut().enumerate() {
+                if let Some(b) = b {
+                    g.recv(b.slice_mut(..), from as i32)
+                        .map_err(|e| format!("{e:?}"))?;
+                }
+            }
+            Ok::<(), String>(())
+        })();
+        if let Err(e) = sent {
+            self.fail("halo send/receive", e)
+        }
+        // The sent buffers may be freed only after the sends complete.
+        if let Err(e) = s.synchronize() {
+            self.fail("waiting for the halo exchange", e)
+        }
+        drop(out);
+        bufs.into_iter()
+            .zip(incoming)
+            .map(|(b, (particles, _))| b.map(|w| H::from_words(particles, w)))
+            .collect()
+    }
+}
