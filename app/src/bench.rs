@@ -50,6 +50,9 @@ pub struct BenchOptions {
     /// Step in this many subdomains (`backend::create_decomposed`); None: one domain.
     #[serde(default)]
     pub decompose: Option<usize>,
+    /// Step on this many GPUs, a subdomain each (`backend::create_multi_gpu`).
+    #[serde(default)]
+    pub gpus: Option<usize>,
 }
 
 impl Default for BenchOptions {
@@ -64,6 +67,7 @@ impl Default for BenchOptions {
             count_neighbours: true,
             integrator: IntegratorChoice::SymplecticEuler,
             decompose: None,
+            gpus: None,
         }
     }
 }
@@ -115,9 +119,12 @@ pub struct BenchRow {
     /// The build's commit (`meshfree_core::build_info::COMMIT`).
     #[serde(default)]
     pub commit: String,
-    /// Subdomains (`--decompose`); 1 for one domain.
+    /// Subdomains (`--decompose`, or one per GPU with `--gpus`); 1 for one domain.
     #[serde(default = "one")]
     pub subdomains: usize,
+    /// GPUs the subdomains ran on (`--gpus`); 1 otherwise (0 on the CPU).
+    #[serde(default = "one")]
+    pub gpus: usize,
     /// [us] the halo exchange and step-size agreement per timed step (the slowest rank);
     /// 0 for one domain.
     #[serde(default)]
@@ -269,13 +276,17 @@ pub fn mean_neighbours<D: Dim>(p: &SphParams, particles: &[Particle]) -> f64 {
     sum as f64 / cnt.max(1) as f64
 }
 
-/// (solver, device bytes) on `choice`, in `decompose` subdomains where given (device
-/// bytes then 0: not counted).
+/// (solver, device bytes) on `choice`, in `decompose` subdomains or on `gpus` GPUs where
+/// given (device bytes then 0 here: `Solver::exchange_cost` counts them after stepping).
 fn make<D: Dim>(
     choice: BackendChoice,
     setup: Setup,
     decompose: Option<usize>,
+    gpus: Option<usize>,
 ) -> Result<(Box<dyn Solver>, usize), BackendError> {
+    if let Some(g) = gpus {
+        return Ok((meshfree_core::backend::create_multi_gpu(setup, g)?, 0));
+    }
     if let Some(n) = decompose {
         return Ok((
             meshfree_core::backend::create_decomposed(choice, setup, n)?,
@@ -322,7 +333,7 @@ fn timed<D: Dim>(
         .iter()
         .filter(|q| q.kind == Kind::Fluid)
         .count();
-    let (mut s, bytes) = make::<D>(o.backend, setup, o.decompose)?;
+    let (mut s, bytes) = make::<D>(o.backend, setup, o.decompose, o.gpus)?;
     // The one stepping path, as a run takes it: batches of CUDA graphs, the clock read
     // once per batch, the health checked every `step::CHECK_EVERY` steps; the gates due at
     // t = 0 open in the first batch, so the particles are counted after the warm-up.
@@ -341,6 +352,8 @@ fn timed<D: Dim>(
         repeats.push((wall * 1e3 / o.steps.max(1) as f64, sim / wall));
     }
     let cost = s.exchange_cost().unwrap_or_default();
+    // A decomposed solver's memory after stepping: its halos and spare capacity included.
+    let bytes = bytes.max(cost.device_bytes as usize);
     let timed_steps = (o.steps * o.repeats.max(1)).max(1) as f64;
     let exchange_us_per_step = (cost.seconds - cost0.seconds) * 1e6 / timed_steps;
     let halo_bytes_per_step = (cost.bytes - cost0.bytes) as f64 / timed_steps;
@@ -355,6 +368,11 @@ fn timed<D: Dim>(
         eprintln!("bench {scene} {dim}D {total}: {f}");
     }
     let info = s.info();
+    let gpus = match (o.gpus, info.backend.as_str()) {
+        (Some(g), _) => g,
+        (None, "cpu") => 0,
+        (None, _) => 1,
+    };
     let [integrator, kernel, density, diffusion, viscosity] = scheme(&p);
     Ok(BenchRow {
         backend: info.backend,
@@ -377,7 +395,8 @@ fn timed<D: Dim>(
         simulated_per_second,
         date: meshfree_core::build_info::today(),
         commit: meshfree_core::build_info::COMMIT.into(),
-        subdomains: o.decompose.unwrap_or(1),
+        subdomains: o.gpus.or(o.decompose).unwrap_or(1),
+        gpus,
         exchange_us_per_step,
         halo_bytes_per_step,
     })
@@ -399,6 +418,94 @@ pub fn bench(o: &BenchOptions, out_dir: Option<&Path>) -> Result<Vec<BenchRow>, 
         }
     }
     write_rows(&rows, out_dir);
+    Ok(rows)
+}
+
+/// One row of `scaling.json`: a size on `gpus` GPUs against the same work on one.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ScalingRow {
+    /// "strong" (the same particles on every count) or "weak" (the particles times the
+    /// count).
+    pub kind: String,
+    pub dim: u32,
+    pub gpus: usize,
+    pub particles: usize,
+    pub ms_per_step: f64,
+    /// Strong: t1 / (g tg); weak: t1 / tg, with t1 the one-GPU time of the same size
+    /// (strong) or of the size per GPU (weak).
+    pub efficiency: f64,
+    pub exchange_us_per_step: f64,
+    pub halo_bytes_per_step: f64,
+    /// Device bytes per particle on one GPU (0 where not counted: several GPUs).
+    pub bytes_per_particle: f64,
+}
+
+/// Strong and weak scaling over 1, 2, 4, ... up to `o.gpus` GPUs for every (dim, size) of
+/// `o` (`meshfree bench --gpus N --scaling`): the dam-break blocks, one subdomain per GPU
+/// (one GPU runs one domain, no exchange); every timed row in `bench.csv`/`bench.json`
+/// and the efficiencies in `scaling.json` under `out_dir`.
+pub fn scaling(o: &BenchOptions, out_dir: &Path) -> anyhow::Result<Vec<ScalingRow>> {
+    let max = o.gpus.unwrap_or(1).max(1);
+    let counts: Vec<usize> = std::iter::successors(Some(1usize), |g| Some(g * 2))
+        .take_while(|&g| g <= max)
+        .collect();
+    let mut rows = Vec::new();
+    let mut timed_rows = Vec::new();
+    let mut one = |dim: u32, n: usize, g: usize| -> anyhow::Result<BenchRow> {
+        let mut oo = o.clone();
+        oo.gpus = (g > 1).then_some(g);
+        oo.backend = BackendChoice::Cuda;
+        let r = if dim == 2 {
+            run_one::<D2>(&oo, dim, n)?
+        } else {
+            run_one::<D3>(&oo, dim, n)?
+        };
+        print_row(&r);
+        timed_rows.push(r.clone());
+        Ok(r)
+    };
+    for &dim in &o.dims {
+        for &n in &o.sizes {
+            let base = one(dim, n, 1)?;
+            for (kind, scale) in [("strong", false), ("weak", true)] {
+                for &g in &counts {
+                    let r = if g == 1 {
+                        base.clone()
+                    } else {
+                        one(dim, if scale { n * g } else { n }, g)?
+                    };
+                    let efficiency = if scale {
+                        base.ms_per_step / r.ms_per_step
+                    } else {
+                        base.ms_per_step / (g as f64 * r.ms_per_step)
+                    };
+                    println!(
+                        "{kind} scaling {dim}D: {} particles on {g} GPU(s): {:.3} ms/step, \
+                         efficiency {:.1} %",
+                        r.particles,
+                        r.ms_per_step,
+                        100.0 * efficiency
+                    );
+                    rows.push(ScalingRow {
+                        kind: kind.into(),
+                        dim,
+                        gpus: g,
+                        particles: r.particles,
+                        ms_per_step: r.ms_per_step,
+                        efficiency,
+                        exchange_us_per_step: r.exchange_us_per_step,
+                        halo_bytes_per_step: r.halo_bytes_per_step,
+                        bytes_per_particle: r.bytes_per_particle,
+                    });
+                }
+            }
+        }
+    }
+    write_rows(&timed_rows, Some(out_dir));
+    std::fs::write(
+        out_dir.join("scaling.json"),
+        serde_json::to_string_pretty(&rows)?,
+    )?;
     Ok(rows)
 }
 
@@ -431,10 +538,10 @@ fn print_row(r: &BenchRow) {
     } else {
         format!("{}: ", r.scene)
     };
-    if r.subdomains > 1 {
+    if r.subdomains > 1 || r.gpus > 1 {
         what += &format!(
-            "{} subdomains (exchange {:.1} us/step, {:.3e} halo B/step): ",
-            r.subdomains, r.exchange_us_per_step, r.halo_bytes_per_step
+            "{} subdomains on {} GPU(s) (exchange {:.1} us/step, {:.3e} halo B/step): ",
+            r.subdomains, r.gpus, r.exchange_us_per_step, r.halo_bytes_per_step
         );
     }
     println!(
@@ -465,11 +572,11 @@ fn write_rows(rows: &[BenchRow], out_dir: Option<&Path>) {
     if let Some(dir) = out_dir {
         let _ = std::fs::create_dir_all(dir);
         let mut csv = String::from(
-            "scene,backend,device,dim,particles,fluid,steps,ms_per_step,particle_steps_per_s,simulated_per_second,neighbours,bytes_per_particle,bytes_per_fluid_particle,integrator,kernel,density,diffusion,viscosity,subdomains,exchange_us_per_step,halo_bytes_per_step\n",
+            "scene,backend,device,dim,particles,fluid,steps,ms_per_step,particle_steps_per_s,simulated_per_second,neighbours,bytes_per_particle,bytes_per_fluid_particle,integrator,kernel,density,diffusion,viscosity,subdomains,gpus,exchange_us_per_step,halo_bytes_per_step\n",
         );
         for r in rows {
             csv += &format!(
-                "{},{},{},{},{},{},{},{:.6},{:.6e},{:.6e},{:.2},{:.1},{:.1},{},{},{},{},{},{},{:.2},{:.1}\n",
+                "{},{},{},{},{},{},{},{:.6},{:.6e},{:.6e},{:.2},{:.1},{:.1},{},{},{},{},{},{},{},{:.2},{:.1}\n",
                 r.scene,
                 r.backend,
                 r.device.replace(',', " "),
@@ -489,6 +596,7 @@ fn write_rows(rows: &[BenchRow], out_dir: Option<&Path>) {
                 r.diffusion,
                 r.viscosity.replace(',', ";"),
                 r.subdomains,
+                r.gpus,
                 r.exchange_us_per_step,
                 r.halo_bytes_per_step
             );

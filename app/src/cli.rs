@@ -173,6 +173,14 @@ pub struct BenchArgs {
     /// gives the exchange's microseconds and halo bytes per step.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub decompose: Option<u32>,
+    /// Step every configuration on N GPUs (as `run --gpus`). With --scaling, on 1, 2, 4, ...
+    /// up to N GPUs instead: strong scaling (each size on every count) and weak scaling (the
+    /// size times the count), with the parallel efficiency against one GPU.
+    #[arg(long, value_name = "N", conflicts_with = "decompose", value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub gpus: Option<u32>,
+    /// With --gpus: strong and weak scaling over 1, 2, 4, ... GPUs (scaling.json).
+    #[arg(long, requires = "gpus")]
+    pub scaling: bool,
     /// Output directory for bench.csv and bench.json.
     #[arg(long, value_name = "DIR", default_value = "out/bench")]
     pub out: PathBuf,
@@ -389,6 +397,12 @@ pub struct RunArgs {
     /// way several subdomains share one GPU. Not with total-Lagrangian bodies.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub decompose: Option<u32>,
+    /// Step the scene on N GPUs of this machine, one subdomain each (as --decompose), the
+    /// halos sent between GPUs through NCCL. Needs libnccl.so on the loader path (e.g. the
+    /// nvidia-nccl Python package's nvidia/nccl/lib in LD_LIBRARY_PATH, with a libnccl.so
+    /// link to libnccl.so.2). The particles come out as on one GPU, bit for bit.
+    #[arg(long, value_name = "N", conflicts_with = "decompose", value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub gpus: Option<u32>,
     /// No progress output; only errors (and the final line on stdout).
     #[arg(long, short)]
     pub quiet: bool,
@@ -547,6 +561,7 @@ pub fn main(cli: Cli) -> anyhow::Result<()> {
                 max_steps: a.steps,
                 output_interval: a.output_interval,
                 decompose: a.decompose.map(|n| n as usize),
+                gpus: a.gpus.map(|n| n as usize),
                 progress: if a.quiet {
                     Progress::Quiet
                 } else {
@@ -610,6 +625,7 @@ fn bench(a: BenchArgs) -> anyhow::Result<()> {
         count_neighbours: !a.no_neighbours,
         integrator: a.integrator,
         decompose: a.decompose.map(|n| n as usize),
+        gpus: a.gpus.map(|n| n as usize),
         ..Default::default()
     };
     if !a.sizes.is_empty() {
@@ -626,6 +642,14 @@ fn bench(a: BenchArgs) -> anyhow::Result<()> {
             .collect::<Result<Vec<_>, _>>()?;
         crate::bench::bench_scenes(&o, &scenes, Some(&a.out))?;
         println!("wrote {}/bench.csv and bench.json", a.out.display());
+        return Ok(());
+    }
+    if a.scaling {
+        crate::bench::scaling(&o, &a.out)?;
+        println!(
+            "wrote {}/bench.csv, bench.json and scaling.json",
+            a.out.display()
+        );
         return Ok(());
     }
     crate::bench::bench(&o, Some(&a.out))?;

@@ -83,6 +83,9 @@ pub struct RunOptions {
     /// axis, one thread each, halos exchanged every step), on `backend`; the particles come
     /// out as in one domain. None: one domain.
     pub decompose: Option<usize>,
+    /// One subdomain on each of this many GPUs, through NCCL (`backend::create_multi_gpu`);
+    /// None: `decompose` or one domain.
+    pub gpus: Option<usize>,
 }
 
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
@@ -252,9 +255,10 @@ fn drive(
         None => prepare_out_dir(&out_dir, options.overwrite)?,
         Some(r) => crate::resume::rollback(&out_dir, &r.run)?,
     }
-    let mut solver = match options.decompose {
-        None => backend::create(options.backend, setup)?,
-        Some(n) => backend::create_decomposed(options.backend, setup, n)?,
+    let mut solver = match (options.gpus, options.decompose) {
+        (Some(g), _) => backend::create_multi_gpu(setup, g)?,
+        (None, Some(n)) => backend::create_decomposed(options.backend, setup, n)?,
+        (None, None) => backend::create(options.backend, setup)?,
     };
     let info = solver.info();
     let mut stepper = Stepper::new(scene.gates()).with_end(scene.file.time.end);

@@ -90,3 +90,18 @@ fn the_blocks_name_their_scheme() {
     );
     assert!(r.viscosity.starts_with("alpha "), "{}", r.viscosity);
 }
+
+#[test]
+fn a_decomposed_bench_row_gives_the_exchange_cost() {
+    let o = BenchOptions {
+        decompose: Some(2),
+        ..quick()
+    };
+    let rows = bench::bench(&o, None).unwrap();
+    let r = &rows[0];
+    check_timing(r, 4);
+    assert_eq!((r.subdomains, r.gpus), (2, 0), "{r:?}");
+    assert!(r.device.contains("2 subdomains"), "{r:?}");
+    assert!(r.exchange_us_per_step > 0.0, "{r:?}");
+    assert!(r.halo_bytes_per_step > 0.0, "{r:?}");
+}

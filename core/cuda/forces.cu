@@ -25,7 +25,7 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
         if (j == i) return;
         f.add(p, i, n, neighbour<DIM, SOLIDS>(p, j, r, r2, pw, vel, kind), pr, group, stress, art, id, surf);
     });
-    f.template finish<L>(p, i, n, lane, acc_out, red, sh);
+    f.template finish<L>(p, i, n, lane, acc_out, red, sh, i < n && owns_slot<DIM>(p, pos, i));
 }
 
 // Per dimension and lane count (MF_LANES_EACH): with solids (stress, artificial stress) and

@@ -204,16 +204,18 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct ForceSum {
     }
 
     // Combine the L lanes of each particle, store a (0 on walls), and fold |v|, |a| and c
-    // into the step size's maxima (every thread of the block calls).
+    // into the step size's maxima where the particle is `owned` (`owns_slot` in
+    // device/particle.cuh: every particle in one domain; a subdomain's halo copies are
+    // counted by their owner) (every thread of the block calls).
     template <int L>
     __device__ __forceinline__ void finish(const SphParams& p, unsigned i, unsigned n, int lane, float* __restrict__ acc_out,
-                                           unsigned* __restrict__ red, float* sh) {
+                                           unsigned* __restrict__ red, float* sh, bool owned) {
         float vmax = 0.0f, amax = 0.0f, cmax = 0.0f;
 #pragma unroll
         for (int a = 0; a < DIM; ++a) acc.c[a] = lane_sum<L>(acc.c[a]);
         if (i < n && lane == 0) {
             vstore<DIM>(acc_out, i, on ? acc : vzero<DIM>());
-            if (on) {
+            if (on && owned) {
                 vmax = sqrtf(dot(vi, vi));
                 // A total-Lagrangian body's |a| comes with its internal force (sph_tl_forces).
                 const bool tl = SOLIDS && ki == MF_KIND_SOLID && p.solid_formulation == MF_SOLID_TOTAL_LAGRANGIAN;

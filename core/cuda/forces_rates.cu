@@ -38,7 +38,7 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
         if (f.on) f.add(p, i, n, nb, pr, group, stress, art, id, surf);
         r.add(p, nb, group);
     });
-    f.template finish<L>(p, i, n, lane, acc_out, red, sh);
+    f.template finish<L>(p, i, n, lane, acc_out, red, sh, i < n && owns_slot<DIM>(p, pos, i));
     r.template finish<L>(p, i, n, lane, stress, drho_out, xsph_out, rate_out);
 }
 

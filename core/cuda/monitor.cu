@@ -82,7 +82,9 @@ __device__ void wall_force_impl(const SphParams& p, unsigned n, unsigned wall_gr
     const bool periodic = p.periodic[0] || p.periodic[1] || p.periodic[2];
     double F[3] = {0.0, 0.0, 0.0};
     for (unsigned j = (blockIdx.x * blockDim.x + threadIdx.x) / MF_MONITOR_LANES; j < n; j += per_pass) {
-        if (kind[j] != MF_KIND_BOUNDARY || group[j] != wall_group) continue;
+        // Owned wall particles only (one domain: all): a subdomain's halo copies are summed
+        // by their owner, so the subdomains' sums add up to the one-domain force.
+        if (kind[j] != MF_KIND_BOUNDARY || group[j] != wall_group || !owns_slot<DIM>(p, pos, j)) continue;
         if (periodic)
             wall_pairs<DIM, SOLIDS, true>(p, n, j, lane, cell_start, pos, vel, rho, pr, kind, group, stress, id,
                                           surf, F);

@@ -212,7 +212,10 @@ __device__ void sph_tl_forces_body(const SphParams p, unsigned n_solid, const un
     const unsigned a = blockIdx.x * blockDim.x + threadIdx.x;
     const unsigned i = a < n_solid ? slot[a] : MF_TL_NONE;
     float amax = 0.0f;
-    if (i != MF_TL_NONE) amax = tl_force_one<DIM>(p, a, i, slot, start, nbr, x0, vol, disp, grad, pk1_corr, pos, acc);
+    if (i != MF_TL_NONE) {
+        amax = tl_force_one<DIM>(p, a, i, slot, start, nbr, x0, vol, disp, grad, pk1_corr, pos, acc);
+        if (!owns_slot<DIM>(p, pos, i)) amax = 0.0f;  // a subdomain's halo copy: its owner's
+    }
     // |a| into the step size's maximum (the forces pass left these particles out; twin:
     // reduce.rs `extremes` over the final accelerations); per warp, as ForceSum::finish.
     amax = warp_max(amax);

@@ -88,8 +88,11 @@ pub struct ExchangeCost {
     pub particles: u64,
     /// Halo bytes received (what a transport between GPUs carries), summed likewise.
     pub bytes: u64,
-    /// [s] wall time of the slowest rank in halo fills and step-size agreement.
+    /// [s] wall time of the slowest rank in halo fills and step-size agreement (waits for
+    /// the GPU's queued work and for the other ranks included).
     pub seconds: f64,
+    /// Device memory the ranks hold now, spare capacity for halos included (0 on the CPU).
+    pub device_bytes: u64,
 }
 
 /// A blow-up: the first bad particle found and what was wrong with it.

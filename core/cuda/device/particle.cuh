@@ -1,7 +1,8 @@
 // What one particle's kind and group make of the parameters: its pressure (equation of
 // state), sound speed, rest density, and whether it is driven. Twins: `pressure` in
 // src/backend/cpu/density.rs, SphParams::sound_speed / rest_density in src/params/mod.rs,
-// `driven_velocity` in src/backend/cpu/integrate.rs; parity test: tests/cuda_parity.rs.
+// `driven_velocity` in src/backend/cpu/integrate.rs, `SphParams::owns`; parity test:
+// tests/cuda_parity.rs.
 #pragma once
 #include "sph_params.h"
 
@@ -33,4 +34,18 @@ __device__ __forceinline__ float rest_density(const SphParams& p, unsigned char 
 // forces (twin: `driven_velocity` in cpu/integrate.rs).
 __device__ __forceinline__ bool is_driven(const SphParams& p, unsigned group) {
     return p.driven != 0 && group == (unsigned)p.driven_group;
+}
+
+// Whether this solver owns a particle at coordinate c [L] of the slab's axis: always in one
+// domain (own_slab = 0); in a subdomain of a decomposed run (crate::exchange) own_lo <= c <
+// own_hi. The step size's extremes and the wall forces count only owned particles, so that
+// each particle counts once over the subdomains. Twin: SphParams::owns (src/params/mod.rs).
+__device__ __forceinline__ bool owns(const SphParams& p, float c) {
+    return p.own_slab == 0 || (c >= p.own_lo && c < p.own_hi);
+}
+// owns() of the particle in storage slot i of pos (float2 per particle in 2D, float4 in 3D:
+// device/packing.cuh); one domain reads nothing.
+template <int DIM>
+__device__ __forceinline__ bool owns_slot(const SphParams& p, const float* __restrict__ pos, unsigned i) {
+    return p.own_slab == 0 || owns(p, pos[(size_t)i * (DIM == 2 ? 2 : 4) + p.own_axis]);
 }

@@ -97,11 +97,49 @@ fn cpu_decomposed(setup: Setup, n: usize) -> Result<Box<dyn Solver>, BackendErro
     })
 }
 
+/// The CUDA solvers of `n` subdomains, all on device 0, their halos on the device
+/// (`cuda::CudaHalo`); each takes the lanes of the whole scene's particle count, so that the
+/// subdomains sum in the one domain's order (`CudaSolver::new_subdomain`).
 fn cuda_decomposed(setup: Setup, n: usize) -> Result<Box<dyn Solver>, BackendError> {
-    let _ = (setup, n);
-    Err(BackendError::Decomposition(
-        "the CUDA backend cannot serve as a subdomain yet".into(),
-    ))
+    #[cfg(feature = "cuda")]
+    {
+        use crate::exchange::Decomposed;
+        let whole = setup.particles.len();
+        Ok(if setup.params.dim == 2 {
+            Box::new(Decomposed::new(setup, n, |s| {
+                cuda::CudaSolver::<D2>::new_subdomain(s, whole, 0)
+            })?)
+        } else {
+            Box::new(Decomposed::new(setup, n, |s| {
+                cuda::CudaSolver::<D3>::new_subdomain(s, whole, 0)
+            })?)
+        })
+    }
+    #[cfg(not(feature = "cuda"))]
+    {
+        let _ = (setup, n);
+        Err(BackendError::CudaUnavailable(
+            "this build has the `cuda` feature off".into(),
+        ))
+    }
+}
+
+/// One subdomain of the scene on each of `n` GPUs of this machine, talking through NCCL
+/// (`run --gpus N`; `cuda::nccl`): the particles of one domain, bit for bit, as
+/// `create_decomposed`.
+pub fn create_multi_gpu(mut setup: Setup, n: usize) -> Result<Box<dyn Solver>, BackendError> {
+    setup.params.own_solids = setup.has_solids() as i32;
+    #[cfg(feature = "nccl")]
+    {
+        cuda::nccl::multi_gpu(setup, n)
+    }
+    #[cfg(not(feature = "nccl"))]
+    {
+        let _ = (setup, n);
+        Err(BackendError::CudaUnavailable(
+            "this build has the `nccl` feature off".into(),
+        ))
+    }
 }
 
 /// The CUDA solver in the scene's dimension, or why there is none.

@@ -63,6 +63,11 @@ impl<S: Subdomain, T: Transport<S::Halo>> Rank<S, T> {
         self.slabs = slabs;
     }
 
+    /// Device memory its subdomain holds (`Subdomain::device_bytes`).
+    pub fn device_bytes(&self) -> usize {
+        self.sub.device_bytes()
+    }
+
     /// This rank's index, as its transport numbers it.
     pub fn index(&self) -> usize {
         self.transport.rank()

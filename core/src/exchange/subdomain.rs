@@ -42,6 +42,11 @@ pub trait Subdomain: Solver + Sized {
     /// Take the step size from the extremes of every subdomain, as `time_step` takes it
     /// from its own (`backend::cpu::step_size`).
     fn set_step(&mut self, extremes: [f32; 3]);
+    /// Device memory this subdomain holds [bytes], its spare capacity included (0 on the
+    /// CPU).
+    fn device_bytes(&self) -> usize {
+        0
+    }
     /// Replace the particles with `part` (any set of this scene's particles, the arrays of a
     /// checkpoint), and the clock, step count and step size with its own.
     fn replace(&mut self, part: &SolverCheckpoint) -> Result<(), String>;

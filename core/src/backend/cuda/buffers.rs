@@ -58,7 +58,15 @@ pub struct Persistent {
 
 /// Every device array of one solver.
 pub struct Buffers {
+    /// Particles held now (slots 0 .. n of every per-particle array).
     pub n: usize,
+    /// Particles the per-particle arrays have room for (>= n). A one-domain solver holds
+    /// n = cap from its upload on; a subdomain's count changes every step (`append`,
+    /// `compact` in `subdomain.rs`) and `reserve` grows the room geometrically, never below
+    /// the need, and never shrinks it. Tensor planes (stress, stress_rate, art) lie `n`
+    /// floats apart (the kernels' stride is the count they are launched with), within
+    /// `nsym * cap` floats.
+    pub cap: usize,
     pub n_cells: usize,
     pub cur: Persistent,
     pub alt: Persistent,
@@ -100,8 +108,13 @@ pub struct Buffers {
     /// (`launch::wall_forces`).
     pub wall_partial: Option<CudaSlice<f64>>,
     pub wall_force: Option<CudaSlice<f64>>,
+    /// The marks and their scan of a subdomain's halo selection and compaction
+    /// (`cuda/exchange.cu`); allocated by the first (`scratch`).
+    pub scratch: Option<Scratch>,
     /// Bytes allocated on the device for all of the above.
     pub bytes: usize,
+    /// Of which the per-particle arrays (sized by `cap`).
+    particle_bytes: usize,
     /// Flips at each swap of `cur` and `alt` (a captured graph is bound to one assignment).
     pub swapped: bool,
     /// Set by a grid build that applied the equation of state (continuity density without
@@ -110,6 +123,111 @@ pub struct Buffers {
     /// Set by the drift, which files every particle in its cell (`cell`, `count`) for
     /// the next grid build; that build takes it and skips its own pass.
     pub hist_done: bool,
+}
+
+/// A subdomain's selection of particles (`cuda/exchange.cu`): a mark per slot and the
+/// scan of the marks (the grid build's scan kernels over cap + 1 entries), and the count
+/// of marked slots.
+pub struct Scratch {
+    pub mark: CudaSlice<u32>,
+    pub local: CudaSlice<u32>,
+    pub bsum: CudaSlice<u32>,
+    pub total: CudaSlice<u32>,
+    /// Slots it has room for.
+    pub cap: usize,
+}
+
+/// The per-particle arrays other than the persistent sets, for `cap` particles.
+struct Working {
+    acc: CudaSlice<f32>,
+    xsph: CudaSlice<f32>,
+    drho: Option<CudaSlice<f32>>,
+    stress_rate: Option<CudaSlice<f32>>,
+    art: Option<CudaSlice<f32>>,
+    grad_rho: Option<CudaSlice<f32>>,
+    cell: CudaSlice<u32>,
+    order: CudaSlice<u32>,
+    diag_partial: CudaSlice<f64>,
+}
+
+/// Which optional per-particle arrays a solver holds.
+#[derive(Clone, Copy)]
+struct Held {
+    solids: bool,
+    drho: bool,
+    art: bool,
+    grad_rho: bool,
+}
+
+impl Persistent {
+    fn alloc<D: Dim>(a: &mut Alloc, cap: usize, solids: bool) -> Result<Persistent, DriverError> {
+        Ok(Persistent {
+            id: a.z(cap)?,
+            kind: a.z(cap)?,
+            group: a.z(cap)?,
+            pos: a.z(cap * vstride::<D>())?,
+            vel: a.z(cap * VEL_STRIDE)?,
+            rho: a.z(cap)?,
+            p: a.z(cap)?,
+            stress: if solids {
+                Some(a.z(cap * nsym::<D>())?)
+            } else {
+                None
+            },
+            rho_dev: if solids { Some(a.z(cap)?) } else { None },
+        })
+    }
+
+    /// The first `n` particles of `src` (stress planes `n` apart) into these arrays.
+    fn copy_from<D: Dim>(
+        &mut self,
+        s: &Arc<CudaStream>,
+        src: &Persistent,
+        n: usize,
+    ) -> Result<(), DriverError> {
+        if n == 0 {
+            return Ok(());
+        }
+        let (vs, ns) = (vstride::<D>(), nsym::<D>());
+        s.memcpy_dtod(&src.id.slice(..n), &mut self.id)?;
+        s.memcpy_dtod(&src.kind.slice(..n), &mut self.kind)?;
+        s.memcpy_dtod(&src.group.slice(..n), &mut self.group)?;
+        s.memcpy_dtod(&src.pos.slice(..n * vs), &mut self.pos)?;
+        s.memcpy_dtod(&src.vel.slice(..n * VEL_STRIDE), &mut self.vel)?;
+        s.memcpy_dtod(&src.rho.slice(..n), &mut self.rho)?;
+        s.memcpy_dtod(&src.p.slice(..n), &mut self.p)?;
+        if let (Some(a), Some(b)) = (&src.stress, &mut self.stress) {
+            s.memcpy_dtod(&a.slice(..n * ns), b)?;
+        }
+        if let (Some(a), Some(b)) = (&src.rho_dev, &mut self.rho_dev) {
+            s.memcpy_dtod(&a.slice(..n), b)?;
+        }
+        Ok(())
+    }
+}
+
+impl Working {
+    fn alloc<D: Dim>(a: &mut Alloc, cap: usize, h: Held) -> Result<Working, DriverError> {
+        let (vs, ns) = (vstride::<D>(), nsym::<D>());
+        let opt = |a: &mut Alloc, on: bool, len: usize| -> Result<_, DriverError> {
+            if on {
+                Ok(Some(a.z(len)?))
+            } else {
+                Ok(None)
+            }
+        };
+        Ok(Working {
+            acc: a.z(cap * vs)?,
+            xsph: a.z(cap * vs)?,
+            drho: opt(a, h.drho, cap)?,
+            stress_rate: opt(a, h.solids, cap * ns)?,
+            art: opt(a, h.art, cap * ns)?,
+            grad_rho: opt(a, h.grad_rho, cap * D::D)?,
+            cell: a.z(cap)?,
+            order: a.z(cap)?,
+            diag_partial: a.z(2 * 3 * (cap.max(1) as u32).div_ceil(MF_BLOCK) as usize)?,
+        })
+    }
 }
 
 struct Alloc<'a> {
@@ -138,60 +256,40 @@ impl Buffers {
         density_gradient: bool,
     ) -> Result<Buffers, DriverError> {
         let n = state.len();
-        let vs = vstride::<D>();
-        let ns = nsym::<D>();
-        let solids = state.solid.is_some();
-        let mut a = Alloc { s, bytes: 0 };
-        let persistent = |a: &mut Alloc| -> Result<Persistent, DriverError> {
-            Ok(Persistent {
-                id: a.z(n)?,
-                kind: a.z(n)?,
-                group: a.z(n)?,
-                pos: a.z(n * vs)?,
-                vel: a.z(n * VEL_STRIDE)?,
-                rho: a.z(n)?,
-                p: a.z(n)?,
-                stress: if solids { Some(a.z(n * ns)?) } else { None },
-                rho_dev: if solids { Some(a.z(n)?) } else { None },
-            })
+        let held = Held {
+            solids: state.solid.is_some(),
+            drho: state.drho.is_some(),
+            art: state
+                .solid
+                .as_ref()
+                .is_some_and(|so| so.art_stress.is_some()),
+            grad_rho: density_gradient,
         };
-        let cur = persistent(&mut a)?;
-        let alt = persistent(&mut a)?;
+        let mut a = Alloc { s, bytes: 0 };
+        let cur = Persistent::alloc::<D>(&mut a, n, held.solids)?;
+        let alt = Persistent::alloc::<D>(&mut a, n, held.solids)?;
+        let w = Working::alloc::<D>(&mut a, n, held)?;
+        let particle_bytes = a.bytes;
         let n_blocks = (n_cells + 1).div_ceil(MF_SCAN_CELLS as usize);
         let mut b = Buffers {
             n,
+            cap: n,
             n_cells,
             cur,
             alt,
-            acc: a.z(n * vs)?,
-            xsph: a.z(n * vs)?,
-            drho: if state.drho.is_some() {
-                Some(a.z(n)?)
-            } else {
-                None
-            },
-            stress_rate: if solids { Some(a.z(n * ns)?) } else { None },
-            art: if state
-                .solid
-                .as_ref()
-                .is_some_and(|so| so.art_stress.is_some())
-            {
-                Some(a.z(n * ns)?)
-            } else {
-                None
-            },
-            grad_rho: if density_gradient {
-                Some(a.z(n * D::D)?)
-            } else {
-                None
-            },
+            acc: w.acc,
+            xsph: w.xsph,
+            drho: w.drho,
+            stress_rate: w.stress_rate,
+            art: w.art,
+            grad_rho: w.grad_rho,
             wall_surface: if surface.is_empty() {
                 None
             } else {
                 Some(a.z(surface.len() * 4)?)
             },
-            cell: a.z(n)?,
-            order: a.z(n)?,
+            cell: w.cell,
+            order: w.order,
             count: a.z(n_cells + 1)?,
             local: a.z(n_cells + 1)?,
             bsum: a.z(n_blocks)?,
@@ -200,14 +298,16 @@ impl Buffers {
             dt: a.z(1)?,
             time: a.z(1)?,
             diag_sums: a.z(6)?,
-            diag_partial: a.z(2 * 3 * (n.max(1) as u32).div_ceil(MF_BLOCK) as usize)?,
+            diag_partial: w.diag_partial,
             diag_max: a.z(2)?,
             diag_counts: a.z(3)?,
             first: a.z(1)?,
             layout: a.z(4)?,
             wall_partial: None,
             wall_force: None,
+            scratch: None,
             bytes: 0,
+            particle_bytes,
             swapped: false,
             eos_done: false,
             hist_done: false,
@@ -218,6 +318,69 @@ impl Buffers {
             s.memcpy_htod(surface.as_flattened(), d)?;
         }
         Ok(b)
+    }
+
+    /// Room for `need` particles: where `cap` is short, every per-particle array
+    /// reallocated for max(need, 3/2 cap) (geometric growth: a subdomain's count changes
+    /// every step) and the `n` particles held copied over (the persistent arrays of `cur`;
+    /// the others are rewritten before they are read each step). Whether it reallocated
+    /// (a captured graph of the old arrays is then stale).
+    pub fn reserve<D: Dim>(
+        &mut self,
+        s: &Arc<CudaStream>,
+        need: usize,
+    ) -> Result<bool, DriverError> {
+        if need <= self.cap {
+            return Ok(false);
+        }
+        let cap = need.max(self.cap + self.cap / 2);
+        let held = Held {
+            solids: self.cur.stress.is_some(),
+            drho: self.drho.is_some(),
+            art: self.art.is_some(),
+            grad_rho: self.grad_rho.is_some(),
+        };
+        let mut a = Alloc { s, bytes: 0 };
+        let mut cur = Persistent::alloc::<D>(&mut a, cap, held.solids)?;
+        cur.copy_from::<D>(s, &self.cur, self.n)?;
+        self.alt = Persistent::alloc::<D>(&mut a, cap, held.solids)?;
+        self.cur = cur;
+        let w = Working::alloc::<D>(&mut a, cap, held)?;
+        self.acc = w.acc;
+        self.xsph = w.xsph;
+        self.drho = w.drho;
+        self.stress_rate = w.stress_rate;
+        self.art = w.art;
+        self.grad_rho = w.grad_rho;
+        self.cell = w.cell;
+        self.order = w.order;
+        self.diag_partial = w.diag_partial;
+        self.bytes = self.bytes - self.particle_bytes + a.bytes;
+        self.particle_bytes = a.bytes;
+        self.cap = cap;
+        // The cells the last drift filed went with the old `cell` array.
+        if std::mem::take(&mut self.hist_done) {
+            s.memset_zeros(&mut self.count)?;
+        }
+        Ok(true)
+    }
+
+    /// The selection scratch (`Scratch`) with room for the `cap` slots.
+    pub fn scratch(&mut self, s: &Arc<CudaStream>) -> Result<&mut Scratch, DriverError> {
+        let cap = self.cap;
+        if self.scratch.as_ref().is_none_or(|x| x.cap < cap) {
+            let mut a = Alloc { s, bytes: 0 };
+            let entries = cap + 1;
+            self.scratch = Some(Scratch {
+                mark: a.z(entries)?,
+                local: a.z(entries)?,
+                bsum: a.z(entries.div_ceil(MF_SCAN_CELLS as usize))?,
+                total: a.z(1)?,
+                cap,
+            });
+            self.bytes += a.bytes;
+        }
+        Ok(self.scratch.as_mut().expect("allocated above"))
     }
 
     /// Copy `state` (same length) into the current arrays; the grid is left as it is.
@@ -281,52 +444,43 @@ impl Buffers {
     pub fn read_state<D: Dim>(&self, s: &Arc<CudaStream>) -> Result<State<D>, DriverError> {
         let c = &self.cur;
         let n = self.n;
+        let (vs, ns) = (vstride::<D>(), nsym::<D>());
         let solid = match &c.stress {
             Some(st) => Some(SolidState {
-                stress: unflat_s::<D>(&s.clone_dtoh(st)?, n),
+                stress: unflat_s::<D>(&s.clone_dtoh(&st.slice(..n * ns))?, n),
                 stress_rate: match &self.stress_rate {
-                    Some(r) => unflat_s::<D>(&s.clone_dtoh(r)?, n),
+                    Some(r) => unflat_s::<D>(&s.clone_dtoh(&r.slice(..n * ns))?, n),
                     None => vec![D::zero(); n],
                 },
                 art_stress: match &self.art {
-                    Some(r) => Some(unflat_s::<D>(&s.clone_dtoh(r)?, n)),
+                    Some(r) => Some(unflat_s::<D>(&s.clone_dtoh(&r.slice(..n * ns))?, n)),
                     None => None,
                 },
                 rho_dev: match &c.rho_dev {
-                    Some(r) => {
-                        let mut v = s.clone_dtoh(r)?;
-                        v.truncate(n);
-                        v
-                    }
+                    Some(r) => s.clone_dtoh(&r.slice(..n))?,
                     None => vec![0.0; n],
                 },
             }),
             None => None,
         };
-        let trim = |mut v: Vec<u32>| {
-            v.truncate(n);
-            v
-        };
-        let trimf = |mut v: Vec<f32>| {
-            v.truncate(n);
-            v
-        };
-        let (pos, vel) = (s.clone_dtoh(&c.pos)?, s.clone_dtoh(&c.vel)?);
-        let mut kind = s.clone_dtoh(&c.kind)?;
-        kind.truncate(n);
+        let (pos, vel) = (
+            s.clone_dtoh(&c.pos.slice(..n * vs))?,
+            s.clone_dtoh(&c.vel.slice(..n * VEL_STRIDE))?,
+        );
+        let kind = s.clone_dtoh(&c.kind.slice(..n))?;
         Ok(State {
-            id: trim(s.clone_dtoh(&c.id)?),
+            id: s.clone_dtoh(&c.id.slice(..n))?,
             kind,
-            group: trim(s.clone_dtoh(&c.group)?),
+            group: s.clone_dtoh(&c.group.slice(..n))?,
             mass: mass_of::<D>(&pos, &vel, n),
             pos: unflat_v::<D>(&pos, n),
             vel: unflat::<D>(&vel, n, VEL_STRIDE),
-            rho: trimf(s.clone_dtoh(&c.rho)?),
-            p: trimf(s.clone_dtoh(&c.p)?),
-            acc: unflat_v::<D>(&s.clone_dtoh(&self.acc)?, n),
-            xsph: unflat_v::<D>(&s.clone_dtoh(&self.xsph)?, n),
+            rho: s.clone_dtoh(&c.rho.slice(..n))?,
+            p: s.clone_dtoh(&c.p.slice(..n))?,
+            acc: unflat_v::<D>(&s.clone_dtoh(&self.acc.slice(..n * vs))?, n),
+            xsph: unflat_v::<D>(&s.clone_dtoh(&self.xsph.slice(..n * vs))?, n),
             drho: match &self.drho {
-                Some(d) => Some(trimf(s.clone_dtoh(d)?)),
+                Some(d) => Some(s.clone_dtoh(&d.slice(..n))?),
                 None => None,
             },
             solid,

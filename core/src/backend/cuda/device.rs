@@ -68,6 +68,13 @@ fn targets() -> String {
 impl Device {
     /// Device 0, or why it cannot be used. Never panics where no driver is installed.
     pub fn open() -> Result<Device, BackendError> {
+        Device::open_ordinal(0)
+    }
+
+    /// Device `ordinal` (as the driver numbers them, 0 first), or why it cannot be used:
+    /// a context (the device's primary one, shared by every solver on it), a stream of this
+    /// solver's own, and every module loaded. Never panics where no driver is installed.
+    pub fn open_ordinal(ordinal: usize) -> Result<Device, BackendError> {
         let unavailable = |s: String| BackendError::CudaUnavailable(s);
         if built::MODULES.is_empty() {
             return Err(unavailable(format!(
@@ -85,8 +92,13 @@ impl Device {
         if count < 1 {
             return Err(unavailable("the CUDA driver reports no device".into()));
         }
-        let ctx =
-            CudaContext::new(0).map_err(|e| unavailable(format!("cannot open device 0: {e:?}")))?;
+        if ordinal >= count as usize {
+            return Err(unavailable(format!(
+                "no device {ordinal}: the CUDA driver reports {count}"
+            )));
+        }
+        let ctx = CudaContext::new(ordinal)
+            .map_err(|e| unavailable(format!("cannot open device {ordinal}: {e:?}")))?;
         let gpu = ctx.name().unwrap_or_else(|_| "unknown CUDA device".into());
         let cc = ctx
             .compute_capability()
@@ -95,7 +107,10 @@ impl Device {
         let code = code_for(cc, built::SASS, built::PTX);
         // SAFETY: every allocation, copy and launch of this backend goes to this one stream,
         // in order, so cudarc's cross-stream event tracking has nothing to order; without it
-        // a step can be captured into a CUDA graph (no events recorded during capture).
+        // a step can be captured into a CUDA graph (no events recorded during capture). The
+        // one exception, a subdomain's halo (`subdomain.rs`), which one solver's stream
+        // writes and another's reads, is ordered by hand: the sender synchronises its stream
+        // before handing it over, the receiver its own before dropping it.
         unsafe { ctx.disable_event_tracking() };
         // A stream of our own: the legacy default stream cannot be captured into a graph.
         let stream = ctx

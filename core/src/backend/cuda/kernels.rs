@@ -102,6 +102,12 @@ pub enum Family {
     TlStress,
     TlForces,
     TlDrift,
+    ExchangeMark,
+    ExchangeTotal,
+    ExchangePack,
+    ExchangeUnpack,
+    ExchangeCompact,
+    ExchangeRestride,
 }
 
 /// What the table says of a family.
@@ -139,7 +145,7 @@ const WALL_FORCE_PARAMS: &str =
 
 impl Family {
     /// Every family, in the order of the discriminants.
-    pub const ALL: [Family; 26] = [
+    pub const ALL: [Family; 32] = [
         Family::GridHist,
         Family::ScanLocal,
         Family::ScanTop,
@@ -166,6 +172,12 @@ impl Family {
         Family::TlStress,
         Family::TlForces,
         Family::TlDrift,
+        Family::ExchangeMark,
+        Family::ExchangeTotal,
+        Family::ExchangePack,
+        Family::ExchangeUnpack,
+        Family::ExchangeCompact,
+        Family::ExchangeRestride,
     ];
 
     /// The table.
@@ -350,6 +362,54 @@ impl Family {
                 "const SphParams p, unsigned n_solid, const float* dt_dev, const unsigned* slot, \
                  const unsigned* group, const float* vel, const float* xsph, float* disp",
             ),
+            Family::ExchangeMark => (
+                "exchange",
+                "sph_exchange_mark",
+                Dims,
+                "const SphParams p, unsigned n, unsigned halo, unsigned axis, float lo, float hi, \
+                 float width, unsigned periodic, float pmin, float pmax, const float* pos, \
+                 unsigned* mark",
+            ),
+            Family::ExchangeTotal => (
+                "exchange",
+                "sph_exchange_total",
+                One,
+                "unsigned n, const unsigned* local, const unsigned* bsum, unsigned* total",
+            ),
+            Family::ExchangePack => (
+                "exchange",
+                "sph_exchange_pack",
+                Dims,
+                "unsigned n, unsigned words, const unsigned* mark, const unsigned* local, \
+                 const unsigned* bsum, const unsigned* id, const unsigned char* kind, \
+                 const unsigned* group, const float* pos, const float* vel, const float* rho, \
+                 const float* pr, const float* stress, const float* rho_dev, unsigned* out",
+            ),
+            Family::ExchangeUnpack => (
+                "exchange",
+                "sph_exchange_unpack",
+                Dims,
+                "unsigned m, unsigned base, unsigned stride, unsigned words, const unsigned* in, \
+                 unsigned* id, unsigned char* kind, unsigned* group, float* pos, float* vel, \
+                 float* rho, float* pr, float* stress, float* rho_dev",
+            ),
+            Family::ExchangeCompact => (
+                "exchange",
+                "sph_exchange_compact",
+                Dims,
+                "unsigned n, unsigned kept, const unsigned* mark, const unsigned* local, \
+                 const unsigned* bsum, const unsigned* id, const unsigned char* kind, \
+                 const unsigned* group, const float* pos, const float* vel, const float* rho, \
+                 const float* pr, const float* stress, const float* rho_dev, unsigned* id2, \
+                 unsigned char* kind2, unsigned* group2, float* pos2, float* vel2, float* rho2, \
+                 float* pr2, float* stress2, float* rho_dev2",
+            ),
+            Family::ExchangeRestride => (
+                "exchange",
+                "sph_exchange_restride",
+                One,
+                "unsigned n_old, unsigned n_new, unsigned planes, const float* src, float* dst",
+            ),
         };
         Spec {
             module,
@@ -469,7 +529,7 @@ mod tests {
     }
 
     /// The parameter list of entry `name` in PTX `text`, as the kinds of its parameters:
-    /// "b8[size]" (a struct by value), "u32", "u64" (a pointer).
+    /// "b8[size]" (a struct by value), "u32", "f32", "u64" (a pointer).
     fn ptx_params(text: &str, name: &str) -> Option<Vec<String>> {
         let start = text.find(&format!(".entry {name}("))?;
         let list = &text[start..start + text[start..].find(')')?];
@@ -495,7 +555,8 @@ mod tests {
         )
     }
 
-    /// The parameter kinds a C signature gives in PTX.
+    /// The parameter kinds a C signature gives in PTX: "u64" (a pointer), "b8[size]"
+    /// (SphParams by value), "u32" (unsigned), "f32" (float).
     fn c_params(signature: &str) -> Vec<String> {
         signature
             .split(',')
@@ -507,6 +568,8 @@ mod tests {
                     format!("b8[{}]", std::mem::size_of::<SphParams>())
                 } else if a.starts_with("unsigned ") {
                     "u32".to_string()
+                } else if a.starts_with("float ") {
+                    "f32".to_string()
                 } else {
                     panic!("no PTX kind for `{a}`")
                 }

@@ -12,6 +12,7 @@ mod kernels;
 mod launch;
 #[cfg(feature = "nccl")]
 pub mod nccl;
+mod subdomain;
 
 use std::marker::PhantomData;
 
@@ -32,6 +33,7 @@ use crate::solver::{BackendInfo, Diagnostics, Fault, PointSample, Setup, Shown, 
 use crate::state::State;
 
 pub use device::{driver_version, NVCC_VERSION};
+pub use subdomain::CudaHalo;
 
 use buffers::{Buffers, TlBuffers};
 use capture::Capturer;
@@ -104,6 +106,11 @@ pub struct CudaSolver<D: Dim> {
     /// Whether `advance` may capture and replay graphs: `MESHFREE_CUDA_GRAPHS=0` turns them
     /// off (for measurements); a failed capture turns them off for this solver.
     graphs: bool,
+    /// The particle count whose size rule (`lanes_for`) sets the neighbour kernels' lanes:
+    /// this solver's own at creation, or, for a subdomain of a decomposed run, the whole
+    /// scene's (`new_subdomain`), so that every subdomain sums in the one domain's order
+    /// (the lane count changes the order of a particle's pair sums).
+    lanes_n: usize,
     /// Whether `forces_and_rates` runs the fused kernel: `MESHFREE_CUDA_FUSED=0` runs the two
     /// passes instead (for measurements).
     fused: bool,
@@ -117,19 +124,38 @@ fn oom(n: usize, e: cudarc::driver::DriverError) -> BackendError {
 }
 
 impl<D: Dim> CudaSolver<D> {
+    /// The solver on device 0.
     pub fn new(setup: Setup) -> Result<Self, BackendError> {
+        Self::new_on(setup, 0)
+    }
+
+    /// The solver on device `ordinal` (`Device::open_ordinal`).
+    pub fn new_on(setup: Setup, ordinal: usize) -> Result<Self, BackendError> {
+        let n = setup.particles.len();
+        Self::new_subdomain(setup, n, ordinal)
+    }
+
+    /// A solver on device `ordinal` whose neighbour kernels take the lanes of a system of
+    /// `whole` particles (`lanes_for`): a subdomain of a decomposed run passes the whole
+    /// scene's count, so that its sums come out as the one domain's, bit for bit.
+    pub fn new_subdomain(setup: Setup, whole: usize, ordinal: usize) -> Result<Self, BackendError> {
         if let Some(e) = setup.wall_surface_error() {
             return Err(BackendError::Cuda(e));
         }
         let p = setup.params;
-        let dev = Device::open()?;
+        let dev = Device::open_ordinal(ordinal)?;
         let mut k = Kernels::load(&dev, D::D)?;
-        let state = State::<D>::from_particles(
+        let mut state = State::<D>::from_particles(
             &setup.particles,
             p.density_form as u32 == MF_DENSITY_CONTINUITY,
             p.artificial_stress > 0.0,
             p.solid_rho0,
         );
+        // A subdomain of a scene with solids holds their arrays from the start, solids or
+        // none (`SphParams::own_solids`): they may arrive with a halo.
+        if p.own_solids != 0 {
+            state = state.with_solid_arrays(p.artificial_stress > 0.0);
+        }
         let n = state.len();
         let buf = Buffers::new(
             &dev.stream,
@@ -139,7 +165,7 @@ impl<D: Dim> CudaSolver<D> {
             needs_density_gradient(&p),
         )
         .map_err(|e| oom(n, e))?;
-        k.lanes = lanes_for(D::D, n);
+        k.lanes = lanes_for(D::D, whole);
         // The total-Lagrangian bodies' reference configuration, set up on the host by the
         // shared code (`crate::tlsph`) and uploaded once.
         let tl = if crate::tlsph::total_lagrangian(&p) && setup.has_solids() {
@@ -165,6 +191,7 @@ impl<D: Dim> CudaSolver<D> {
             graph: None,
             graphs: std::env::var("MESHFREE_CUDA_GRAPHS").map_or(true, |v| v != "0"),
             fused: std::env::var("MESHFREE_CUDA_FUSED").map_or(true, |v| v != "0"),
+            lanes_n: whole,
             _d: PhantomData,
         })
     }
@@ -236,7 +263,7 @@ impl<D: Dim> CudaSolver<D> {
     /// Force (`Some(lanes)`, one of `LANE_COUNTS`: 1, 2, 4, 8) or reset to the size rule
     /// (`None`) the threads per particle of the neighbour kernels. For tests and benchmarks.
     pub fn set_lanes(&mut self, lanes: Option<usize>) {
-        let l = lanes.unwrap_or_else(|| lanes_for(D::D, self.buf.n));
+        let l = lanes.unwrap_or_else(|| lanes_for(D::D, self.lanes_n));
         assert!(
             LANE_COUNTS.contains(&l),
             "set_lanes: {l} lanes has no kernel entry (have {LANE_COUNTS:?})"

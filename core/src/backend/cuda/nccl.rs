@@ -17,7 +17,11 @@ use cudarc::driver::{CudaSlice, CudaStream};
 use cudarc::nccl::{Comm, ReduceOp};
 
 use crate::backend::BackendError;
-use crate::exchange::Transport;
+use crate::dim::{Dim, D2, D3};
+use crate::exchange::{Decomposed, Transport};
+use crate::solver::{Setup, Solver};
+
+use super::{CudaHalo, CudaSolver};
 
 /// A halo that travels as one flat device buffer of 32-bit words.
 pub trait Words: Sized + Send {
@@ -27,6 +31,43 @@ pub trait Words: Sized + Send {
     fn words(&self) -> &CudaSlice<u32>;
     /// The halo of `particles` particles received as `words`.
     fn from_words(particles: usize, words: CudaSlice<u32>) -> Self;
+}
+
+impl Words for CudaHalo {
+    fn particles(&self) -> usize {
+        self.n
+    }
+    fn words(&self) -> &CudaSlice<u32> {
+        &self.words
+    }
+    fn from_words(particles: usize, words: CudaSlice<u32>) -> Self {
+        CudaHalo {
+            n: particles,
+            words,
+        }
+    }
+}
+
+/// `n` subdomains of `setup`, rank k on GPU k, talking through NCCL (`run --gpus N`):
+/// the particles of one domain, bit for bit, as `backend::create_decomposed` on one GPU.
+pub fn multi_gpu(setup: Setup, n: usize) -> Result<Box<dyn Solver>, BackendError> {
+    available()?;
+    if setup.params.dim == 2 {
+        multi::<D2>(setup, n)
+    } else {
+        multi::<D3>(setup, n)
+    }
+}
+
+fn multi<D: Dim>(setup: Setup, n: usize) -> Result<Box<dyn Solver>, BackendError> {
+    let whole = setup.particles.len();
+    let d = Decomposed::build(
+        setup,
+        n,
+        |k, s| CudaSolver::<D>::new_subdomain(s, whole, k),
+        |subs: &mut [CudaSolver<D>]| Nccl::group(subs.iter().map(|s| s.stream()).collect()),
+    )?;
+    Ok(Box::new(d))
 }
 
 /// Whether NCCL loads here; the error says why not.
