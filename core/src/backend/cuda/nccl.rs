@@ -204,7 +204,7 @@ impl<H: Words> Transport<H> for Nccl<H> {
             let mut g = self.comm.group();
             for (to, h) in out.iter().enumerate() {
                 if let (true, Some(h)) = (to != me, h) {
-                    if h.words().len() > 0 {
+                    if !h.words().is_empty() {
                         g.send(h.words().slice(..), to as i32)
                             .map_err(|e| format!("{e:?}"))?;
                     }
