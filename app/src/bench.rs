@@ -132,6 +132,10 @@ pub struct BenchRow {
     /// Halo bytes received per timed step, over all subdomains; 0 for one domain.
     #[serde(default)]
     pub halo_bytes_per_step: f64,
+    /// [us] of `exchange_us_per_step`, the transport's send and receive (NCCL between
+    /// GPUs), the wait for the slower rank included.
+    #[serde(default)]
+    pub transfer_us_per_step: f64,
 }
 
 fn one() -> usize {
@@ -357,6 +361,7 @@ fn timed<D: Dim>(
     let timed_steps = (o.steps * o.repeats.max(1)).max(1) as f64;
     let exchange_us_per_step = (cost.seconds - cost0.seconds) * 1e6 / timed_steps;
     let halo_bytes_per_step = (cost.bytes - cost0.bytes) as f64 / timed_steps;
+    let transfer_us_per_step = (cost.transfer_seconds - cost0.transfer_seconds) * 1e6 / timed_steps;
     repeats.sort_by(|a, b| a.0.total_cmp(&b.0));
     let (med, simulated_per_second) = repeats[repeats.len() / 2];
     let neighbours = if o.count_neighbours {
@@ -399,6 +404,7 @@ fn timed<D: Dim>(
         gpus,
         exchange_us_per_step,
         halo_bytes_per_step,
+        transfer_us_per_step,
     })
 }
 
@@ -435,8 +441,10 @@ pub struct ScalingRow {
     /// (strong) or of the size per GPU (weak).
     pub efficiency: f64,
     pub exchange_us_per_step: f64,
+    pub transfer_us_per_step: f64,
     pub halo_bytes_per_step: f64,
-    /// Device bytes per particle on one GPU (0 where not counted: several GPUs).
+    /// Device bytes per particle (all GPUs' arrays, halo capacity included, over all
+    /// particles).
     pub bytes_per_particle: f64,
 }
 
@@ -494,6 +502,7 @@ pub fn scaling(o: &BenchOptions, out_dir: &Path) -> anyhow::Result<Vec<ScalingRo
                         ms_per_step: r.ms_per_step,
                         efficiency,
                         exchange_us_per_step: r.exchange_us_per_step,
+                        transfer_us_per_step: r.transfer_us_per_step,
                         halo_bytes_per_step: r.halo_bytes_per_step,
                         bytes_per_particle: r.bytes_per_particle,
                     });
@@ -540,8 +549,13 @@ fn print_row(r: &BenchRow) {
     };
     if r.subdomains > 1 || r.gpus > 1 {
         what += &format!(
-            "{} subdomains on {} GPU(s) (exchange {:.1} us/step, {:.3e} halo B/step): ",
-            r.subdomains, r.gpus, r.exchange_us_per_step, r.halo_bytes_per_step
+            "{} subdomains on {} GPU(s) (exchange {:.1} us/step, of which transfer {:.1}; \
+             {:.3e} halo B/step): ",
+            r.subdomains,
+            r.gpus,
+            r.exchange_us_per_step,
+            r.transfer_us_per_step,
+            r.halo_bytes_per_step
         );
     }
     println!(
@@ -572,11 +586,11 @@ fn write_rows(rows: &[BenchRow], out_dir: Option<&Path>) {
     if let Some(dir) = out_dir {
         let _ = std::fs::create_dir_all(dir);
         let mut csv = String::from(
-            "scene,backend,device,dim,particles,fluid,steps,ms_per_step,particle_steps_per_s,simulated_per_second,neighbours,bytes_per_particle,bytes_per_fluid_particle,integrator,kernel,density,diffusion,viscosity,subdomains,gpus,exchange_us_per_step,halo_bytes_per_step\n",
+            "scene,backend,device,dim,particles,fluid,steps,ms_per_step,particle_steps_per_s,simulated_per_second,neighbours,bytes_per_particle,bytes_per_fluid_particle,integrator,kernel,density,diffusion,viscosity,subdomains,gpus,exchange_us_per_step,transfer_us_per_step,halo_bytes_per_step\n",
         );
         for r in rows {
             csv += &format!(
-                "{},{},{},{},{},{},{},{:.6},{:.6e},{:.6e},{:.2},{:.1},{:.1},{},{},{},{},{},{},{},{:.2},{:.1}\n",
+                "{},{},{},{},{},{},{},{:.6},{:.6e},{:.6e},{:.2},{:.1},{:.1},{},{},{},{},{},{},{},{:.2},{:.2},{:.1}\n",
                 r.scene,
                 r.backend,
                 r.device.replace(',', " "),
@@ -598,6 +612,7 @@ fn write_rows(rows: &[BenchRow], out_dir: Option<&Path>) {
                 r.subdomains,
                 r.gpus,
                 r.exchange_us_per_step,
+                r.transfer_us_per_step,
                 r.halo_bytes_per_step
             );
         }

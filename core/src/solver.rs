@@ -93,6 +93,8 @@ pub struct ExchangeCost {
     pub seconds: f64,
     /// Device memory the ranks hold now, spare capacity for halos included (0 on the CPU).
     pub device_bytes: u64,
+    /// [s] of `seconds`, the slowest rank's time in the transport's exchange itself.
+    pub transfer_seconds: f64,
 }
 
 /// A blow-up: the first bad particle found and what was wrong with it.

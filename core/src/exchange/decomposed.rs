@@ -374,6 +374,10 @@ impl<S: Subdomain, T: Transport<S::Halo>> Solver for Decomposed<S, T> {
                 .iter()
                 .map(|s| s.time.as_secs_f64())
                 .fold(0.0, f64::max),
+            transfer_seconds: stats
+                .iter()
+                .map(|s| s.transfer.as_secs_f64())
+                .fold(0.0, f64::max),
             device_bytes: self.ranks.iter().map(|r| r.device_bytes() as u64).sum(),
         })
     }

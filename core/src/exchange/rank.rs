@@ -23,6 +23,9 @@ pub struct ExchangeStats {
     pub bytes: u64,
     /// Wall time in the halo fills and the step-size maxima.
     pub time: Duration,
+    /// Of which in the transport's exchange itself (sizes and halos sent and received,
+    /// the wait for the slower rank included).
+    pub transfer: Duration,
 }
 
 /// A subdomain solver `S` talking to the other ranks through `T`.
@@ -93,7 +96,9 @@ impl<S: Subdomain, T: Transport<S::Halo>> Rank<S, T> {
                     .flatten()
             })
             .collect();
+        let t1 = Instant::now();
         let got: Vec<S::Halo> = self.transport.exchange(out).into_iter().flatten().collect();
+        self.stats.transfer += t1.elapsed();
         self.stats.received += got.iter().map(|h| S::halo_len(h) as u64).sum::<u64>();
         self.stats.bytes += got.iter().map(|h| S::halo_bytes(h) as u64).sum::<u64>();
         self.sub.append(got);
