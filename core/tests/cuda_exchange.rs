@@ -13,23 +13,17 @@
 //! them too. A test that runs fails without a usable GPU: it never passes by skipping.
 #![cfg(feature = "cuda")]
 
+mod common;
+
 use meshfree_core::backend::cuda::CudaSolver;
 use meshfree_core::backend::{self, BackendChoice};
 use meshfree_core::dim::{D2, D3};
 use meshfree_core::exchange::{balanced, longest_axis, Decomposed};
 use meshfree_core::particle::Particle;
 use meshfree_core::scene::Scene;
-use meshfree_core::solver::{Setup, Solver};
 
-/// A built-in scene with text replacements (coarser spacing, ...).
-fn scene(name: &str, edits: &[(&str, &str)]) -> Scene {
-    let mut text = Scene::builtin(name).unwrap().text;
-    for (from, to) in edits {
-        assert!(text.contains(from), "{name} has no {from:?}");
-        text = text.replace(from, to);
-    }
-    Scene::from_toml(&text, name).unwrap()
-}
+use common::edited_scene as scene;
+use meshfree_core::solver::{Setup, Solver};
 
 fn need_gpu<T>(r: Result<T, backend::BackendError>) -> T {
     r.unwrap_or_else(|e| {

@@ -5,21 +5,15 @@
 //! and the paper's summation density and forward Euler; the diagnostics' sums to round-off;
 //! wall forces, probes and a save / restore across the decomposition.
 
+mod common;
+
 use meshfree_core::backend::{self, BackendChoice};
 use meshfree_core::exchange::{balanced, halo_width, longest_axis, Slab};
 use meshfree_core::particle::Particle;
 use meshfree_core::scene::Scene;
-use meshfree_core::solver::{Setup, Solver};
 
-/// A built-in scene with text replacements (coarser spacing, ...).
-fn scene(name: &str, edits: &[(&str, &str)]) -> Scene {
-    let mut text = Scene::builtin(name).unwrap().text;
-    for (from, to) in edits {
-        assert!(text.contains(from), "{name} has no {from:?}");
-        text = text.replace(from, to);
-    }
-    Scene::from_toml(&text, name).unwrap()
-}
+use common::edited_scene as scene;
+use meshfree_core::solver::{Setup, Solver};
 
 /// Run `setup` for `steps` steps on the CPU in `n` subdomains (0: one domain, no
 /// decomposition), gates opened first; the particles by id and the solver.

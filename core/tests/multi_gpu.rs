@@ -6,19 +6,14 @@
 //! with `--ignored` there (one-GPU machines and CI have no second GPU to test with).
 #![cfg(feature = "nccl")]
 
+mod common;
+
 use meshfree_core::backend::{self, BackendChoice};
 use meshfree_core::particle::Particle;
 use meshfree_core::scene::Scene;
-use meshfree_core::solver::{Setup, Solver};
 
-fn scene(name: &str, edits: &[(&str, &str)]) -> Scene {
-    let mut text = Scene::builtin(name).unwrap().text;
-    for (from, to) in edits {
-        assert!(text.contains(from), "{name} has no {from:?}");
-        text = text.replace(from, to);
-    }
-    Scene::from_toml(&text, name).unwrap()
-}
+use common::edited_scene as scene;
+use meshfree_core::solver::{Setup, Solver};
 
 /// `setup` on one GPU (`gpus` = 0) or on `gpus` GPUs, gates opened, `steps` steps.
 fn run(setup: &Setup, gates: &[u32], gpus: usize, steps: u64) -> Box<dyn Solver> {

@@ -109,3 +109,14 @@ pub fn tank_2d_morris(dx: f64) -> Scene {
     scene.revalidate().unwrap();
     scene
 }
+
+/// The built-in scene `name` with text replacements (a coarser spacing, ...); each `from`
+/// must be in its text.
+pub fn edited_scene(name: &str, edits: &[(&str, &str)]) -> Scene {
+    let mut text = Scene::builtin(name).unwrap().text;
+    for (from, to) in edits {
+        assert!(text.contains(from), "{name} has no {from:?}");
+        text = text.replace(from, to);
+    }
+    Scene::from_toml(&text, name).unwrap()
+}
