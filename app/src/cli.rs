@@ -401,7 +401,7 @@ pub struct RunArgs {
     /// halos sent between GPUs through NCCL. Needs libnccl.so on the loader path (e.g. the
     /// nvidia-nccl Python package's nvidia/nccl/lib in LD_LIBRARY_PATH, with a libnccl.so
     /// link to libnccl.so.2). The particles come out as on one GPU, bit for bit.
-    #[arg(long, value_name = "N", conflicts_with = "decompose", value_parser = clap::value_parser!(u32).range(1..=64))]
+    #[arg(long, value_name = "N", conflicts_with_all = ["decompose", "backend"], value_parser = clap::value_parser!(u32).range(1..=64))]
     pub gpus: Option<u32>,
     /// No progress output; only errors (and the final line on stdout).
     #[arg(long, short)]

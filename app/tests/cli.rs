@@ -230,3 +230,33 @@ fn a_decomposed_run_writes_the_one_domain_files() {
     assert!(err.contains("total-Lagrangian"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `run --gpus N` where NCCL or the GPUs are missing (as here, without a GPU) stops before
+/// writing anything, saying what is missing; it takes no `--backend` (always CUDA).
+#[test]
+fn gpus_without_nccl_or_gpus_say_what_is_missing_and_write_nothing() {
+    let out = std::env::temp_dir().join(format!("meshfree-gpus-{}", std::process::id()));
+    let o = meshfree(&[
+        "run",
+        "dam-break-2d",
+        "--gpus",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    if o.status.success() {
+        // A machine with two GPUs and NCCL: the run is the multi-GPU tests' business.
+        let _ = std::fs::remove_dir_all(&out);
+        return;
+    }
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("NCCL") || err.contains("CUDA"), "{err}");
+    assert!(!out.exists(), "a refused run left {}", out.display());
+    let o = meshfree(&["run", "dam-break-2d", "--gpus", "2", "--backend", "cpu"]);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
