@@ -52,6 +52,51 @@ pub struct StepGraph(pub cudarc::driver::CudaGraph, pub bool);
 // so it moves between threads with the solver but is never shared.
 unsafe impl Send for StepGraph {}
 
+/// The two-pass exclusive scan of `n_scan` words of `input` into `local` (per block) and
+/// `bsum` (the blocks' totals, then their offsets): `Family::ScanLocal` over
+/// ceil(n_scan / MF_SCAN_CELLS) blocks, then `Family::ScanTop` in one. The caller's buffers
+/// hold n_scan entries (`local`, 16-byte aligned as `input`) and that many blocks (`bsum`).
+fn scan(
+    k: &Kernels,
+    s: &Arc<CudaStream>,
+    n_scan: u32,
+    input: &CudaSlice<u32>,
+    local: &mut CudaSlice<u32>,
+    bsum: &mut CudaSlice<u32>,
+) {
+    let nb = n_scan.div_ceil(MF_SCAN_CELLS);
+    // SAFETY: the arguments of `Family::ScanLocal`, over n_scan entries; grid of nb blocks
+    // of MF_SCAN_BLOCK; input and local hold n_scan entries, bsum nb (the caller's word).
+    let ks = k.get(Family::ScanLocal);
+    ks.check(unsafe {
+        s.launch_builder(&ks.f)
+            .arg(&n_scan)
+            .arg(input)
+            .arg(local)
+            .arg(&mut *bsum)
+            .launch(LaunchConfig {
+                grid_dim: (nb, 1, 1),
+                block_dim: (MF_SCAN_BLOCK, 1, 1),
+                shared_mem_bytes: 0,
+            })
+            .map(|_| ())
+    });
+    // SAFETY: the arguments of `Family::ScanTop` over nb block totals; one block of
+    // MF_SCAN_BLOCK.
+    let kt = k.get(Family::ScanTop);
+    kt.check(unsafe {
+        s.launch_builder(&kt.f)
+            .arg(&nb)
+            .arg(bsum)
+            .launch(LaunchConfig {
+                grid_dim: (1, 1, 1),
+                block_dim: (MF_SCAN_BLOCK, 1, 1),
+                shared_mem_bytes: 0,
+            })
+            .map(|_| ())
+    });
+}
+
 /// Neighbour grid: hist (unless the last drift did it), scan (2 kernels), scatter, then the
 /// sort by id within cells fused with the reorder (gather), which also writes the cell
 /// ranges; then the two persistent buffer sets are swapped.
@@ -60,7 +105,6 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     let nc = b.n_cells as u32;
     // The scan runs over n_cells + 1 counts (the last, 0, closes the last cell's range).
     let n_scan = nc + 1;
-    let nb = n_scan.div_ceil(MF_SCAN_CELLS);
     if n == 0 {
         return;
     }
@@ -81,36 +125,9 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
                 .map(|_| ())
         });
     }
-    // SAFETY: the arguments of `Family::ScanLocal`, over n_scan entries; grid of
-    // ceil(n_scan / MF_SCAN_CELLS) blocks of MF_SCAN_BLOCK, bsum has that many, local n_scan
-    // (16-byte aligned, as count).
-    let ks = k.get(Family::ScanLocal);
-    ks.check(unsafe {
-        s.launch_builder(&ks.f)
-            .arg(&n_scan)
-            .arg(&b.count)
-            .arg(&mut b.local)
-            .arg(&mut b.bsum)
-            .launch(LaunchConfig {
-                grid_dim: (nb, 1, 1),
-                block_dim: (MF_SCAN_BLOCK, 1, 1),
-                shared_mem_bytes: 0,
-            })
-            .map(|_| ())
-    });
-    // SAFETY: the arguments of `Family::ScanTop`; one block of MF_SCAN_BLOCK.
-    let kt = k.get(Family::ScanTop);
-    kt.check(unsafe {
-        s.launch_builder(&kt.f)
-            .arg(&nb)
-            .arg(&mut b.bsum)
-            .launch(LaunchConfig {
-                grid_dim: (1, 1, 1),
-                block_dim: (MF_SCAN_BLOCK, 1, 1),
-                shared_mem_bytes: 0,
-            })
-            .map(|_| ())
-    });
+    // count holds n_cells + 1 entries, local n_cells + 1 and bsum n_blocks >= nb (16-byte
+    // aligned allocations).
+    scan(k, s, n_scan, &b.count, &mut b.local, &mut b.bsum);
     // SAFETY: the arguments of `Family::GridScatter`; cell and order hold n entries.
     let kc = k.get(Family::GridScatter);
     kc.check(unsafe {
@@ -828,37 +845,9 @@ pub fn select(
     });
     // The grid build's scan over the n + 1 marks (the last, 0, gives the count).
     let n_scan = n32 + 1;
-    let nb = n_scan.div_ceil(MF_SCAN_CELLS);
-    // SAFETY: the arguments of `Family::ScanLocal` over n_scan entries, as in `build_grid`:
     // mark and local hold cap + 1 >= n_scan (16-byte aligned allocations), bsum
-    // ceil((cap + 1) / MF_SCAN_CELLS) >= nb.
-    let ks = k.get(Family::ScanLocal);
-    ks.check(unsafe {
-        s.launch_builder(&ks.f)
-            .arg(&n_scan)
-            .arg(&x.mark)
-            .arg(&mut x.local)
-            .arg(&mut x.bsum)
-            .launch(LaunchConfig {
-                grid_dim: (nb, 1, 1),
-                block_dim: (MF_SCAN_BLOCK, 1, 1),
-                shared_mem_bytes: 0,
-            })
-            .map(|_| ())
-    });
-    // SAFETY: the arguments of `Family::ScanTop`; one block of MF_SCAN_BLOCK.
-    let kt = k.get(Family::ScanTop);
-    kt.check(unsafe {
-        s.launch_builder(&kt.f)
-            .arg(&nb)
-            .arg(&mut x.bsum)
-            .launch(LaunchConfig {
-                grid_dim: (1, 1, 1),
-                block_dim: (MF_SCAN_BLOCK, 1, 1),
-                shared_mem_bytes: 0,
-            })
-            .map(|_| ())
-    });
+    // ceil((cap + 1) / MF_SCAN_CELLS) >= its blocks.
+    scan(k, s, n_scan, &x.mark, &mut x.local, &mut x.bsum);
     // SAFETY: the arguments of `Family::ExchangeTotal`; local holds n + 1 entries, bsum
     // n / MF_SCAN_CELLS + 1, total 1; one thread.
     let kc = k.get(Family::ExchangeTotal);
