@@ -23,6 +23,8 @@
 //! uploaded to the GPU (`CudaSolver::upload_state`), so differences do not carry over.
 #![cfg(feature = "cuda")]
 
+mod common;
+
 use meshfree_core::backend::cpu::{self, CpuSolver};
 use meshfree_core::backend::cuda::CudaSolver;
 use meshfree_core::dim::{Dim, D2, D3};
@@ -712,36 +714,7 @@ fn long_run_on<D: Dim>(what: &str, setup: Setup, steps: usize) {
         c.check().is_ok() && g.check().is_ok(),
         "a blow-up in the {steps}-step run"
     );
-    assert_eq!(
-        (dc.fluid, dc.solid, dc.boundary),
-        (dg.fluid, dg.solid, dg.boundary)
-    );
-    assert_eq!(dc.step, dg.step);
-    let rel = |a: f64, b: f64| (a - b).abs() / a.abs().max(1e-30);
-    assert!(
-        rel(dc.time, dg.time) < 1e-3,
-        "time: cpu {} gpu {} (rtol 1e-3)",
-        dc.time,
-        dg.time
-    );
-    assert!(
-        rel(dc.kinetic_energy, dg.kinetic_energy) < 2e-2,
-        "kinetic energy: cpu {} gpu {} (rtol 2e-2)",
-        dc.kinetic_energy,
-        dg.kinetic_energy
-    );
-    assert!(
-        rel(dc.max_speed as f64, dg.max_speed as f64) < 5e-2,
-        "max speed: cpu {} gpu {} (rtol 5e-2)",
-        dc.max_speed,
-        dg.max_speed
-    );
-    assert!(
-        (dc.density_error - dg.density_error).abs() < 5e-3,
-        "density error: cpu {} gpu {} (atol 5e-3)",
-        dc.density_error,
-        dg.density_error
-    );
+    common::assert_long_run_close(&dc, &dg);
 }
 
 /// `scene(dim, v)` with a driven group (`group` 0: the wall, moving as a piston; 2: the

@@ -120,3 +120,43 @@ pub fn edited_scene(name: &str, edits: &[(&str, &str)]) -> Scene {
     }
     Scene::from_toml(&text, name).unwrap()
 }
+
+/// The CPU and GPU diagnostics of one scene after a long run agree within the parity
+/// tests' long-run tolerances: the same counts and step, time (rtol 1e-3), kinetic energy
+/// (rtol 2e-2), max speed (rtol 5e-2), density error (atol 5e-3). SPH is chaotic: the
+/// particles themselves diverge.
+pub fn assert_long_run_close(
+    dc: &meshfree_core::solver::Diagnostics,
+    dg: &meshfree_core::solver::Diagnostics,
+) {
+    assert_eq!(
+        (dc.fluid, dc.solid, dc.boundary),
+        (dg.fluid, dg.solid, dg.boundary)
+    );
+    assert_eq!(dc.step, dg.step);
+    let rel = |a: f64, b: f64| (a - b).abs() / a.abs().max(1e-30);
+    assert!(
+        rel(dc.time, dg.time) < 1e-3,
+        "time: cpu {} gpu {} (rtol 1e-3)",
+        dc.time,
+        dg.time
+    );
+    assert!(
+        rel(dc.kinetic_energy, dg.kinetic_energy) < 2e-2,
+        "kinetic energy: cpu {} gpu {} (rtol 2e-2)",
+        dc.kinetic_energy,
+        dg.kinetic_energy
+    );
+    assert!(
+        rel(dc.max_speed as f64, dg.max_speed as f64) < 5e-2,
+        "max speed: cpu {} gpu {} (rtol 5e-2)",
+        dc.max_speed,
+        dg.max_speed
+    );
+    assert!(
+        (dc.density_error - dg.density_error).abs() < 5e-3,
+        "density error: cpu {} gpu {} (atol 5e-3)",
+        dc.density_error,
+        dg.density_error
+    );
+}
