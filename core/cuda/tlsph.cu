@@ -4,14 +4,15 @@
 // each reorder, the stress from the deformation gradient (Saint Venant-Kirchhoff), the
 // internal force with the hourglass control, and the displacement's drift. One thread per
 // solid particle (solid index a = its rank by id), its reference neighbours in the CSR order
-// the host built (src/tlsph.rs `Reference`), so the sums run in the CPU's order; no atomics
+// the host built (src/tlsph/mod.rs `Reference`), so the sums run in the CPU's order; no atomics
 // (each solid adds to its own slot). dt is read on the device (written by sph_step_size).
-// Twin: src/backend/cpu/tlsph.rs (material law and reference set-up: src/tlsph.rs); parity
+// Twin: src/backend/cpu/tlsph.rs (material law and reference set-up: src/tlsph/mod.rs); parity
 // test: tests/cuda_parity.rs.
 //
 // Layout (src/backend/cuda/buffers.rs `TlBuffers`): x0 and disp as float2 (2D) / float4 (3D,
-// w = 0) per solid; the DIM x DIM tensors corr (L = M^-T), grad (H = F - I) and pk1_corr (P L)
-// row-major, DIM * DIM floats per solid; slot NONE (0xffffffff) for a removed particle.
+// w = 0) per solid; grad (H = F - I) row-major, DIM * DIM floats per solid; corr (C, the
+// reference gradient's second-order correction, src/tlsph/gradient.rs) and pk1_corr (P C) as
+// TL_Q columns of DIM floats per solid; slot NONE (0xffffffff) for a removed particle.
 #include "device/entries.cuh"
 #include "device/grid.cuh"
 #include "device/kernel.cuh"
@@ -36,16 +37,46 @@ template <int DIM> __device__ __forceinline__ void tl_mstore(float* __restrict__
 #pragma unroll
         for (int y = 0; y < DIM; ++y) a[i * DIM * DIM + x * DIM + y] = r.m[x][y];
 }
-// grad_a W0_ab = f(|X0_ab|) X0_ab with X0_ab = X0_a - X0_b [L^-d-1], and W0_ab [L^-d]
-// (src/tlsph.rs `grad_w0`, kernel::w).
+// The quadratic basis (src/tlsph/gradient.rs): TL_Q = DIM + DIM (DIM + 1) / 2 functions of
+// s = (X0_b - X0_a) / h: s_1 .. s_DIM, then s_i s_j for i <= j.
+template <int DIM> struct TlBasis {
+    static constexpr int Q = DIM + DIM * (DIM + 1) / 2;
+    float p[Q];
+};
+template <int DIM> __device__ __forceinline__ TlBasis<DIM> tl_basis(const Vec<DIM>& s) {
+    TlBasis<DIM> b;
+    int k = DIM;
+#pragma unroll
+    for (int i = 0; i < DIM; ++i) {
+        b.p[i] = s.c[i];
+#pragma unroll
+        for (int j = i; j < DIM; ++j) b.p[k++] = s.c[i] * s.c[j];
+    }
+    return b;
+}
+// C p: the sum of column m of solid a's block (TL_Q columns of DIM floats) times p_m
+// (gradient.rs `apply`).
 template <int DIM>
-__device__ __forceinline__ Vec<DIM> tl_grad_w0(const SphParams& p, const Vec<DIM>& x0ab, float& w0) {
+__device__ __forceinline__ Vec<DIM> tl_apply(const float* __restrict__ c, unsigned a, const TlBasis<DIM>& b) {
+    constexpr int Q = TlBasis<DIM>::Q;
+    Vec<DIM> out = vzero<DIM>();
+#pragma unroll
+    for (int m = 0; m < Q; ++m)
+#pragma unroll
+        for (int d = 0; d < DIM; ++d) out.c[d] += c[(a * Q + m) * DIM + d] * b.p[m];
+    return out;
+}
+// The pair's reference kernel weight w = -(dW/dr) / r [L^-d-2], W0 [L^-d] and the scaled
+// separation s = (X0_b - X0_a) / h from x0ab = X0_a - X0_b (gradient.rs `pair`).
+template <int DIM>
+__device__ __forceinline__ Vec<DIM> tl_pair(const SphParams& p, const Vec<DIM>& x0ab, float& w, float& w0) {
     float f;
     kernel_wf(p, sqrtf(dot(x0ab, x0ab)), w0, f);
-    return x0ab * f;
+    w = -f;
+    return (vzero<DIM>() - x0ab) * (1.0f / p.h);
 }
 
-// The elastic constants of the Saint Venant-Kirchhoff law (src/tlsph.rs `Material::of`):
+// The elastic constants of the Saint Venant-Kirchhoff law (src/tlsph/mod.rs `Material::of`):
 // K = rho0_s c_s^2, mu = G, lambda = K - 2 G / 3, E = 9 K G / (3 K + G) [M L^-d L^2 T^-2].
 __device__ __forceinline__ void tl_material(const SphParams& p, float& lambda, float& mu, float& young) {
     const float k = p.solid_rho0 * p.solid_c0 * p.solid_c0;
@@ -69,9 +100,9 @@ extern "C" __global__ void __launch_bounds__(MF_BLOCK)
 }
 
 // The stress stage of solid a (src/backend/cpu/tlsph.rs `TlBodies::stress`): the displacement
-// gradient H_a = [sum_b V0_b (u_b - u_a) (x) grad_a W0_ab] L_a^T [-] over the reference
-// neighbours present, the Saint Venant-Kirchhoff stress (src/tlsph.rs `svk`): Green strain
-// E = (H + H^T + H^T H) / 2, S = lambda tr(E) I + 2 mu E, P = F S, J = det F; kept: H and P L;
+// gradient H_a = sum_b (u_b - u_a) (x) g_ab, g_ab = V0_b w_ab C_a p(s_ab) [-] over the reference
+// neighbours present (src/tlsph/mod.rs `displacement_gradient`), the Saint Venant-Kirchhoff
+// stress (src/tlsph/mod.rs `svk`): Green strain E = (H + H^T + H^T H) / 2, S = lambda tr(E) I + 2 mu E, P = F S, J = det F; kept: H and P C;
 // written into a's slot: the deviator sigma + p I of the Cauchy stress sigma = J^-1 P F^T,
 // p = -tr(sigma) / 3 (2D plane strain: + sigma_zz = J^-1 lambda tr(E)), into stress. The
 // slot's density and pressure stay the continuity density's and its equation of state's,
@@ -87,27 +118,26 @@ __device__ void sph_tl_stress_body(const SphParams p, unsigned n, unsigned n_sol
     const unsigned a = blockIdx.x * blockDim.x + threadIdx.x;
     if (a >= n_solid) return;
     const unsigned i = slot[a];
+    constexpr int Q = TlBasis<DIM>::Q;
     if (i == MF_TL_NONE) {
         tl_mstore<DIM>(grad, a, mzero<DIM>());
-        tl_mstore<DIM>(pk1_corr, a, mzero<DIM>());
+        for (int m = 0; m < Q * DIM; ++m) pk1_corr[a * Q * DIM + m] = 0.0f;
         return;
     }
     const Vec<DIM> ua = vload<DIM>(disp, a), xa = vload<DIM>(x0, a);
-    Mat<DIM> g = mzero<DIM>();
+    Mat<DIM> h = mzero<DIM>();
     for (unsigned e = start[a], end = start[a + 1]; e < end; ++e) {
         const unsigned b = nbr[e];
         if (slot[b] == MF_TL_NONE) continue;
-        float w0;
-        const Vec<DIM> gw = tl_grad_w0<DIM>(p, xa - vload<DIM>(x0, b), w0);
+        float w, w0;
+        const Vec<DIM> s = tl_pair<DIM>(p, xa - vload<DIM>(x0, b), w, w0);
+        const Vec<DIM> gw = tl_apply<DIM>(corr, a, tl_basis<DIM>(s)) * (vol[b] * w);
         const Vec<DIM> du = vload<DIM>(disp, b) - ua;
-        const float vb = vol[b];
 #pragma unroll
         for (int x = 0; x < DIM; ++x)
 #pragma unroll
-            for (int y = 0; y < DIM; ++y) g.m[x][y] += (du.c[x] * gw.c[y]) * vb;
+            for (int y = 0; y < DIM; ++y) h.m[x][y] += du.c[x] * gw.c[y];
     }
-    const Mat<DIM> L = tl_mload<DIM>(corr, a);
-    const Mat<DIM> h = mat_mul<DIM>(g, transpose<DIM>(L));
     // Saint Venant-Kirchhoff, as `svk`.
     float lambda, mu, young;
     tl_material(p, lambda, mu, young);
@@ -138,7 +168,15 @@ __device__ void sph_tl_stress_body(const SphParams p, unsigned n, unsigned n_sol
 #pragma unroll
     for (int x = 0; x < DIM; ++x) sigma.m[x][x] += pressure;  // the deviator sigma + p I
     tl_mstore<DIM>(grad, a, h);
-    tl_mstore<DIM>(pk1_corr, a, mat_mul<DIM>(pk1, L));
+#pragma unroll
+    for (int m = 0; m < Q; ++m) {
+        Vec<DIM> c;
+#pragma unroll
+        for (int d = 0; d < DIM; ++d) c.c[d] = corr[(a * Q + m) * DIM + d];
+        const Vec<DIM> pc = mat_vec<DIM>(pk1, c);
+#pragma unroll
+        for (int d = 0; d < DIM; ++d) pk1_corr[(a * Q + m) * DIM + d] = pc.c[d];
+    }
     if (stress) sstore<DIM>(stress, i, n, sigma);
 }
 MF_ENTRY2(sph_tl_stress,
@@ -149,9 +187,10 @@ MF_ENTRY2(sph_tl_stress,
 
 // The internal force of solid a (src/backend/cpu/tlsph.rs `TlBodies::forces`), added to the
 // force stage's acceleration of its slot [L/T^2]:
-// acc_a += (1 / rho0_s) sum_b V0_b (P_a L_a + P_b L_b) grad_a W0_ab (O'Connor & Rogers 2021,
-// m_a dv_a/dt = sum_b V0_a V0_b (...), V0_a / m_a = 1 / rho0_s), plus Ganzenmueller 2015's
-// hourglass control eq. (10) (src/tlsph.rs `hourglass`): with eps = (H_a + H_b) X0_ab - 2 u_ab,
+// acc_a += (1 / rho0_s) sum_b V0_b w_ab [P_a C_a p(s_ab) - P_b C_b p(-s_ab)] (src/tlsph/mod.rs:
+// the derivative of the discrete strain energy; m_a dv_a/dt = sum_b V0_a V0_b w_ab [...],
+// V0_a / m_a = 1 / rho0_s), plus Ganzenmueller 2015's
+// hourglass control eq. (10) (src/tlsph/mod.rs `hourglass`): with eps = (H_a + H_b) X0_ab - 2 u_ab,
 // acc_a += (alpha / 2) (V0_b / rho0_s) W0_ab / |X0_ab|^2 E (eps . x_ab) x_ab / |x_ab|^2.
 // The internal force and hourglass of solid a in slot i, added to acc[i]; returns the new |acc[i]|.
 template <int DIM>
@@ -163,7 +202,6 @@ __device__ __forceinline__ float tl_force_one(const SphParams& p, unsigned a, un
                                               float* __restrict__ acc) {
     float lambda, mu, young;
     tl_material(p, lambda, mu, young);
-    const Mat<DIM> pla = tl_mload<DIM>(pk1_corr, a);
     const Mat<DIM> ha = p.hourglass > 0.0f ? tl_mload<DIM>(grad, a) : mzero<DIM>();
     const Vec<DIM> ua = vload<DIM>(disp, a), xa = vload<DIM>(x0, a);
     const Vec<DIM> xi = p.hourglass > 0.0f ? vload<DIM>(pos, i) : vzero<DIM>();
@@ -173,15 +211,12 @@ __device__ __forceinline__ float tl_force_one(const SphParams& p, unsigned a, un
         const unsigned j = slot[b];
         if (j == MF_TL_NONE) continue;
         const Vec<DIM> x0ab = xa - vload<DIM>(x0, b);
-        float w0;
-        const Vec<DIM> gw = tl_grad_w0<DIM>(p, x0ab, w0);
+        float w, w0;
+        const Vec<DIM> s = tl_pair<DIM>(p, x0ab, w, w0);
+        const Vec<DIM> f = tl_apply<DIM>(pk1_corr, a, tl_basis<DIM>(s)) -
+                           tl_apply<DIM>(pk1_corr, b, tl_basis<DIM>(vzero<DIM>() - s));
         const float vb = vol[b];
-        Mat<DIM> pl = tl_mload<DIM>(pk1_corr, b);
-#pragma unroll
-        for (int x = 0; x < DIM; ++x)
-#pragma unroll
-            for (int y = 0; y < DIM; ++y) pl.m[x][y] = pla.m[x][y] + pl.m[x][y];
-        sum = sum + mat_vec<DIM>(pl, gw) * (vb / p.solid_rho0);
+        sum = sum + f * (vb * w / p.solid_rho0);
         if (p.hourglass > 0.0f) {
             const Vec<DIM> xab = separation<DIM>(p, xi, vload<DIM>(pos, j));
             const float r0_2 = dot(x0ab, x0ab), r2 = dot(xab, xab);

@@ -10,7 +10,6 @@ mod common;
 use meshfree_core::backend::{self, BackendChoice};
 use meshfree_core::exchange::{balanced, halo_width, longest_axis, Slab};
 use meshfree_core::particle::Particle;
-use meshfree_core::scene::Scene;
 
 use common::edited_scene as scene;
 use meshfree_core::solver::{Setup, Solver};
@@ -221,8 +220,8 @@ fn slabs_split_by_count_and_the_halo_covers_the_passes() {
     assert_eq!(slabs.len(), 4);
     assert_eq!(slabs[0].lo, f32::NEG_INFINITY);
     assert_eq!(slabs[3].hi, f32::INFINITY);
-    for k in 0..4 {
-        let c = xs.iter().filter(|&&x| slabs[k].contains(x)).count();
+    for (k, slab) in slabs.iter().enumerate() {
+        let c = xs.iter().filter(|&&x| slab.contains(x)).count();
         assert!(
             c.abs_diff(xs.len() / 4) <= xs.len() / 20,
             "slab {k} holds {c} of {}",

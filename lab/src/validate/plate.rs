@@ -22,14 +22,10 @@
 //! the artificial stress nor the density diffusion (no tensile instability; its density is
 //! rho0 / det F) and takes the hourglass control at its default. The target for the
 //! latter: the frequency within 2 % at H / dx = 8. Its rows are informational unless they
-//! pass the same bounds. Measured (CPU, release, 2.5 periods, `tests::measure_plate`): total
-//! Lagrangian at H / dx = 4 period +33.4 %, amplitude +28.4 %, decay 0.001 per cycle; at 8
-//! +9.4 %, +6.9 %, 0.000 (the Jaumann rate at 4: +42.8 %, +36.6 %, 0.105; at 8: +17.6 %,
-//! +14.5 %, 0.040). The 2 % target
-//! at 8 is not met yet. On the GPU (full tier, 3.5 periods, H100, `cuda/tlsph.cu`): total
-//! Lagrangian period +9.4 % at H / dx = 8, +3.3 % at 16, +1.5 % at 32 (amplitude +6.9 %,
-//! +1.6 %, +0.2 %; decay 0.000 per cycle; observed order of the period error 1.34); the
-//! Jaumann rate +17.7 %, +7.6 %, +7.5 % (amplitude +14.5 %, +7.4 %, +6.1 %; order 0.62).
+//! pass the same bounds. Measured (docs/reference/accuracy.md): total Lagrangian, reference
+//! gradient exact for quadratic fields, period +9.6 % at H / dx = 4 (CPU), +4.0 %, +2.0 %,
+//! +1.2 % at 8, 16, 32 (H200, 2026-11-27); the Jaumann rate +42.8 % at 4, +17.7 %, +7.6 %,
+//! +6.5 % at 8, 16, 32. The 2 % target at 8 is not met yet.
 //!
 //! Quick tier: H / dx = 4 (coarse: the plate is soft and the clamp compliant), 2.5 periods,
 //! regression bounds. Full tier (GPU): H / dx = 8, 16, 32, 3.5 periods, the JSON's tolerances

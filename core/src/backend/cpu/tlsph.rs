@@ -11,7 +11,8 @@ use crate::dim::Dim;
 use crate::params::{SphParams, MF_KIND_SOLID};
 use crate::particle::Particle;
 use crate::state::State;
-use crate::tlsph::{grad_w0, hourglass, svk, Material, Reference, NONE};
+use crate::tlsph::gradient::{apply, basis, pair, Q_MAX};
+use crate::tlsph::{hourglass, svk, Corr, Material, Reference, NONE};
 
 /// The bodies' reference configuration and what the stages keep per solid particle, in
 /// solid space (`crate::tlsph`).
@@ -24,8 +25,9 @@ pub struct TlBodies<D: Dim> {
     pub disp: Vec<D::V>,
     /// [-] H = F - I of the last stress stage.
     pub grad_u: Vec<D::M>,
-    /// [M L^-d L^2 T^-2] P L of the last stress stage (the internal force's factor).
-    pub pk1_corr: Vec<D::M>,
+    /// [M L^-d L^2 T^-2 L] P C of the last stress stage, column by column (the internal
+    /// force's factor).
+    pub pk1_corr: Vec<Corr<D>>,
 }
 
 impl<D: Dim> TlBodies<D> {
@@ -38,7 +40,7 @@ impl<D: Dim> TlBodies<D> {
             slot: vec![NONE; n],
             disp: vec![D::V::default(); n],
             grad_u: vec![D::zero(); n],
-            pk1_corr: vec![D::zero(); n],
+            pk1_corr: vec![[D::V::default(); Q_MAX]; n],
         }
     }
 
@@ -57,7 +59,7 @@ impl<D: Dim> TlBodies<D> {
     }
 
     /// The stress stage: per solid particle H = F - I from the displacements, the
-    /// Saint Venant-Kirchhoff stress (`svk`), P L kept for the force stage, and the
+    /// Saint Venant-Kirchhoff stress (`svk`), P C kept for the force stage, and the
     /// deviator of the Cauchy stress written into the stress array, where the rest of the
     /// scheme reads it. The particle's density and pressure stay the continuity density's
     /// and its equation of state's, as a dynamic wall particle's: they are what the fluid
@@ -67,16 +69,16 @@ impl<D: Dim> TlBodies<D> {
         let m = Material::of(p);
         let (r, slot, disp) = (&self.reference, &self.slot, &self.disp);
         // Per solid particle: H, P L, and the Cauchy stress's deviator (`SolidStress`).
-        let out: Vec<(D::M, D::M, D::M)> = (0..r.len())
+        let out: Vec<(D::M, Corr<D>, D::M)> = (0..r.len())
             .into_par_iter()
             .map(|a| {
                 if slot[a] == NONE {
-                    return (D::zero(), D::zero(), D::zero());
+                    return (D::zero(), [D::V::default(); Q_MAX], D::zero());
                 }
                 let h =
                     r.displacement_gradient(p, a, disp[a], |b| (slot[b] != NONE).then(|| disp[b]));
                 let st = svk::<D>(&m, p.solid_rho0, h);
-                (h, st.pk1 * r.corr[a], st.deviator)
+                (h, r.corr[a].map(|c| D::mat_vec(st.pk1, c)), st.deviator)
             })
             .collect();
         let mut stress = s.solid.as_mut().map(|so| &mut so.stress);
@@ -94,9 +96,9 @@ impl<D: Dim> TlBodies<D> {
         }
     }
 
-    /// The internal force: acc_a += (1 / rho0_s) sum_b V0_b (P_a L_a + P_b L_b) grad_a W0_ab
-    /// (O'Connor & Rogers 2021: m_a dv_a/dt = sum_b V0_a V0_b (...), V0_a / m_a = 1 /
-    /// rho0_s) plus the hourglass control (`hourglass`), added to the force stage's sum
+    /// The internal force: acc_a += (1 / rho0_s) sum_b V0_b w_ab [P_a C_a p(s_ab) -
+    /// P_b C_b p(-s_ab)] (`crate::tlsph`: m_a dv_a/dt = sum_b V0_a V0_b w_ab [...], V0_a / m_a =
+    /// 1 / rho0_s) plus the hourglass control (`hourglass`), added to the force stage's sum
     /// (which skipped the pairs of one body: `ForceSum`). [L/T^2]
     pub fn forces(&self, p: &SphParams, s: &mut State<D>) {
         let young = Material::of(p).young;
@@ -110,15 +112,17 @@ impl<D: Dim> TlBodies<D> {
                     return D::V::default();
                 }
                 let mut acc = D::V::default();
-                let (pla, ha, ua) = (self.pk1_corr[a], self.grad_u[a], self.disp[a]);
+                let (pla, ha, ua) = (&self.pk1_corr[a], self.grad_u[a], self.disp[a]);
                 for &b in r.neighbours(a) {
                     let b = b as usize;
                     let j = slot[b];
                     if j == NONE {
                         continue;
                     }
-                    let gw = grad_w0::<D>(p, r.x0[a], r.x0[b]);
-                    acc += D::mat_vec(pla + self.pk1_corr[b], gw) * (r.vol[b] / p.solid_rho0);
+                    let (w, sab) = pair::<D>(p, r.x0[a], r.x0[b]);
+                    let (pab, pba) = (basis::<D>(sab), basis::<D>(-sab));
+                    let f = apply::<D>(pla, &pab) - apply::<D>(&self.pk1_corr[b], &pba);
+                    acc += f * (r.vol[b] * w / p.solid_rho0);
                     if p.hourglass > 0.0 {
                         let x_ab = separation::<D>(p, pos[i as usize], pos[j as usize]);
                         acc += hourglass::<D>(

@@ -585,7 +585,8 @@ pub struct TlBuffers {
     pub x0: CudaSlice<f32>,
     /// [L^d] V0.
     pub vol: CudaSlice<f32>,
-    /// [-] L = M^-T, row-major, D x D per solid.
+    /// [L] C, the reference gradient's second-order correction (`tlsph::gradient`): Q
+    /// columns of D floats per solid (`corr_columns`).
     pub corr: CudaSlice<f32>,
     /// CSR of the reference neighbours (solid indices).
     pub start: CudaSlice<u32>,
@@ -596,23 +597,20 @@ pub struct TlBuffers {
     pub disp: CudaSlice<f32>,
     /// [-] H = F - I, row-major D x D.
     pub grad: CudaSlice<f32>,
-    /// [M L^-d L^2 T^-2] P L, row-major D x D.
+    /// [M L^-d L^2 T^-2 L] P C, as corr.
     pub pk1_corr: CudaSlice<f32>,
     /// Bytes allocated for the above.
     pub bytes: usize,
 }
 
-/// Tensors -> row-major D x D floats each.
-fn flat_full<D: Dim>(m: &[D::M]) -> Vec<f32> {
-    m.iter()
+/// Corrections -> Q = `basis_len(D)` columns of D floats each, column after column.
+fn corr_columns<D: Dim>(c: &[crate::tlsph::Corr<D>]) -> Vec<f32> {
+    let q = crate::tlsph::gradient::basis_len(D::D);
+    c.iter()
         .flat_map(|x| {
-            let mut r = Vec::with_capacity(D::D * D::D);
-            for a in 0..D::D {
-                for b in 0..D::D {
-                    r.push(D::entry(*x, a, b));
-                }
-            }
-            r
+            x[..q]
+                .iter()
+                .flat_map(|&v| (0..D::D).map(move |k| D::comp(v, k)))
         })
         .collect()
 }
@@ -627,6 +625,7 @@ impl TlBuffers {
         let n = r.len();
         let vs = vstride::<D>();
         let dd = D::D * D::D;
+        let dq = D::D * crate::tlsph::gradient::basis_len(D::D);
         let mut a = Alloc { s, bytes: 0 };
         let mut t = TlBuffers {
             n_solid: n,
@@ -634,13 +633,13 @@ impl TlBuffers {
             n_index: r.index_of_id.len(),
             x0: a.z(n * vs)?,
             vol: a.z(n)?,
-            corr: a.z(n * dd)?,
+            corr: a.z(n * dq)?,
             start: a.z(n + 1)?,
             nbr: a.z(r.nbr.len())?,
             slot: a.z(n)?,
             disp: a.z(n * vs)?,
             grad: a.z(n * dd)?,
-            pk1_corr: a.z(n * dd)?,
+            pk1_corr: a.z(n * dq)?,
             bytes: 0,
         };
         t.bytes = a.bytes;
@@ -650,7 +649,7 @@ impl TlBuffers {
         if n > 0 {
             s.memcpy_htod(&flat_v::<D>(&r.x0, |_| 0.0), &mut t.x0)?;
             s.memcpy_htod(&r.vol, &mut t.vol)?;
-            s.memcpy_htod(&flat_full::<D>(&r.corr), &mut t.corr)?;
+            s.memcpy_htod(&corr_columns::<D>(&r.corr), &mut t.corr)?;
         }
         s.memcpy_htod(&r.start, &mut t.start)?;
         if !r.nbr.is_empty() {

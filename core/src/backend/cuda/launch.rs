@@ -689,9 +689,10 @@ pub fn tl_stress(
     let (n, ns) = (b.n as u32, t.n_solid as u32);
     let c = &mut b.cur;
     // SAFETY: the arguments of `Family::TlStress`; slot, vol hold n_solid entries, start
-    // n_solid + 1, nbr start[n_solid] (solid indices), x0 and disp n_solid vectors, corr, grad
-    // and pk1_corr n_solid D x D blocks; every slot is NONE or below n; stress n_sym planes of
-    // n (present: the scene has solids).
+    // n_solid + 1, nbr start[n_solid] (solid indices), x0 and disp n_solid vectors, grad
+    // n_solid D x D blocks, corr and pk1_corr n_solid blocks of Q = basis_len(D) columns of D
+    // floats; every slot is NONE or below n; stress n_sym planes of n (present: the scene has
+    // solids).
     let kt = k.get(Family::TlStress);
     let mut l = s.launch_builder(&kt.f);
     l.arg(p)

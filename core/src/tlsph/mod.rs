@@ -8,29 +8,33 @@
 //!
 //! The solid particles live in a fixed *solid space*: index a = their rank by id, whatever
 //! the storage order (which the grid re-sorts every step). Per solid particle: the reference
-//! position X0_a [L], the reference volume V0_a = m_a / rho0_s [L^d], the correction matrix
-//! L_a = M_a^-T with M_a = sum_b V0_b (X0_b - X0_a) (x) grad_a W0_ab [-] (Bonet & Lok 1999:
-//! then the corrected gradient sum_b V0_b (f_b - f_a) (x) L_a grad_a W0_ab is exact for a
-//! linear field f, the body's surface included), and its reference neighbours: the solid
-//! particles of the same body (`same_body`: a clamp is bonded to the body it holds) within
-//! the support at the start, ascending, as a CSR list. grad_a W0_ab = f(|X0_ab|) X0_ab with
-//! X0_ab = X0_a - X0_b (`kernel::f`) is recomputed from X0 where needed.
+//! position X0_a [L], the reference volume V0_a = m_a / rho0_s [L^d], the correction C_a of
+//! its reference gradient (`gradient`: consistent to second order, so that the gradient
+//! sum_b (f_b - f_a) (x) g_ab with g_ab = V0_b w_ab C_a p(s_ab) is exact for a quadratic
+//! field f, the body's faces included; Bonet & Lok's L_a = M_a^-T in the interior), and its
+//! reference neighbours: the solid particles of the same body (`same_body`: a clamp is bonded
+//! to the body it holds) within the support at the start, ascending, as a CSR list.
 //!
 //! The stages (CPU: `backend/cpu/tlsph.rs`; CUDA: `cuda/tlsph.cu`) integrate a displacement
 //! u = x - X0 per solid particle (f32 positions near 1 m resolve strains of about 1e-7 / dx
 //! only, an aluminium plate strains 1e-5), form the displacement gradient H = F - I from it,
-//! the Saint Venant-Kirchhoff stress (`svk`), and the internal force
-//! m_a dv_a/dt = sum_b V0_a V0_b (P_a L_a + P_b L_b) grad_a W0_ab (O'Connor & Rogers 2021;
-//! the derivative of the discrete strain energy, so momentum-conserving).
+//! the Saint Venant-Kirchhoff stress (`svk`), and the internal force, the derivative of the
+//! discrete strain energy sum_a V0_a psi(F_a) with respect to u_a (so momentum-conserving):
+//! m_a dv_a/dt = V0_a P_a sum_b g_ab - sum_b V0_b P_b g_ba
+//!             = sum_b V0_a V0_b w_ab [P_a C_a p(s_ab) - P_b C_b p(-s_ab)]
+//! (O'Connor & Rogers 2021's sum_b V0_a V0_b (P_a L_a + P_b L_b) grad_a W0_ab where C is
+//! linear).
+
+pub mod gradient;
 
 use std::collections::HashMap;
 
 use crate::backend::pair::same_body;
-use crate::consts::MF_MOMENT_DET_MIN;
 use crate::dim::Dim;
 use crate::kernel;
 use crate::params::{SphParams, MF_KIND_SOLID, MF_SOLID_TOTAL_LAGRANGIAN};
 use crate::particle::{Kind, Particle};
+pub use gradient::Corr;
 
 /// No solid index (an id that is not a solid particle's), no storage slot (a solid particle
 /// removed with its group).
@@ -53,18 +57,11 @@ pub struct Reference<D: Dim> {
     pub x0: Vec<D::V>,
     /// [L^d] V0 = m / rho0_s.
     pub vol: Vec<f32>,
-    /// [-] L_a = M_a^-T (the identity where M_a is singular: a lone particle, a row).
-    pub corr: Vec<D::M>,
+    /// [L] C_a, the second-order correction of the reference gradient (`gradient`).
+    pub corr: Vec<Corr<D>>,
     /// CSR: the neighbours of a are `nbr[start[a] .. start[a + 1]]` (solid indices).
     pub start: Vec<u32>,
     pub nbr: Vec<u32>,
-}
-
-/// grad_a W0_ab = f(|X0_ab|) X0_ab, X0_ab = X0_a - X0_b [L^-d-1].
-#[inline]
-pub fn grad_w0<D: Dim>(p: &SphParams, x0a: D::V, x0b: D::V) -> D::V {
-    let r = x0a - x0b;
-    r * kernel::f(p, D::length2(r).sqrt())
 }
 
 impl<D: Dim> Reference<D> {
@@ -130,16 +127,11 @@ impl<D: Dim> Reference<D> {
         }
         let corr = (0..n)
             .map(|a| {
-                let mut m = D::zero();
-                for &b in &nbr[start[a] as usize..start[a + 1] as usize] {
-                    let b = b as usize;
-                    m += D::outer(x0[b] - x0[a], grad_w0::<D>(p, x0[a], x0[b])) * vol[b];
-                }
-                if D::determinant(m).abs() > MF_MOMENT_DET_MIN as f32 {
-                    D::inverse(D::transpose(m))
-                } else {
-                    D::identity()
-                }
+                let nbrs: Vec<(D::V, f32)> = nbr[start[a] as usize..start[a + 1] as usize]
+                    .iter()
+                    .map(|&b| (x0[b as usize], vol[b as usize]))
+                    .collect();
+                gradient::correction::<D>(p, x0[a], &nbrs)
             })
             .collect();
         Reference {
@@ -168,10 +160,10 @@ impl<D: Dim> Reference<D> {
         &self.nbr[self.start[a] as usize..self.start[a + 1] as usize]
     }
 
-    /// The displacement gradient H_a = F_a - I = [sum_b V0_b (u_b - u_a) (x) grad_a W0_ab]
-    /// L_a^T [-] (O'Connor & Rogers 2021's F less I, from the displacement rather than
-    /// the position so that small strains survive f32), over the neighbours b for which
-    /// `disp(b)` answers (a removed particle does not).
+    /// The displacement gradient H_a = F_a - I = sum_b (u_b - u_a) (x) g_ab [-] (`gradient`;
+    /// O'Connor & Rogers 2021's F less I, from the displacement rather than the position so
+    /// that small strains survive f32), over the neighbours b for which `disp(b)` answers (a
+    /// removed particle does not).
     pub fn displacement_gradient(
         &self,
         p: &SphParams,
@@ -183,10 +175,12 @@ impl<D: Dim> Reference<D> {
         for &b in self.neighbours(a) {
             let b = b as usize;
             if let Some(ub) = disp(b) {
-                g += D::outer(ub - ua, grad_w0::<D>(p, self.x0[a], self.x0[b])) * self.vol[b];
+                let gw =
+                    gradient::weight::<D>(p, &self.corr[a], self.vol[b], self.x0[a], self.x0[b]);
+                g += D::outer(ub - ua, gw);
             }
         }
-        g * D::transpose(self.corr[a])
+        g
     }
 }
 
