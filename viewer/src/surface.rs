@@ -24,9 +24,9 @@ const BLUR_MAX_PX: i32 = 24;
 const DEPTH_SIGMA_SPACINGS: f32 = 2.0;
 /// Absorption per channel [1/L] times a quarter of the scene's diagonal: red goes first,
 /// so thick water turns blue-green, whatever the scene's units.
-const ABSORB: [f32; 3] = [4.0, 1.4, 0.8];
+const ABSORB: [f32; 3] = [8.0, 2.6, 1.5];
 /// The colour deep water scatters back (linear RGB).
-const WATER: [f32; 3] = [0.12, 0.48, 0.78];
+const WATER: [f32; 3] = [0.14, 0.52, 0.86];
 /// The light, view space (the spheres' light too).
 const LIGHT: [f32; 3] = [-0.4, 0.6, 0.7];
 
@@ -70,11 +70,13 @@ fn gl_err(m: impl Into<String>) -> ViewerError {
     ViewerError::Gl(m.into())
 }
 
+/// `mipmaps`: the texture is sampled through its mipmaps (made after each draw into it).
 unsafe fn make_target(
     gl: &glow::Context,
     (w, h): (u32, u32),
     internal: u32,
     depth: Option<glow::Renderbuffer>,
+    mipmaps: bool,
 ) -> Result<Target, ViewerError> {
     let tex = gl.create_texture().map_err(gl_err)?;
     gl.bind_texture(glow::TEXTURE_2D, Some(tex));
@@ -89,9 +91,14 @@ unsafe fn make_target(
         glow::FLOAT,
         None,
     );
+    let (min, mag) = if mipmaps {
+        (glow::LINEAR_MIPMAP_LINEAR, glow::LINEAR)
+    } else {
+        (glow::NEAREST, glow::NEAREST)
+    };
     for (k, v) in [
-        (glow::TEXTURE_MIN_FILTER, glow::NEAREST),
-        (glow::TEXTURE_MAG_FILTER, glow::NEAREST),
+        (glow::TEXTURE_MIN_FILTER, min),
+        (glow::TEXTURE_MAG_FILTER, mag),
         (glow::TEXTURE_WRAP_S, glow::CLAMP_TO_EDGE),
         (glow::TEXTURE_WRAP_T, glow::CLAMP_TO_EDGE),
     ] {
@@ -146,11 +153,11 @@ impl Targets {
         Ok(Targets {
             size,
             depth_rb,
-            depth: make_target(gl, size, glow::R32F, Some(depth_rb))?,
-            thickness: make_target(gl, size, glow::R16F, None)?,
+            depth: make_target(gl, size, glow::R32F, Some(depth_rb), false)?,
+            thickness: make_target(gl, size, glow::R16F, None, true)?,
             blur: [
-                make_target(gl, size, glow::R32F, None)?,
-                make_target(gl, size, glow::R32F, None)?,
+                make_target(gl, size, glow::R32F, None, false)?,
+                make_target(gl, size, glow::R32F, None, false)?,
             ],
         })
     }
@@ -276,6 +283,11 @@ impl Surface {
         );
         gl.draw_arrays_instanced(glow::TRIANGLES, 0, 6, count as i32);
         gl.disable(glow::BLEND);
+        // Its mipmaps: the shading reads it averaged over about a particle spacing, so
+        // that the spheres' chords do not show as discs.
+        gl.bind_texture(glow::TEXTURE_2D, Some(t.thickness.tex));
+        gl.generate_mipmap(glow::TEXTURE_2D);
+        gl.bind_texture(glow::TEXTURE_2D, None);
 
         // 3. Bilateral smoothing of the distance, ping-pong between the blur targets.
         gl.use_program(Some(blur_prog));
@@ -329,6 +341,8 @@ impl Surface {
             ABSORB[2] / len,
         );
         gl.uniform_3_f32(loc("u_water").as_ref(), WATER[0], WATER[1], WATER[2]);
+        gl.uniform_1_f32(loc("u_spacing_px").as_ref(), v.spacing * u.px_scale);
+        gl.uniform_1_f32(loc("u_edge_dz").as_ref(), DEPTH_SIGMA_SPACINGS * v.spacing);
         gl.active_texture(glow::TEXTURE1);
         gl.bind_texture(glow::TEXTURE_2D, Some(t.thickness.tex));
         gl.active_texture(glow::TEXTURE0);
