@@ -282,6 +282,9 @@ pub struct ViewArgs {
     /// follows).
     #[arg(long, value_name = "DX")]
     pub spacing: Option<f64>,
+    /// 3D: start with the fluid drawn as a screen-space surface (`s` in the window).
+    #[arg(long)]
+    pub surface: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -331,6 +334,14 @@ pub struct RenderArgs {
     /// (frames per second, solver slow-down from drawing).
     #[arg(long, value_name = "K", requires = "frames")]
     pub steps_per_frame: Option<u32>,
+    /// 3D: draw the fluid as a screen-space surface (smoothed depth, Fresnel, absorption)
+    /// instead of spheres.
+    #[arg(long)]
+    pub surface: bool,
+    /// Draw the viewer's panel (time, particles, steps/s, frames/s, field and range, what
+    /// is shown) as the live window does.
+    #[arg(long)]
+    pub panel: bool,
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {

@@ -9,11 +9,13 @@ use meshfree::cli::{RenderArgs, ShownField, ViewArgs};
 use meshfree::output::{write_vtu, RunStatus, RunSummary, Timing};
 use meshfree_core::backend::create;
 use meshfree_core::frame;
-use meshfree_core::scene::format::OutputFormat;
+use meshfree_core::scene::format::{OutputFormat, Wall};
 use meshfree_core::scene::{Counts, Overrides, Scene};
 use meshfree_core::solver::{Diagnostics, Shown, Snapshot, Solver};
 use meshfree_core::step::Stepper;
-use meshfree_viewer::{Field, FrameData, LiveSource, RenderOptions, Status, ViewOptions};
+use meshfree_viewer::{
+    Field, FrameData, LiveSource, Outline, Panel, RenderOptions, Status, ViewOptions,
+};
 
 fn field(f: ShownField) -> Field {
     match f {
@@ -32,6 +34,34 @@ struct Live {
     stepper: Stepper,
     time: f64,
     snapshot: Snapshot,
+    /// The walls drawn as outlines in 3D, with the time each is removed at (gates).
+    outlines: Vec<(Outline, Option<f64>)>,
+}
+
+/// The scene's box walls (containers by their inside, obstacles and gates), as outlines
+/// for the 3D viewer. Driven walls move and cylinders are no boxes: left out (`b` shows
+/// their particles).
+fn wall_outlines(scene: &Scene) -> Vec<(Outline, Option<f64>)> {
+    if scene.file.dimension != 3 {
+        return Vec::new();
+    }
+    let corner = |v: &[f64]| -> [f32; 3] { std::array::from_fn(|i| v[i] as f32) };
+    scene
+        .file
+        .walls
+        .iter()
+        .filter(|w| w.motion().is_none())
+        .filter_map(|w| match w {
+            Wall::BoxContainer { min, max, .. } | Wall::Box { min, max, .. } => Some((
+                Outline {
+                    min: corner(min),
+                    max: corner(max),
+                },
+                w.remove_at(),
+            )),
+            Wall::Segment { .. } | Wall::Cylinder { .. } => None,
+        })
+        .collect()
 }
 
 impl Live {
@@ -48,6 +78,7 @@ impl Live {
         );
         let stepper = Stepper::new(scene.gates());
         Ok(Live {
+            outlines: wall_outlines(&scene),
             scene,
             backend,
             solver,
@@ -97,6 +128,15 @@ impl LiveSource for Live {
             out.domain_max[2] = 0.0;
         }
         out.particle_radius = 0.5 * p.dx;
+        // Gates leave the picture when they are removed.
+        let t = self.time;
+        out.outlines.clear();
+        out.outlines.extend(
+            self.outlines
+                .iter()
+                .filter(|(_, removed)| removed.is_none_or(|r| t < r))
+                .map(|(o, _)| *o),
+        );
         self.snapshot.positions = std::mem::take(&mut out.positions);
         self.snapshot.values = std::mem::take(&mut out.values);
         self.snapshot.kinds = std::mem::take(&mut out.kinds);
@@ -141,6 +181,7 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
         field: field(a.field),
         steps_per_frame: a.steps_per_frame,
         hide_boundary: dim == 3,
+        surface: a.surface,
         screenshot_dir: out.clone(),
         ..Default::default()
     };
@@ -218,14 +259,41 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
     let dim = live.solver.params().dim;
     let mut renderer = meshfree_viewer::HeadlessRenderer::new()?;
     let mut frame = FrameData::default();
+    // The panel's rates: solver steps and drawn frames per second since the last image.
+    let mut pace = (
+        std::time::Instant::now(),
+        live.solver.steps(),
+        0.0f64,
+        0.0f64,
+    );
+    let steps_per_frame = a.steps_per_frame.unwrap_or(0);
     let mut shoot = |live: &mut Live, path: Option<&Path>| -> anyhow::Result<()> {
         live.frame(f, &mut frame);
+        let status = live.status();
+        let panel = a.panel.then(|| {
+            let dt = pace.0.elapsed().as_secs_f64().max(1e-9);
+            if pace.1 != status.step {
+                pace.2 = (status.step - pace.1) as f64 / dt;
+                pace.3 = 1.0 / dt;
+            }
+            pace = (std::time::Instant::now(), status.step, pace.2, pace.3);
+            Panel {
+                status,
+                paused: false,
+                steps_per_frame,
+                steps_per_second: pace.2,
+                frames_per_second: pace.3,
+                show_help: false,
+            }
+        });
         let opts = RenderOptions {
             width: a.size.0,
             height: a.size.1,
             field: f,
             hide_kinds: [false, false, dim == 3 && !a.show_boundary],
             overlay: vec![format!("{}  t = {:.3}", scene.name(), live.time)],
+            surface: a.surface,
+            panel,
             ..Default::default()
         };
         let image = renderer.render(&frame, &opts)?;
@@ -314,4 +382,34 @@ fn figure_moments(scene: &Scene) -> Vec<f64> {
         scene.name()
     );
     m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_3d_dam_break_shows_its_tank_and_loses_its_gate() {
+        let scene = Scene::load("dam-break-3d").unwrap();
+        let o = wall_outlines(&scene);
+        assert_eq!(o.len(), 2, "{o:?}");
+        assert_eq!(
+            o[0],
+            (
+                Outline {
+                    min: [0.0, 0.0, 0.0],
+                    max: [3.0, 1.6, 0.48]
+                },
+                None
+            )
+        );
+        assert_eq!(o[1].1, Some(0.0), "the gate goes at t = 0");
+        // The frame carries the tank only: the gate is removed at the start.
+        let mut live = Live::new(scene, meshfree_core::backend::BackendChoice::Cpu).unwrap();
+        let mut frame = FrameData::default();
+        live.frame(Field::Speed, &mut frame);
+        assert_eq!(frame.outlines, vec![o[0].0]);
+        // 2D scenes have none.
+        assert!(wall_outlines(&Scene::load("dam-break-2d").unwrap()).is_empty());
+    }
 }

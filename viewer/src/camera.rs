@@ -87,21 +87,51 @@ impl OrthoCamera {
 }
 
 impl OrbitCamera {
-    /// A three-quarter view from above that frames the domain in a view of the given aspect.
+    /// A three-quarter view from above whose distance is the least at which all eight corners
+    /// of the box (plus `margin` world units) lie inside a view of the given aspect (width /
+    /// height), with 4 % to spare: the box fills the frame.
     pub fn fit(domain_min: [f32; 3], domain_max: [f32; 3], margin: f32, aspect: f32) -> Self {
         let (lo, hi) = domain(domain_min, domain_max);
         let c = (lo + hi) * 0.5;
-        let r = ((hi - lo) * 0.5).length() + margin.max(0.0);
+        let half = (hi - lo) * 0.5 + Vec3::splat(margin.max(0.0));
         let fov_y = 40f32.to_radians();
-        let fov_x = 2.0 * ((fov_y * 0.5).tan() * aspect).atan();
-        let half = 0.5 * fov_y.min(fov_x);
-        OrbitCamera {
+        let mut cam = OrbitCamera {
             target: c.to_array(),
-            distance: (r / half.sin()).max(1e-6),
+            distance: 1.0,
             yaw: 35f32.to_radians(),
             pitch: 25f32.to_radians(),
             fov_y,
+        };
+        // The view's axes: `back` points from the target to the eye.
+        let back = Vec3::from(cam.eye()) - c;
+        let right = Vec3::Y.cross(back).normalize();
+        let up = back.cross(right);
+        let ty = (fov_y * 0.5).tan();
+        let tx = ty * aspect.max(1e-6);
+        let mut d = 0f32;
+        for i in 0..8 {
+            let s = Vec3::new(
+                if i & 1 == 0 { -1.0 } else { 1.0 },
+                if i & 2 == 0 { -1.0 } else { 1.0 },
+                if i & 4 == 0 { -1.0 } else { 1.0 },
+            );
+            let p = s * half;
+            // A corner at depth (d - z) in front of the eye is inside when |x| <= tx (d - z).
+            let z = p.dot(back);
+            d = d
+                .max(z + p.dot(right).abs() / tx)
+                .max(z + p.dot(up).abs() / ty);
         }
+        cam.distance = (1.04 * d).max(1e-6);
+        cam
+    }
+
+    /// Where the world point `p` lands in the view (normalised device coordinates: x and y
+    /// in -1..1 inside the view, y up), or `None` behind the eye.
+    pub fn project(&self, p: [f32; 3], aspect: f32) -> Option<[f32; 2]> {
+        let m = self.matrices(aspect);
+        let c = m.proj * m.view * Vec3::from(p).extend(1.0);
+        (c.w > 0.0).then(|| [c.x / c.w, c.y / c.w])
     }
 
     /// Eye position in world space.

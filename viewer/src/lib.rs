@@ -25,19 +25,25 @@
 //! [`run_window`] opens a window (winit 0.30 + glutin 0.32, GLX or EGL,
 //! OpenGL 3.3 core) and runs the solver in the render loop until the window is
 //! closed. 2D frames get an orthographic pan/zoom camera, 3D frames an orbit
-//! camera. Keys:
+//! camera. A panel at the top left ([`Panel`]) shows the time, step, particle
+//! count, solver steps/s and frames/s, and one row per control below; a click on
+//! a row does what its key does ([`Action::for_key`]):
 //!
 //! | key | action |
 //! |---|---|
 //! | space | pause / resume |
-//! | `.` or `n` | single step (while paused) |
-//! | `r` | reset the source |
+//! | `.` or `n` | single step (pauses) |
 //! | `+` / `-` | double / halve the steps per frame |
 //! | `f` | cycle the coloured field (speed, pressure, density, kind) |
-//! | `b` | hide / show boundary particles |
+//! | `l` | hold the colour range where it is / back to automatic |
+//! | `b` | show / hide the wall (boundary) particles |
+//! | `e` | show / hide the elastic bodies (solid particles) |
+//! | `o` | show / hide the outlines of the container and obstacles (3D) |
+//! | `s` | fluid as a screen-space surface / as spheres (3D) |
+//! | `h` | more / fewer rows in the panel (the keys below) |
+//! | `r` | reset the source |
 //! | `p` | screenshot to PNG (in [`ViewOptions::screenshot_dir`]) |
-//! | `h` | show / hide the key list |
-//! | `c` | re-frame the camera on the domain |
+//! | `c` | re-frame the camera |
 //! | Esc / `q` | close |
 //!
 //! Mouse: left drag pans (2D) or orbits (3D), right or middle drag pans (3D),
@@ -52,16 +58,24 @@
 //! [`FrameData`] with EGL and no display server (`EGL_EXT_platform_device`,
 //! surfaceless context, rendering into a framebuffer object) and returns an
 //! [`Image`], which [`Image::save_png`] writes. Both paths share one renderer
-//! module and the same shaders. If no EGL device is found it returns
-//! [`ViewerError::NoEglDevice`].
+//! module and the same shaders, and draw everything the window draws (outlines,
+//! surface, the panel when [`RenderOptions::panel`] is set). If no EGL device is
+//! found it returns [`ViewerError::NoEglDevice`].
 //!
 //! ## Look
 //!
-//! Particles are drawn as shaded sphere impostors (instanced quads with
-//! ray-cast spheres and correct fragment depth), coloured with the
-//! blue–purple–pink–red map of [`colormap()`], with a colour bar that shows
-//! the value range, and an overlay drawn with a built-in 5×7 bitmap font.
-//! Boundary particles are drawn grey unless the field is [`Field::Kind`].
+//! Particles are drawn as lit sphere impostors (instanced quads with ray-cast
+//! spheres and correct fragment depth), coloured with the blue–purple–pink–red
+//! map of [`colormap()`], with a colour bar that shows the value range, and an
+//! overlay and panel drawn with a built-in 5×7 bitmap font. Boundary particles
+//! are drawn grey unless the field is [`Field::Kind`]. In 3D a sphere under four
+//! pixels across fades to its mean shade, so that a lattice of them does not
+//! alias into Moire bands; [`FrameData::outlines`] (the container's inside, the
+//! obstacles) are drawn as edges a few pixels wide, and the automatic camera
+//! frames them. With [`RenderOptions::surface`] the 3D fluid is one screen-space
+//! surface (van der Laan, Green & Sainz 2009: the spheres' depth, a bilateral
+//! filter of it, normals from the smoothed depth, Fresnel reflection of a sky and
+//! absorption over the fluid's thickness).
 
 mod camera;
 mod colormap;
@@ -70,7 +84,11 @@ mod error;
 mod font;
 mod headless;
 mod image;
+mod outline;
+mod panel;
 mod renderer;
+mod shaders;
+mod surface;
 mod window;
 
 pub use camera::{Camera, OrbitCamera, OrthoCamera};
@@ -78,6 +96,7 @@ pub use colormap::colormap;
 pub use error::ViewerError;
 pub use headless::{render_headless, HeadlessRenderer};
 pub use image::Image;
+pub use panel::{Action, Panel};
 pub use window::{run_window, ViewOptions};
 
 /// What colours the particles.
@@ -149,6 +168,18 @@ pub struct FrameData {
     pub domain_max: [f32; 3],
     /// Drawn sphere radius: half the particle spacing.
     pub particle_radius: f32,
+    /// Boxes drawn as outlines in 3D (a container's inside, obstacles); the 3D camera
+    /// frames their union when there are any, else the domain.
+    pub outlines: Vec<Outline>,
+}
+
+/// An axis-aligned box drawn as an outline (its 12 edges) in 3D.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Outline {
+    /// Lower corner [L].
+    pub min: [f32; 3],
+    /// Upper corner [L].
+    pub max: [f32; 3],
 }
 
 impl FrameData {
@@ -160,6 +191,21 @@ impl FrameData {
     /// True when there are no particles.
     pub fn is_empty(&self) -> bool {
         self.positions.is_empty()
+    }
+
+    /// The box the automatic 3D camera frames: the union of the outlines, else the domain.
+    pub fn focus(&self) -> ([f32; 3], [f32; 3]) {
+        let Some(first) = self.outlines.first() else {
+            return (self.domain_min, self.domain_max);
+        };
+        self.outlines
+            .iter()
+            .fold((first.min, first.max), |(lo, hi), o| {
+                (
+                    std::array::from_fn(|i| lo[i].min(o.min[i]).min(o.max[i])),
+                    std::array::from_fn(|i| hi[i].max(o.max[i]).max(o.min[i])),
+                )
+            })
     }
 
     /// Checks that the vectors have matching lengths and `dim` is 2 or 3.
@@ -230,6 +276,13 @@ pub struct RenderOptions {
     pub background: [f32; 3],
     /// Text scale (pixels per font pixel); 0 picks from the image height.
     pub ui_scale: u32,
+    /// 3D: draw the fluid as one screen-space surface (van der Laan, Green & Sainz 2009)
+    /// instead of spheres.
+    pub surface: bool,
+    /// 3D: draw [`FrameData::outlines`].
+    pub outlines: bool,
+    /// The on-screen panel (below the overlay lines); `None`: no panel.
+    pub panel: Option<Panel>,
 }
 
 impl Default for RenderOptions {
@@ -245,6 +298,9 @@ impl Default for RenderOptions {
             overlay: Vec::new(),
             background: [0.08, 0.08, 0.1],
             ui_scale: 0,
+            surface: false,
+            outlines: true,
+            panel: None,
         }
     }
 }

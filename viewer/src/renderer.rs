@@ -4,81 +4,15 @@
 
 use glow::HasContext;
 
+use glam::Mat4;
+
 use crate::colormap::colormap_table;
 use crate::font;
+use crate::outline::Outlines;
+use crate::panel::{self, Action};
+use crate::shaders::{sphere_fs, SphereFs, PARTICLE_VS};
+use crate::surface::{Surface, SurfaceView};
 use crate::{Camera, Field, FrameData, RenderOptions, ViewerError};
-
-const PARTICLE_VS: &str = r#"#version 330 core
-layout(location = 0) in vec3 a_pos;
-layout(location = 1) in float a_value;
-layout(location = 2) in float a_kind;
-uniform mat4 u_view;
-uniform mat4 u_proj;
-uniform float u_radius;
-uniform float u_quad_scale;
-uniform vec2 u_range;
-uniform int u_hidden;
-uniform int u_grey_boundary;
-uniform sampler2D u_cmap;
-out vec3 v_center;
-out vec3 v_pos;
-out vec3 v_color;
-const vec2 CORNERS[6] = vec2[6](vec2(-1.0, -1.0), vec2(1.0, -1.0), vec2(1.0, 1.0),
-                                vec2(-1.0, -1.0), vec2(1.0, 1.0), vec2(-1.0, 1.0));
-void main() {
-    int k = int(a_kind + 0.5);
-    v_center = vec3(0.0);
-    v_pos = vec3(0.0);
-    v_color = vec3(0.0);
-    if (k >= 0 && k < 8 && ((u_hidden >> k) & 1) != 0) {
-        gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // outside the clip volume
-        return;
-    }
-    vec3 c = (u_view * vec4(a_pos, 1.0)).xyz;
-    vec2 q = CORNERS[gl_VertexID % 6];
-    // Quad in the sphere's front tangent plane, large enough to hold its silhouette.
-    vec3 p = c + vec3(q * u_radius * u_quad_scale, u_radius);
-    v_center = c;
-    v_pos = p;
-    float span = u_range.y - u_range.x;
-    float x = span > 0.0 ? (a_value - u_range.x) / span : 0.0;
-    if (isnan(x)) x = 0.0;
-    float t = clamp(x, 0.0, 1.0);
-    v_color = textureLod(u_cmap, vec2((t * 255.0 + 0.5) / 256.0, 0.5), 0.0).rgb;
-    if (k == 2 && u_grey_boundary != 0) v_color = vec3(0.55, 0.55, 0.58);
-    gl_Position = u_proj * vec4(p, 1.0);
-}
-"#;
-
-const PARTICLE_FS: &str = r#"#version 330 core
-in vec3 v_center;
-in vec3 v_pos;
-in vec3 v_color;
-uniform mat4 u_proj;
-uniform float u_radius;
-uniform int u_ortho;
-out vec4 o_color;
-void main() {
-    // Ray-cast the sphere in view space.
-    vec3 ro = u_ortho != 0 ? v_pos : vec3(0.0);
-    vec3 rd = u_ortho != 0 ? vec3(0.0, 0.0, -1.0) : normalize(v_pos);
-    vec3 oc = ro - v_center;
-    float b = dot(rd, oc);
-    float c = dot(oc, oc) - u_radius * u_radius;
-    float disc = b * b - c;
-    if (disc < 0.0) discard;
-    float t = -b - sqrt(disc);
-    vec3 h = ro + t * rd;
-    vec3 n = (h - v_center) / u_radius;
-    vec4 clip = u_proj * vec4(h, 1.0);
-    gl_FragDepth = clamp(0.5 * clip.z / clip.w + 0.5, 0.0, 1.0);
-    vec3 l = normalize(vec3(-0.4, 0.6, 0.7));
-    float diff = max(dot(n, l), 0.0);
-    vec3 hv = normalize(l + vec3(0.0, 0.0, 1.0));
-    float spec = pow(max(dot(n, hv), 0.0), 48.0);
-    o_color = vec4(v_color * (0.3 + 0.7 * diff) + vec3(0.3 * spec), 1.0);
-}
-"#;
 
 const OVERLAY_VS: &str = r#"#version 330 core
 layout(location = 0) in vec2 a_pos;
@@ -108,10 +42,51 @@ void main() {
 const OV_STRIDE: usize = 8;
 
 /// What [`Renderer::draw`] used, for the caller's overlay or camera.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub(crate) struct DrawInfo {
     /// The camera after resolving [`Camera::Auto`].
     pub camera: Camera,
+    /// The colour range drawn.
+    pub range: (f32, f32),
+    /// The panel's clickable rows: x, y, width, height in pixels from the top left.
+    pub panel_rows: Vec<([f32; 4], Action)>,
+}
+
+/// The uniforms of the particle vertex shader (`shaders/particle.vert`), which every
+/// particle pass shares.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ParticleUniforms {
+    pub view: Mat4,
+    pub proj: Mat4,
+    /// Sphere radius [L].
+    pub radius: f32,
+    pub quad_scale: f32,
+    pub range: (f32, f32),
+    /// Bit k hides kind k.
+    pub hidden: i32,
+    pub grey_boundary: bool,
+    pub ortho: bool,
+    /// Pixels per world unit (at unit depth in perspective).
+    pub px_scale: f32,
+}
+
+impl ParticleUniforms {
+    /// Sets them on `prog` (in use) and binds the colour map to texture unit 0.
+    pub(crate) unsafe fn set(&self, gl: &glow::Context, prog: glow::Program, cmap: glow::Texture) {
+        let loc = |n: &str| gl.get_uniform_location(prog, n);
+        gl.uniform_matrix_4_f32_slice(loc("u_view").as_ref(), false, &self.view.to_cols_array());
+        gl.uniform_matrix_4_f32_slice(loc("u_proj").as_ref(), false, &self.proj.to_cols_array());
+        gl.uniform_1_f32(loc("u_radius").as_ref(), self.radius.max(1e-9));
+        gl.uniform_1_f32(loc("u_quad_scale").as_ref(), self.quad_scale);
+        gl.uniform_2_f32(loc("u_range").as_ref(), self.range.0, self.range.1);
+        gl.uniform_1_i32(loc("u_hidden").as_ref(), self.hidden);
+        gl.uniform_1_i32(loc("u_grey_boundary").as_ref(), self.grey_boundary as i32);
+        gl.uniform_1_i32(loc("u_ortho").as_ref(), self.ortho as i32);
+        gl.uniform_1_f32(loc("u_px_scale").as_ref(), self.px_scale);
+        gl.uniform_1_i32(loc("u_cmap").as_ref(), 0);
+        gl.active_texture(glow::TEXTURE0);
+        gl.bind_texture(glow::TEXTURE_2D, Some(cmap));
+    }
 }
 
 pub(crate) struct Renderer {
@@ -130,13 +105,19 @@ pub(crate) struct Renderer {
     overlay_vbo: glow::Buffer,
     overlay_capacity: usize,
     verts: Vec<f32>,
+    surface: Surface,
+    outlines: Outlines,
 }
 
 fn gl_err(m: impl Into<String>) -> ViewerError {
     ViewerError::Gl(m.into())
 }
 
-unsafe fn compile(gl: &glow::Context, vs: &str, fs: &str) -> Result<glow::Program, ViewerError> {
+pub(crate) unsafe fn compile(
+    gl: &glow::Context,
+    vs: &str,
+    fs: &str,
+) -> Result<glow::Program, ViewerError> {
     let prog = gl.create_program().map_err(gl_err)?;
     let mut shaders = Vec::new();
     for (kind, src) in [(glow::VERTEX_SHADER, vs), (glow::FRAGMENT_SHADER, fs)] {
@@ -256,7 +237,7 @@ pub(crate) fn fmt_value(v: f32) -> String {
 impl Renderer {
     pub(crate) fn new(gl: &glow::Context) -> Result<Renderer, ViewerError> {
         unsafe {
-            let particle_prog = compile(gl, PARTICLE_VS, PARTICLE_FS)?;
+            let particle_prog = compile(gl, PARTICLE_VS, &sphere_fs(SphereFs::Shaded))?;
             let overlay_prog = compile(gl, OVERLAY_VS, OVERLAY_FS)?;
             let table = colormap_table(256);
             let cmap_tex = texture(gl, 256, 1, glow::RGBA8, glow::RGBA, &table, glow::LINEAR)?;
@@ -310,6 +291,8 @@ impl Renderer {
                 overlay_vbo,
                 overlay_capacity: 0,
                 verts: Vec::new(),
+                surface: Surface::new(gl)?,
+                outlines: Outlines::new(gl)?,
             })
         }
     }
@@ -327,6 +310,8 @@ impl Renderer {
             gl.delete_vertex_array(self.particle_vao);
             gl.delete_vertex_array(self.overlay_vao);
         }
+        self.surface.destroy(gl);
+        self.outlines.destroy(gl);
     }
 
     /// Copies the particles to the GPU; buffers grow only when the count grows.
@@ -359,8 +344,10 @@ impl Renderer {
         Ok(())
     }
 
-    /// Draws the uploaded particles (using `frame` for the domain, radius and
-    /// range), the colour bar and the overlay into the bound framebuffer.
+    /// Draws the uploaded particles (using `frame` for the domain, radius, outlines and
+    /// range), the outlines, the colour bar, the overlay and the panel into the bound
+    /// framebuffer. In 3D with [`RenderOptions::surface`] the fluid is drawn as one
+    /// screen-space surface ([`Surface`]), the other kinds as spheres.
     pub(crate) fn draw(
         &mut self,
         gl: &glow::Context,
@@ -383,20 +370,14 @@ impl Renderer {
         let sw = (w - panel).max(1);
         let aspect = sw as f32 / h as f32;
         let margin = frame.particle_radius.max(0.0);
-        let camera = opts.camera.resolve(
-            frame.dim,
-            frame.domain_min,
-            frame.domain_max,
-            margin,
-            aspect,
-        );
-        let m = camera.matrices(
-            frame.dim,
-            frame.domain_min,
-            frame.domain_max,
-            margin,
-            aspect,
-        );
+        // 2D frames the domain; 3D the outlined container (or the domain).
+        let (lo, hi) = if frame.dim == 3 {
+            frame.focus()
+        } else {
+            (frame.domain_min, frame.domain_max)
+        };
+        let camera = opts.camera.resolve(frame.dim, lo, hi, margin, aspect);
+        let m = camera.matrices(frame.dim, lo, hi, margin, aspect);
         let range = opts
             .range
             .unwrap_or_else(|| value_range(frame, opts.field, opts.hide_kinds));
@@ -405,9 +386,23 @@ impl Renderer {
                 0i32,
                 |acc, (k, &hide)| if hide { acc | (1 << k) } else { acc },
             );
+        let surface = opts.surface && frame.dim == 3 && !m.ortho && !opts.hide_kinds[0];
+        let uniforms = ParticleUniforms {
+            view: m.view,
+            proj: m.proj,
+            radius: frame.particle_radius,
+            quad_scale: if m.ortho { 1.0 } else { 1.5 },
+            range,
+            // The surface draws the fluid.
+            hidden: hidden | surface as i32,
+            grey_boundary: opts.field != Field::Kind,
+            ortho: m.ortho,
+            px_scale: 0.5 * h as f32 * m.proj.y_axis.y,
+        };
         let bg = opts.background;
 
         unsafe {
+            let target = gl.get_parameter_framebuffer(glow::DRAW_FRAMEBUFFER_BINDING);
             gl.viewport(0, 0, w as i32, h as i32);
             gl.disable(glow::SCISSOR_TEST);
             gl.clear_color(bg[0], bg[1], bg[2], 1.0);
@@ -416,43 +411,47 @@ impl Renderer {
             gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
 
             // Particles.
+            gl.viewport(0, 0, sw as i32, h as i32);
             if self.count > 0 {
-                gl.viewport(0, 0, sw as i32, h as i32);
                 gl.enable(glow::DEPTH_TEST);
                 gl.depth_func(glow::LESS);
                 gl.disable(glow::BLEND);
                 gl.disable(glow::CULL_FACE);
                 let p = self.particle_prog;
                 gl.use_program(Some(p));
-                let loc = |n: &str| gl.get_uniform_location(p, n);
-                gl.uniform_matrix_4_f32_slice(
-                    loc("u_view").as_ref(),
-                    false,
-                    &m.view.to_cols_array(),
-                );
-                gl.uniform_matrix_4_f32_slice(
-                    loc("u_proj").as_ref(),
-                    false,
-                    &m.proj.to_cols_array(),
-                );
-                gl.uniform_1_f32(loc("u_radius").as_ref(), frame.particle_radius.max(1e-9));
-                gl.uniform_1_f32(
-                    loc("u_quad_scale").as_ref(),
-                    if m.ortho { 1.0 } else { 1.5 },
-                );
-                gl.uniform_2_f32(loc("u_range").as_ref(), range.0, range.1);
-                gl.uniform_1_i32(loc("u_hidden").as_ref(), hidden);
-                gl.uniform_1_i32(
-                    loc("u_grey_boundary").as_ref(),
-                    (opts.field != Field::Kind) as i32,
-                );
-                gl.uniform_1_i32(loc("u_ortho").as_ref(), m.ortho as i32);
-                gl.uniform_1_i32(loc("u_cmap").as_ref(), 0);
-                gl.active_texture(glow::TEXTURE0);
-                gl.bind_texture(glow::TEXTURE_2D, Some(self.cmap_tex));
+                uniforms.set(gl, p, self.cmap_tex);
                 gl.bind_vertex_array(Some(self.particle_vao));
                 gl.draw_arrays_instanced(glow::TRIANGLES, 0, 6, self.count as i32);
                 gl.bind_vertex_array(None);
+            }
+            // Outlines, then the surface over them: the water lets them through.
+            if frame.dim == 3 && opts.outlines && !frame.outlines.is_empty() {
+                self.outlines.draw(
+                    gl,
+                    &frame.outlines,
+                    m.proj * m.view,
+                    (sw as f32, h as f32),
+                    1.5 * s as f32,
+                );
+            }
+            if surface && self.count > 0 {
+                let view = SurfaceView {
+                    uniforms,
+                    spacing: 2.0 * frame.particle_radius,
+                    size: (sw, h),
+                    scene_size: {
+                        let (lo, hi) = frame.focus();
+                        (0..3).map(|i| (hi[i] - lo[i]).powi(2)).sum::<f32>().sqrt()
+                    },
+                };
+                self.surface.draw(
+                    gl,
+                    target,
+                    self.particle_vao,
+                    self.count,
+                    self.cmap_tex,
+                    &view,
+                );
             }
 
             // Overlay: colour bar and text, in pixels over the whole target.
@@ -466,21 +465,25 @@ impl Renderer {
         if opts.colorbar {
             self.colorbar(sw as f32, w as f32, h as f32, s as f32, opts.field, range);
         }
+        let sf = s as f32;
+        let (cw, lh) = (font::CELL_W as f32 * sf, (font::CELL_H as f32 + 3.0) * sf);
+        let mut y = 2.0 * sf;
         if !opts.overlay.is_empty() {
-            let sf = s as f32;
-            let lw = opts
-                .overlay
-                .iter()
-                .map(|l| l.chars().count())
-                .max()
-                .unwrap_or(0) as f32;
-            let (cw, lh) = (font::CELL_W as f32 * sf, (font::CELL_H as f32 + 3.0) * sf);
-            let bw = lw * cw + 8.0 * sf;
-            let bh = opts.overlay.len() as f32 * lh + 6.0 * sf;
-            self.rect(2.0 * sf, 2.0 * sf, bw, bh, [0.0, 0.0, 0.0, 0.55]);
-            for (i, line) in opts.overlay.iter().enumerate() {
-                let y = 6.0 * sf + i as f32 * lh;
-                self.text(6.0 * sf, y, sf, line, [0.95, 0.95, 0.95, 1.0]);
+            y = self.text_box(y, sf, &opts.overlay, cw, lh);
+        }
+        let mut panel_rows = Vec::new();
+        if let Some(p) = &opts.panel {
+            let rows = panel::rows(p, opts, frame.dim, range);
+            let lines: Vec<String> = rows.iter().map(|r| r.0.clone()).collect();
+            let top = y + 4.0 * sf;
+            self.text_box(top, sf, &lines, cw, lh);
+            let width =
+                lines.iter().map(|l| l.chars().count()).max().unwrap_or(0) as f32 * cw + 8.0 * sf;
+            for (i, (_, action)) in rows.iter().enumerate() {
+                if let Some(a) = action {
+                    let ry = top + 4.0 * sf + i as f32 * lh - 1.5 * sf;
+                    panel_rows.push(([2.0 * sf, ry, width, lh], *a));
+                }
             }
         }
         unsafe {
@@ -488,7 +491,24 @@ impl Renderer {
             gl.disable(glow::BLEND);
             gl.use_program(None);
         }
-        DrawInfo { camera }
+        DrawInfo {
+            camera,
+            range,
+            panel_rows,
+        }
+    }
+
+    /// A dark box with `lines` of text from `top` down; returns the y below it.
+    fn text_box(&mut self, top: f32, sf: f32, lines: &[String], cw: f32, lh: f32) -> f32 {
+        let lw = lines.iter().map(|l| l.chars().count()).max().unwrap_or(0) as f32;
+        let bw = lw * cw + 8.0 * sf;
+        let bh = lines.len() as f32 * lh + 6.0 * sf;
+        self.rect(2.0 * sf, top, bw, bh, [0.0, 0.0, 0.0, 0.55]);
+        for (i, line) in lines.iter().enumerate() {
+            let y = top + 4.0 * sf + i as f32 * lh;
+            self.text(6.0 * sf, y, sf, line, [0.95, 0.95, 0.95, 1.0]);
+        }
+        top + bh
     }
 
     fn colorbar(&mut self, x0: f32, w: f32, h: f32, s: f32, field: Field, range: (f32, f32)) {
@@ -613,6 +633,7 @@ mod tests {
             domain_min: [0.0; 3],
             domain_max: [1.0, 1.0, 0.0],
             particle_radius: 0.01,
+            outlines: Vec::new(),
         }
     }
 

@@ -23,8 +23,11 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
+use crate::panel::{Controls, Outcome};
 use crate::renderer::Renderer;
-use crate::{Camera, Field, FrameData, Image, LiveSource, RenderOptions, Status, ViewerError};
+use crate::{
+    Action, Camera, Field, FrameData, Image, LiveSource, Panel, RenderOptions, Status, ViewerError,
+};
 
 /// Settings of the live window.
 #[derive(Debug, Clone, PartialEq)]
@@ -52,8 +55,10 @@ pub struct ViewOptions {
     pub screenshot_after_frames: Option<(u32, PathBuf)>,
     /// Wait for vertical sync when swapping.
     pub vsync: bool,
-    /// Starting camera; [`Camera::Auto`] frames the domain.
+    /// Starting camera; [`Camera::Auto`] frames the domain (3D: the outlines).
     pub camera: Camera,
+    /// Start with the fluid drawn as a surface (3D; `s` toggles).
+    pub surface: bool,
 }
 
 impl Default for ViewOptions {
@@ -71,23 +76,10 @@ impl Default for ViewOptions {
             screenshot_after_frames: None,
             vsync: true,
             camera: Camera::Auto,
+            surface: false,
         }
     }
 }
-
-const HELP: [&str; 11] = [
-    "space  pause / run",
-    ". n    single step",
-    "r      reset",
-    "+ -    steps per frame",
-    "f      next field",
-    "b      hide boundary",
-    "p      screenshot",
-    "c      reset camera",
-    "h      this help",
-    "q esc  quit",
-    "mouse  drag, wheel zoom",
-];
 
 /// Opens the live window and runs `source` in its render loop until the window
 /// is closed (returns `Ok(())`), or a screenshot requested by
@@ -136,52 +128,13 @@ struct Drag {
     other: bool,
 }
 
-/// What a key asks of the window beyond [`Controls`]' own state.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum KeyAction {
-    None,
-    Close,
-    Reset,
-    Screenshot,
-    ResetCamera,
-}
-
-/// The keyboard-driven state of the live window.
-#[derive(Debug, Clone, PartialEq)]
-struct Controls {
-    field: Field,
-    steps_per_frame: u32,
-    paused: bool,
-    single_step: bool,
-    hide_boundary: bool,
-    show_help: bool,
-}
-
-impl Controls {
-    fn on_key(&mut self, key: Key<&str>) -> KeyAction {
-        match key {
-            Key::Named(NamedKey::Space) => self.paused = !self.paused,
-            Key::Named(NamedKey::Escape) => return KeyAction::Close,
-            Key::Character(c) => match c {
-                " " => self.paused = !self.paused,
-                "." | "n" | "N" => {
-                    self.paused = true;
-                    self.single_step = true;
-                }
-                "r" | "R" => return KeyAction::Reset,
-                "+" | "=" => self.steps_per_frame = (self.steps_per_frame * 2).min(1 << 16),
-                "-" | "_" => self.steps_per_frame = (self.steps_per_frame / 2).max(1),
-                "f" | "F" => self.field = self.field.next(),
-                "b" | "B" => self.hide_boundary = !self.hide_boundary,
-                "p" | "P" => return KeyAction::Screenshot,
-                "h" | "H" | "?" => self.show_help = !self.show_help,
-                "c" | "C" => return KeyAction::ResetCamera,
-                "q" | "Q" => return KeyAction::Close,
-                _ => {}
-            },
-            _ => {}
-        }
-        KeyAction::None
+/// The action of a key press.
+fn key_action(key: Key<&str>) -> Option<Action> {
+    match key {
+        Key::Named(NamedKey::Space) => Some(Action::Pause),
+        Key::Named(NamedKey::Escape) => Some(Action::Close),
+        Key::Character(c) => Action::for_key(c),
+        _ => None,
     }
 }
 
@@ -203,6 +156,9 @@ struct App<'a> {
     rate_step0: u64,
     fps: f64,
     sps: f64,
+    /// The colour range and the panel's rows of the last drawn frame.
+    range: (f32, f32),
+    panel_rows: Vec<([f32; 4], Action)>,
     error: Option<ViewerError>,
 }
 
@@ -232,7 +188,10 @@ impl<'a> App<'a> {
                 steps_per_frame: opts.steps_per_frame.max(1),
                 paused: opts.paused,
                 single_step: false,
-                hide_boundary: opts.hide_boundary,
+                hide_kinds: [false, false, opts.hide_boundary],
+                outlines: true,
+                surface: opts.surface,
+                range: None,
                 show_help: opts.show_help,
             },
             camera: opts.camera,
@@ -251,6 +210,8 @@ impl<'a> App<'a> {
             rate_step0: 0,
             fps: 0.0,
             sps: 0.0,
+            range: (0.0, 1.0),
+            panel_rows: Vec::new(),
             error: None,
         }
     }
@@ -338,33 +299,12 @@ impl<'a> App<'a> {
         }
     }
 
-    fn overlay(&self, st: &Status) -> Vec<String> {
-        let mut lines = vec![
-            format!("t {:.5}  step {}", st.time, st.step),
-            format!("particles {}", st.particles),
-            format!(
-                "{}  steps/frame {}  steps/s {:.0}  fps {:.1}",
-                if self.ctl.paused { "PAUSED" } else { "running" },
-                self.ctl.steps_per_frame,
-                self.sps,
-                self.fps
-            ),
-        ];
-        if self.ctl.hide_boundary {
-            lines.push("boundary hidden".into());
+    /// Lines over the panel: a message of the last few seconds.
+    fn overlay(&self) -> Vec<String> {
+        match &self.message {
+            Some((m, t)) if t.elapsed().as_secs_f32() < 4.0 => vec![m.clone()],
+            _ => Vec::new(),
         }
-        if let Some((m, t)) = &self.message {
-            if t.elapsed().as_secs_f32() < 4.0 {
-                lines.push(m.clone());
-            }
-        }
-        if self.ctl.show_help {
-            lines.push(String::new());
-            lines.extend(HELP.iter().map(|s| s.to_string()));
-        } else {
-            lines.push("h: keys".into());
-        }
-        lines
     }
 
     fn redraw(&mut self, event_loop: &ActiveEventLoop) {
@@ -384,7 +324,15 @@ impl<'a> App<'a> {
         }
         let st = self.source.status();
         self.update_rates(&st);
-        let overlay = self.overlay(&st);
+        let overlay = self.overlay();
+        let panel = Panel {
+            status: st,
+            paused: self.ctl.paused,
+            steps_per_frame: self.ctl.steps_per_frame,
+            steps_per_second: self.sps,
+            frames_per_second: self.fps,
+            show_help: self.ctl.show_help,
+        };
         let gfx = self.gfx.as_mut().expect("checked above");
         let size = gfx.window.inner_size();
         let (w, h) = (size.width.max(1), size.height.max(1));
@@ -392,11 +340,14 @@ impl<'a> App<'a> {
             width: w,
             height: h,
             field: self.ctl.field,
-            range: None,
+            range: self.ctl.range,
             camera: self.camera,
-            hide_kinds: [false, false, self.ctl.hide_boundary],
+            hide_kinds: self.ctl.hide_kinds,
             colorbar: true,
             overlay,
+            surface: self.ctl.surface,
+            outlines: self.ctl.outlines,
+            panel: Some(panel),
             ..RenderOptions::default()
         };
         if let Err(e) = gfx.renderer.upload(&gfx.gl, &self.frame) {
@@ -406,6 +357,8 @@ impl<'a> App<'a> {
         }
         let info = gfx.renderer.draw(&gfx.gl, &self.frame, &opts);
         self.camera = info.camera;
+        self.range = info.range;
+        self.panel_rows = info.panel_rows;
         self.frames += 1;
 
         let auto_shot = match &self.opts.screenshot_after_frames {
@@ -457,13 +410,14 @@ impl<'a> App<'a> {
         }
     }
 
-    fn key(&mut self, key: Key<&str>, event_loop: &ActiveEventLoop) {
-        match self.ctl.on_key(key) {
-            KeyAction::None => {}
-            KeyAction::Close => self.close(event_loop),
-            KeyAction::Screenshot => self.screenshot = true,
-            KeyAction::ResetCamera => self.camera = self.opts.camera,
-            KeyAction::Reset => {
+    /// Does what a key or a click on the panel asks.
+    fn act(&mut self, action: Action, event_loop: &ActiveEventLoop) {
+        match self.ctl.apply(action, self.range) {
+            Outcome::None => {}
+            Outcome::Close => self.close(event_loop),
+            Outcome::Screenshot => self.screenshot = true,
+            Outcome::ResetCamera => self.camera = self.opts.camera,
+            Outcome::Reset => {
                 if let Err(e) = self.source.reset() {
                     self.ctl.paused = true;
                     self.say(format!("reset failed: {e}"));
@@ -472,6 +426,16 @@ impl<'a> App<'a> {
                 }
             }
         }
+    }
+
+    /// The panel row under the cursor.
+    fn panel_hit(&self) -> Option<Action> {
+        let (x, y) = self.drag.cursor?;
+        let (x, y) = (x as f32, y as f32);
+        self.panel_rows
+            .iter()
+            .find(|([rx, ry, rw, rh], _)| x >= *rx && x < rx + rw && y >= *ry && y < ry + rh)
+            .map(|(_, a)| *a)
     }
 
     fn mouse_moved(&mut self, x: f64, y: f64) {
@@ -546,12 +510,21 @@ impl ApplicationHandler for App<'_> {
                 }
             }
             WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
-                self.key(event.logical_key.as_ref(), event_loop);
+                if let Some(a) = key_action(event.logical_key.as_ref()) {
+                    self.act(a, event_loop);
+                }
             }
             WindowEvent::CursorMoved { position, .. } => self.mouse_moved(position.x, position.y),
             WindowEvent::CursorLeft { .. } => self.drag.cursor = None,
             WindowEvent::MouseInput { state, button, .. } => {
                 let down = state == ElementState::Pressed;
+                // A click on a panel row does its action and starts no drag.
+                if down && button == MouseButton::Left {
+                    if let Some(a) = self.panel_hit() {
+                        self.act(a, event_loop);
+                        return;
+                    }
+                }
                 match button {
                     MouseButton::Left => self.drag.left = down,
                     MouseButton::Right | MouseButton::Middle => self.drag.other = down,
@@ -586,53 +559,14 @@ mod tests {
     use super::*;
 
     #[test]
-    fn keys_drive_the_controls() {
-        let mut c = Controls {
-            field: Field::Speed,
-            steps_per_frame: 1,
-            paused: false,
-            single_step: false,
-            hide_boundary: false,
-            show_help: false,
-        };
-        assert_eq!(c.on_key(Key::Named(NamedKey::Space)), KeyAction::None);
-        assert!(c.paused);
-        c.on_key(Key::Character(" "));
-        assert!(!c.paused);
-        c.on_key(Key::Character("."));
-        assert!(c.paused && c.single_step);
-        c.single_step = false;
-        c.on_key(Key::Character("n"));
-        assert!(c.single_step);
-        for _ in 0..3 {
-            c.on_key(Key::Character("+"));
-        }
-        assert_eq!(c.steps_per_frame, 8);
-        c.on_key(Key::Character("-"));
-        assert_eq!(c.steps_per_frame, 4);
-        for _ in 0..10 {
-            c.on_key(Key::Character("-"));
-        }
-        assert_eq!(c.steps_per_frame, 1);
-        let fields: Vec<Field> = (0..4)
-            .map(|_| {
-                c.on_key(Key::Character("f"));
-                c.field
-            })
-            .collect();
+    fn keys_name_actions() {
+        assert_eq!(key_action(Key::Named(NamedKey::Space)), Some(Action::Pause));
         assert_eq!(
-            fields,
-            [Field::Pressure, Field::Density, Field::Kind, Field::Speed]
+            key_action(Key::Named(NamedKey::Escape)),
+            Some(Action::Close)
         );
-        c.on_key(Key::Character("b"));
-        assert!(c.hide_boundary);
-        c.on_key(Key::Character("h"));
-        assert!(c.show_help);
-        assert_eq!(c.on_key(Key::Character("r")), KeyAction::Reset);
-        assert_eq!(c.on_key(Key::Character("p")), KeyAction::Screenshot);
-        assert_eq!(c.on_key(Key::Character("c")), KeyAction::ResetCamera);
-        assert_eq!(c.on_key(Key::Character("q")), KeyAction::Close);
-        assert_eq!(c.on_key(Key::Named(NamedKey::Escape)), KeyAction::Close);
-        assert_eq!(c.on_key(Key::Character("z")), KeyAction::None);
+        assert_eq!(key_action(Key::Character("s")), Some(Action::Surface));
+        assert_eq!(key_action(Key::Character("z")), None);
+        assert_eq!(key_action(Key::Named(NamedKey::Tab)), None);
     }
 }

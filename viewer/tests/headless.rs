@@ -9,8 +9,8 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 use meshfree_viewer::{
-    colormap, kind, Camera, Field, FrameData, HeadlessRenderer, Image, OrthoCamera, RenderOptions,
-    ViewerError,
+    colormap, kind, Camera, Field, FrameData, HeadlessRenderer, Image, OrbitCamera, OrthoCamera,
+    Outline, RenderOptions, ViewerError,
 };
 
 /// One EGL context at a time: the tests run in parallel threads.
@@ -349,4 +349,359 @@ fn kind_field_and_many_frames_reuse_context() {
     assert_eq!(a, c, "same input, same pixels");
     assert_eq!((b.width, b.height), (200, 100));
     a.save_png(out_dir().join("kind_2d.png")).unwrap();
+}
+
+/// A 3D tank (2 x 1 x 0.5) holding water whose surface is a wave along x, with the tank as
+/// an outline.
+fn frame_tank() -> FrameData {
+    let dx = 0.04f32;
+    let tank = Outline {
+        min: [0.0, 0.0, 0.0],
+        max: [2.0, 1.0, 0.5],
+    };
+    let mut f = FrameData {
+        dim: 3,
+        domain_min: [-0.1, -0.1, -0.1],
+        domain_max: [2.1, 1.1, 0.6],
+        particle_radius: 0.5 * dx,
+        outlines: vec![tank],
+        ..FrameData::default()
+    };
+    for i in 0..50 {
+        let x = (i as f32 + 0.5) * dx;
+        let top = 0.35 + 0.15 * (x * 3.0).sin();
+        for j in 0..((top / dx) as usize) {
+            for k in 0..12 {
+                f.positions
+                    .push([x, (j as f32 + 0.5) * dx, (k as f32 + 0.5) * dx]);
+                f.values.push(x);
+                f.kinds.push(kind::FLUID);
+            }
+        }
+    }
+    f
+}
+
+/// Connected regions (4-neighbours) of the pixels where `inside` holds: (sizes, largest
+/// first; pixels of regions that touch the image's border).
+fn regions(img: &Image, inside: impl Fn([u8; 4]) -> bool) -> (Vec<usize>, usize) {
+    let (w, h) = (img.width as usize, img.height as usize);
+    let mut seen = vec![false; w * h];
+    let mut sizes = Vec::new();
+    let mut at_border = 0;
+    for start in 0..w * h {
+        if seen[start] || !inside(img.pixel((start % w) as u32, (start / w) as u32)) {
+            continue;
+        }
+        let (mut size, mut border) = (0, false);
+        let mut stack = vec![start];
+        seen[start] = true;
+        while let Some(i) = stack.pop() {
+            size += 1;
+            let (x, y) = (i % w, i / w);
+            border |= x == 0 || y == 0 || x == w - 1 || y == h - 1;
+            let mut push = |j: usize| {
+                if !seen[j] && inside(img.pixel((j % w) as u32, (j / w) as u32)) {
+                    seen[j] = true;
+                    stack.push(j);
+                }
+            };
+            if x > 0 {
+                push(i - 1);
+            }
+            if x + 1 < w {
+                push(i + 1);
+            }
+            if y > 0 {
+                push(i - w);
+            }
+            if y + 1 < h {
+                push(i + w);
+            }
+        }
+        if border {
+            at_border += size;
+        }
+        sizes.push(size);
+    }
+    sizes.sort_unstable_by(|a, b| b.cmp(a));
+    (sizes, at_border)
+}
+
+fn luminance(p: [u8; 4]) -> f64 {
+    0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64
+}
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_egl),
+    ignore = "needs EGL: build with MESHFREE_REQUIRE_EGL=1, or run with --include-ignored"
+)]
+fn surface_is_one_shaded_region() {
+    let _g = GL.lock().unwrap_or_else(|e| e.into_inner());
+    let mut r = renderer();
+    let frame = frame_tank();
+    let opts = RenderOptions {
+        width: 360,
+        height: 240,
+        colorbar: false,
+        outlines: false,
+        surface: true,
+        ..RenderOptions::default()
+    };
+    let bg = opts.background;
+    let fluid = |p: [u8; 4]| !is_background(p, bg);
+    let surface = r.render(&frame, &opts).unwrap();
+    surface.save_png(out_dir().join("surface_3d.png")).unwrap();
+    let spheres = r
+        .render(
+            &frame,
+            &RenderOptions {
+                surface: false,
+                ..opts.clone()
+            },
+        )
+        .unwrap();
+    spheres.save_png(out_dir().join("spheres_3d.png")).unwrap();
+
+    // The fluid: one region, with no holes of background inside it (background regions
+    // that do not reach the border).
+    let (parts, _) = regions(&surface, fluid);
+    let total: usize = parts.iter().sum();
+    let frac = total as f64 / (360.0 * 240.0);
+    eprintln!(
+        "surface: fluid {frac:.3} of the image in {} regions, largest {:?}",
+        parts.len(),
+        &parts[..parts.len().min(4)]
+    );
+    assert!((0.08..0.9).contains(&frac), "fluid pixel fraction {frac}");
+    assert!(
+        parts[0] as f64 >= 0.995 * total as f64,
+        "the surface is not one region: {:?}",
+        &parts[..parts.len().min(8)]
+    );
+    // Smooth: neighbouring pixels differ less than over the spheres' shading.
+    let roughness = |img: &Image| {
+        let (mut sum, mut n) = (0.0, 0usize);
+        for y in 0..img.height {
+            for x in 0..img.width - 1 {
+                let (a, b) = (img.pixel(x, y), img.pixel(x + 1, y));
+                if fluid(a) && fluid(b) {
+                    sum += (luminance(a) - luminance(b)).abs();
+                    n += 1;
+                }
+            }
+        }
+        sum / n as f64
+    };
+    let (rough_surface, rough_spheres) = (roughness(&surface), roughness(&spheres));
+    eprintln!("mean luminance step between pixels: surface {rough_surface:.2}, spheres {rough_spheres:.2}");
+    assert!(
+        rough_surface < 0.5 * rough_spheres,
+        "the surface is as rough as the spheres: {rough_surface} vs {rough_spheres}"
+    );
+
+    // Shaded: the brightness varies across the water, and it is water (blue over red).
+    let mut lum: Vec<f64> = Vec::new();
+    let (mut rs, mut bs) = (0.0, 0.0);
+    for p in surface.rgba.chunks_exact(4) {
+        let p = [p[0], p[1], p[2], p[3]];
+        if fluid(p) {
+            lum.push(luminance(p));
+            rs += p[0] as f64;
+            bs += p[2] as f64;
+        }
+    }
+    lum.sort_by(f64::total_cmp);
+    let (p5, p95) = (lum[lum.len() / 20], lum[lum.len() * 19 / 20]);
+    eprintln!(
+        "surface luminance 5 % {p5:.1}, 95 % {p95:.1}; mean red {:.1}, blue {:.1}",
+        rs / lum.len() as f64,
+        bs / lum.len() as f64
+    );
+    assert!(
+        p95 - p5 > 25.0,
+        "flat shading: luminance 5 % {p5}, 95 % {p95}"
+    );
+    assert!(bs > 1.3 * rs, "not water-coloured: red {rs}, blue {bs}");
+}
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_egl),
+    ignore = "needs EGL: build with MESHFREE_REQUIRE_EGL=1, or run with --include-ignored"
+)]
+fn container_outline_where_the_box_projects() {
+    let _g = GL.lock().unwrap_or_else(|e| e.into_inner());
+    let mut r = renderer();
+    let frame = frame_tank();
+    let (w, h) = (360u32, 240u32);
+    let tank = frame.outlines[0];
+    let cam = OrbitCamera::fit(tank.min, tank.max, 0.0, w as f32 / h as f32);
+    let opts = RenderOptions {
+        width: w,
+        height: h,
+        colorbar: false,
+        surface: true,
+        camera: Camera::Orbit(cam),
+        ..RenderOptions::default()
+    };
+    let with = r.render(&frame, &opts).unwrap();
+    with.save_png(out_dir().join("outline_3d.png")).unwrap();
+    let without = r
+        .render(
+            &frame,
+            &RenderOptions {
+                outlines: false,
+                ..opts.clone()
+            },
+        )
+        .unwrap();
+    // Outline pixels: light grey (the edge colour, or the edge seen through shallow water
+    // is excluded: only edges in the open count).
+    let edge = |p: [u8; 4]| {
+        p[0] > 150 && p[1] > 150 && p[2] > 150 && (p[0] as i32 - p[2] as i32).abs() < 40
+    };
+    let near_edge = |img: &Image, x: f32, y: f32| {
+        let (cx, cy) = (x.round() as i32, y.round() as i32);
+        (-2..=2).any(|dy| {
+            (-2..=2).any(|dx| {
+                let (px, py) = (cx + dx, cy + dy);
+                px >= 0
+                    && py >= 0
+                    && px < w as i32
+                    && py < h as i32
+                    && edge(img.pixel(px as u32, py as u32))
+            })
+        })
+    };
+    let aspect = w as f32 / h as f32;
+    let (mut hits, mut hits_without, mut samples) = (0, 0, 0);
+    for i in 0..8usize {
+        for bit in [1usize, 2, 4] {
+            if i & bit != 0 {
+                continue;
+            }
+            let corner = |c: usize| {
+                [
+                    if c & 1 == 0 { tank.min[0] } else { tank.max[0] },
+                    if c & 2 == 0 { tank.min[1] } else { tank.max[1] },
+                    if c & 4 == 0 { tank.min[2] } else { tank.max[2] },
+                ]
+            };
+            let (a, b) = (corner(i), corner(i | bit));
+            // Points along the edge, away from its ends; those hidden by the water in
+            // front of them are skipped by testing the render without outlines there.
+            for s in 1..10 {
+                let t = s as f32 / 10.0;
+                let p = [0, 1, 2].map(|k| a[k] + (b[k] - a[k]) * t);
+                let ndc = cam.project(p, aspect).expect("in front of the eye");
+                let x = (ndc[0] * 0.5 + 0.5) * w as f32;
+                let y = (0.5 - ndc[1] * 0.5) * h as f32;
+                assert!(
+                    (0.0..w as f32).contains(&x) && (0.0..h as f32).contains(&y),
+                    "the fitted camera shows the whole box: {p:?} at ({x}, {y})"
+                );
+                let (xi, yi) = (x as u32, y as u32);
+                let behind_water = !is_background(without.pixel(xi, yi), opts.background);
+                if behind_water {
+                    continue;
+                }
+                samples += 1;
+                hits += near_edge(&with, x, y) as usize;
+                hits_without += near_edge(&without, x, y) as usize;
+            }
+        }
+    }
+    eprintln!("outline: {hits} of {samples} edge points drawn ({hits_without} without outlines)");
+    assert!(samples >= 60, "too few edge points in the open: {samples}");
+    assert!(
+        hits as f64 >= 0.95 * samples as f64,
+        "outline missing: {hits} of {samples}"
+    );
+    assert!(
+        hits_without == 0,
+        "edge-coloured pixels without outlines: {hits_without}"
+    );
+}
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_egl),
+    ignore = "needs EGL: build with MESHFREE_REQUIRE_EGL=1, or run with --include-ignored"
+)]
+fn surface_closes_the_gaps_of_a_sheet() {
+    let _g = GL.lock().unwrap_or_else(|e| e.into_inner());
+    let mut r = renderer();
+    // One layer of particles in the plane y = 0, seen from above: touching spheres on a
+    // square lattice leave a gap at every fourth corner; the surface has none.
+    let dx = 0.04f32;
+    let mut frame = FrameData {
+        dim: 3,
+        domain_min: [0.0, -dx, 0.0],
+        domain_max: [1.2, dx, 0.8],
+        particle_radius: 0.5 * dx,
+        ..FrameData::default()
+    };
+    for i in 0..30 {
+        for k in 0..20 {
+            frame
+                .positions
+                .push([(i as f32 + 0.5) * dx, 0.0, (k as f32 + 0.5) * dx]);
+            frame.values.push(0.0);
+            frame.kinds.push(kind::FLUID);
+        }
+    }
+    let (w, h) = (360u32, 240u32);
+    let mut cam = OrbitCamera::fit(frame.domain_min, frame.domain_max, 0.0, 1.5);
+    cam.pitch = 1.5;
+    cam.yaw = 0.0;
+    let opts = RenderOptions {
+        width: w,
+        height: h,
+        colorbar: false,
+        surface: true,
+        camera: Camera::Orbit(cam),
+        ..RenderOptions::default()
+    };
+    let bg = opts.background;
+    let surface = r.render(&frame, &opts).unwrap();
+    surface
+        .save_png(out_dir().join("surface_sheet.png"))
+        .unwrap();
+    let spheres = r
+        .render(
+            &frame,
+            &RenderOptions {
+                surface: false,
+                ..opts.clone()
+            },
+        )
+        .unwrap();
+    spheres
+        .save_png(out_dir().join("spheres_sheet.png"))
+        .unwrap();
+    // Background regions that do not reach the border: gaps inside the fluid.
+    let holes = |img: &Image| {
+        let (bgs, at_border) = regions(img, |p| is_background(p, bg));
+        (bgs.len(), bgs.iter().sum::<usize>() - at_border)
+    };
+    let ((n_surface, px_surface), (n_spheres, px_spheres)) = (holes(&surface), holes(&spheres));
+    eprintln!(
+        "gaps: surface {px_surface} pixels in {} regions, spheres {px_spheres} pixels in {} regions",
+        n_surface - 1,
+        n_spheres - 1
+    );
+    assert!(
+        n_spheres > 100,
+        "the spheres should show their gaps ({n_spheres} regions): the test can tell dots apart"
+    );
+    assert_eq!(px_surface, 0, "the surface has gaps");
+    let (parts, _) = regions(&surface, |p| !is_background(p, bg));
+    assert_eq!(
+        parts.len(),
+        1,
+        "the sheet is one region: {:?}",
+        &parts[..parts.len().min(8)]
+    );
 }

@@ -1,0 +1,358 @@
+//! The screen-space fluid surface of van der Laan, Green & Sainz (2009, "Screen space fluid
+//! rendering with curvature flow"), with a bilateral filter in place of their curvature
+//! flow: the fluid particles' spheres give the eye distance of the nearest fluid in each
+//! pixel and the fluid's thickness along it; the distance is smoothed, normals come from
+//! it, and the shading pass adds Fresnel reflection of a sky and Beer-Lambert absorption
+//! over the thickness, over what is already drawn. Our own shaders (`shaders/surface_*`).
+
+use glam::{Mat3, Vec3};
+use glow::HasContext;
+
+use crate::renderer::{compile, ParticleUniforms};
+use crate::shaders::{sphere_fs, SphereFs, BLUR_FS, FULLSCREEN_VS, PARTICLE_VS};
+use crate::ViewerError;
+
+/// The surface's spheres are this many particle radii: neighbours overlap and merge.
+const SPHERE_SCALE: f32 = 1.5;
+/// Bilateral filter: horizontal then vertical passes, this many times.
+const BLUR_ITERATIONS: usize = 2;
+/// The filter's Gaussian spans this many particle spacings in the world (sigma half of it).
+const BLUR_SPACINGS: f32 = 2.0;
+/// ... and never more than this many pixels either side.
+const BLUR_MAX_PX: i32 = 24;
+/// Depth differences of this many particle spacings count as another sheet of fluid.
+const DEPTH_SIGMA_SPACINGS: f32 = 2.0;
+/// Absorption per channel [1/L] times a quarter of the scene's diagonal: red goes first,
+/// so thick water turns blue-green, whatever the scene's units.
+const ABSORB: [f32; 3] = [8.0, 2.6, 1.5];
+/// The colour deep water scatters back (linear RGB).
+const WATER: [f32; 3] = [0.14, 0.52, 0.86];
+/// The light, view space (the spheres' light too).
+const LIGHT: [f32; 3] = [-0.4, 0.6, 0.7];
+
+/// What the surface needs of one frame.
+pub(crate) struct SurfaceView {
+    /// The particle pass's uniforms (camera, particle radius, range).
+    pub uniforms: ParticleUniforms,
+    /// Particle spacing [L].
+    pub spacing: f32,
+    /// The particle viewport (pixels), from the target's origin.
+    pub size: (u32, u32),
+    /// The diagonal of the framed box [L], which sets the absorption's length.
+    pub scene_size: f32,
+}
+
+/// A single-channel float texture and the framebuffer that draws into it.
+struct Target {
+    fbo: glow::Framebuffer,
+    tex: glow::Texture,
+}
+
+struct Targets {
+    size: (u32, u32),
+    depth_rb: glow::Renderbuffer,
+    depth: Target,
+    thickness: Target,
+    blur: [Target; 2],
+}
+
+pub(crate) struct Surface {
+    depth_prog: glow::Program,
+    thickness_prog: glow::Program,
+    blur_prog: glow::Program,
+    shade_prog: glow::Program,
+    empty_vao: glow::VertexArray,
+    targets: Option<Targets>,
+    failed: Option<String>,
+}
+
+fn gl_err(m: impl Into<String>) -> ViewerError {
+    ViewerError::Gl(m.into())
+}
+
+/// `mipmaps`: the texture is sampled through its mipmaps (made after each draw into it).
+unsafe fn make_target(
+    gl: &glow::Context,
+    (w, h): (u32, u32),
+    internal: u32,
+    depth: Option<glow::Renderbuffer>,
+    mipmaps: bool,
+) -> Result<Target, ViewerError> {
+    let tex = gl.create_texture().map_err(gl_err)?;
+    gl.bind_texture(glow::TEXTURE_2D, Some(tex));
+    gl.tex_image_2d(
+        glow::TEXTURE_2D,
+        0,
+        internal as i32,
+        w as i32,
+        h as i32,
+        0,
+        glow::RED,
+        glow::FLOAT,
+        None,
+    );
+    let (min, mag) = if mipmaps {
+        (glow::LINEAR_MIPMAP_LINEAR, glow::LINEAR)
+    } else {
+        (glow::NEAREST, glow::NEAREST)
+    };
+    for (k, v) in [
+        (glow::TEXTURE_MIN_FILTER, min),
+        (glow::TEXTURE_MAG_FILTER, mag),
+        (glow::TEXTURE_WRAP_S, glow::CLAMP_TO_EDGE),
+        (glow::TEXTURE_WRAP_T, glow::CLAMP_TO_EDGE),
+    ] {
+        gl.tex_parameter_i32(glow::TEXTURE_2D, k, v as i32);
+    }
+    gl.bind_texture(glow::TEXTURE_2D, None);
+    let fbo = gl.create_framebuffer().map_err(gl_err)?;
+    gl.bind_framebuffer(glow::FRAMEBUFFER, Some(fbo));
+    gl.framebuffer_texture_2d(
+        glow::FRAMEBUFFER,
+        glow::COLOR_ATTACHMENT0,
+        glow::TEXTURE_2D,
+        Some(tex),
+        0,
+    );
+    if let Some(rb) = depth {
+        gl.framebuffer_renderbuffer(
+            glow::FRAMEBUFFER,
+            glow::DEPTH_ATTACHMENT,
+            glow::RENDERBUFFER,
+            Some(rb),
+        );
+    }
+    gl.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
+    let status = gl.check_framebuffer_status(glow::FRAMEBUFFER);
+    if status != glow::FRAMEBUFFER_COMPLETE {
+        return Err(gl_err(format!(
+            "surface framebuffer incomplete: 0x{status:x}"
+        )));
+    }
+    Ok(Target { fbo, tex })
+}
+
+impl Target {
+    unsafe fn destroy(&self, gl: &glow::Context) {
+        gl.delete_framebuffer(self.fbo);
+        gl.delete_texture(self.tex);
+    }
+}
+
+impl Targets {
+    unsafe fn new(gl: &glow::Context, size: (u32, u32)) -> Result<Targets, ViewerError> {
+        let depth_rb = gl.create_renderbuffer().map_err(gl_err)?;
+        gl.bind_renderbuffer(glow::RENDERBUFFER, Some(depth_rb));
+        gl.renderbuffer_storage(
+            glow::RENDERBUFFER,
+            glow::DEPTH_COMPONENT24,
+            size.0 as i32,
+            size.1 as i32,
+        );
+        gl.bind_renderbuffer(glow::RENDERBUFFER, None);
+        Ok(Targets {
+            size,
+            depth_rb,
+            depth: make_target(gl, size, glow::R32F, Some(depth_rb), false)?,
+            thickness: make_target(gl, size, glow::R16F, None, true)?,
+            blur: [
+                make_target(gl, size, glow::R32F, None, false)?,
+                make_target(gl, size, glow::R32F, None, false)?,
+            ],
+        })
+    }
+
+    unsafe fn destroy(&self, gl: &glow::Context) {
+        for t in [&self.depth, &self.thickness, &self.blur[0], &self.blur[1]] {
+            t.destroy(gl);
+        }
+        gl.delete_renderbuffer(self.depth_rb);
+    }
+}
+
+impl Surface {
+    pub(crate) fn new(gl: &glow::Context) -> Result<Surface, ViewerError> {
+        unsafe {
+            Ok(Surface {
+                depth_prog: compile(gl, PARTICLE_VS, &sphere_fs(SphereFs::SurfaceDepth))?,
+                thickness_prog: compile(gl, PARTICLE_VS, &sphere_fs(SphereFs::SurfaceThickness))?,
+                blur_prog: compile(gl, FULLSCREEN_VS, BLUR_FS)?,
+                shade_prog: compile(gl, FULLSCREEN_VS, &sphere_fs(SphereFs::SurfaceShade))?,
+                empty_vao: gl.create_vertex_array().map_err(gl_err)?,
+                targets: None,
+                failed: None,
+            })
+        }
+    }
+
+    pub(crate) fn destroy(&self, gl: &glow::Context) {
+        unsafe {
+            for p in [
+                self.depth_prog,
+                self.thickness_prog,
+                self.blur_prog,
+                self.shade_prog,
+            ] {
+                gl.delete_program(p);
+            }
+            gl.delete_vertex_array(self.empty_vao);
+            if let Some(t) = &self.targets {
+                t.destroy(gl);
+            }
+        }
+    }
+
+    /// The off-screen targets at `size`, made on first use and when the size changes.
+    unsafe fn targets(&mut self, gl: &glow::Context, size: (u32, u32)) -> Option<&Targets> {
+        if self.targets.as_ref().is_some_and(|t| t.size != size) {
+            if let Some(t) = self.targets.take() {
+                t.destroy(gl);
+            }
+        }
+        if self.targets.is_none() {
+            match Targets::new(gl, size) {
+                Ok(t) => self.targets = Some(t),
+                Err(e) => {
+                    // Said once; the frame is then drawn without the fluid.
+                    if self.failed.is_none() {
+                        eprintln!("meshfree-viewer: no fluid surface: {e}");
+                    }
+                    self.failed = Some(e.to_string());
+                    return None;
+                }
+            }
+        }
+        self.targets.as_ref()
+    }
+
+    /// Draws the fluid (kind 0) of the `count` particles in `vao` as a surface over what
+    /// `target` holds, depth-tested against it. Leaves `target` bound and blending off.
+    pub(crate) unsafe fn draw(
+        &mut self,
+        gl: &glow::Context,
+        target: Option<glow::Framebuffer>,
+        vao: glow::VertexArray,
+        count: usize,
+        cmap: glow::Texture,
+        v: &SurfaceView,
+    ) {
+        let (w, h) = v.size;
+        let (depth_prog, thickness_prog, blur_prog, shade_prog, empty_vao) = (
+            self.depth_prog,
+            self.thickness_prog,
+            self.blur_prog,
+            self.shade_prog,
+            self.empty_vao,
+        );
+        let Some(t) = self.targets(gl, (w, h)) else {
+            gl.bind_framebuffer(glow::FRAMEBUFFER, target);
+            return;
+        };
+        let mut u = v.uniforms;
+        u.radius *= SPHERE_SCALE;
+        u.hidden = !1; // every kind but the fluid
+        gl.viewport(0, 0, w as i32, h as i32);
+
+        // 1. Eye distance of the nearest fluid sphere.
+        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.depth.fbo));
+        gl.clear_color(0.0, 0.0, 0.0, 0.0);
+        gl.clear_depth_f64(1.0);
+        gl.depth_mask(true);
+        gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
+        gl.enable(glow::DEPTH_TEST);
+        gl.depth_func(glow::LESS);
+        gl.disable(glow::BLEND);
+        gl.use_program(Some(depth_prog));
+        u.set(gl, depth_prog, cmap);
+        gl.bind_vertex_array(Some(vao));
+        gl.draw_arrays_instanced(glow::TRIANGLES, 0, 6, count as i32);
+
+        // 2. Thickness: every sphere's chord, summed.
+        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.thickness.fbo));
+        gl.clear(glow::COLOR_BUFFER_BIT);
+        gl.disable(glow::DEPTH_TEST);
+        gl.enable(glow::BLEND);
+        gl.blend_func(glow::ONE, glow::ONE);
+        gl.use_program(Some(thickness_prog));
+        u.set(gl, thickness_prog, cmap);
+        // Particle volume spacing^3 over the drawn sphere's volume.
+        let fill = v.spacing.powi(3) / (4.0 / 3.0 * std::f32::consts::PI * u.radius.powi(3));
+        gl.uniform_1_f32(
+            gl.get_uniform_location(thickness_prog, "u_fill").as_ref(),
+            fill,
+        );
+        gl.draw_arrays_instanced(glow::TRIANGLES, 0, 6, count as i32);
+        gl.disable(glow::BLEND);
+        // Its mipmaps: the shading reads it averaged over about a particle spacing, so
+        // that the spheres' chords do not show as discs.
+        gl.bind_texture(glow::TEXTURE_2D, Some(t.thickness.tex));
+        gl.generate_mipmap(glow::TEXTURE_2D);
+        gl.bind_texture(glow::TEXTURE_2D, None);
+
+        // 3. Bilateral smoothing of the distance, ping-pong between the blur targets.
+        gl.use_program(Some(blur_prog));
+        gl.bind_vertex_array(Some(empty_vao));
+        let loc = |n: &str| gl.get_uniform_location(blur_prog, n);
+        gl.uniform_1_i32(loc("u_depth").as_ref(), 0);
+        gl.uniform_1_f32(loc("u_world_radius").as_ref(), BLUR_SPACINGS * v.spacing);
+        gl.uniform_1_f32(loc("u_px_scale").as_ref(), u.px_scale);
+        gl.uniform_1_f32(
+            loc("u_depth_sigma").as_ref(),
+            DEPTH_SIGMA_SPACINGS * v.spacing,
+        );
+        gl.uniform_1_i32(loc("u_max_px").as_ref(), BLUR_MAX_PX);
+        gl.active_texture(glow::TEXTURE0);
+        let mut src = t.depth.tex;
+        for _ in 0..BLUR_ITERATIONS {
+            for (dst, dir) in [(&t.blur[0], (1, 0)), (&t.blur[1], (0, 1))] {
+                gl.bind_framebuffer(glow::FRAMEBUFFER, Some(dst.fbo));
+                gl.bind_texture(glow::TEXTURE_2D, Some(src));
+                gl.uniform_2_i32(loc("u_dir").as_ref(), dir.0, dir.1);
+                gl.draw_arrays(glow::TRIANGLES, 0, 3);
+                src = dst.tex;
+            }
+        }
+
+        // 4. Shade over the target, depth-tested against what it holds.
+        gl.bind_framebuffer(glow::FRAMEBUFFER, target);
+        gl.enable(glow::DEPTH_TEST);
+        gl.depth_func(glow::LESS);
+        gl.enable(glow::BLEND);
+        gl.blend_func(glow::ONE, glow::SRC1_COLOR);
+        gl.use_program(Some(shade_prog));
+        let loc = |n: &str| gl.get_uniform_location(shade_prog, n);
+        gl.uniform_1_i32(loc("u_depth").as_ref(), 0);
+        gl.uniform_1_i32(loc("u_thickness").as_ref(), 1);
+        gl.uniform_matrix_4_f32_slice(loc("u_proj").as_ref(), false, &u.proj.to_cols_array());
+        let to_world = Mat3::from_mat4(u.view).transpose();
+        gl.uniform_matrix_3_f32_slice(loc("u_to_world").as_ref(), false, &to_world.to_cols_array());
+        gl.uniform_2_f32(
+            loc("u_tan_half").as_ref(),
+            1.0 / u.proj.x_axis.x,
+            1.0 / u.proj.y_axis.y,
+        );
+        let light = Vec3::from(LIGHT).normalize();
+        gl.uniform_3_f32(loc("u_light").as_ref(), light.x, light.y, light.z);
+        let len = 0.25 * v.scene_size.max(1e-9);
+        gl.uniform_3_f32(
+            loc("u_absorb").as_ref(),
+            ABSORB[0] / len,
+            ABSORB[1] / len,
+            ABSORB[2] / len,
+        );
+        gl.uniform_3_f32(loc("u_water").as_ref(), WATER[0], WATER[1], WATER[2]);
+        gl.uniform_1_f32(loc("u_spacing_px").as_ref(), v.spacing * u.px_scale);
+        gl.uniform_1_f32(loc("u_edge_dz").as_ref(), DEPTH_SIGMA_SPACINGS * v.spacing);
+        gl.active_texture(glow::TEXTURE1);
+        gl.bind_texture(glow::TEXTURE_2D, Some(t.thickness.tex));
+        gl.active_texture(glow::TEXTURE0);
+        gl.bind_texture(glow::TEXTURE_2D, Some(src));
+        gl.draw_arrays(glow::TRIANGLES, 0, 3);
+        gl.disable(glow::BLEND);
+        gl.active_texture(glow::TEXTURE1);
+        gl.bind_texture(glow::TEXTURE_2D, None);
+        gl.active_texture(glow::TEXTURE0);
+        gl.bind_texture(glow::TEXTURE_2D, None);
+        gl.bind_vertex_array(None);
+    }
+}
