@@ -1092,6 +1092,7 @@ pub fn gl_unmap(s: &CudaStream, res: &mut [sys::CUgraphicsResource]) -> Result<(
 /// device addresses of at least 12 n, 4 n and n bytes), and, where `range` is given (two
 /// words, zeroed here), the colour range of the particles that set it (`hidden`: bit k
 /// hides kind k).
+#[allow(clippy::too_many_arguments)]
 pub fn view_fill(
     k: &Kernels,
     s: &Arc<CudaStream>,
