@@ -377,7 +377,26 @@ impl<'a> App<'a> {
             self.advance(1);
         }
         self.ctl.single_step = false;
-        self.source.frame(self.ctl.field, &mut self.frame);
+        // The particles: filled on the GPU where the source can (device_fill.rs), else uploaded.
+        let hide_kinds = [false, false, self.ctl.hide_boundary];
+        let gfx = self.gfx.as_mut().expect("checked above");
+        let range = match crate::device_fill::prepare(
+            &mut gfx.renderer,
+            &gfx.gl,
+            &mut *self.source,
+            self.ctl.field,
+            hide_kinds,
+            None,
+            true,
+            &mut self.frame,
+        ) {
+            Ok((range, _)) => range,
+            Err(e) => {
+                self.error = Some(e);
+                event_loop.exit();
+                return;
+            }
+        };
         if self.frame.dim != self.last_dim {
             self.last_dim = self.frame.dim;
             self.camera = self.opts.camera;
@@ -392,18 +411,13 @@ impl<'a> App<'a> {
             width: w,
             height: h,
             field: self.ctl.field,
-            range: None,
+            range,
             camera: self.camera,
-            hide_kinds: [false, false, self.ctl.hide_boundary],
+            hide_kinds,
             colorbar: true,
             overlay,
             ..RenderOptions::default()
         };
-        if let Err(e) = gfx.renderer.upload(&gfx.gl, &self.frame) {
-            self.error = Some(e);
-            event_loop.exit();
-            return;
-        }
         let info = gfx.renderer.draw(&gfx.gl, &self.frame, &opts);
         self.camera = info.camera;
         self.frames += 1;
