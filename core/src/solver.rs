@@ -318,9 +318,9 @@ pub trait Solver: Send {
     ) -> Option<Result<GlFill, crate::backend::BackendError>> {
         None
     }
-    /// Bytes copied from the device to the host since the solver was made (every read-back:
-    /// time, health checks, diagnostics, snapshots, the colour range, outputs); `None` on a
-    /// backend without a device.
+    /// Bytes copied from the device to the host since the solver was made (the read-backs of
+    /// time, health checks, diagnostics, snapshots, probes, monitors, the colour range and
+    /// whole states); `None` on a backend without a device.
     fn device_to_host_bytes(&self) -> Option<u64> {
         None
     }

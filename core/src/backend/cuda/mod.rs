@@ -645,9 +645,9 @@ impl<D: Dim> Solver for CudaSolver<D> {
             },
         )
     }
-    /// Every read-back on the solver's stream: time, dt, health checks, diagnostics,
-    /// snapshots, probes, monitors, the colour range, whole-state reads (outputs through
-    /// `capture`'s second stream are not counted).
+    /// The read-backs of time, dt, health checks, diagnostics, snapshots, probes, monitors,
+    /// the colour range and whole-state reads; not counted: the output frames (`capture`'s
+    /// second stream), a checkpoint's solid displacements and a subdomain's exchange sizes.
     fn device_to_host_bytes(&self) -> Option<u64> {
         Some(self.d2h)
     }
