@@ -331,7 +331,9 @@ pub struct RenderArgs {
     #[arg(long)]
     pub paper_exact: bool,
     /// With --frames: solver steps between frames instead of even times, and a timing line
-    /// (frames per second, solver slow-down from drawing).
+    /// (frames per second, drawing and solver ms, solver slow-down from drawing, the
+    /// static-buffer drawing ceiling, device-to-host bytes per frame) and its JSON
+    /// (`timing-json: {...}`).
     #[arg(long, value_name = "K", requires = "frames")]
     pub steps_per_frame: Option<u32>,
     /// 3D: draw the fluid as a screen-space surface (smoothed depth, Fresnel, absorption)
@@ -342,6 +344,27 @@ pub struct RenderArgs {
     /// is shown) as the live window does.
     #[arg(long)]
     pub panel: bool,
+    /// Colour range LO,HI instead of the visible particles' (with the CUDA backend nothing
+    /// then comes back from the device to draw a frame).
+    #[arg(long, value_name = "LO,HI", value_parser = parse_range)]
+    pub range: Option<(f32, f32)>,
+    /// Draw from a host copy of the particles (read back, then uploaded: the CPU backend's
+    /// path) even with the CUDA backend, instead of filling the vertex buffers on the GPU
+    /// (CUDA-OpenGL interop); for comparison.
+    #[arg(long)]
+    pub host_copy: bool,
+}
+
+fn parse_range(s: &str) -> Result<(f32, f32), String> {
+    let (lo, hi) = s
+        .split_once(',')
+        .ok_or_else(|| format!("`{s}`: expected LO,HI, e.g. 0,2.5"))?;
+    match (lo.trim().parse::<f32>(), hi.trim().parse::<f32>()) {
+        (Ok(lo), Ok(hi)) if lo.is_finite() && hi.is_finite() && lo < hi => Ok((lo, hi)),
+        _ => Err(format!(
+            "`{s}`: LO and HI must be finite numbers with LO < HI"
+        )),
+    }
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {

@@ -11,10 +11,11 @@ use meshfree_core::backend::create;
 use meshfree_core::frame;
 use meshfree_core::scene::format::{OutputFormat, Wall};
 use meshfree_core::scene::{Counts, Overrides, Scene};
-use meshfree_core::solver::{Diagnostics, Shown, Snapshot, Solver};
+use meshfree_core::solver::{Diagnostics, GlBuffers, Shown, Snapshot, Solver};
 use meshfree_core::step::Stepper;
 use meshfree_viewer::{
-    Field, FrameData, LiveSource, Outline, Panel, RenderOptions, Status, ViewOptions,
+    DeviceFrame, Field, FrameData, LiveSource, Outline, Panel, ParticleBuffers, RenderOptions,
+    Status, ViewOptions,
 };
 
 fn field(f: ShownField) -> Field {
@@ -36,6 +37,9 @@ struct Live {
     snapshot: Snapshot,
     /// The walls drawn as outlines in 3D, with the time each is removed at (gates).
     outlines: Vec<(Outline, Option<f64>)>,
+    /// Whether to offer the viewer a fill of its vertex buffers on the GPU
+    /// (`Solver::fill_gl`); cleared where the backend refuses (its first error is said).
+    device_fill: bool,
 }
 
 /// The scene's box walls (containers by their inside, obstacles and gates), as outlines
@@ -85,6 +89,7 @@ impl Live {
             stepper,
             time: 0.0,
             snapshot: Snapshot::default(),
+            device_fill: true,
         })
     }
 
@@ -119,24 +124,7 @@ impl LiveSource for Live {
 
     /// One read-back per drawn frame, into buffers reused from frame to frame.
     fn frame(&mut self, f: Field, out: &mut FrameData) {
-        let p = *self.solver.params();
-        out.dim = p.dim as u8;
-        out.domain_min = p.domain_min;
-        out.domain_max = p.domain_max;
-        if p.dim == 2 {
-            out.domain_min[2] = 0.0;
-            out.domain_max[2] = 0.0;
-        }
-        out.particle_radius = 0.5 * p.dx;
-        // Gates leave the picture when they are removed.
-        let t = self.time;
-        out.outlines.clear();
-        out.outlines.extend(
-            self.outlines
-                .iter()
-                .filter(|(_, removed)| removed.is_none_or(|r| t < r))
-                .map(|(o, _)| *o),
-        );
+        self.frame_meta(out);
         self.snapshot.positions = std::mem::take(&mut out.positions);
         self.snapshot.values = std::mem::take(&mut out.values);
         self.snapshot.kinds = std::mem::take(&mut out.kinds);
@@ -155,8 +143,72 @@ impl LiveSource for Live {
     }
 
     fn reset(&mut self) -> Result<(), String> {
+        let device_fill = self.device_fill;
         *self = Live::new(self.scene.clone(), self.backend).map_err(|e| format!("{e:#}"))?;
+        self.device_fill = device_fill;
         Ok(())
+    }
+
+    /// The CUDA backend's CUDA-OpenGL interop (`Solver::fill_gl`); `None` on the CPU, or
+    /// where the buffers cannot be registered (say, an EGL display on another GPU than
+    /// CUDA's): then this and every later frame are uploaded from snapshots.
+    fn fill_buffers(
+        &mut self,
+        f: Field,
+        hide_kinds: [bool; 3],
+        fixed_range: bool,
+        buffers: &ParticleBuffers,
+        out: &mut FrameData,
+    ) -> Option<Result<DeviceFrame, String>> {
+        if !self.device_fill {
+            return None;
+        }
+        let gl = GlBuffers {
+            positions: buffers.positions,
+            values: buffers.values,
+            kinds: buffers.kinds,
+            capacity: buffers.capacity,
+        };
+        let hidden = (0..3).fold(0u8, |m, k| m | (u8::from(hide_kinds[k]) << k));
+        let r = self.solver.fill_gl(&gl, shown(f), hidden, fixed_range)?;
+        match r {
+            Ok(g) => {
+                self.frame_meta(out);
+                Some(Ok(DeviceFrame {
+                    count: g.count,
+                    range: g.range,
+                }))
+            }
+            Err(e) => {
+                eprintln!("drawing from host copies of the particles: {e}");
+                self.device_fill = false;
+                None
+            }
+        }
+    }
+}
+
+impl Live {
+    /// The frame's dimension, domain and drawn radius.
+    fn frame_meta(&self, out: &mut FrameData) {
+        let p = *self.solver.params();
+        out.dim = p.dim as u8;
+        out.domain_min = p.domain_min;
+        out.domain_max = p.domain_max;
+        if p.dim == 2 {
+            out.domain_min[2] = 0.0;
+            out.domain_max[2] = 0.0;
+        }
+        out.particle_radius = 0.5 * p.dx;
+        // Gates leave the picture when they are removed.
+        let t = self.time;
+        out.outlines.clear();
+        out.outlines.extend(
+            self.outlines
+                .iter()
+                .filter(|(_, removed)| removed.is_none_or(|r| t < r))
+                .map(|(o, _)| *o),
+        );
     }
 }
 
@@ -258,7 +310,8 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
     let f = field(a.field);
     let dim = live.solver.params().dim;
     let mut renderer = meshfree_viewer::HeadlessRenderer::new()?;
-    let mut frame = FrameData::default();
+    eprintln!("headless OpenGL: {}", renderer.gl_renderer());
+    let device = !a.host_copy;
     // The panel's rates: solver steps and drawn frames per second since the last image.
     let mut pace = (
         std::time::Instant::now(),
@@ -267,8 +320,19 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
         0.0f64,
     );
     let steps_per_frame = a.steps_per_frame.unwrap_or(0);
-    let mut shoot = |live: &mut Live, path: Option<&Path>| -> anyhow::Result<()> {
-        live.frame(f, &mut frame);
+    let opts = |live: &Live| RenderOptions {
+        width: a.size.0,
+        height: a.size.1,
+        field: f,
+        range: a.range,
+        hide_kinds: [false, false, dim == 3 && !a.show_boundary],
+        overlay: vec![format!("{}  t = {:.3}", scene.name(), live.time)],
+        surface: a.surface,
+        ..Default::default()
+    };
+    // Draws the current state (the pixels read back only where a PNG is written); returns
+    // whether the vertex buffers were filled on the GPU.
+    let mut shoot = |live: &mut Live, path: Option<&Path>| -> anyhow::Result<bool> {
         let status = live.status();
         let panel = a.panel.then(|| {
             let dt = pace.0.elapsed().as_secs_f64().max(1e-9);
@@ -286,24 +350,27 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
                 show_help: false,
             }
         });
-        let opts = RenderOptions {
-            width: a.size.0,
-            height: a.size.1,
-            field: f,
-            hide_kinds: [false, false, dim == 3 && !a.show_boundary],
-            overlay: vec![format!("{}  t = {:.3}", scene.name(), live.time)],
-            surface: a.surface,
+        let o = RenderOptions {
             panel,
-            ..Default::default()
+            ..opts(live)
         };
-        let image = renderer.render(&frame, &opts)?;
-        if let Some(path) = path {
+        let (image, on_device) = renderer.render_source(live, &o, device, path.is_some())?;
+        if let (Some(path), Some(image)) = (path, image) {
             image
                 .save_png(path)
                 .with_context(|| format!("writing {}", path.display()))?;
-            println!("wrote {} (t = {:.4})", path.display(), live.time);
+            let from = if on_device {
+                "vertex buffers filled on the GPU"
+            } else {
+                "a host copy"
+            };
+            println!(
+                "wrote {} (t = {:.4}, drawn from {from})",
+                path.display(),
+                live.time
+            );
         }
-        Ok(())
+        Ok(on_device)
     };
     let stem = a.out.with_extension("");
     let numbered = |k: u32| std::path::PathBuf::from(format!("{}_{k:04}.png", stem.display()));
@@ -324,27 +391,59 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
     }
     match (a.frames, a.steps_per_frame) {
         (Some(n), Some(k)) => {
-            // Timed: K solver steps, then one snapshot and render, N times.
+            // Timed: K solver steps, then one frame drawn (finished, not read back: a window
+            // does not read its pixels), N times; the last one is written as PNG.
+            let bytes = |live: &Live| live.solver.device_to_host_bytes();
             let (mut solve, mut draw) = (0.0f64, 0.0f64);
+            let (mut step_bytes, mut draw_bytes) = (0u64, 0u64);
+            let mut on_device = false;
             for f in 0..n {
+                let b0 = bytes(&live);
                 let t0 = std::time::Instant::now();
                 live.advance(k).map_err(anyhow::Error::msg)?;
                 live.time = live.solver.time(); // waits for the GPU
                 let t1 = std::time::Instant::now();
-                // Only the last frame is written: PNG encoding is no part of a viewer's cost.
-                shoot(&mut live, (f + 1 == n).then(|| numbered(f)).as_deref())?;
+                let b1 = bytes(&live);
+                let last = f + 1 == n;
+                on_device = shoot(&mut live, None)?;
                 draw += t1.elapsed().as_secs_f64();
                 solve += (t1 - t0).as_secs_f64();
+                // Bytes from the second frame on: the first opens the scene's gates, whose
+                // removals read the state back once.
+                if let (Some(b0), Some(b1), Some(b2), true) = (b0, b1, bytes(&live), f > 0) {
+                    step_bytes += b1 - b0;
+                    draw_bytes += b2 - b1;
+                }
+                if last {
+                    // PNG encoding and the pixels' read-back are no part of a viewer's cost.
+                    shoot(&mut live, Some(&numbered(f)))?;
+                }
             }
-            println!(
-                "timing: {} particles, {n} frames of {k} steps: {:.1} frames/s, solver {:.3} ms/step, \
-                 drawing {:.1} ms/frame, solver slow-down from drawing {:.1} %",
-                live.solver.len(),
-                n as f64 / (solve + draw),
-                1e3 * solve / (n as f64 * k as f64),
-                1e3 * draw / n as f64,
-                100.0 * draw / solve
-            );
+            // The ceiling: the same sprites drawn again from the buffers as they are.
+            let o = opts(&live);
+            let t0 = std::time::Instant::now();
+            for _ in 0..n {
+                renderer.redraw(&o, false)?;
+            }
+            let still = t0.elapsed().as_secs_f64();
+            let later = n.saturating_sub(1).max(1) as f64;
+            let per_frame = |b: u64| bytes(&live).map(|_| b as f64 / later);
+            let t = FrameTiming {
+                particles: live.solver.len(),
+                frames: n,
+                steps_per_frame: k,
+                path: if on_device { "device" } else { "host copy" },
+                frames_per_second: n as f64 / (solve + draw),
+                solver_ms_per_step: 1e3 * solve / (n as f64 * k as f64),
+                drawing_ms_per_frame: 1e3 * draw / n as f64,
+                static_drawing_ms_per_frame: 1e3 * still / n as f64,
+                solver_slowdown_percent: 100.0 * draw / solve,
+                d2h_bytes_per_frame_drawing: per_frame(draw_bytes),
+                d2h_bytes_per_frame_stepping: per_frame(step_bytes),
+                size: a.size,
+            };
+            println!("{}", t.line());
+            println!("timing-json: {}", serde_json::to_string(&t)?);
         }
         (Some(n), None) => {
             let n = n.max(1);
@@ -366,6 +465,56 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+/// What `render --frames N --steps-per-frame K` measured.
+#[derive(serde::Serialize)]
+struct FrameTiming {
+    particles: usize,
+    frames: u32,
+    steps_per_frame: u32,
+    /// "device" (the vertex buffers filled on the GPU) or "host copy".
+    path: &'static str,
+    frames_per_second: f64,
+    solver_ms_per_step: f64,
+    /// Filling (or reading back and uploading) and drawing one frame, to its finish.
+    drawing_ms_per_frame: f64,
+    /// Drawing the same sprites again from the buffers as they are: the ceiling.
+    static_drawing_ms_per_frame: f64,
+    /// Drawing time over solver time for the same frames.
+    solver_slowdown_percent: f64,
+    /// Bytes read back from the device per frame by the drawing and by the stepping
+    /// (`Solver::device_to_host_bytes`), over the frames after the first (which opens the
+    /// scene's gates: a removal reads the state back once); `None` on the CPU.
+    d2h_bytes_per_frame_drawing: Option<f64>,
+    d2h_bytes_per_frame_stepping: Option<f64>,
+    size: (u32, u32),
+}
+
+impl FrameTiming {
+    fn line(&self) -> String {
+        let bytes = |b: Option<f64>| b.map_or("-".to_string(), |b| format!("{b:.0}"));
+        format!(
+            "timing: {} particles at {}x{}, {} frames of {} steps, {}: {:.1} frames/s, solver \
+             {:.3} ms/step, drawing {:.2} ms/frame (static-buffer drawing {:.2} ms/frame, \
+             {:.2}x), solver slow-down from drawing {:.1} %, device-to-host bytes per frame: \
+             {} drawing, {} stepping",
+            self.particles,
+            self.size.0,
+            self.size.1,
+            self.frames,
+            self.steps_per_frame,
+            self.path,
+            self.frames_per_second,
+            self.solver_ms_per_step,
+            self.drawing_ms_per_frame,
+            self.static_drawing_ms_per_frame,
+            self.drawing_ms_per_frame / self.static_drawing_ms_per_frame.max(1e-9),
+            self.solver_slowdown_percent,
+            bytes(self.d2h_bytes_per_frame_drawing),
+            bytes(self.d2h_bytes_per_frame_stepping),
+        )
+    }
 }
 
 /// The scene's `time.figures`; without them, five moments from the start to the end time

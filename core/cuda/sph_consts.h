@@ -91,4 +91,13 @@
 /* The viscous limit of the step, dt <= MF_VISCOUS_DT h^2 / nu (with laminar viscosity). [-] */
 #define MF_VISCOUS_DT 0.125f
 
+/* ---- the viewer's vertex fill (cuda/view.cu) ---- */
+
+/* The quantity that colours the particles (`solver::Shown`): speed |v| [L/T], pressure
+ * [M L^-1 T^-2], density [M L^-3], the particle's kind (0 fluid, 1 solid, 2 boundary). */
+#define MF_SHOWN_SPEED 0
+#define MF_SHOWN_PRESSURE 1
+#define MF_SHOWN_DENSITY 2
+#define MF_SHOWN_KIND 3
+
 #endif /* MESHFREE_SPH_CONSTS_H */

@@ -132,6 +132,27 @@ pub struct Snapshot {
     pub kinds: Vec<u8>,
 }
 
+/// The viewer's particle vertex buffers, by their OpenGL names in the context current on the
+/// calling thread, which a backend with the particles in device memory fills in place
+/// (`Solver::fill_gl`): per particle, the position as three f32 [L] (z = 0 in 2D), the
+/// shown quantity as one f32, the kind as one u8; each buffer holds `capacity` particles.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct GlBuffers {
+    pub positions: u32,
+    pub values: u32,
+    pub kinds: u32,
+    pub capacity: usize,
+}
+
+/// What `Solver::fill_gl` wrote: `count` particles, and the least and greatest shown value
+/// of the particles that set the colour range (finite, neither boundary nor hidden), where
+/// the range was reduced and any particle set it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GlFill {
+    pub count: usize,
+    pub range: Option<(f32, f32)>,
+}
+
 /// Fields kernel-interpolated at one point (`Solver::sample_points`): eqs. (1)-(4) with
 /// Shepard normalisation, f(x) = sum_j f_j W(x - x_j) V_j / sum_j W(x - x_j) V_j with
 /// V_j = m_j / rho_j, over the fluid particles within the support of x (and the wall
@@ -282,6 +303,26 @@ pub trait Solver: Send {
                 Shown::Kind => q.kind.code() as f32,
             });
         }
+    }
+    /// Fills the viewer's vertex buffers `gl` from device memory (CUDA-OpenGL interop:
+    /// positions, quantity `shown` and kinds in storage order, as `snapshot` gives them), and
+    /// reduces the colour range on the device unless `fixed_range` (then nothing comes back
+    /// to the host); `hidden`'s bit k keeps kind k out of the range. `None`: this backend
+    /// has no device memory to fill from (the viewer uploads a `snapshot`).
+    fn fill_gl(
+        &mut self,
+        _gl: &GlBuffers,
+        _shown: Shown,
+        _hidden: u8,
+        _fixed_range: bool,
+    ) -> Option<Result<GlFill, crate::backend::BackendError>> {
+        None
+    }
+    /// Bytes copied from the device to the host since the solver was made (the read-backs of
+    /// time, health checks, diagnostics, snapshots, probes, monitors, the colour range and
+    /// whole states); `None` on a backend without a device.
+    fn device_to_host_bytes(&self) -> Option<u64> {
+        None
     }
     /// Pressure, velocity, density and the fluid's colour at each of `points` [L] (z
     /// ignored in 2D), kernel-interpolated on the device with Shepard normalisation

@@ -12,7 +12,7 @@ use glutin::context::{ContextApi, ContextAttributesBuilder, GlProfile, Version};
 use glutin::prelude::*;
 
 use crate::renderer::Renderer;
-use crate::{FrameData, Image, RenderOptions, ViewerError};
+use crate::{FrameData, Image, LiveSource, RenderOptions, ViewerError};
 
 /// A reusable headless renderer: one EGL context and FBO for many frames.
 ///
@@ -28,6 +28,10 @@ pub struct HeadlessRenderer {
     )>,
     gl: glow::Context,
     gl_renderer: String,
+    /// The last `render_source` frame (its vectors empty where the source filled the
+    /// buffers on the GPU) and colour range, for `redraw`.
+    source_frame: FrameData,
+    source_range: Option<(f32, f32)>,
     // Declared last so they drop after the GL objects are deleted in `Drop`.
     _context: PossiblyCurrentContext,
     _display: Display,
@@ -107,6 +111,8 @@ impl HeadlessRenderer {
                         fbo: None,
                         gl,
                         gl_renderer,
+                        source_frame: FrameData::default(),
+                        source_range: None,
                         _context: context,
                         _display: display,
                     });
@@ -191,6 +197,74 @@ impl HeadlessRenderer {
         }
         self.renderer.draw(gl, frame, opts);
         let img = Image::read_gl(gl, Some(fbo), glow::COLOR_ATTACHMENT0, w, h);
+        unsafe {
+            gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+            let err = gl.get_error();
+            if err != glow::NO_ERROR {
+                return Err(ViewerError::Gl(format!(
+                    "GL error 0x{err:x} while rendering"
+                )));
+            }
+        }
+        Ok(img)
+    }
+}
+
+impl HeadlessRenderer {
+    /// Renders `source`'s current state coloured by `opts.field`: its particles written into
+    /// the vertex buffers on the GPU where `device` allows and the source offers it
+    /// ([`LiveSource::fill_buffers`]), else [`LiveSource::frame`] uploaded. With `read` the
+    /// pixels come back as an [`Image`]; without, the frame is only finished (`glFinish`),
+    /// as a window would show it. Returns the image and whether the GPU fill ran.
+    pub fn render_source(
+        &mut self,
+        source: &mut dyn LiveSource,
+        opts: &RenderOptions,
+        device: bool,
+        read: bool,
+    ) -> Result<(Option<Image>, bool), ViewerError> {
+        let (range, on_device) = crate::device_fill::prepare(
+            &mut self.renderer,
+            &self.gl,
+            source,
+            opts.field,
+            opts.hide_kinds,
+            opts.range,
+            device,
+            &mut self.source_frame,
+        )?;
+        self.source_range = range;
+        Ok((self.redraw(opts, read)?, on_device))
+    }
+
+    /// Draws the particles of the last [`HeadlessRenderer::render_source`] again, from the
+    /// vertex buffers as they are (nothing uploaded or filled: the drawing's own cost).
+    pub fn redraw(
+        &mut self,
+        opts: &RenderOptions,
+        read: bool,
+    ) -> Result<Option<Image>, ViewerError> {
+        let (w, h) = (opts.width, opts.height);
+        if w == 0 || h == 0 || w > 16384 || h > 16384 {
+            return Err(ViewerError::Gl(format!("bad image size {w}x{h}")));
+        }
+        let fbo = self.target(w, h)?;
+        let opts = RenderOptions {
+            range: self.source_range,
+            ..opts.clone()
+        };
+        let gl = &self.gl;
+        unsafe {
+            gl.bind_framebuffer(glow::FRAMEBUFFER, Some(fbo));
+            gl.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
+        }
+        self.renderer.draw(gl, &self.source_frame, &opts);
+        let img = if read {
+            Some(Image::read_gl(gl, Some(fbo), glow::COLOR_ATTACHMENT0, w, h))
+        } else {
+            unsafe { gl.finish() };
+            None
+        };
         unsafe {
             gl.bind_framebuffer(glow::FRAMEBUFFER, None);
             let err = gl.get_error();

@@ -18,7 +18,15 @@
 //!   only on the first frame;
 //! * [`LiveSource::status`] gives time, step count and particle count for the
 //!   overlay;
-//! * [`LiveSource::reset`] goes back to the initial state (key `r`).
+//! * [`LiveSource::reset`] goes back to the initial state (key `r`);
+//! * [`LiveSource::fill_buffers`] (optional) writes the particles straight into the
+//!   renderer's vertex buffers on the GPU instead of `frame`: the source gets the buffers'
+//!   OpenGL names and layout ([`ParticleBuffers`]: per particle three `f32` of position,
+//!   one `f32` value, one `u8` kind) and returns how many it wrote and, unless the range is
+//!   fixed, the least and greatest value that set the colour range ([`DeviceFrame`]).
+//!   meshfree's CUDA backend does it with CUDA-OpenGL interop, so nothing per particle
+//!   crosses PCIe; where a source returns `None` (the default) the window and the headless
+//!   renderer call `frame` and upload, as before.
 //!
 //! ## Live window
 //!
@@ -57,7 +65,10 @@
 //! [`render_headless`] (or a reusable [`HeadlessRenderer`]) renders a
 //! [`FrameData`] with EGL and no display server (`EGL_EXT_platform_device`,
 //! surfaceless context, rendering into a framebuffer object) and returns an
-//! [`Image`], which [`Image::save_png`] writes. Both paths share one renderer
+//! [`Image`], which [`Image::save_png`] writes. [`HeadlessRenderer::render_source`] draws a
+//! [`LiveSource`]'s state as the window does (the GPU fill where offered), reading the pixels
+//! back only when asked, and [`HeadlessRenderer::redraw`] draws the same buffers again (for
+//! timing the drawing alone). Both paths share one renderer
 //! module and the same shaders, and draw everything the window draws (outlines,
 //! surface, the panel when [`RenderOptions::panel`] is set). If no EGL device is
 //! found it returns [`ViewerError::NoEglDevice`].
@@ -80,6 +91,7 @@
 mod camera;
 mod colormap;
 pub mod demo;
+mod device_fill;
 mod error;
 mod font;
 mod headless;
@@ -93,6 +105,7 @@ mod window;
 
 pub use camera::{Camera, OrbitCamera, OrthoCamera};
 pub use colormap::colormap;
+pub use device_fill::{DeviceFrame, ParticleBuffers};
 pub use error::ViewerError;
 pub use headless::{render_headless, HeadlessRenderer};
 pub use image::Image;
@@ -251,6 +264,22 @@ pub trait LiveSource {
     fn status(&self) -> Status;
     /// Goes back to the initial state.
     fn reset(&mut self) -> Result<(), String>;
+    /// Writes the particles coloured by `field` straight into the renderer's vertex buffers
+    /// `buffers` on the GPU (e.g. CUDA-OpenGL interop: nothing per particle through the
+    /// host), and `out`'s dimension, domain and radius (its vectors stay as they are);
+    /// reduces the colour range unless `fixed_range` (`hide_kinds[k]` keeps kind k out of
+    /// it). Called in place of [`LiveSource::frame`], the renderer's GL context current.
+    /// `None` (the default): this source cannot, the viewer calls `frame` and uploads.
+    fn fill_buffers(
+        &mut self,
+        _field: Field,
+        _hide_kinds: [bool; 3],
+        _fixed_range: bool,
+        _buffers: &ParticleBuffers,
+        _out: &mut FrameData,
+    ) -> Option<Result<DeviceFrame, String>> {
+        None
+    }
 }
 
 /// How to draw one frame (headless, or the starting state of the window).

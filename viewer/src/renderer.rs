@@ -12,7 +12,7 @@ use crate::outline::Outlines;
 use crate::panel::{self, Action};
 use crate::shaders::{sphere_fs, SphereFs, PARTICLE_VS};
 use crate::surface::{Surface, SurfaceView};
-use crate::{Camera, Field, FrameData, RenderOptions, ViewerError};
+use crate::{Camera, Field, FrameData, ParticleBuffers, RenderOptions, ViewerError};
 
 const OVERLAY_VS: &str = r#"#version 330 core
 layout(location = 0) in vec2 a_pos;
@@ -209,6 +209,15 @@ pub(crate) fn value_range(frame: &FrameData, field: Field, hide: [bool; 3]) -> (
             hi = hi.max(*v);
         }
     }
+    range_from(lo, hi, field)
+}
+
+/// The colour range from the least and greatest value of the particles that set it
+/// (infinite where none did): speed from 0, a flat range widened.
+pub(crate) fn range_from(mut lo: f32, mut hi: f32, field: Field) -> (f32, f32) {
+    if field == Field::Kind {
+        return (0.0, 2.0);
+    }
     if !lo.is_finite() {
         return (0.0, 1.0);
     }
@@ -322,14 +331,8 @@ impl Renderer {
     ) -> Result<(), ViewerError> {
         frame.validate()?;
         let n = frame.len();
+        self.grow(gl, n);
         unsafe {
-            if n > self.capacity {
-                for (b, size) in [(self.vbo_pos, 12), (self.vbo_val, 4), (self.vbo_kind, 1)] {
-                    gl.bind_buffer(glow::ARRAY_BUFFER, Some(b));
-                    gl.buffer_data_size(glow::ARRAY_BUFFER, (n * size) as i32, glow::DYNAMIC_DRAW);
-                }
-                self.capacity = n;
-            }
             if n > 0 {
                 gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.vbo_pos));
                 gl.buffer_sub_data_u8_slice(glow::ARRAY_BUFFER, 0, vec3_bytes(&frame.positions));
@@ -342,6 +345,46 @@ impl Renderer {
         }
         self.count = n;
         Ok(())
+    }
+
+    /// Grows the particle buffers to hold `n` (they never shrink).
+    fn grow(&mut self, gl: &glow::Context, n: usize) {
+        if n <= self.capacity {
+            return;
+        }
+        let sizes = [
+            ParticleBuffers::POSITION_BYTES,
+            ParticleBuffers::VALUE_BYTES,
+            ParticleBuffers::KIND_BYTES,
+        ];
+        unsafe {
+            for (b, size) in [self.vbo_pos, self.vbo_val, self.vbo_kind]
+                .into_iter()
+                .zip(sizes)
+            {
+                gl.bind_buffer(glow::ARRAY_BUFFER, Some(b));
+                gl.buffer_data_size(glow::ARRAY_BUFFER, (n * size) as i32, glow::DYNAMIC_DRAW);
+            }
+            gl.bind_buffer(glow::ARRAY_BUFFER, None);
+        }
+        self.capacity = n;
+    }
+
+    /// The particle buffers, grown to hold `n`, for a fill outside the renderer
+    /// (`device_fill.rs`); `set_count` then says how many the next draw takes.
+    pub(crate) fn particle_buffers(&mut self, gl: &glow::Context, n: usize) -> ParticleBuffers {
+        self.grow(gl, n);
+        ParticleBuffers {
+            positions: self.vbo_pos.0.get(),
+            values: self.vbo_val.0.get(),
+            kinds: self.vbo_kind.0.get(),
+            capacity: self.capacity,
+        }
+    }
+
+    /// How many particles of the buffers the next draw takes (at most their capacity).
+    pub(crate) fn set_count(&mut self, n: usize) {
+        self.count = n.min(self.capacity);
     }
 
     /// Draws the uploaded particles (using `frame` for the domain, radius, outlines and

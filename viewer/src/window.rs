@@ -317,7 +317,26 @@ impl<'a> App<'a> {
             self.advance(1);
         }
         self.ctl.single_step = false;
-        self.source.frame(self.ctl.field, &mut self.frame);
+        // The particles: filled on the GPU where the source can (device_fill.rs), else uploaded.
+        let hide_kinds = self.ctl.hide_kinds;
+        let gfx = self.gfx.as_mut().expect("checked above");
+        let range = match crate::device_fill::prepare(
+            &mut gfx.renderer,
+            &gfx.gl,
+            &mut *self.source,
+            self.ctl.field,
+            hide_kinds,
+            self.ctl.range,
+            true,
+            &mut self.frame,
+        ) {
+            Ok((range, _)) => range,
+            Err(e) => {
+                self.error = Some(e);
+                event_loop.exit();
+                return;
+            }
+        };
         if self.frame.dim != self.last_dim {
             self.last_dim = self.frame.dim;
             self.camera = self.opts.camera;
@@ -340,9 +359,9 @@ impl<'a> App<'a> {
             width: w,
             height: h,
             field: self.ctl.field,
-            range: self.ctl.range,
+            range,
             camera: self.camera,
-            hide_kinds: self.ctl.hide_kinds,
+            hide_kinds,
             colorbar: true,
             overlay,
             surface: self.ctl.surface,
@@ -350,11 +369,6 @@ impl<'a> App<'a> {
             panel: Some(panel),
             ..RenderOptions::default()
         };
-        if let Err(e) = gfx.renderer.upload(&gfx.gl, &self.frame) {
-            self.error = Some(e);
-            event_loop.exit();
-            return;
-        }
         let info = gfx.renderer.draw(&gfx.gl, &self.frame, &opts);
         self.camera = info.camera;
         self.range = info.range;

@@ -442,52 +442,67 @@ impl Buffers {
         Ok(())
     }
 
-    /// The whole state, in storage order.
-    pub fn read_state<D: Dim>(&self, s: &Arc<CudaStream>) -> Result<State<D>, DriverError> {
+    /// The whole state, in storage order; adds the bytes read back to `read`.
+    pub fn read_state<D: Dim>(
+        &self,
+        s: &Arc<CudaStream>,
+        read: &mut u64,
+    ) -> Result<State<D>, DriverError> {
         let c = &self.cur;
         let n = self.n;
         let (vs, ns) = (vstride::<D>(), nsym::<D>());
         let solid = match &c.stress {
             Some(st) => Some(SolidState {
-                stress: unflat_s::<D>(&s.clone_dtoh(&st.slice(..n * ns))?, n),
+                stress: unflat_s::<D>(&counted(s, &st.slice(..n * ns), read)?, n),
                 stress_rate: match &self.stress_rate {
-                    Some(r) => unflat_s::<D>(&s.clone_dtoh(&r.slice(..n * ns))?, n),
+                    Some(r) => unflat_s::<D>(&counted(s, &r.slice(..n * ns), read)?, n),
                     None => vec![D::zero(); n],
                 },
                 art_stress: match &self.art {
-                    Some(r) => Some(unflat_s::<D>(&s.clone_dtoh(&r.slice(..n * ns))?, n)),
+                    Some(r) => Some(unflat_s::<D>(&counted(s, &r.slice(..n * ns), read)?, n)),
                     None => None,
                 },
                 rho_dev: match &c.rho_dev {
-                    Some(r) => s.clone_dtoh(&r.slice(..n))?,
+                    Some(r) => counted(s, &r.slice(..n), read)?,
                     None => vec![0.0; n],
                 },
             }),
             None => None,
         };
         let (pos, vel) = (
-            s.clone_dtoh(&c.pos.slice(..n * vs))?,
-            s.clone_dtoh(&c.vel.slice(..n * VEL_STRIDE))?,
+            counted(s, &c.pos.slice(..n * vs), read)?,
+            counted(s, &c.vel.slice(..n * VEL_STRIDE), read)?,
         );
-        let kind = s.clone_dtoh(&c.kind.slice(..n))?;
+        let kind = counted(s, &c.kind.slice(..n), read)?;
         Ok(State {
-            id: s.clone_dtoh(&c.id.slice(..n))?,
+            id: counted(s, &c.id.slice(..n), read)?,
             kind,
-            group: s.clone_dtoh(&c.group.slice(..n))?,
+            group: counted(s, &c.group.slice(..n), read)?,
             mass: mass_of::<D>(&pos, &vel, n),
             pos: unflat_v::<D>(&pos, n),
             vel: unflat::<D>(&vel, n, VEL_STRIDE),
-            rho: s.clone_dtoh(&c.rho.slice(..n))?,
-            p: s.clone_dtoh(&c.p.slice(..n))?,
-            acc: unflat_v::<D>(&s.clone_dtoh(&self.acc.slice(..n * vs))?, n),
-            xsph: unflat_v::<D>(&s.clone_dtoh(&self.xsph.slice(..n * vs))?, n),
+            rho: counted(s, &c.rho.slice(..n), read)?,
+            p: counted(s, &c.p.slice(..n), read)?,
+            acc: unflat_v::<D>(&counted(s, &self.acc.slice(..n * vs), read)?, n),
+            xsph: unflat_v::<D>(&counted(s, &self.xsph.slice(..n * vs), read)?, n),
             drho: match &self.drho {
-                Some(d) => Some(s.clone_dtoh(&d.slice(..n))?),
+                Some(d) => Some(counted(s, &d.slice(..n), read)?),
                 None => None,
             },
             solid,
         })
     }
+}
+
+/// `clone_dtoh` of `src`, adding its bytes to `read`.
+fn counted<T: DeviceRepr, S: cudarc::driver::DevicePtr<T>>(
+    s: &Arc<CudaStream>,
+    src: &S,
+    read: &mut u64,
+) -> Result<Vec<T>, DriverError> {
+    let v = s.clone_dtoh(src)?;
+    *read += std::mem::size_of_val(v.as_slice()) as u64;
+    Ok(v)
 }
 
 /// The masses from the flat positions and velocities: pos.w in 3D, vel.z in 2D (no array of

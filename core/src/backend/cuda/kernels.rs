@@ -108,6 +108,7 @@ pub enum Family {
     ExchangeUnpack,
     ExchangeCompact,
     ExchangeRestride,
+    ViewFill,
 }
 
 /// What the table says of a family.
@@ -145,7 +146,7 @@ const WALL_FORCE_PARAMS: &str =
 
 impl Family {
     /// Every family, in the order of the discriminants.
-    pub const ALL: [Family; 32] = [
+    pub const ALL: [Family; 33] = [
         Family::GridHist,
         Family::ScanLocal,
         Family::ScanTop,
@@ -178,6 +179,7 @@ impl Family {
         Family::ExchangeUnpack,
         Family::ExchangeCompact,
         Family::ExchangeRestride,
+        Family::ViewFill,
     ];
 
     /// The table.
@@ -409,6 +411,14 @@ impl Family {
                 "sph_exchange_restride",
                 One,
                 "unsigned n_old, unsigned n_new, unsigned planes, const float* src, float* dst",
+            ),
+            Family::ViewFill => (
+                "view",
+                "sph_view_fill",
+                Dims,
+                "const SphParams p, unsigned n, unsigned shown, unsigned hidden, const float* pos, \
+                 const float* vel, const float* rho, const float* pr, const unsigned char* kind, \
+                 float* out_pos, float* out_val, unsigned char* out_kind, unsigned* range",
             ),
         };
         Spec {

@@ -5,7 +5,8 @@
 use std::sync::Arc;
 
 use cudarc::driver::{
-    CudaSlice, CudaStream, CudaView, DeviceRepr, DriverError, LaunchConfig, PushKernelArg,
+    sys, CudaContext, CudaSlice, CudaStream, CudaView, DeviceRepr, DriverError, LaunchConfig,
+    PushKernelArg,
 };
 
 use super::buffers::{Buffers, TlBuffers};
@@ -1000,4 +1001,139 @@ pub fn compact(k: &Kernels, s: &Arc<CudaStream>, b: &mut Buffers, kept: usize) {
     std::mem::swap(&mut b.cur, &mut b.alt);
     b.swapped = !b.swapped;
     b.n = kept;
+}
+
+// ---- The viewer's vertex buffers: CUDA-OpenGL interop (`view.rs`, `cuda/view.cu`) ----
+
+/// `cuGraphicsGLRegisterBuffer` of `cudaGL.h`, which cudarc does not declare:
+/// `CUresult cuGraphicsGLRegisterBuffer(CUgraphicsResource* pCudaResource, GLuint buffer,
+/// unsigned int Flags)`.
+type GlRegisterBuffer =
+    unsafe extern "C" fn(*mut sys::CUgraphicsResource, u32, u32) -> sys::CUresult;
+
+/// The driver's `cuGraphicsGLRegisterBuffer`, looked up by `cuGetProcAddress` (the driver is
+/// loaded at run time, as cudarc loads it).
+fn gl_register_entry() -> Result<GlRegisterBuffer, DriverError> {
+    let mut f: *mut std::ffi::c_void = std::ptr::null_mut();
+    let mut found = sys::CUdriverProcAddressQueryResult::CU_GET_PROC_ADDRESS_SYMBOL_NOT_FOUND;
+    // SAFETY: the symbol is a NUL-terminated string; f and found are written once each.
+    // 3000: the API version that introduced the entry (CUDA 3.0), flags 0: the default.
+    unsafe {
+        sys::cuGetProcAddress_v2(
+            c"cuGraphicsGLRegisterBuffer".as_ptr(),
+            &mut f,
+            3000,
+            0,
+            &mut found,
+        )
+    }
+    .result()?;
+    if f.is_null() || found != sys::CUdriverProcAddressQueryResult::CU_GET_PROC_ADDRESS_SUCCESS {
+        return Err(DriverError(sys::CUresult::CUDA_ERROR_NOT_FOUND));
+    }
+    // SAFETY: the driver's entry of that name at API version 3000 has the signature of
+    // cudaGL.h that `GlRegisterBuffer` declares (a pointer to the resource handle, the GL
+    // buffer name as GLuint = u32, the flags as unsigned int = u32).
+    Ok(unsafe { std::mem::transmute::<*mut std::ffi::c_void, GlRegisterBuffer>(f) })
+}
+
+/// Registers the OpenGL buffer named `buffer` (in the context current on this thread, which
+/// must run on the device of `ctx`) for CUDA to overwrite whole (write-discard).
+pub fn gl_register(ctx: &CudaContext, buffer: u32) -> Result<sys::CUgraphicsResource, DriverError> {
+    let register = gl_register_entry()?;
+    ctx.bind_to_thread()?;
+    let mut r: sys::CUgraphicsResource = std::ptr::null_mut();
+    let flags = sys::CUgraphicsRegisterFlags::CU_GRAPHICS_REGISTER_FLAGS_WRITE_DISCARD as u32;
+    // SAFETY: `register` is the driver's cuGraphicsGLRegisterBuffer (gl_register_entry); r
+    // receives one handle; the caller's GL context is current (the driver checks that the
+    // name is a buffer of it and fails otherwise).
+    unsafe { register(&mut r, buffer, flags) }.result()?;
+    Ok(r)
+}
+
+/// Unregisters a resource of `gl_register` (unmapped; the GL context should still exist).
+pub fn gl_unregister(ctx: &CudaContext, r: sys::CUgraphicsResource) -> Result<(), DriverError> {
+    ctx.bind_to_thread()?;
+    // SAFETY: r came from gl_register and is unregistered once (its owner forgets it).
+    unsafe { sys::cuGraphicsUnregisterResource(r) }.result()
+}
+
+/// Maps `res` for the work queued on `s` after it (the map waits for OpenGL's work on the
+/// buffers) and returns each one's device address and size in bytes.
+pub fn gl_map(
+    s: &CudaStream,
+    res: &mut [sys::CUgraphicsResource],
+) -> Result<Vec<(sys::CUdeviceptr, usize)>, DriverError> {
+    s.context().bind_to_thread()?;
+    // SAFETY: res holds registered, unmapped resources of this context; the map is ordered
+    // on s.
+    unsafe { sys::cuGraphicsMapResources(res.len() as u32, res.as_mut_ptr(), s.cu_stream()) }
+        .result()?;
+    res.iter()
+        .map(|&r| {
+            let (mut ptr, mut size) = (0, 0usize);
+            // SAFETY: r is mapped (above); ptr and size are written once each.
+            unsafe { sys::cuGraphicsResourceGetMappedPointer_v2(&mut ptr, &mut size, r) }
+                .result()
+                .map(|_| (ptr, size))
+        })
+        .collect()
+}
+
+/// Unmaps `res` after the work queued on `s` (OpenGL's next use of the buffers waits for it).
+pub fn gl_unmap(s: &CudaStream, res: &mut [sys::CUgraphicsResource]) -> Result<(), DriverError> {
+    s.context().bind_to_thread()?;
+    // SAFETY: res holds the resources `gl_map` mapped on s.
+    unsafe { sys::cuGraphicsUnmapResources(res.len() as u32, res.as_mut_ptr(), s.cu_stream()) }
+        .result()
+}
+
+/// The viewer's vertex fill (`Family::ViewFill`): the `b.n` particles' positions, quantity
+/// `shown` (MF_SHOWN_*) and kinds into the mapped buffers `out` (positions, values, kinds:
+/// device addresses of at least 12 n, 4 n and n bytes), and, where `range` is given (two
+/// words, zeroed here), the colour range of the particles that set it (`hidden`: bit k
+/// hides kind k).
+#[allow(clippy::too_many_arguments)]
+pub fn view_fill(
+    k: &Kernels,
+    s: &Arc<CudaStream>,
+    p: &SphParams,
+    b: &Buffers,
+    shown: u32,
+    hidden: u32,
+    out: [sys::CUdeviceptr; 3],
+    range: Option<&mut CudaSlice<u32>>,
+) -> Result<(), DriverError> {
+    let n = b.n as u32;
+    if n == 0 {
+        return Ok(());
+    }
+    let c = &b.cur;
+    let kf = k.get(Family::ViewFill);
+    let mut l = s.launch_builder(&kf.f);
+    l.arg(p)
+        .arg(&n)
+        .arg(&shown)
+        .arg(&hidden)
+        .arg(&c.pos)
+        .arg(&c.vel)
+        .arg(&c.rho)
+        .arg(&c.p)
+        .arg(&c.kind)
+        .arg(&out[0])
+        .arg(&out[1])
+        .arg(&out[2]);
+    match range {
+        Some(r) => {
+            s.memset_zeros(&mut *r)?;
+            l.arg(r);
+        }
+        None => {
+            l.arg(&NULL);
+        }
+    }
+    // SAFETY: the arguments of `Family::ViewFill`: pos, vel, rho, p and kind hold the n
+    // current particles; out holds device addresses of mapped buffers of at least 12 n, 4 n
+    // and n bytes (checked by the caller, view.rs); range holds 2 words or is null.
+    unsafe { l.launch(cfg(b.n)) }.map(|_| ())
 }

@@ -13,6 +13,7 @@ mod launch;
 #[cfg(feature = "nccl")]
 pub mod nccl;
 mod subdomain;
+mod view;
 
 use std::marker::PhantomData;
 
@@ -29,7 +30,9 @@ use crate::dim::Dim;
 use crate::frame::{Fields, FrameData, PendingFrame, Ready};
 use crate::params::{needs_density_gradient, SphParams, MF_DENSITY_CONTINUITY};
 use crate::particle::Particle;
-use crate::solver::{BackendInfo, Diagnostics, Fault, PointSample, Setup, Shown, Snapshot, Solver};
+use crate::solver::{
+    BackendInfo, Diagnostics, Fault, GlBuffers, GlFill, PointSample, Setup, Shown, Snapshot, Solver,
+};
 use crate::state::State;
 
 pub use device::{driver_version, NVCC_VERSION};
@@ -40,6 +43,7 @@ use capture::Capturer;
 use device::Device;
 use kernels::{Kernels, LANE_COUNTS};
 use launch::StepGraph;
+use view::GlView;
 
 /// Whether a usable CUDA device answers (driver, device 0, PTX in this build).
 pub fn available() -> Result<String, BackendError> {
@@ -97,6 +101,10 @@ pub struct CudaSolver<D: Dim> {
     /// Host buffers of `snapshot`, kept between frames.
     host_pos: Vec<f32>,
     host_vel: Vec<f32>,
+    /// The viewer's vertex buffers, registered at the first `fill_gl`.
+    gl_view: Option<GlView>,
+    /// Bytes read back from the device so far (`Solver::device_to_host_bytes`).
+    d2h: u64,
     /// The output frames' download stream and staging sets (made at the first capture).
     capturer: Option<Capturer>,
     /// Two steps of `Solver::step` captured as a CUDA graph (two, so that the grid's buffer
@@ -187,6 +195,8 @@ impl<D: Dim> CudaSolver<D> {
             probe_out: None,
             host_pos: Vec::new(),
             host_vel: Vec::new(),
+            gl_view: None,
+            d2h: 0,
             capturer: None,
             graph: None,
             graphs: std::env::var("MESHFREE_CUDA_GRAPHS").map_or(true, |v| v != "0"),
@@ -205,9 +215,13 @@ impl<D: Dim> CudaSolver<D> {
 
     /// The raw arrays in storage order (read back).
     pub fn download_state(&mut self) -> State<D> {
-        self.buf
-            .read_state::<D>(&self.dev.stream)
-            .unwrap_or_else(|e| self.sync_err("reading the state back", e))
+        let mut read = 0;
+        let st = self
+            .buf
+            .read_state::<D>(&self.dev.stream, &mut read)
+            .unwrap_or_else(|e| self.sync_err("reading the state back", e));
+        self.d2h += read;
+        st
     }
 
     /// Overwrite the arrays (same length) with `state`; the grid stays. For parity tests.
@@ -254,6 +268,7 @@ impl<D: Dim> CudaSolver<D> {
 
     /// The step size of the last `time_step` [T] (read back).
     pub fn dt(&mut self) -> f32 {
+        self.d2h += 4;
         self.dev
             .stream
             .clone_dtoh(&self.buf.dt)
@@ -437,6 +452,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
         }
     }
     fn time(&mut self) -> f64 {
+        self.d2h += 8;
         self.dev
             .stream
             .clone_dtoh(&self.buf.time)
@@ -448,6 +464,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
     fn check(&mut self) -> Result<(), Fault> {
         let first = launch::check(&self.k, &self.dev.stream, &self.params, &mut self.buf)
             .unwrap_or_else(|e| self.sync_err("running the health check", e));
+        self.d2h += 8;
         if first == u64::MAX {
             return Ok(());
         }
@@ -492,6 +509,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
         });
         let (sums, maxes, counts, dt, time) =
             r.unwrap_or_else(|e| self.sync_err("reducing diagnostics", e));
+        self.d2h += (8 * sums.len() + 4 * maxes.len() + 4 * counts.len() + 4 + 8) as u64;
         Diagnostics {
             step: self.steps,
             time: time[0],
@@ -554,6 +572,12 @@ impl<D: Dim> Solver for CudaSolver<D> {
         if let Err(e) = r {
             self.sync_err("reading a snapshot back", e)
         }
+        self.d2h += (n * (4 * vs + 1)) as u64
+            + match shown {
+                Shown::Speed => 4 * (n * buffers::VEL_STRIDE) as u64,
+                Shown::Pressure | Shown::Density => 4 * n as u64,
+                Shown::Kind => 0,
+            };
         out.positions.clear();
         out.positions.extend(
             self.host_pos
@@ -577,6 +601,55 @@ impl<D: Dim> Solver for CudaSolver<D> {
             }
             Shown::Pressure | Shown::Density => {}
         }
+    }
+    /// Registers `gl`'s buffers with CUDA at the first call (and again where they change),
+    /// then maps, fills and unmaps them (`view.rs`, `cuda/view.cu`); 8 bytes come back for
+    /// the colour range, none with `fixed_range`.
+    fn fill_gl(
+        &mut self,
+        gl: &GlBuffers,
+        shown: Shown,
+        hidden: u8,
+        fixed_range: bool,
+    ) -> Option<Result<GlFill, BackendError>> {
+        if !self.gl_view.as_ref().is_some_and(|v| v.serves(gl)) {
+            self.gl_view = None;
+            match GlView::register(&self.dev.stream, *gl) {
+                Ok(v) => self.gl_view = Some(v),
+                Err(e) => {
+                    return Some(Err(BackendError::Cuda(format!(
+                        "registering the viewer's OpenGL buffers with CUDA: {e:?}"
+                    ))))
+                }
+            }
+        }
+        let v = self.gl_view.as_mut().expect("registered above");
+        let s = &self.dev.stream;
+        Some(
+            match v.fill(
+                &self.k,
+                s,
+                &self.params,
+                &self.buf,
+                shown,
+                hidden,
+                fixed_range,
+            ) {
+                Ok((fill, read)) => {
+                    self.d2h += read;
+                    Ok(fill)
+                }
+                Err(e) => Err(BackendError::Cuda(format!(
+                    "filling the vertex buffers: {e}"
+                ))),
+            },
+        )
+    }
+    /// The read-backs of time, dt, health checks, diagnostics, snapshots, probes, monitors,
+    /// the colour range and whole-state reads; not counted: the output frames (`capture`'s
+    /// second stream), a checkpoint's solid displacements and a subdomain's exchange sizes.
+    fn device_to_host_bytes(&self) -> Option<u64> {
+        Some(self.d2h)
     }
     fn wall_surface(&self) -> &[[f32; 4]] {
         &self.wall_surface
@@ -633,6 +706,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
             Ok(host)
         })();
         let host = r.unwrap_or_else(|e| self.sync_err("sampling the probes", e));
+        self.d2h += 4 * host.len() as u64;
         out.extend(host.chunks_exact(per).map(|c| PointSample {
             pressure: c[0],
             velocity: [c[1], c[2], c[3]],
@@ -654,6 +728,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
             groups,
         )
         .unwrap_or_else(|e| self.sync_err("summing the wall forces", e));
+        self.d2h += 24 * f.len() as u64;
         // Its grid build reordered the storage.
         self.tl_map_slots();
         f

@@ -1,0 +1,193 @@
+//! The viewer's vertex buffers filled from device memory (CUDA-OpenGL interop): the
+//! renderer's three particle buffers registered with CUDA once, then per drawn frame mapped,
+//! filled by `cuda/view.cu` straight from the solver's arrays, and unmapped; no particle
+//! crosses PCIe. The colour range is reduced on the device and comes back as 8 bytes, or not
+//! at all where the range is fixed. Twin: the host-copy path, `Solver::snapshot` and the
+//! viewer's upload; test: `tests/cuda_view.rs`.
+
+use cudarc::driver::{sys, CudaContext, CudaSlice, CudaStream, DriverError};
+
+use super::buffers::Buffers;
+use super::kernels::Kernels;
+use super::launch;
+use crate::consts::{MF_SHOWN_DENSITY, MF_SHOWN_KIND, MF_SHOWN_PRESSURE, MF_SHOWN_SPEED};
+use crate::params::SphParams;
+use crate::solver::{GlBuffers, GlFill, Shown};
+use std::sync::Arc;
+
+/// Bytes per particle of the position, value and kind buffers (`GlBuffers`).
+const BYTES: [usize; 3] = [12, 4, 1];
+
+/// The registered buffers of one renderer.
+pub struct GlView {
+    ctx: Arc<CudaContext>,
+    /// What was registered; a change of names or capacity registers anew.
+    target: GlBuffers,
+    res: [sys::CUgraphicsResource; 3],
+    /// The range's two words (`cuda/view.cu`).
+    range: CudaSlice<u32>,
+}
+
+// SAFETY: the resource handles are plain driver handles, used only through `&mut self` (so
+// never from two threads at once), as cudarc's own handles are.
+unsafe impl Send for GlView {}
+
+/// The device's code for a shown quantity (`MF_SHOWN_*`).
+fn shown_code(shown: Shown) -> u32 {
+    match shown {
+        Shown::Speed => MF_SHOWN_SPEED,
+        Shown::Pressure => MF_SHOWN_PRESSURE,
+        Shown::Density => MF_SHOWN_DENSITY,
+        Shown::Kind => MF_SHOWN_KIND,
+    }
+}
+
+/// The float whose bits `ordered_bits` (`cuda/view.cu`) mapped to `u`.
+fn from_ordered(u: u32) -> f32 {
+    f32::from_bits(if u >> 31 == 1 { u & 0x7fff_ffff } else { !u })
+}
+
+impl GlView {
+    /// Registers the three buffers of `target` (its GL context current on this thread).
+    pub fn register(s: &Arc<CudaStream>, target: GlBuffers) -> Result<GlView, DriverError> {
+        let ctx = s.context().clone();
+        let mut res = [std::ptr::null_mut(); 3];
+        let names = [target.positions, target.values, target.kinds];
+        for (i, &name) in names.iter().enumerate() {
+            match launch::gl_register(&ctx, name) {
+                Ok(r) => res[i] = r,
+                Err(e) => {
+                    for &r in &res[..i] {
+                        let _ = launch::gl_unregister(&ctx, r);
+                    }
+                    return Err(e);
+                }
+            }
+        }
+        let range = s.alloc_zeros::<u32>(2)?;
+        Ok(GlView {
+            ctx,
+            target,
+            res,
+            range,
+        })
+    }
+
+    /// Whether this view registered `target`'s buffers.
+    pub fn serves(&self, target: &GlBuffers) -> bool {
+        self.target == *target
+    }
+
+    /// Map, fill and unmap: the particles of `b` into the buffers; returns what was written
+    /// and the bytes read back (8 with the range, else 0).
+    #[allow(clippy::too_many_arguments)]
+    pub fn fill(
+        &mut self,
+        k: &Kernels,
+        s: &Arc<CudaStream>,
+        p: &SphParams,
+        b: &Buffers,
+        shown: Shown,
+        hidden: u8,
+        fixed_range: bool,
+    ) -> Result<(GlFill, u64), String> {
+        let n = b.n;
+        if n > self.target.capacity {
+            return Err(format!(
+                "the vertex buffers hold {} particles, the solver has {n}",
+                self.target.capacity
+            ));
+        }
+        let mapped = launch::gl_map(s, &mut self.res).map_err(|e| format!("mapping: {e:?}"))?;
+        let mut out = [0; 3];
+        let mut short = None;
+        for (i, &(ptr, size)) in mapped.iter().enumerate() {
+            out[i] = ptr;
+            if size < n * BYTES[i] {
+                short = Some(format!(
+                    "vertex buffer {i} has {size} bytes, {} needed",
+                    n * BYTES[i]
+                ));
+            }
+        }
+        let reduce = !fixed_range && shown != Shown::Kind;
+        let r = match short {
+            Some(m) => Err(m),
+            None => launch::view_fill(
+                k,
+                s,
+                p,
+                b,
+                shown_code(shown),
+                u32::from(hidden),
+                out,
+                reduce.then_some(&mut self.range),
+            )
+            .map_err(|e| format!("the fill kernel: {e:?}")),
+        };
+        let unmapped = launch::gl_unmap(s, &mut self.res).map_err(|e| format!("unmapping: {e:?}"));
+        r?;
+        unmapped?;
+        if !reduce {
+            return Ok((
+                GlFill {
+                    count: n,
+                    range: None,
+                },
+                0,
+            ));
+        }
+        let w = s
+            .clone_dtoh(&self.range)
+            .map_err(|e| format!("reading the colour range: {e:?}"))?;
+        let range = (w[1] != 0).then(|| (from_ordered(!w[0]), from_ordered(w[1])));
+        Ok((GlFill { count: n, range }, 8))
+    }
+}
+
+impl Drop for GlView {
+    fn drop(&mut self) {
+        for &r in &self.res {
+            // Nothing to do about a failure here (e.g. the GL context went first).
+            let _ = launch::gl_unregister(&self.ctx, r);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `cuda/view.cu`'s ordered_bits, on the host.
+    fn ordered(v: f32) -> u32 {
+        let b = v.to_bits();
+        if b >> 31 == 1 {
+            !b
+        } else {
+            b | 0x8000_0000
+        }
+    }
+
+    #[test]
+    fn ordered_bits_keep_the_order_and_come_back() {
+        let vs = [
+            f32::NEG_INFINITY,
+            -3.5e30,
+            -1.0,
+            -1e-40,
+            -0.0,
+            0.0,
+            1e-40,
+            2.0,
+            7.25e20,
+            f32::INFINITY,
+        ];
+        for w in vs.windows(2) {
+            assert!(ordered(w[0]) <= ordered(w[1]), "{} {}", w[0], w[1]);
+        }
+        for v in vs {
+            assert!(ordered(v) > 0);
+            assert_eq!(from_ordered(ordered(v)).to_bits(), v.to_bits());
+        }
+    }
+}

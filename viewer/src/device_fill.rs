@@ -1,0 +1,74 @@
+//! Particles that the source writes straight into the renderer's vertex buffers on the GPU
+//! (in meshfree, CUDA-OpenGL interop in the binary's glue) instead of handing over host
+//! vectors: the buffers' GL names and layout ([`ParticleBuffers`]), what a fill reports
+//! ([`DeviceFrame`]), and the one step of a frame, shared by the window and the headless
+//! renderer, that takes the device path where the source offers it and the upload otherwise.
+
+use crate::renderer::{range_from, Renderer};
+use crate::{Field, FrameData, LiveSource, ViewerError};
+
+/// The renderer's particle vertex buffers, by their names in the current OpenGL context, for
+/// a source that fills them in device memory ([`LiveSource::fill_buffers`]). Per particle,
+/// in storage order: the position as three `f32` (z = 0 in 2D), the coloured value as one
+/// `f32`, the kind as one `u8` (see [`crate::kind`]). Each holds `capacity` particles; the
+/// names or the capacity change when the buffers are made anew (register them again).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ParticleBuffers {
+    pub positions: u32,
+    pub values: u32,
+    pub kinds: u32,
+    pub capacity: usize,
+}
+
+impl ParticleBuffers {
+    /// Bytes per particle of `positions`.
+    pub const POSITION_BYTES: usize = 12;
+    /// Bytes per particle of `values`.
+    pub const VALUE_BYTES: usize = 4;
+    /// Bytes per particle of `kinds`.
+    pub const KIND_BYTES: usize = 1;
+}
+
+/// What a source's [`LiveSource::fill_buffers`] wrote.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct DeviceFrame {
+    /// Particles written (at most the buffers' capacity).
+    pub count: usize,
+    /// The least and greatest value of the particles that set the colour range (finite,
+    /// neither boundary nor hidden), where the source reduced it and any particle set it.
+    pub range: Option<(f32, f32)>,
+}
+
+/// Puts one frame's particles into `renderer`: filled by the source on the GPU where
+/// `device` allows and the source offers it, else `source.frame` uploaded. `frame` gets the
+/// frame's dimension, domain and radius (and, uploaded, the particles). Returns the colour
+/// range to draw with (`range` where fixed; from the device's reduction; `None`: from
+/// `frame`'s values) and whether the device path ran.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn prepare(
+    renderer: &mut Renderer,
+    gl: &glow::Context,
+    source: &mut dyn LiveSource,
+    field: Field,
+    hide_kinds: [bool; 3],
+    range: Option<(f32, f32)>,
+    device: bool,
+    frame: &mut FrameData,
+) -> Result<(Option<(f32, f32)>, bool), ViewerError> {
+    if device {
+        let bufs = renderer.particle_buffers(gl, source.status().particles);
+        let fixed = range.is_some() || field == Field::Kind;
+        if let Some(r) = source.fill_buffers(field, hide_kinds, fixed, &bufs, frame) {
+            let d = r.map_err(ViewerError::Source)?;
+            renderer.set_count(d.count);
+            let (lo, hi) = d.range.unwrap_or((f32::INFINITY, f32::NEG_INFINITY));
+            return Ok((
+                Some(range.unwrap_or_else(|| range_from(lo, hi, field))),
+                true,
+            ));
+        }
+    }
+    source.frame(field, frame);
+    renderer.upload(gl, frame)?;
+    Ok((range, false))
+}
