@@ -34,7 +34,8 @@ pub const NAME: &str = "cylinder";
 pub const DESCRIPTION: &str = "Flow past a cylinder, Re = 100, D = 2, U = 1, rho0 = 1, c0 = 10, periodic \
 40 x 24 channel (blockage 0.083) held at U by an inflow band, laminar viscosity nu = U D / Re, no artificial \
 viscosity, summation density, particle shifting 0.2 and background pressure 6 q (confined flow): Strouhal number and mean drag against Roshko / Williamson and published Re 100 \
-values; full tier at D / dx = 5, 10, 20 with the observed order of convergence.";
+values, and (full tier) St, Cd and rms Cl corrected for the blockage (Allen & Vincenti 1944) and the largest void in the \
+wake; full tier at D / dx = 5, 10, 20 with the observed order of convergence.";
 
 const RE: f64 = 100.0;
 pub const U: f64 = 1.0;
