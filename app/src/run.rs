@@ -40,6 +40,7 @@ use crate::monitors::Monitors;
 use crate::output::writer::{self, Writer};
 use crate::output::{RunStatus, RunSummary, Timing};
 use crate::probes::Probes;
+use meshfree_core::voids::VoidMeter;
 
 pub use crate::output::writer::Frame;
 pub use crate::run_error::RunError;
@@ -238,6 +239,11 @@ fn drive(
     let counts = Counts::of(&setup.particles);
     let with_solids = setup.has_solids();
     let bodies = BodyTracker::new(&setup.particles, scene.file.dimension);
+    let voids = scene
+        .file
+        .output
+        .voids
+        .then(|| VoidMeter::new(&scene.file, &setup.particles));
     let mut masses = Vec::new();
     if !bodies.is_empty() {
         masses = vec![0.0f32; setup.particles.len()];
@@ -286,7 +292,7 @@ fn drive(
     } else {
         fields
     };
-    if cluster_radius.is_some() || !bodies.is_empty() {
+    if cluster_radius.is_some() || voids.is_some() || !bodies.is_empty() {
         capture = capture.union(Fields::of(&[
             Field::Position,
             Field::Velocity,
@@ -308,6 +314,7 @@ fn drive(
             format,
             fields,
             cluster_radius,
+            voids,
             bodies,
             masses,
         },
@@ -364,6 +371,7 @@ fn drive(
         timing: Timing::default(),
         final_diagnostics: None,
         fluid_clusters: None,
+        voids: None,
         status: RunStatus::Running,
         fault: None,
         interrupted_by: None,

@@ -269,6 +269,7 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
             ..Default::default()
         },
         fluid_clusters: None,
+        voids: None,
         final_diagnostics: Some(d),
         status: RunStatus::Completed,
         fault: None,

@@ -35,6 +35,19 @@ fn builtins_match_the_papers_counts_and_reynolds_numbers() {
         }
         assert_eq!(f.domain.periodic, Some(vec![true, true]), "{name}");
         assert!(f.inflow.is_some(), "{name}: no inflow band");
+        // Issue #23: the wake keeps its particles even (shifting, a background pressure
+        // above the vortex cores' suction, 6 q), the void metric is on, and the paper's
+        // scheme is one switch away.
+        let q = 0.5 * f.fluid.density * u * u;
+        assert_eq!(f.fluid.shifting, 0.2, "{name}");
+        assert!(
+            (f.fluid.background_pressure / q - 6.0).abs() < 1e-9,
+            "{name}"
+        );
+        assert!(f.output.voids, "{name}");
+        let paper = scene.with_paper_exact().unwrap();
+        assert_eq!(paper.file.fluid.shifting, 0.0, "{name}");
+        assert_eq!(paper.file.fluid.background_pressure, 0.0, "{name}");
     }
     // The Re 105 domain is narrower (larger blockage D / H).
     let h = |n: &str| {
@@ -115,4 +128,25 @@ fn coarse_re140_holds_the_flow_and_feels_drag() {
     assert!((m.mean_cd - mean_cd).abs() < 0.5 * mean_cd);
     let json = std::fs::read_to_string(out.join("summary.json")).unwrap();
     assert!(json.contains("\"blockage_ratio\": 0.25"), "{json}");
+
+    // The void metric at each of the 3 outputs (t = 0, 0.1, 0.2), in voids.csv and the
+    // summary: the start is a lattice (no empty cell), and 1.5 flow-throughs of the
+    // cylinder open no hole wider than 2 dx.
+    let v = summary.voids.as_ref().expect("summary.json's voids");
+    assert_eq!(v.outputs, 3);
+    let first = std::fs::read_to_string(out.join("voids.csv")).unwrap();
+    let mut lines = first.lines();
+    assert_eq!(
+        lines.next(),
+        Some("step,time,empty_fraction,largest_void_dx")
+    );
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 3);
+    assert_eq!(rows[0][2], 0.0, "empty cells at the start");
+    let worst = rows.iter().map(|r| r[3]).fold(0.0, f64::max);
+    assert_eq!(worst, v.largest_void_dx);
+    assert!(v.largest_void_dx < 2.0, "void of {} dx", v.largest_void_dx);
+    assert!(json.contains("\"largest_void_dx\""), "{json}");
 }

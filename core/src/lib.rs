@@ -22,3 +22,4 @@ pub mod solver;
 pub mod state;
 pub mod step;
 pub mod tlsph;
+pub mod voids;

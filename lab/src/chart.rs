@@ -197,6 +197,13 @@ pub fn run(options: &Options) -> anyhow::Result<Vec<Point>> {
             if !quick {
                 vs.push(viscosity_variant(case));
             }
+            if case == "cylinder" {
+                // The validate case's scheme (issue #23: the wake without voids).
+                vs.push(Variant {
+                    name: "shifting 0.2, background pressure 6 q",
+                    edit: cylinder::confined,
+                });
+            }
             runs.extend(
                 vs.into_iter()
                     .filter(|v| v.name != "default")

@@ -7,6 +7,7 @@ use meshfree_core::monitor::MonitorSummary;
 use meshfree_core::scene::format::OutputFormat;
 use meshfree_core::scene::Counts;
 use meshfree_core::solver::{Diagnostics, Fault};
+use meshfree_core::voids::VoidSummary;
 
 /// How the run ended (`Running` while it runs: a run killed outright leaves that).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -53,6 +54,11 @@ pub struct RunSummary {
     /// `[output] clusters` asks.
     #[serde(default)]
     pub fluid_clusters: Option<usize>,
+    /// The void metric over the outputs (`meshfree_core::voids`): the share of the fluid
+    /// region's cells of side dx with no particle, and the largest empty circle (sphere) in
+    /// dx. Measured where the scene's `[output] voids` asks.
+    #[serde(default)]
+    pub voids: Option<VoidSummary>,
     pub status: RunStatus,
     /// The blow-up that stopped a failed run.
     pub fault: Option<Fault>,
@@ -113,6 +119,7 @@ impl RunSummary {
         self.timing.writer_seconds = w.busy_seconds;
         self.timing.writer_download_seconds = w.download_seconds;
         self.fluid_clusters = w.last_clusters;
+        self.voids = w.voids.clone();
         self.bodies = w.bodies.clone();
     }
 

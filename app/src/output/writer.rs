@@ -4,8 +4,9 @@
 //! For each frame, in order: wait for the copy (`PendingFrame::wait`: on the GPU, the
 //! download on the second stream), write the particle file (`[output] format`) and then
 //! rewrite `particles.pvd`, append the row of `diagnostics.csv`, count the fluid clusters
-//! into `clusters.csv` where `[output] clusters` asks, measure the elastic bodies into
-//! `bodies.csv`, and call the run's observer. The channel holds one frame: a run whose
+//! into `clusters.csv` where `[output] clusters` asks, measure the void metric into
+//! `voids.csv` where `[output] voids` asks (`meshfree_core::voids`, on the host from the
+//! frame), measure the elastic bodies into `bodies.csv`, and call the run's observer. The channel holds one frame: a run whose
 //! writer falls behind waits at the next output (the run reports that wait as output wait).
 //! The first failure (a full disk, an unwritable directory) stops the thread; the run sees
 //! it at its next output or at the end, with the path and the reason, and every frame
@@ -19,6 +20,7 @@ use std::time::Instant;
 use meshfree_core::frame::{Fields, FrameData, PendingFrame};
 use meshfree_core::scene::format::OutputFormat;
 use meshfree_core::solver::Diagnostics;
+use meshfree_core::voids::{VoidMeter, VoidSummary};
 use serde::{Deserialize, Serialize};
 
 use super::{BodiesCsv, DiagnosticsCsv, PvdSeries};
@@ -29,6 +31,7 @@ use crate::analysis::clusters;
 const DIAGNOSTICS: &str = "diagnostics.csv";
 const CLUSTERS: &str = "clusters.csv";
 const BODIES: &str = "bodies.csv";
+const VOIDS: &str = "voids.csv";
 
 /// What an observer sees at each output (on the writer thread, after the files landed).
 pub struct Frame<'a> {
@@ -70,6 +73,9 @@ pub struct WriterState {
     /// `particles.pvd`'s entries: (time [T], file).
     pub series: Vec<(f64, String)>,
     pub bodies: Vec<BodySummary>,
+    /// The void metric so far, where measured.
+    #[serde(default)]
+    pub voids: Option<VoidSummary>,
     /// (file name in the run directory, bytes).
     pub files: Vec<(String, u64)>,
 }
@@ -82,6 +88,8 @@ pub struct Config {
     pub fields: Fields,
     /// [L] the cluster count's link radius, where the scene asks for clusters.
     pub cluster_radius: Option<f32>,
+    /// The void metric's cells and fluid region, where the scene asks for it.
+    pub voids: Option<VoidMeter>,
     /// The elastic bodies (empty without solids).
     pub bodies: BodyTracker,
     /// [M] every particle's mass by id (the bodies' measures weigh by mass; frames carry
@@ -104,6 +112,8 @@ pub struct Report {
     /// The cluster count of the last output, where counted.
     pub last_clusters: Option<usize>,
     pub bodies: Vec<BodySummary>,
+    /// The void metric over the outputs, where measured.
+    pub voids: Option<VoidSummary>,
     /// The last checkpoint written: its simulated time [T] and size in bytes.
     pub checkpoint: Option<(f64, u64)>,
 }
@@ -121,6 +131,7 @@ pub struct Writer<'o> {
     pvd: PvdSeries,
     diagnostics: DiagnosticsCsv,
     clusters: Option<std::io::BufWriter<std::fs::File>>,
+    voids: Option<std::io::BufWriter<std::fs::File>>,
     bodies_csv: Option<BodiesCsv>,
     observer: Observer<'o>,
     report: Report,
@@ -154,6 +165,15 @@ impl<'o> Writer<'o> {
             }
             None => None,
         };
+        let voids = match cfg.voids {
+            Some(_) => {
+                let path = cfg.dir.join(VOIDS);
+                let f = super::open_csv(&path, "step,time,empty_fraction,largest_void_dx", append)
+                    .map_err(fail(&path))?;
+                Some(f)
+            }
+            None => None,
+        };
         let bodies_csv = if cfg.bodies.is_empty() {
             None
         } else {
@@ -174,6 +194,7 @@ impl<'o> Writer<'o> {
                 report.busy_seconds = w.busy_seconds;
                 report.download_seconds = w.download_seconds;
                 report.last_clusters = w.last_clusters;
+                report.voids = w.voids.clone();
                 PvdSeries::with_entries(pvd, w.series.clone())
             }
         };
@@ -182,6 +203,7 @@ impl<'o> Writer<'o> {
             cfg,
             diagnostics,
             clusters,
+            voids,
             bodies_csv,
             observer,
             report,
@@ -194,6 +216,9 @@ impl<'o> Writer<'o> {
         let mut csv = vec![DIAGNOSTICS];
         if self.clusters.is_some() {
             csv.push(CLUSTERS);
+        }
+        if self.voids.is_some() {
+            csv.push(VOIDS);
         }
         if self.bodies_csv.is_some() {
             csv.push(BODIES);
@@ -211,6 +236,7 @@ impl<'o> Writer<'o> {
             last_clusters: self.report.last_clusters,
             series: self.pvd.entries().to_vec(),
             bodies: self.cfg.bodies.summaries(),
+            voids: self.report.voids.clone(),
             files,
         })
     }
@@ -265,7 +291,9 @@ impl<'o> Writer<'o> {
         }
         let path = dir.join(DIAGNOSTICS);
         self.diagnostics.write(d).map_err(fail(&path))?;
-        let needs_particles = self.cfg.cluster_radius.is_some() || self.bodies_csv.is_some();
+        let needs_particles = self.cfg.cluster_radius.is_some()
+            || self.cfg.voids.is_some()
+            || self.bodies_csv.is_some();
         if needs_particles {
             let mut particles = data.particles();
             for q in &mut particles {
@@ -278,6 +306,22 @@ impl<'o> Writer<'o> {
                 writeln!(csv, "{},{},{n}", d.step, d.time)
                     .and_then(|_| csv.flush())
                     .map_err(fail(&path))?;
+            }
+            if let (Some(meter), Some(csv)) = (self.cfg.voids.as_ref(), self.voids.as_mut()) {
+                let s = meter.measure(&particles, d.time);
+                let sum = self.report.voids.get_or_insert_with(|| VoidSummary {
+                    region_cells: meter.region_cells(),
+                    ..VoidSummary::default()
+                });
+                sum.add(s);
+                let path = dir.join(VOIDS);
+                writeln!(
+                    csv,
+                    "{},{},{},{}",
+                    d.step, d.time, s.empty_fraction, s.largest_void_dx
+                )
+                .and_then(|_| csv.flush())
+                .map_err(fail(&path))?;
             }
             if let Some(csv) = self.bodies_csv.as_mut() {
                 let rows = self.cfg.bodies.sample(&particles);

@@ -336,6 +336,12 @@ pub struct Output {
     /// and summary.json's `fluid_clusters` (on the writer thread). Default false.
     #[serde(default)]
     pub clusters: bool,
+    /// Measure the void metric at each output (`crate::voids`: the share of the fluid
+    /// region's cells of side dx with no particle, and the largest empty circle or sphere,
+    /// in dx) into `voids.csv` and summary.json's `voids` (on the writer thread, from the
+    /// frame). For flows that fill their domain. Default false.
+    #[serde(default)]
+    pub voids: bool,
     /// [T] simulated time between checkpoints (`checkpoint.bin`, from which `meshfree run
     /// --resume` continues). Default none: a checkpoint only where the run stops (its end,
     /// `--steps`, a signal).

@@ -125,7 +125,7 @@ struct Onset {
 }
 
 fn measure(ctx: &Ctx, re: f64) -> anyhow::Result<Onset> {
-    let (samples, run) = cylinder::simulate(
+    let (samples, run, _) = cylinder::simulate(
         ctx,
         D_OVER_DX,
         re,
@@ -133,6 +133,7 @@ fn measure(ctx: &Ctx, re: f64) -> anyhow::Result<Onset> {
         SAMPLE_UD,
         cylinder::KICK,
         &cylinder::confined,
+        false,
     )?;
     let t: Vec<f64> = samples.iter().map(|s| s.t * U / D).collect();
     let cl = smooth(
