@@ -308,14 +308,14 @@ pub trait Solver: Send {
     /// positions, quantity `shown` and kinds in storage order, as `snapshot` gives them), and
     /// reduces the colour range on the device unless `fixed_range` (then nothing comes back
     /// to the host); `hidden`'s bit k keeps kind k out of the range. `None`: this backend
-    /// has no device memory to fill from (the viewer uploads a `snapshot`).
+    /// has no device memory to fill from (the viewer uploads a `snapshot`); `Err`: what failed.
     fn fill_gl(
         &mut self,
         _gl: &GlBuffers,
         _shown: Shown,
         _hidden: u8,
         _fixed_range: bool,
-    ) -> Option<Result<GlFill, crate::backend::BackendError>> {
+    ) -> Option<Result<GlFill, String>> {
         None
     }
     /// Bytes copied from the device to the host since the solver was made (the read-backs of

@@ -611,15 +611,15 @@ impl<D: Dim> Solver for CudaSolver<D> {
         shown: Shown,
         hidden: u8,
         fixed_range: bool,
-    ) -> Option<Result<GlFill, BackendError>> {
+    ) -> Option<Result<GlFill, String>> {
         if !self.gl_view.as_ref().is_some_and(|v| v.serves(gl)) {
             self.gl_view = None;
             match GlView::register(&self.dev.stream, *gl) {
                 Ok(v) => self.gl_view = Some(v),
                 Err(e) => {
-                    return Some(Err(BackendError::Cuda(format!(
+                    return Some(Err(format!(
                         "registering the viewer's OpenGL buffers with CUDA: {e:?}"
-                    ))))
+                    )))
                 }
             }
         }
@@ -639,9 +639,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
                     self.d2h += read;
                     Ok(fill)
                 }
-                Err(e) => Err(BackendError::Cuda(format!(
-                    "filling the vertex buffers: {e}"
-                ))),
+                Err(e) => Err(format!("filling the vertex buffers: {e}")),
             },
         )
     }
