@@ -38,6 +38,19 @@ pub(crate) fn colormap_table(n: usize) -> Vec<u8> {
     out
 }
 
+/// Short text for a colour-bar value.
+pub(crate) fn fmt_value(v: f32) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if (1e-2..1e4).contains(&a) {
+        let d = (3 - a.log10().floor() as i32).clamp(0, 4) as usize;
+        format!("{v:.d$}")
+    } else {
+        format!("{v:.2e}")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -44,3 +44,8 @@ impl From<std::io::Error> for ViewerError {
         ViewerError::Io(e)
     }
 }
+
+/// A GL call's failure as a `ViewerError::Gl`.
+pub(crate) fn gl_err(m: impl Into<String>) -> ViewerError {
+    ViewerError::Gl(m.into())
+}

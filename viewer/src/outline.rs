@@ -4,8 +4,7 @@
 use glam::{Mat4, Vec3};
 use glow::HasContext;
 
-use crate::renderer::compile;
-use crate::shaders::{OUTLINE_FS, OUTLINE_VS};
+use crate::shaders::{compile, OUTLINE_FS, OUTLINE_VS};
 use crate::{Outline, ViewerError};
 
 /// The edges' colour (linear RGB and alpha).

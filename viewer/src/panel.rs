@@ -127,8 +127,8 @@ pub(crate) fn rows(p: &Panel, o: &RenderOptions, dim: u8, range: (f32, f32)) -> 
     } else {
         format!(
             "{} .. {}",
-            crate::renderer::fmt_value(range.0),
-            crate::renderer::fmt_value(range.1)
+            crate::colormap::fmt_value(range.0),
+            crate::colormap::fmt_value(range.1)
         )
     };
     r.push((

@@ -4,13 +4,12 @@
 
 use glow::HasContext;
 
-use glam::Mat4;
-
-use crate::colormap::colormap_table;
+use crate::colormap::{colormap_table, fmt_value};
+use crate::error::gl_err;
 use crate::font;
 use crate::outline::Outlines;
 use crate::panel::{self, Action};
-use crate::shaders::{sphere_fs, SphereFs, PARTICLE_VS};
+use crate::shaders::{compile, sphere_fs, ParticleUniforms, SphereFs, PARTICLE_VS};
 use crate::surface::{Surface, SurfaceView};
 use crate::{Camera, Field, FrameData, ParticleBuffers, RenderOptions, ViewerError};
 
@@ -52,43 +51,6 @@ pub(crate) struct DrawInfo {
     pub panel_rows: Vec<([f32; 4], Action)>,
 }
 
-/// The uniforms of the particle vertex shader (`shaders/particle.vert`), which every
-/// particle pass shares.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct ParticleUniforms {
-    pub view: Mat4,
-    pub proj: Mat4,
-    /// Sphere radius [L].
-    pub radius: f32,
-    pub quad_scale: f32,
-    pub range: (f32, f32),
-    /// Bit k hides kind k.
-    pub hidden: i32,
-    pub grey_boundary: bool,
-    pub ortho: bool,
-    /// Pixels per world unit (at unit depth in perspective).
-    pub px_scale: f32,
-}
-
-impl ParticleUniforms {
-    /// Sets them on `prog` (in use) and binds the colour map to texture unit 0.
-    pub(crate) unsafe fn set(&self, gl: &glow::Context, prog: glow::Program, cmap: glow::Texture) {
-        let loc = |n: &str| gl.get_uniform_location(prog, n);
-        gl.uniform_matrix_4_f32_slice(loc("u_view").as_ref(), false, &self.view.to_cols_array());
-        gl.uniform_matrix_4_f32_slice(loc("u_proj").as_ref(), false, &self.proj.to_cols_array());
-        gl.uniform_1_f32(loc("u_radius").as_ref(), self.radius.max(1e-9));
-        gl.uniform_1_f32(loc("u_quad_scale").as_ref(), self.quad_scale);
-        gl.uniform_2_f32(loc("u_range").as_ref(), self.range.0, self.range.1);
-        gl.uniform_1_i32(loc("u_hidden").as_ref(), self.hidden);
-        gl.uniform_1_i32(loc("u_grey_boundary").as_ref(), self.grey_boundary as i32);
-        gl.uniform_1_i32(loc("u_ortho").as_ref(), self.ortho as i32);
-        gl.uniform_1_f32(loc("u_px_scale").as_ref(), self.px_scale);
-        gl.uniform_1_i32(loc("u_cmap").as_ref(), 0);
-        gl.active_texture(glow::TEXTURE0);
-        gl.bind_texture(glow::TEXTURE_2D, Some(cmap));
-    }
-}
-
 pub(crate) struct Renderer {
     particle_prog: glow::Program,
     overlay_prog: glow::Program,
@@ -107,43 +69,6 @@ pub(crate) struct Renderer {
     verts: Vec<f32>,
     surface: Surface,
     outlines: Outlines,
-}
-
-fn gl_err(m: impl Into<String>) -> ViewerError {
-    ViewerError::Gl(m.into())
-}
-
-pub(crate) unsafe fn compile(
-    gl: &glow::Context,
-    vs: &str,
-    fs: &str,
-) -> Result<glow::Program, ViewerError> {
-    let prog = gl.create_program().map_err(gl_err)?;
-    let mut shaders = Vec::new();
-    for (kind, src) in [(glow::VERTEX_SHADER, vs), (glow::FRAGMENT_SHADER, fs)] {
-        let s = gl.create_shader(kind).map_err(gl_err)?;
-        gl.shader_source(s, src);
-        gl.compile_shader(s);
-        if !gl.get_shader_compile_status(s) {
-            let log = gl.get_shader_info_log(s);
-            gl.delete_shader(s);
-            gl.delete_program(prog);
-            return Err(gl_err(format!("shader compile: {log}")));
-        }
-        gl.attach_shader(prog, s);
-        shaders.push(s);
-    }
-    gl.link_program(prog);
-    for s in shaders {
-        gl.detach_shader(prog, s);
-        gl.delete_shader(s);
-    }
-    if !gl.get_program_link_status(prog) {
-        let log = gl.get_program_info_log(prog);
-        gl.delete_program(prog);
-        return Err(gl_err(format!("program link: {log}")));
-    }
-    Ok(prog)
 }
 
 unsafe fn texture(
@@ -228,19 +153,6 @@ pub(crate) fn range_from(mut lo: f32, mut hi: f32, field: Field) -> (f32, f32) {
         hi = lo + (lo.abs() * 1e-3).max(1e-6);
     }
     (lo, hi)
-}
-
-/// Short text for a colour-bar value.
-pub(crate) fn fmt_value(v: f32) -> String {
-    let a = v.abs();
-    if a == 0.0 {
-        "0".into()
-    } else if (1e-2..1e4).contains(&a) {
-        let d = (3 - a.log10().floor() as i32).clamp(0, 4) as usize;
-        format!("{v:.d$}")
-    } else {
-        format!("{v:.2e}")
-    }
 }
 
 impl Renderer {

@@ -1,5 +1,12 @@
 //! The GLSL sources (`shaders/`), one file per stage; the particle passes' fragment
-//! shaders and the surface's shading share `sphere.glsl` (ray-cast, window depth).
+//! shaders and the surface's shading share `sphere.glsl` (ray-cast, window depth); the
+//! program build (`compile`) and the particle passes' shared uniforms.
+
+use glam::Mat4;
+use glow::HasContext;
+
+use crate::error::gl_err;
+use crate::ViewerError;
 
 pub(crate) const PARTICLE_VS: &str = include_str!("shaders/particle.vert");
 pub(crate) const FULLSCREEN_VS: &str = include_str!("shaders/fullscreen.vert");
@@ -31,4 +38,75 @@ pub(crate) fn sphere_fs(which: SphereFs) -> String {
         SphereFs::SurfaceShade => include_str!("shaders/surface_shade.frag"),
     };
     format!("#version 330 core\n{SPHERE}\n{body}")
+}
+
+/// Compiles and links a program of one vertex and one fragment shader.
+pub(crate) unsafe fn compile(
+    gl: &glow::Context,
+    vs: &str,
+    fs: &str,
+) -> Result<glow::Program, ViewerError> {
+    let prog = gl.create_program().map_err(gl_err)?;
+    let mut shaders = Vec::new();
+    for (kind, src) in [(glow::VERTEX_SHADER, vs), (glow::FRAGMENT_SHADER, fs)] {
+        let s = gl.create_shader(kind).map_err(gl_err)?;
+        gl.shader_source(s, src);
+        gl.compile_shader(s);
+        if !gl.get_shader_compile_status(s) {
+            let log = gl.get_shader_info_log(s);
+            gl.delete_shader(s);
+            gl.delete_program(prog);
+            return Err(gl_err(format!("shader compile: {log}")));
+        }
+        gl.attach_shader(prog, s);
+        shaders.push(s);
+    }
+    gl.link_program(prog);
+    for s in shaders {
+        gl.detach_shader(prog, s);
+        gl.delete_shader(s);
+    }
+    if !gl.get_program_link_status(prog) {
+        let log = gl.get_program_info_log(prog);
+        gl.delete_program(prog);
+        return Err(gl_err(format!("program link: {log}")));
+    }
+    Ok(prog)
+}
+
+/// The uniforms of the particle vertex shader (`shaders/particle.vert`), which every
+/// particle pass shares.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ParticleUniforms {
+    pub view: Mat4,
+    pub proj: Mat4,
+    /// Sphere radius [L].
+    pub radius: f32,
+    pub quad_scale: f32,
+    pub range: (f32, f32),
+    /// Bit k hides kind k.
+    pub hidden: i32,
+    pub grey_boundary: bool,
+    pub ortho: bool,
+    /// Pixels per world unit (at unit depth in perspective).
+    pub px_scale: f32,
+}
+
+impl ParticleUniforms {
+    /// Sets them on `prog` (in use) and binds the colour map to texture unit 0.
+    pub(crate) unsafe fn set(&self, gl: &glow::Context, prog: glow::Program, cmap: glow::Texture) {
+        let loc = |n: &str| gl.get_uniform_location(prog, n);
+        gl.uniform_matrix_4_f32_slice(loc("u_view").as_ref(), false, &self.view.to_cols_array());
+        gl.uniform_matrix_4_f32_slice(loc("u_proj").as_ref(), false, &self.proj.to_cols_array());
+        gl.uniform_1_f32(loc("u_radius").as_ref(), self.radius.max(1e-9));
+        gl.uniform_1_f32(loc("u_quad_scale").as_ref(), self.quad_scale);
+        gl.uniform_2_f32(loc("u_range").as_ref(), self.range.0, self.range.1);
+        gl.uniform_1_i32(loc("u_hidden").as_ref(), self.hidden);
+        gl.uniform_1_i32(loc("u_grey_boundary").as_ref(), self.grey_boundary as i32);
+        gl.uniform_1_i32(loc("u_ortho").as_ref(), self.ortho as i32);
+        gl.uniform_1_f32(loc("u_px_scale").as_ref(), self.px_scale);
+        gl.uniform_1_i32(loc("u_cmap").as_ref(), 0);
+        gl.active_texture(glow::TEXTURE0);
+        gl.bind_texture(glow::TEXTURE_2D, Some(cmap));
+    }
 }

@@ -8,8 +8,10 @@
 use glam::{Mat3, Vec3};
 use glow::HasContext;
 
-use crate::renderer::{compile, ParticleUniforms};
-use crate::shaders::{sphere_fs, SphereFs, BLUR_FS, FULLSCREEN_VS, PARTICLE_VS};
+use crate::error::gl_err;
+use crate::shaders::{
+    compile, sphere_fs, ParticleUniforms, SphereFs, BLUR_FS, FULLSCREEN_VS, PARTICLE_VS,
+};
 use crate::ViewerError;
 
 /// The surface's spheres are this many particle radii: neighbours overlap and merge.
@@ -64,10 +66,6 @@ pub(crate) struct Surface {
     empty_vao: glow::VertexArray,
     targets: Option<Targets>,
     failed: Option<String>,
-}
-
-fn gl_err(m: impl Into<String>) -> ViewerError {
-    ViewerError::Gl(m.into())
 }
 
 /// `mipmaps`: the texture is sampled through its mipmaps (made after each draw into it).
