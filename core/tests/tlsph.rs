@@ -32,18 +32,7 @@ fn block(p: &SphParams, n: [usize; 3]) -> Vec<Particle> {
 
 /// H_a of the displacement u = G X at every particle, against G.
 fn gradient_error<D: Dim>(p: &SphParams, ps: &[Particle], g: D::M) -> f32 {
-    let r = Reference::<D>::new(p, ps);
-    let u: Vec<D::V> = r.x0.iter().map(|&x| D::mat_vec(g, x)).collect();
-    let mut worst = 0.0f32;
-    for a in 0..r.len() {
-        let h = r.displacement_gradient(p, a, u[a], |b| Some(u[b]));
-        for i in 0..D::D {
-            for j in 0..D::D {
-                worst = worst.max((D::entry(h, i, j) - D::entry(g, i, j)).abs());
-            }
-        }
-    }
-    worst
+    field_error::<D>(p, ps, |x| D::mat_vec(g, x), |_| g)
 }
 
 #[test]
