@@ -12,7 +12,10 @@
 // Layout (src/backend/cuda/buffers.rs `TlBuffers`): x0 and disp as float2 (2D) / float4 (3D,
 // w = 0) per solid; grad (H = F - I) row-major, DIM * DIM floats per solid; corr (C, the
 // reference gradient's second-order correction, src/tlsph/gradient.rs) and pk1_corr (P C) as
-// TL_Q columns of DIM floats per solid; slot NONE (0xffffffff) for a removed particle.
+// TL_Q columns of DIM floats per solid; face (F_a, the clamp's face points' basis sum,
+// src/tlsph/mod.rs `faces`) TL_Q floats per solid and face_clamp (the clamp particle whose
+// displacement the face takes, NONE where a has no face) one per solid; slot NONE
+// (0xffffffff) for a removed particle.
 #include "device/entries.cuh"
 #include "device/grid.cuh"
 #include "device/kernel.cuh"
@@ -66,6 +69,21 @@ __device__ __forceinline__ Vec<DIM> tl_apply(const float* __restrict__ c, unsign
         for (int d = 0; d < DIM; ++d) out.c[d] += c[(a * Q + m) * DIM + d] * b.p[m];
     return out;
 }
+// Solid a's face basis sum F_a (src/tlsph/mod.rs `Reference::face`) as a TlBasis.
+template <int DIM> __device__ __forceinline__ TlBasis<DIM> tl_face(const float* __restrict__ face, unsigned a) {
+    TlBasis<DIM> b;
+#pragma unroll
+    for (int m = 0; m < TlBasis<DIM>::Q; ++m) b.p[m] = face[a * TlBasis<DIM>::Q + m];
+    return b;
+}
+// The clamp whose displacement a's face takes, NONE where a has none or the clamp is gone
+// (src/tlsph/mod.rs `clamp_of`, as the CPU's stages read it).
+__device__ __forceinline__ unsigned tl_face_clamp(const unsigned* __restrict__ face_clamp,
+                                                  const unsigned* __restrict__ slot, unsigned a) {
+    const unsigned c = face_clamp[a];
+    return c != MF_TL_NONE && slot[c] != MF_TL_NONE ? c : MF_TL_NONE;
+}
+
 // The pair's reference kernel weight w = -(dW/dr) / r [L^-d-2], W0 [L^-d] and the scaled
 // separation s = (X0_b - X0_a) / h from x0ab = X0_a - X0_b (gradient.rs `pair`).
 template <int DIM>
@@ -112,7 +130,8 @@ template <int DIM>
 __device__ void sph_tl_stress_body(const SphParams p, unsigned n, unsigned n_solid, const unsigned* __restrict__ slot,
                                    const unsigned* __restrict__ start, const unsigned* __restrict__ nbr,
                                    const float* __restrict__ x0, const float* __restrict__ vol,
-                                   const float* __restrict__ corr, const float* __restrict__ disp,
+                                   const float* __restrict__ corr, const float* __restrict__ face,
+                                   const unsigned* __restrict__ face_clamp, const float* __restrict__ disp,
                                    float* __restrict__ grad, float* __restrict__ pk1_corr,
                                    float* __restrict__ stress) {
     const unsigned a = blockIdx.x * blockDim.x + threadIdx.x;
@@ -133,6 +152,16 @@ __device__ void sph_tl_stress_body(const SphParams p, unsigned n, unsigned n_sol
         const Vec<DIM> s = tl_pair<DIM>(p, xa - vload<DIM>(x0, b), w, w0);
         const Vec<DIM> gw = tl_apply<DIM>(corr, a, tl_basis<DIM>(s)) * (vol[b] * w);
         const Vec<DIM> du = vload<DIM>(disp, b) - ua;
+#pragma unroll
+        for (int x = 0; x < DIM; ++x)
+#pragma unroll
+            for (int y = 0; y < DIM; ++y) h.m[x][y] += du.c[x] * gw.c[y];
+    }
+    // The clamp's face: + (u_clamp - u_a) (x) C_a F_a.
+    const unsigned c = tl_face_clamp(face_clamp, slot, a);
+    if (c != MF_TL_NONE) {
+        const Vec<DIM> gw = tl_apply<DIM>(corr, a, tl_face<DIM>(face, a));
+        const Vec<DIM> du = vload<DIM>(disp, c) - ua;
 #pragma unroll
         for (int x = 0; x < DIM; ++x)
 #pragma unroll
@@ -181,13 +210,14 @@ __device__ void sph_tl_stress_body(const SphParams p, unsigned n, unsigned n_sol
 }
 MF_ENTRY2(sph_tl_stress,
           (const SphParams p, unsigned n, unsigned n_solid, const unsigned* slot, const unsigned* start,
-           const unsigned* nbr, const float* x0, const float* vol, const float* corr, const float* disp, float* grad,
-           float* pk1_corr, float* stress),
-          (p, n, n_solid, slot, start, nbr, x0, vol, corr, disp, grad, pk1_corr, stress))
+           const unsigned* nbr, const float* x0, const float* vol, const float* corr, const float* face,
+           const unsigned* face_clamp, const float* disp, float* grad, float* pk1_corr, float* stress),
+          (p, n, n_solid, slot, start, nbr, x0, vol, corr, face, face_clamp, disp, grad, pk1_corr, stress))
 
 // The internal force of solid a (src/backend/cpu/tlsph.rs `TlBodies::forces`), added to the
 // force stage's acceleration of its slot [L/T^2]:
-// acc_a += (1 / rho0_s) sum_b V0_b w_ab [P_a C_a p(s_ab) - P_b C_b p(-s_ab)] (src/tlsph/mod.rs:
+// acc_a += (1 / rho0_s) (sum_b V0_b w_ab [P_a C_a p(s_ab) - P_b C_b p(-s_ab)] + P_a C_a F_a) (F_a: the
+// clamp's face, src/tlsph/mod.rs `faces`; src/tlsph/mod.rs:
 // the derivative of the discrete strain energy; m_a dv_a/dt = sum_b V0_a V0_b w_ab [...],
 // V0_a / m_a = 1 / rho0_s), plus Ganzenmueller 2015's
 // hourglass control eq. (10) (src/tlsph/mod.rs `hourglass`): with eps = (H_a + H_b) X0_ab - 2 u_ab,
@@ -197,6 +227,7 @@ template <int DIM>
 __device__ __forceinline__ float tl_force_one(const SphParams& p, unsigned a, unsigned i, const unsigned* __restrict__ slot,
                                               const unsigned* __restrict__ start, const unsigned* __restrict__ nbr,
                                               const float* __restrict__ x0, const float* __restrict__ vol,
+                                              const float* __restrict__ face, const unsigned* __restrict__ face_clamp,
                                               const float* __restrict__ disp, const float* __restrict__ grad,
                                               const float* __restrict__ pk1_corr, const float* __restrict__ pos,
                                               float* __restrict__ acc) {
@@ -205,7 +236,9 @@ __device__ __forceinline__ float tl_force_one(const SphParams& p, unsigned a, un
     const Mat<DIM> ha = p.hourglass > 0.0f ? tl_mload<DIM>(grad, a) : mzero<DIM>();
     const Vec<DIM> ua = vload<DIM>(disp, a), xa = vload<DIM>(x0, a);
     const Vec<DIM> xi = p.hourglass > 0.0f ? vload<DIM>(pos, i) : vzero<DIM>();
-    Vec<DIM> sum = vzero<DIM>();
+    Vec<DIM> sum = tl_face_clamp(face_clamp, slot, a) != MF_TL_NONE
+                       ? tl_apply<DIM>(pk1_corr, a, tl_face<DIM>(face, a)) * (1.0f / p.solid_rho0)
+                       : vzero<DIM>();
     for (unsigned e = start[a], end = start[a + 1]; e < end; ++e) {
         const unsigned b = nbr[e];
         const unsigned j = slot[b];
@@ -241,6 +274,7 @@ template <int DIM>
 __device__ void sph_tl_forces_body(const SphParams p, unsigned n_solid, const unsigned* __restrict__ slot,
                                    const unsigned* __restrict__ start, const unsigned* __restrict__ nbr,
                                    const float* __restrict__ x0, const float* __restrict__ vol,
+                                   const float* __restrict__ face, const unsigned* __restrict__ face_clamp,
                                    const float* __restrict__ disp, const float* __restrict__ grad,
                                    const float* __restrict__ pk1_corr, const float* __restrict__ pos,
                                    float* __restrict__ acc, unsigned* __restrict__ red) {
@@ -248,7 +282,7 @@ __device__ void sph_tl_forces_body(const SphParams p, unsigned n_solid, const un
     const unsigned i = a < n_solid ? slot[a] : MF_TL_NONE;
     float amax = 0.0f;
     if (i != MF_TL_NONE) {
-        amax = tl_force_one<DIM>(p, a, i, slot, start, nbr, x0, vol, disp, grad, pk1_corr, pos, acc);
+        amax = tl_force_one<DIM>(p, a, i, slot, start, nbr, x0, vol, face, face_clamp, disp, grad, pk1_corr, pos, acc);
         if (!owns_slot<DIM>(p, pos, i)) amax = 0.0f;  // a subdomain's halo copy: its owner's
     }
     // |a| into the step size's maximum (the forces pass left these particles out; twin:
@@ -258,9 +292,9 @@ __device__ void sph_tl_forces_body(const SphParams p, unsigned n_solid, const un
 }
 MF_ENTRY2(sph_tl_forces,
           (const SphParams p, unsigned n_solid, const unsigned* slot, const unsigned* start, const unsigned* nbr,
-           const float* x0, const float* vol, const float* disp, const float* grad, const float* pk1_corr,
-           const float* pos, float* acc, unsigned* red),
-          (p, n_solid, slot, start, nbr, x0, vol, disp, grad, pk1_corr, pos, acc, red))
+           const float* x0, const float* vol, const float* face, const unsigned* face_clamp, const float* disp,
+           const float* grad, const float* pk1_corr, const float* pos, float* acc, unsigned* red),
+          (p, n_solid, slot, start, nbr, x0, vol, face, face_clamp, disp, grad, pk1_corr, pos, acc, red))
 
 // The displacement's drift (src/backend/cpu/tlsph.rs `TlBodies::drift`): u += dt (v + xsph),
 // or dt times the driven group's velocity, what sph_drift adds to the position (launched

@@ -35,6 +35,7 @@ use crate::kernel;
 use crate::params::{SphParams, MF_KIND_SOLID, MF_SOLID_TOTAL_LAGRANGIAN};
 use crate::particle::{Kind, Particle};
 pub use gradient::Corr;
+use gradient::Q_MAX;
 
 /// No solid index (an id that is not a solid particle's), no storage slot (a solid particle
 /// removed with its group).
@@ -62,6 +63,13 @@ pub struct Reference<D: Dim> {
     /// CSR: the neighbours of a are `nbr[start[a] .. start[a + 1]]` (solid indices).
     pub start: Vec<u32>,
     pub nbr: Vec<u32>,
+    /// [L^-d] F_a = sum_m V_m w_am p(s_am) over the clamp's face points m within a's support
+    /// (`faces`): the face's share of the gradient, g_face = C_a F_a [L^-1]; zero away from a
+    /// clamp.
+    pub face: Vec<[f32; Q_MAX]>,
+    /// The solid index of a clamp particle whose displacement the face takes (the clamp is
+    /// rigid), `NONE` where a has no face term.
+    pub face_clamp: Vec<u32>,
 }
 
 impl<D: Dim> Reference<D> {
@@ -96,6 +104,21 @@ impl<D: Dim> Reference<D> {
             cells.entry(cell(x)).or_default().push(a as u32);
         }
         let reach_z = if D::D == 3 { 1 } else { 0 };
+        let clamp = |a: usize| p.driven != 0 && solids[a].group == p.driven_group as u32;
+        let faces = faces::<D>(p, &x0, &vol, &clamp, |x| {
+            let c = cell(x);
+            let mut v = Vec::new();
+            for dz in -reach_z..=reach_z {
+                for dy in -1..=1 {
+                    for dx in -1..=1 {
+                        if let Some(l) = cells.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) {
+                            v.extend_from_slice(l);
+                        }
+                    }
+                }
+            }
+            v
+        });
         let mut start = Vec::with_capacity(n + 1);
         let mut nbr = Vec::new();
         start.push(0u32);
@@ -114,6 +137,7 @@ impl<D: Dim> Reference<D> {
                             if b_us != a
                                 && D::length2(x0[a] - x0[b_us]) < p.support2
                                 && same_body(p, solid, solid, solids[a].group, solids[b_us].group)
+                                && (faces.is_empty() || clamp(a) == clamp(b_us))
                             {
                                 list.push(b);
                             }
@@ -125,13 +149,33 @@ impl<D: Dim> Reference<D> {
             nbr.extend_from_slice(&list);
             start.push(nbr.len() as u32);
         }
+        let mut face = vec![[0.0f32; Q_MAX]; n];
+        let mut face_clamp = vec![NONE; n];
         let corr = (0..n)
             .map(|a| {
-                let nbrs: Vec<(D::V, f32)> = nbr[start[a] as usize..start[a + 1] as usize]
+                let mut nbrs: Vec<(D::V, f32)> = nbr[start[a] as usize..start[a + 1] as usize]
                     .iter()
                     .map(|&b| (x0[b as usize], vol[b as usize]))
                     .collect();
-                gradient::correction::<D>(p, x0[a], &nbrs)
+                let near: Vec<&Face<D>> = if clamp(a) {
+                    Vec::new()
+                } else {
+                    faces
+                        .iter()
+                        .filter(|f| D::length2(f.x - x0[a]) < p.support2)
+                        .collect()
+                };
+                nbrs.extend(near.iter().map(|f| (f.x, f.vol)));
+                let c = gradient::correction::<D>(p, x0[a], &nbrs);
+                for f in &near {
+                    let (w, s) = gradient::pair::<D>(p, x0[a], f.x);
+                    let pm = gradient::basis::<D>(s);
+                    for (acc, v) in face[a].iter_mut().zip(pm) {
+                        *acc += f.vol * w * v;
+                    }
+                    face_clamp[a] = f.clamp;
+                }
+                c
             })
             .collect();
         Reference {
@@ -142,6 +186,8 @@ impl<D: Dim> Reference<D> {
             corr,
             start,
             nbr,
+            face,
+            face_clamp,
         }
     }
 
@@ -160,7 +206,8 @@ impl<D: Dim> Reference<D> {
         &self.nbr[self.start[a] as usize..self.start[a + 1] as usize]
     }
 
-    /// The displacement gradient H_a = F_a - I = sum_b (u_b - u_a) (x) g_ab [-] (`gradient`;
+    /// The displacement gradient H_a = F_a - I = sum_b (u_b - u_a) (x) g_ab plus the clamp's
+    /// face term (u_clamp - u_a) (x) C_a F_a (`faces`) [-] (`gradient`;
     /// O'Connor & Rogers 2021's F less I, from the displacement rather than the position so
     /// that small strains survive f32), over the neighbours b for which `disp(b)` answers (a
     /// removed particle does not).
@@ -180,8 +227,77 @@ impl<D: Dim> Reference<D> {
                 g += D::outer(ub - ua, gw);
             }
         }
+        if let Some(uc) = self.clamp_of(a).and_then(&disp) {
+            g += D::outer(uc - ua, gradient::apply::<D>(&self.corr[a], &self.face[a]));
+        }
         g
     }
+
+    /// The clamp particle whose displacement a's face term takes, if a has one.
+    #[inline]
+    pub fn clamp_of(&self, a: usize) -> Option<usize> {
+        let c = self.face_clamp[a];
+        (c != NONE).then_some(c as usize)
+    }
+}
+
+/// A point of a clamp's face: where the clamp holds the body at the clamp's displacement.
+#[derive(Clone, Copy, Debug)]
+pub struct Face<D: Dim> {
+    /// [L] its reference position: the midpoint of a clamp particle and a body particle that
+    /// face each other.
+    pub x: D::V,
+    /// [L^d] the weight it takes in the fit: the clamp particle's V0.
+    pub vol: f32,
+    /// The clamp particle's solid index.
+    pub clamp: u32,
+}
+
+/// The faces of the clamps (`[[solids]]` held by a driven group): for every body particle b,
+/// its nearest clamp particles g (within 1 % of the nearest, and no further than 1.5 dx: the
+/// clamp's first row across the face) give a face point at (X0_g + X0_b) / 2. `candidates(x)`
+/// lists the solid indices within one support of x.
+///
+/// Why: the body's displacement is smooth up to the face, but the clamp's is zero behind it.
+/// A fit that reads the clamp's particles as neighbours averages the two across the face, and
+/// the clamped end of a bent beam, where the curvature is largest, comes out soft (the root
+/// rotates: a cantilever of 9 particles across bent 7 % too far, its deflection near the root
+/// 2-3 times the theory's at 5). Where faces exist, the body and the clamp are not each other's
+/// neighbours; the body's fit takes the face points instead, with the clamp's displacement as
+/// their value: a Dirichlet condition on the face, exact for a quadratic field that takes the
+/// clamp's value there (a clamped beam's, u = 0 at the root). Where none are found (a clamp
+/// that does not sit on the body's lattice), the clamp stays a bonded neighbour.
+fn faces<D: Dim>(
+    p: &SphParams,
+    x0: &[D::V],
+    vol: &[f32],
+    clamp: &impl Fn(usize) -> bool,
+    candidates: impl Fn(D::V) -> Vec<u32>,
+) -> Vec<Face<D>> {
+    let reach2 = (1.5 * p.dx) * (1.5 * p.dx); // [L^2]
+    let mut out = Vec::new();
+    for b in (0..x0.len()).filter(|&b| !clamp(b)) {
+        let near: Vec<(f32, usize)> = candidates(x0[b])
+            .into_iter()
+            .map(|g| g as usize)
+            .filter(|&g| clamp(g))
+            .map(|g| (D::length2(x0[g] - x0[b]), g))
+            .filter(|&(r2, _)| r2 <= reach2)
+            .collect();
+        let Some(r2_min) = near.iter().map(|n| n.0).min_by(f32::total_cmp) else {
+            continue;
+        };
+        for &(r2, g) in &near {
+            if r2 <= 1.0201 * r2_min {
+                out.push(Face {
+                    x: (x0[g] + x0[b]) * 0.5,
+                    vol: vol[g],
+                    clamp: g as u32,
+                });
+            }
+        }
+    }
+    out
 }
 
 /// The elastic constants of the Saint Venant-Kirchhoff law from the scene's solid: mu = G

@@ -96,8 +96,8 @@ impl<D: Dim> TlBodies<D> {
         }
     }
 
-    /// The internal force: acc_a += (1 / rho0_s) sum_b V0_b w_ab [P_a C_a p(s_ab) -
-    /// P_b C_b p(-s_ab)] (`crate::tlsph`: m_a dv_a/dt = sum_b V0_a V0_b w_ab [...], V0_a / m_a =
+    /// The internal force: acc_a += (1 / rho0_s) (sum_b V0_b w_ab [P_a C_a p(s_ab) -
+    /// P_b C_b p(-s_ab)] + P_a C_a F_a) (F_a: the clamp's face, `tlsph::faces`; `crate::tlsph`: m_a dv_a/dt = sum_b V0_a V0_b w_ab [...], V0_a / m_a =
     /// 1 / rho0_s) plus the hourglass control (`hourglass`), added to the force stage's sum
     /// (which skipped the pairs of one body: `ForceSum`). [L/T^2]
     pub fn forces(&self, p: &SphParams, s: &mut State<D>) {
@@ -111,8 +111,15 @@ impl<D: Dim> TlBodies<D> {
                 if i == NONE {
                     return D::V::default();
                 }
-                let mut acc = D::V::default();
                 let (pla, ha, ua) = (&self.pk1_corr[a], self.grad_u[a], self.disp[a]);
+                // The clamp's face (`tlsph::faces`): P_a C_a F_a, the derivative of a's strain
+                // energy through its face term.
+                let mut acc = match r.clamp_of(a) {
+                    Some(c) if slot[c] != NONE => {
+                        apply::<D>(pla, &r.face[a]) * (1.0 / p.solid_rho0)
+                    }
+                    _ => D::V::default(),
+                };
                 for &b in r.neighbours(a) {
                     let b = b as usize;
                     let j = slot[b];

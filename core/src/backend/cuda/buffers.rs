@@ -606,6 +606,10 @@ pub struct TlBuffers {
     /// CSR of the reference neighbours (solid indices).
     pub start: CudaSlice<u32>,
     pub nbr: CudaSlice<u32>,
+    /// [L^-d] F, the clamp's face term (`tlsph::Reference::face`): Q floats per solid.
+    pub face: CudaSlice<f32>,
+    /// The clamp particle whose displacement the face takes (`tlsph::NONE`: no face).
+    pub face_clamp: CudaSlice<u32>,
     /// Solid index -> storage slot (`tlsph::NONE`: removed).
     pub slot: CudaSlice<u32>,
     /// [L] u = x - X0, as x0.
@@ -651,6 +655,8 @@ impl TlBuffers {
             corr: a.z(n * dq)?,
             start: a.z(n + 1)?,
             nbr: a.z(r.nbr.len())?,
+            face: a.z(n * dq / D::D)?,
+            face_clamp: a.z(n)?,
             slot: a.z(n)?,
             disp: a.z(n * vs)?,
             grad: a.z(n * dd)?,
@@ -665,6 +671,10 @@ impl TlBuffers {
             s.memcpy_htod(&flat_v::<D>(&r.x0, |_| 0.0), &mut t.x0)?;
             s.memcpy_htod(&r.vol, &mut t.vol)?;
             s.memcpy_htod(&corr_columns::<D>(&r.corr), &mut t.corr)?;
+            let q = dq / D::D;
+            let face: Vec<f32> = r.face.iter().flat_map(|f| f[..q].to_vec()).collect();
+            s.memcpy_htod(&face, &mut t.face)?;
+            s.memcpy_htod(&r.face_clamp, &mut t.face_clamp)?;
         }
         s.memcpy_htod(&r.start, &mut t.start)?;
         if !r.nbr.is_empty() {

@@ -345,17 +345,17 @@ impl Family {
                 Dims,
                 "const SphParams p, unsigned n, unsigned n_solid, const unsigned* slot, \
                  const unsigned* start, const unsigned* nbr, const float* x0, const float* vol, \
-                 const float* corr, const float* disp, float* grad, float* pk1_corr, \
-                 float* stress",
+                 const float* corr, const float* face, const unsigned* face_clamp, \
+                 const float* disp, float* grad, float* pk1_corr, float* stress",
             ),
             Family::TlForces => (
                 "tlsph",
                 "sph_tl_forces",
                 Dims,
                 "const SphParams p, unsigned n_solid, const unsigned* slot, const unsigned* start, \
-                 const unsigned* nbr, const float* x0, const float* vol, const float* disp, \
-                 const float* grad, const float* pk1_corr, const float* pos, float* acc, \
-                 unsigned* red",
+                 const unsigned* nbr, const float* x0, const float* vol, const float* face, \
+                 const unsigned* face_clamp, const float* disp, const float* grad, \
+                 const float* pk1_corr, const float* pos, float* acc, unsigned* red",
             ),
             Family::TlDrift => (
                 "tlsph",

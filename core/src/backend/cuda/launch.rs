@@ -692,7 +692,8 @@ pub fn tl_stress(
     // SAFETY: the arguments of `Family::TlStress`; slot, vol hold n_solid entries, start
     // n_solid + 1, nbr start[n_solid] (solid indices), x0 and disp n_solid vectors, grad
     // n_solid D x D blocks, corr and pk1_corr n_solid blocks of Q = basis_len(D) columns of D
-    // floats; every slot is NONE or below n; stress n_sym planes of n (present: the scene has
+    // floats; face n_solid blocks of Q floats and face_clamp n_solid solid indices or NONE;
+    // every slot is NONE or below n; stress n_sym planes of n (present: the scene has
     // solids).
     let kt = k.get(Family::TlStress);
     let mut l = s.launch_builder(&kt.f);
@@ -705,6 +706,8 @@ pub fn tl_stress(
         .arg(&t.x0)
         .arg(&t.vol)
         .arg(&t.corr)
+        .arg(&t.face)
+        .arg(&t.face_clamp)
         .arg(&t.disp)
         .arg(&mut t.grad)
         .arg(&mut t.pk1_corr);
@@ -733,6 +736,8 @@ pub fn tl_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
             .arg(&t.nbr)
             .arg(&t.x0)
             .arg(&t.vol)
+            .arg(&t.face)
+            .arg(&t.face_clamp)
             .arg(&t.disp)
             .arg(&t.grad)
             .arg(&t.pk1_corr)
