@@ -58,7 +58,8 @@ __device__ __forceinline__ float slab_gap2(const SphParams& p, int a, int c, flo
 // MF_CELL_REACH (z outer, then y), skipping rows whose slab lies beyond the support, calls
 // row(first cell index of the row, x0, x1) with the x cells x0..x1 (unwrapped on a periodic
 // x axis) that the support's cross-section at that row reaches. Twin of `rows` in
-// src/backend/cpu/grid.rs: same candidates, same order. `plane_rows` visits the rows of one
+// src/backend/cpu/grid.rs: the same neighbours in the same order (the candidates may differ
+// by a cell beyond the support, see the row bounds below). `plane_rows` visits the rows of one
 // z offset dz (ci: the cell of xi, from cell_coords).
 template <int DIM, class R>
 __device__ __forceinline__ void plane_rows(const SphParams& p, Vec<DIM> xi, const int ci[3], int dz, R&& row) {
@@ -72,6 +73,7 @@ __device__ __forceinline__ void plane_rows(const SphParams& p, Vec<DIM> xi, cons
     }
     float gz = 0.0f;
     if constexpr (DIM == 3) gz = slab_gap2(p, 2, ci[2] + dz, xi.c[2]);
+    const float inv_cx = 1.0f / p.cell_size[0];
     for (int dy = -reach; dy <= reach; ++dy) {
         int cy = ci[1] + dy;
         if (cy < 0 || cy >= p.grid_dims[1]) {
@@ -81,9 +83,15 @@ __device__ __forceinline__ void plane_rows(const SphParams& p, Vec<DIM> xi, cons
         const float d2 = gz + slab_gap2(p, 1, ci[1] + dy, xi.c[1]);
         if (d2 > r2max * (1.0f + MF_PRUNE_SLACK)) continue;
         // Half-width of the support's cross-section at this row, then the x cells it spans.
-        const float w = sqrtf(fmaxf(r2max - d2, 0.0f)) + MF_PRUNE_SLACK * p.support;
-        int x0 = max(ci[0] - reach, (int)floorf((xi.c[0] - w - p.domain_min[0]) / p.cell_size[0]));
-        int x1 = min(ci[0] + reach, (int)floorf((xi.c[0] + w - p.domain_min[0]) / p.cell_size[0]));
+        // The root and the cell quotient are the fast ones (rsqrt, a product by the
+        // reciprocal: IEEE's root and two divisions took about a third of the row's
+        // instructions). Their rounding (about 1e-7 of the root and of the quotient, the
+        // size of the rounding already in x +- w) is covered by the pruning's slack, as the
+        // contracted slack term already is: the CPU's exact forms prune to the same
+        // neighbours.
+        const float w = fast_norm(fmaxf(r2max - d2, 0.0f)) + MF_PRUNE_SLACK * p.support;
+        int x0 = max(ci[0] - reach, (int)floorf((xi.c[0] - w - p.domain_min[0]) * inv_cx));
+        int x1 = min(ci[0] + reach, (int)floorf((xi.c[0] + w - p.domain_min[0]) * inv_cx));
         if (!p.periodic[0]) {
             x0 = max(x0, 0);
             x1 = min(x1, nx - 1);

@@ -87,12 +87,20 @@ __device__ __forceinline__ void call_neighbour(const SphParams& p, const float* 
     f(j, r, dot(r, r), wj);
 }
 
-// Candidates per batch in the neighbour loops (batch_accept, queued_neighbours): their
-// position loads are in flight together. 4 (H100, 4M, docs/reference/performance.md: with
-// the queue, 8 spilled the batch at 64 registers and was 24 % slower in 3D, 2 was 1.5 %
-// slower).
+// Candidates per batch, their position loads in flight together: MF_NB_BATCH in the loop
+// of several lanes per particle (batch_accept, below 150,000 particles: a build with 8 in
+// both loops stepped 3-6 % slower at 3,800 and 10,000 particles), MF_QUEUE_BATCH_2D/_3D in
+// the one-lane queued loop (queued_neighbours): in 2D 8 (against 4, 4M 4 % faster), in 3D
+// 4 (8 doubled the 3D kernels' spills at 64 registers: the fused pass 4.6 % slower at
+// 4.7M). H100 figures: docs/journal/2026-11-27-neighbour-pass.md.
 #ifndef MF_NB_BATCH
 #define MF_NB_BATCH 4
+#endif
+#ifndef MF_QUEUE_BATCH_2D
+#define MF_QUEUE_BATCH_2D 8
+#endif
+#ifndef MF_QUEUE_BATCH_3D
+#define MF_QUEUE_BATCH_3D 4
 #endif
 
 // Calls f(j, r_ij, r_ij^2, w_j) for every j (i included) within the support of xi (w_j: the
@@ -146,21 +154,24 @@ __device__ __forceinline__ void queued_neighbours(const SphParams& p, const unsi
             plane_rows<DIM>(p, xi, ci, dz, [&](unsigned row, int x0, int x1) {
                 row_ranges(p, cell_start, row, x0, x1, [&](unsigned s, unsigned e) {
                     for (unsigned c = s; c < e; c += 32) {
+                        const unsigned cnt = min(e - c, 32u);
                         unsigned mask = 0;
-                        // batch_accept's test, written out: sharing it through a helper
-                        // returning the batch's mask (shifted by b here) compiled 1 % slower
-                        // at 4M in 2D and 3D (H100).
-                        for (int b = 0; b < 32 && c + b < e; b += B) {
-                            const unsigned base = c + (unsigned)b;
+                        // Batches of B with no test of the range per candidate: the loads
+                        // past e - 1 repeat it, and their bits are cleared once per chunk.
+                        for (unsigned b = 0; b < cnt; b += B) {
+                            const unsigned base = c + b;
                             Vec<DIM> xj[B];
 #pragma unroll
                             for (int k = 0; k < B; ++k) xj[k] = vload<DIM>(pos, min(base + k, e - 1));
+                            unsigned bits = 0;
 #pragma unroll
                             for (int k = 0; k < B; ++k) {
                                 const Vec<DIM> r = separation<DIM, PERIODIC>(p, xi, xj[k]);
-                                if (base + k < e && dot(r, r) < p.support2) mask |= 1u << (b + k);
+                                bits |= (dot(r, r) < p.support2 ? 1u : 0u) << k;
                             }
+                            mask |= bits << b;
                         }
+                        mask &= 0xffffffffu >> (32u - cnt);
                         if (mask == 0u) continue;
                         const int slot = seen - skip;
                         if (slot >= 0 && slot < MF_QUEUE) q[slot * MF_BLOCK + t] = make_uint2(c, mask);
@@ -169,15 +180,18 @@ __device__ __forceinline__ void queued_neighbours(const SphParams& p, const unsi
                 });
             });
             const int ne = min(seen - skip, MF_QUEUE);
-            // Next accepted neighbour: a short loop over empty-handed entries, then the sum.
-            int k = 0;
-            uint2 en = ne > 0 ? q[t] : make_uint2(0u, 0u);
-            for (;;) {
-                while (en.y == 0u && ++k < ne) en = q[k * MF_BLOCK + t];
-                if (en.y == 0u) break;
-                const int bit = __ffs(en.y) - 1;
-                en.y &= en.y - 1u;
-                call_neighbour<DIM, PERIODIC>(p, pos, xi, en.x + (unsigned)bit, f);
+            // The accepted neighbours of the queued entries, in order: every entry holds one
+            // at least, so the next entry is read as the last bit of one is taken (a loop
+            // over empty-handed entries before each sum: 0.6-0.9 % slower at 4M, H100).
+            if (ne > 0) {
+                int k = 0;
+                uint2 en = q[t];
+                do {
+                    const unsigned j = en.x + (unsigned)(__ffs(en.y) - 1);
+                    en.y &= en.y - 1u;
+                    if (en.y == 0u && ++k < ne) en = q[k * MF_BLOCK + t];
+                    call_neighbour<DIM, PERIODIC>(p, pos, xi, j, f);
+                } while (k < ne);
             }
             if (seen - skip <= MF_QUEUE) break;
         }
@@ -195,11 +209,12 @@ __device__ __forceinline__ void neighbour_loop(const SphParams& p, const unsigne
 #if MF_QUEUE > 0
     if constexpr (L == 1) {
         __shared__ uint2 q[MF_QUEUE * MF_BLOCK];
+        constexpr int QB = DIM == 2 ? MF_QUEUE_BATCH_2D : MF_QUEUE_BATCH_3D;
         if (!on) return;
         if (p.periodic[0] || p.periodic[1] || p.periodic[2])
-            queued_neighbours<DIM, MF_NB_BATCH, true>(p, cell_start, pos, vload<DIM>(pos, i), q, f);
+            queued_neighbours<DIM, QB, true>(p, cell_start, pos, vload<DIM>(pos, i), q, f);
         else
-            queued_neighbours<DIM, MF_NB_BATCH, false>(p, cell_start, pos, vload<DIM>(pos, i), q, f);
+            queued_neighbours<DIM, QB, false>(p, cell_start, pos, vload<DIM>(pos, i), q, f);
         return;
     }
 #endif
