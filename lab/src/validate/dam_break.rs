@@ -542,12 +542,13 @@ mod tests {
     }
 
     fn water(dx: f64, x: f64, y: f64) -> Particle {
-        let mut q = Particle::default();
-        q.kind = Kind::Fluid;
-        q.position = [x as f32, y as f32, 0.0];
-        q.density = 1000.0;
-        q.mass = (1000.0 * dx * dx) as f32;
-        q
+        Particle {
+            kind: Kind::Fluid,
+            position: [x as f32, y as f32, 0.0],
+            density: 1000.0,
+            mass: (1000.0 * dx * dx) as f32,
+            ..Default::default()
+        }
     }
 
     #[test]
