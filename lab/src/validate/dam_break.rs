@@ -174,17 +174,27 @@ impl Depth {
 }
 
 /// The surge front [L]: going from the back wall x = 0 along the floor in steps of dx / 4,
-/// the first x where the water depth (`Depth`) falls below `min_depth` [L] (interpolated
-/// linearly), as DualSPHysics' gauge reads the first change from water to none; a drop or a
-/// sheet thinner than `min_depth` ahead of it is not the front. 0 where the depth at the
-/// wall is already below it.
+/// past any dry strip at the wall, the first x where the water depth (`Depth`) falls below
+/// `min_depth` [L] (interpolated linearly), as DualSPHysics' gauge reads the first change
+/// from water to none; a drop or a sheet thinner than `min_depth` ahead of the water is not
+/// the front. 0 where no water is that deep.
 pub fn surge_front(p: &SphParams, ps: &[Particle], min_depth: f64) -> f64 {
     assert!(min_depth > 0.0, "the front's depth must be positive");
     let depth = Depth::new(p, ps);
     let step = 0.25 * p.dx as f64;
+    let end = ps
+        .iter()
+        .filter(|q| q.kind == Kind::Fluid)
+        .map(|q| q.position[0] as f64)
+        .fold(0.0, f64::max)
+        + 2.0 * p.h as f64;
     let (mut x, mut prev) = (0.0, depth.at(0.0));
-    if prev < min_depth {
-        return 0.0;
+    while prev < min_depth {
+        x += step;
+        if x > end {
+            return 0.0;
+        }
+        prev = depth.at(x);
     }
     loop {
         let next = depth.at(x + step);
@@ -578,5 +588,18 @@ mod tests {
         // A shallower threshold takes the sheet in, and still not the drop.
         let sheet = surge_front(&p, &ps, 0.5 * dx);
         assert!(sheet > 2.0 - dx && sheet < 2.0 + support, "sheet {sheet}");
+        // Water that has left a dry strip at the back wall still has its front.
+        let shifted: Vec<Particle> = (ps.iter().copied())
+            .map(|mut q| {
+                q.position[0] += 0.5;
+                q
+            })
+            .collect();
+        let front_shifted = surge_front(&p, &shifted, FRONT_DEPTH);
+        assert!(
+            (front_shifted - front - 0.5).abs() < 1e-3,
+            "{front_shifted} vs {front}"
+        );
+        assert_eq!(surge_front(&p, &[], FRONT_DEPTH), 0.0);
     }
 }
