@@ -7,7 +7,7 @@ use meshfree_core::particle::{Kind, Particle};
 use meshfree_core::scene::Scene;
 use meshfree_core::solver::Solver;
 use meshfree_core::step::Stepper;
-use meshfree_lab::validate::dam_break::wall_height;
+use meshfree_lab::validate::dam_break::{surge_front, wall_height, FRONT_DEPTH};
 
 /// A built-in scene at another spacing.
 fn coarsened(name: &str, spacing: f64) -> Scene {
@@ -205,14 +205,9 @@ fn worst_against_martin_moyce(
 
 #[test]
 fn dam_break_surge_front_tracks_martin_moyce() {
-    // The front: the fluid particle farthest from the back wall (from T = 0.8 on, where the
-    // experiment's front is clear of the gate).
-    let front = |ps: &[Particle], _p: &SphParams| {
-        ps.iter()
-            .filter(|q| q.kind == Kind::Fluid)
-            .map(|q| q.position[0] as f64)
-            .fold(f64::MIN, f64::max)
-    };
+    // The front: where the water thins below 0.03 a (from T = 0.8 on, where the
+    // experiment's front is clear of the gate); a = 1.
+    let front = |ps: &[Particle], p: &SphParams| surge_front(p, ps, FRONT_DEPTH);
     let worst = worst_against_martin_moyce("surge_front", 0.8..=2.5, front);
     // SPH fronts run a little ahead of the experiment (no gate friction, no wall drag);
     // published WCSPH results are within about 10-15 %.

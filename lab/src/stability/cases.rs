@@ -134,6 +134,7 @@ pub fn measure(
     }
     let particles = setup.particles.len();
     let dx = setup.params.dx;
+    let params = setup.params;
     let mut solver = backend::create(backend, setup)?;
     // The clock starts after the solver is built, as for the validate cases (`Sim`): the
     // first CUDA solver of a process waits for the driver to compile the PTX (28 s on a fresh
@@ -148,7 +149,11 @@ pub fn measure(
                 // a = 1, g = 9.81: t = T / sqrt(g).
                 for (t_norm, x_ref) in dam_break::martin_moyce_front(t_end) {
                     stepper.advance_to(solver.as_mut(), t_norm / 9.81f64.sqrt())?;
-                    let front = dam_break::surge_front(&solver.particles());
+                    let front = dam_break::surge_front(
+                        &params,
+                        &solver.particles(),
+                        dam_break::FRONT_DEPTH,
+                    );
                     error = error.max((front - x_ref).abs() / x_ref);
                 }
             }
