@@ -103,10 +103,10 @@ impl<D: Dim> Reference<D> {
         for (a, &x) in x0.iter().enumerate() {
             cells.entry(cell(x)).or_default().push(a as u32);
         }
-        let reach_z = if D::D == 3 { 1 } else { 0 };
-        let clamp = |a: usize| p.driven != 0 && solids[a].group == p.driven_group as u32;
-        let faces = faces::<D>(p, &x0, &vol, &clamp, |x| {
+        // The entries of `cells` in the 3^d cells around x (one support each way).
+        let around = |cells: &HashMap<[i32; 3], Vec<u32>>, x: D::V| {
             let c = cell(x);
+            let reach_z = if D::D == 3 { 1 } else { 0 };
             let mut v = Vec::new();
             for dz in -reach_z..=reach_z {
                 for dy in -1..=1 {
@@ -118,33 +118,28 @@ impl<D: Dim> Reference<D> {
                 }
             }
             v
-        });
+        };
+        let clamp = |a: usize| p.driven != 0 && solids[a].group == p.driven_group as u32;
+        let faces = faces::<D>(p, &x0, &vol, &clamp, |x| around(&cells, x));
+        let mut face_cells: HashMap<[i32; 3], Vec<u32>> = HashMap::new();
+        for (m, f) in faces.iter().enumerate() {
+            face_cells.entry(cell(f.x)).or_default().push(m as u32);
+        }
         let mut start = Vec::with_capacity(n + 1);
         let mut nbr = Vec::new();
         start.push(0u32);
         let solid = MF_KIND_SOLID as u8;
         for a in 0..n {
-            let c = cell(x0[a]);
-            let mut list = Vec::new();
-            for dz in -reach_z..=reach_z {
-                for dy in -1..=1 {
-                    for dx in -1..=1 {
-                        let Some(v) = cells.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) else {
-                            continue;
-                        };
-                        for &b in v {
-                            let b_us = b as usize;
-                            if b_us != a
-                                && D::length2(x0[a] - x0[b_us]) < p.support2
-                                && same_body(p, solid, solid, solids[a].group, solids[b_us].group)
-                                && (faces.is_empty() || clamp(a) == clamp(b_us))
-                            {
-                                list.push(b);
-                            }
-                        }
-                    }
-                }
-            }
+            let mut list: Vec<u32> = around(&cells, x0[a])
+                .into_iter()
+                .filter(|&b| {
+                    let b_us = b as usize;
+                    b_us != a
+                        && D::length2(x0[a] - x0[b_us]) < p.support2
+                        && same_body(p, solid, solid, solids[a].group, solids[b_us].group)
+                        && (faces.is_empty() || clamp(a) == clamp(b_us))
+                })
+                .collect();
             list.sort_unstable();
             nbr.extend_from_slice(&list);
             start.push(nbr.len() as u32);
@@ -160,8 +155,9 @@ impl<D: Dim> Reference<D> {
                 let near: Vec<&Face<D>> = if clamp(a) {
                     Vec::new()
                 } else {
-                    faces
-                        .iter()
+                    around(&face_cells, x0[a])
+                        .into_iter()
+                        .map(|m| &faces[m as usize])
                         .filter(|f| D::length2(f.x - x0[a]) < p.support2)
                         .collect()
                 };
