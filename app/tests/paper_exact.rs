@@ -35,6 +35,8 @@ fn the_transform_sets_exactly_the_paper_options() {
         if let Some(m) = want.solid.as_mut() {
             m.artificial_stress = 0.0;
             m.interface = SolidInterface::Stress;
+            // Inert under the paper's Jaumann solids; the total-Lagrangian default is 5.
+            m.hourglass = 0.1;
         }
         if let Some(b) = want.boundary.as_mut() {
             b.wall_coupling = WallCoupling::LennardJonesOnly;
