@@ -97,9 +97,10 @@ impl<D: Dim> TlBodies<D> {
     }
 
     /// The internal force: acc_a += (1 / rho0_s) (sum_b V0_b w_ab [P_a C_a p(s_ab) -
-    /// P_b C_b p(-s_ab)] + P_a C_a F_a) (F_a: the clamp's face, `tlsph::faces`; `crate::tlsph`: m_a dv_a/dt = sum_b V0_a V0_b w_ab [...], V0_a / m_a =
-    /// 1 / rho0_s) plus the hourglass control (`hourglass`), added to the force stage's sum
-    /// (which skipped the pairs of one body: `ForceSum`). [L/T^2]
+    /// P_b C_b p(-s_ab)] + P_a C_a F_a) (F_a: the clamp's face, `tlsph::faces`;
+    /// `crate::tlsph`: m_a dv_a/dt = sum_b V0_a V0_b w_ab [...], V0_a / m_a = 1 / rho0_s) plus
+    /// the hourglass control (`hourglass`), added to the force stage's sum (which skipped the
+    /// pairs of one body: `ForceSum`). [L/T^2]
     pub fn forces(&self, p: &SphParams, s: &mut State<D>) {
         let young = Material::of(p).young;
         let (r, slot) = (&self.reference, &self.slot);

@@ -672,7 +672,7 @@ impl TlBuffers {
             s.memcpy_htod(&r.vol, &mut t.vol)?;
             s.memcpy_htod(&corr_columns::<D>(&r.corr), &mut t.corr)?;
             let q = dq / D::D;
-            let face: Vec<f32> = r.face.iter().flat_map(|f| f[..q].to_vec()).collect();
+            let face: Vec<f32> = r.face.iter().flat_map(|f| f[..q].iter().copied()).collect();
             s.memcpy_htod(&face, &mut t.face)?;
             s.memcpy_htod(&r.face_clamp, &mut t.face_clamp)?;
         }
