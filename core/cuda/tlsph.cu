@@ -14,7 +14,8 @@
 // reference gradient's second-order correction, src/tlsph/gradient.rs) and pk1_corr (P C) as
 // TL_Q columns of DIM floats per solid; face (F_a, the clamp's face points' basis sum,
 // src/tlsph/mod.rs `faces`) TL_Q floats per solid and face_clamp (the clamp particle whose
-// displacement the face takes, NONE where a has no face) one per solid; slot NONE
+// displacement the face takes, NONE where a has no face) one per solid; the face points within
+// a's support as a CSR (face_start, face_pts: DIM + 1 floats each, X0_m then V_m); slot NONE
 // (0xffffffff) for a removed particle.
 #include "device/entries.cuh"
 #include "device/grid.cuh"
@@ -221,24 +222,56 @@ MF_ENTRY2(sph_tl_stress,
 // the derivative of the discrete strain energy; m_a dv_a/dt = sum_b V0_a V0_b w_ab [...],
 // V0_a / m_a = 1 / rho0_s), plus Ganzenmueller 2015's
 // hourglass control eq. (10) (src/tlsph/mod.rs `hourglass`): with eps = (H_a + H_b) X0_ab - 2 u_ab,
-// acc_a += (alpha / 2) (V0_b / rho0_s) W0_ab / |X0_ab|^2 E (eps . x_ab) x_ab / |x_ab|^2.
+// acc_a += (alpha / 2) (V0_b / rho0_s) W0_ab / |X0_ab|^2 E (eps . x_ab) x_ab / |x_ab|^2;
+// and the same over a's face points m (b -> m, V0_m, H_m = H_a, u_m = u_clamp,
+// x_am = X0_am + u_a - u_clamp), which hold the root of a thin gate on the face.
+// The hourglass term of one pair (src/tlsph/mod.rs `hourglass`).
+template <int DIM>
+__device__ __forceinline__ Vec<DIM> tl_hourglass(const SphParams& p, float young, float vb, float w0,
+                                                 const Vec<DIM>& x0ab, const Vec<DIM>& xab, const Vec<DIM>& uab,
+                                                 const Mat<DIM>& hsum) {
+    const float r0_2 = dot(x0ab, x0ab), r2 = dot(xab, xab);
+    if (!(r0_2 > 0.0f && r2 > 0.0f)) return vzero<DIM>();
+    const Vec<DIM> eps = mat_vec<DIM>(hsum, x0ab) - uab * 2.0f;
+    const float k = 0.5f * p.hourglass * vb / p.solid_rho0 * w0 / r0_2 * young * dot(eps, xab) / r2;
+    return xab * k;
+}
 // The internal force and hourglass of solid a in slot i, added to acc[i]; returns the new |acc[i]|.
 template <int DIM>
 __device__ __forceinline__ float tl_force_one(const SphParams& p, unsigned a, unsigned i, const unsigned* __restrict__ slot,
                                               const unsigned* __restrict__ start, const unsigned* __restrict__ nbr,
                                               const float* __restrict__ x0, const float* __restrict__ vol,
                                               const float* __restrict__ face, const unsigned* __restrict__ face_clamp,
-                                              const float* __restrict__ disp, const float* __restrict__ grad,
-                                              const float* __restrict__ pk1_corr, const float* __restrict__ pos,
-                                              float* __restrict__ acc) {
+                                              const unsigned* __restrict__ face_start,
+                                              const float* __restrict__ face_pts, const float* __restrict__ disp,
+                                              const float* __restrict__ grad, const float* __restrict__ pk1_corr,
+                                              const float* __restrict__ pos, float* __restrict__ acc) {
     float lambda, mu, young;
     tl_material(p, lambda, mu, young);
     const Mat<DIM> ha = p.hourglass > 0.0f ? tl_mload<DIM>(grad, a) : mzero<DIM>();
     const Vec<DIM> ua = vload<DIM>(disp, a), xa = vload<DIM>(x0, a);
     const Vec<DIM> xi = p.hourglass > 0.0f ? vload<DIM>(pos, i) : vzero<DIM>();
-    Vec<DIM> sum = tl_face_clamp(face_clamp, slot, a) != MF_TL_NONE
-                       ? tl_apply<DIM>(pk1_corr, a, tl_face<DIM>(face, a)) * (1.0f / p.solid_rho0)
-                       : vzero<DIM>();
+    Vec<DIM> sum = vzero<DIM>();
+    const unsigned c = tl_face_clamp(face_clamp, slot, a);
+    if (c != MF_TL_NONE) {
+        sum = sum + tl_apply<DIM>(pk1_corr, a, tl_face<DIM>(face, a)) * (1.0f / p.solid_rho0);
+        if (p.hourglass > 0.0f) {
+            const Vec<DIM> uac = ua - vload<DIM>(disp, c);
+            Mat<DIM> h2;
+#pragma unroll
+            for (int x = 0; x < DIM; ++x)
+#pragma unroll
+                for (int y = 0; y < DIM; ++y) h2.m[x][y] = ha.m[x][y] + ha.m[x][y];
+            for (unsigned e = face_start[a], end = face_start[a + 1]; e < end; ++e) {
+                Vec<DIM> xm;
+#pragma unroll
+                for (int d = 0; d < DIM; ++d) xm.c[d] = face_pts[e * (DIM + 1) + d];
+                const Vec<DIM> x0am = xa - xm;
+                const float w0 = kernel_w(p, sqrtf(dot(x0am, x0am)));
+                sum = sum + tl_hourglass<DIM>(p, young, face_pts[e * (DIM + 1) + DIM], w0, x0am, x0am + uac, uac, h2);
+            }
+        }
+    }
     for (unsigned e = start[a], end = start[a + 1]; e < end; ++e) {
         const unsigned b = nbr[e];
         const unsigned j = slot[b];
@@ -252,17 +285,12 @@ __device__ __forceinline__ float tl_force_one(const SphParams& p, unsigned a, un
         sum = sum + f * (vb * w / p.solid_rho0);
         if (p.hourglass > 0.0f) {
             const Vec<DIM> xab = separation<DIM>(p, xi, vload<DIM>(pos, j));
-            const float r0_2 = dot(x0ab, x0ab), r2 = dot(xab, xab);
-            if (r0_2 > 0.0f && r2 > 0.0f) {
-                Mat<DIM> hs = tl_mload<DIM>(grad, b);
+            Mat<DIM> hs = tl_mload<DIM>(grad, b);
 #pragma unroll
-                for (int x = 0; x < DIM; ++x)
+            for (int x = 0; x < DIM; ++x)
 #pragma unroll
-                    for (int y = 0; y < DIM; ++y) hs.m[x][y] = ha.m[x][y] + hs.m[x][y];
-                const Vec<DIM> eps = mat_vec<DIM>(hs, x0ab) - (ua - vload<DIM>(disp, b)) * 2.0f;
-                const float k = 0.5f * p.hourglass * vb / p.solid_rho0 * w0 / r0_2 * young * dot(eps, xab) / r2;
-                sum = sum + xab * k;
-            }
+                for (int y = 0; y < DIM; ++y) hs.m[x][y] = ha.m[x][y] + hs.m[x][y];
+            sum = sum + tl_hourglass<DIM>(p, young, vb, w0, x0ab, xab, ua - vload<DIM>(disp, b), hs);
         }
     }
     const Vec<DIM> out = vload<DIM>(acc, i) + sum;
@@ -275,6 +303,7 @@ __device__ void sph_tl_forces_body(const SphParams p, unsigned n_solid, const un
                                    const unsigned* __restrict__ start, const unsigned* __restrict__ nbr,
                                    const float* __restrict__ x0, const float* __restrict__ vol,
                                    const float* __restrict__ face, const unsigned* __restrict__ face_clamp,
+                                   const unsigned* __restrict__ face_start, const float* __restrict__ face_pts,
                                    const float* __restrict__ disp, const float* __restrict__ grad,
                                    const float* __restrict__ pk1_corr, const float* __restrict__ pos,
                                    float* __restrict__ acc, unsigned* __restrict__ red) {
@@ -282,7 +311,8 @@ __device__ void sph_tl_forces_body(const SphParams p, unsigned n_solid, const un
     const unsigned i = a < n_solid ? slot[a] : MF_TL_NONE;
     float amax = 0.0f;
     if (i != MF_TL_NONE) {
-        amax = tl_force_one<DIM>(p, a, i, slot, start, nbr, x0, vol, face, face_clamp, disp, grad, pk1_corr, pos, acc);
+        amax = tl_force_one<DIM>(p, a, i, slot, start, nbr, x0, vol, face, face_clamp, face_start, face_pts, disp, grad,
+                                 pk1_corr, pos, acc);
         if (!owns_slot<DIM>(p, pos, i)) amax = 0.0f;  // a subdomain's halo copy: its owner's
     }
     // |a| into the step size's maximum (the forces pass left these particles out; twin:
@@ -292,9 +322,11 @@ __device__ void sph_tl_forces_body(const SphParams p, unsigned n_solid, const un
 }
 MF_ENTRY2(sph_tl_forces,
           (const SphParams p, unsigned n_solid, const unsigned* slot, const unsigned* start, const unsigned* nbr,
-           const float* x0, const float* vol, const float* face, const unsigned* face_clamp, const float* disp,
-           const float* grad, const float* pk1_corr, const float* pos, float* acc, unsigned* red),
-          (p, n_solid, slot, start, nbr, x0, vol, face, face_clamp, disp, grad, pk1_corr, pos, acc, red))
+           const float* x0, const float* vol, const float* face, const unsigned* face_clamp,
+           const unsigned* face_start, const float* face_pts, const float* disp, const float* grad,
+           const float* pk1_corr, const float* pos, float* acc, unsigned* red),
+          (p, n_solid, slot, start, nbr, x0, vol, face, face_clamp, face_start, face_pts, disp, grad, pk1_corr, pos, acc,
+           red))
 
 // The displacement's drift (src/backend/cpu/tlsph.rs `TlBodies::drift`): u += dt (v + xsph),
 // or dt times the driven group's velocity, what sph_drift adds to the position (launched

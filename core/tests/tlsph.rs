@@ -167,6 +167,96 @@ fn reference_gradient_is_exact_at_a_clamp() {
     assert!(e < 2e-6, "3D: worst |H - grad u| in the body = {e}");
 }
 
+/// The accelerations of a clamped strip (8 by 2 particles, clamp 3 columns wide) displaced by
+/// u(X0) (the clamp stays), by particle id, after the stress and force stages with the given
+/// hourglass coefficient (alpha = 0, no gravity: the internal force and the hourglass control
+/// only).
+fn clamped_strip_acc(hourglass: f32, u: impl Fn(Vec2) -> Vec2) -> Vec<Option<(Vec2, Vec2)>> {
+    let mut p = tl_params(2);
+    p.alpha = 0.0;
+    p.dt = 1.0;
+    p.hourglass = hourglass;
+    let mut ps = clamped_block(&mut p, [8, 2, 1], 3);
+    for q in ps.iter_mut().filter(|q| q.group == 1) {
+        let v = u(Vec2::new(q.position[0], q.position[1]));
+        q.velocity = [v.x, v.y, 0.0];
+    }
+    let n = ps.len();
+    let mut solver = CpuSolver::<D2>::new(Setup {
+        params: p,
+        particles: ps,
+        wall_surface: Vec::new(),
+    });
+    // One step of 1 with v = u: x = X0 + u (`stretched_bar_pulls_back`).
+    solver.build_grid();
+    solver.time_step();
+    solver.drift();
+    solver.build_grid();
+    solver.density();
+    solver.solid_stress();
+    solver.forces();
+    solver.solid_forces();
+    let st = solver.state();
+    let mut out = vec![None; n];
+    for i in 0..st.len() {
+        if st.group[i] == 1 {
+            out[st.id[i] as usize] = Some((st.pos[i], st.acc[i]));
+        }
+    }
+    out
+}
+
+/// The clamp's face pairs take the hourglass control too (a face point moves with the clamp
+/// and takes the body particle's gradient, `TlBodies::forces`): it is silent for a linear
+/// field that takes the clamp's value on the face, as the pairs of the body are, and it holds
+/// the body against a slip along the face, which the fit reads as a soft mode (a gate two
+/// particles thick slid 0.3 dx along its clamp in 0.05 s without it).
+#[test]
+fn clamp_face_hourglass_is_silent_for_a_clamped_field_and_holds_a_slip() {
+    let linear = |x: Vec2| Vec2::new(1e-3 * x.x, 2e-3 * x.x);
+    let (on, off) = (
+        clamped_strip_acc(5.0, linear),
+        clamped_strip_acc(0.0, linear),
+    );
+    let scale = off
+        .iter()
+        .flatten()
+        .map(|q| q.1.length())
+        .fold(0.0f32, f32::max);
+    let worst = on
+        .iter()
+        .zip(&off)
+        .filter_map(|(a, b)| Some((a.as_ref()?.1 - b.as_ref()?.1).length()))
+        .fold(0.0f32, f32::max);
+    assert!(scale > 0.0);
+    assert!(
+        worst < 1e-3 * scale,
+        "hourglass on a clamped linear field: {worst} against the elastic {scale}"
+    );
+    // A slip of the whole body along the face (the face's normal is x).
+    let slip = |_: Vec2| Vec2::new(0.0, 1e-3);
+    let (on, off) = (clamped_strip_acc(5.0, slip), clamped_strip_acc(0.0, slip));
+    let dx = tl_params(2).dx;
+    let held: f32 = on
+        .iter()
+        .zip(&off)
+        .filter_map(|(a, b)| {
+            let (a, b) = (a.as_ref()?, b.as_ref()?);
+            (a.0.x < 1.5 * dx).then(|| (a.1 - b.1).y)
+        })
+        .sum();
+    let elastic: f32 = off
+        .iter()
+        .flatten()
+        .filter(|q| q.0.x < 1.5 * dx)
+        .map(|q| q.1.y)
+        .sum();
+    assert!(
+        held < -0.1 * elastic.abs(),
+        "the root column's hourglass force along the slip: {held} (elastic {elastic})"
+    );
+}
+
 /// The largest |H_a - grad u(X0_a)| over the particles of `r` that a clamp does not hold
 /// (the driven group's are left out).
 fn body_error<D: Dim>(

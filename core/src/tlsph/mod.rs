@@ -70,6 +70,10 @@ pub struct Reference<D: Dim> {
     /// The solid index of a clamp particle whose displacement the face takes (the clamp is
     /// rigid), `NONE` where a has no face term.
     pub face_clamp: Vec<u32>,
+    /// CSR: the face points within a's support are `face_pts[face_start[a] .. face_start[a + 1]]`:
+    /// their reference position [L] and weight V_m [L^d] (the hourglass control's face pairs).
+    pub face_start: Vec<u32>,
+    pub face_pts: Vec<(D::V, f32)>,
 }
 
 impl<D: Dim> Reference<D> {
@@ -146,6 +150,7 @@ impl<D: Dim> Reference<D> {
         }
         let mut face = vec![[0.0f32; Q_MAX]; n];
         let mut face_clamp = vec![NONE; n];
+        let mut face_near: Vec<Vec<(D::V, f32)>> = vec![Vec::new(); n];
         let corr = (0..n)
             .map(|a| {
                 let mut nbrs: Vec<(D::V, f32)> = nbr[start[a] as usize..start[a + 1] as usize]
@@ -170,6 +175,7 @@ impl<D: Dim> Reference<D> {
                         *acc += f.vol * w * v;
                     }
                     face_clamp[a] = f.clamp;
+                    face_near[a].push((f.x, f.vol));
                 }
                 c
             })
@@ -184,6 +190,13 @@ impl<D: Dim> Reference<D> {
             nbr,
             face,
             face_clamp,
+            face_start: std::iter::once(0)
+                .chain(face_near.iter().scan(0u32, |k, l| {
+                    *k += l.len() as u32;
+                    Some(*k)
+                }))
+                .collect(),
+            face_pts: face_near.concat(),
         }
     }
 
@@ -227,6 +240,12 @@ impl<D: Dim> Reference<D> {
             g += D::outer(uc - ua, gradient::apply::<D>(&self.corr[a], &self.face[a]));
         }
         g
+    }
+
+    /// The face points within a's support: reference position and weight.
+    #[inline]
+    pub fn faces_of(&self, a: usize) -> &[(D::V, f32)] {
+        &self.face_pts[self.face_start[a] as usize..self.face_start[a + 1] as usize]
     }
 
     /// The clamp particle whose displacement a's face term takes, if a has one.

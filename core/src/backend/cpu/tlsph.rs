@@ -99,8 +99,8 @@ impl<D: Dim> TlBodies<D> {
     /// The internal force: acc_a += (1 / rho0_s) (sum_b V0_b w_ab [P_a C_a p(s_ab) -
     /// P_b C_b p(-s_ab)] + P_a C_a F_a) (F_a: the clamp's face, `tlsph::faces`;
     /// `crate::tlsph`: m_a dv_a/dt = sum_b V0_a V0_b w_ab [...], V0_a / m_a = 1 / rho0_s) plus
-    /// the hourglass control (`hourglass`), added to the force stage's sum (which skipped the
-    /// pairs of one body: `ForceSum`). [L/T^2]
+    /// the hourglass control (`hourglass`) over the neighbours and the face points, added to
+    /// the force stage's sum (which skipped the pairs of one body: `ForceSum`). [L/T^2]
     pub fn forces(&self, p: &SphParams, s: &mut State<D>) {
         let young = Material::of(p).young;
         let (r, slot) = (&self.reference, &self.slot);
@@ -115,12 +115,30 @@ impl<D: Dim> TlBodies<D> {
                 let (pla, ha, ua) = (&self.pk1_corr[a], self.grad_u[a], self.disp[a]);
                 // The clamp's face (`tlsph::faces`): P_a C_a F_a, the derivative of a's strain
                 // energy through its face term.
-                let mut acc = match r.clamp_of(a) {
-                    Some(c) if slot[c] != NONE => {
-                        apply::<D>(pla, &r.face[a]) * (1.0 / p.solid_rho0)
+                let mut acc = D::V::default();
+                if let Some(c) = r.clamp_of(a).filter(|&c| slot[c] != NONE) {
+                    acc += apply::<D>(pla, &r.face[a]) * (1.0 / p.solid_rho0);
+                    // The face pairs' hourglass control (`hourglass`): a face point m moves with
+                    // the clamp (x_m = X0_m + u_c) and takes a's gradient as its own. Without
+                    // it the root of a thin gate slid along the face (0.3 dx in 0.05 s at 2
+                    // across, docs/journal/2026-11-27-clamp-face.md).
+                    if p.hourglass > 0.0 {
+                        let uc = self.disp[c];
+                        for &(xm, vm) in r.faces_of(a) {
+                            let x0_am = r.x0[a] - xm;
+                            acc += hourglass::<D>(
+                                p,
+                                young,
+                                vm,
+                                x0_am,
+                                x0_am + (ua - uc),
+                                ua - uc,
+                                ha,
+                                ha,
+                            );
+                        }
                     }
-                    _ => D::V::default(),
-                };
+                }
                 for &b in r.neighbours(a) {
                     let b = b as usize;
                     let j = slot[b];

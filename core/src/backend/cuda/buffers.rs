@@ -610,6 +610,10 @@ pub struct TlBuffers {
     pub face: CudaSlice<f32>,
     /// The clamp particle whose displacement the face takes (`tlsph::NONE`: no face).
     pub face_clamp: CudaSlice<u32>,
+    /// CSR of the face points within each solid's support (`tlsph::Reference::faces_of`):
+    /// offsets, and D + 1 floats per point (X0_m [L], then V_m [L^d]).
+    pub face_start: CudaSlice<u32>,
+    pub face_pts: CudaSlice<f32>,
     /// Solid index -> storage slot (`tlsph::NONE`: removed).
     pub slot: CudaSlice<u32>,
     /// [L] u = x - X0, as x0.
@@ -657,6 +661,8 @@ impl TlBuffers {
             nbr: a.z(r.nbr.len())?,
             face: a.z(n * dq / D::D)?,
             face_clamp: a.z(n)?,
+            face_start: a.z(n + 1)?,
+            face_pts: a.z(r.face_pts.len().max(1) * (D::D + 1))?,
             slot: a.z(n)?,
             disp: a.z(n * vs)?,
             grad: a.z(n * dd)?,
@@ -675,6 +681,15 @@ impl TlBuffers {
             let face: Vec<f32> = r.face.iter().flat_map(|f| f[..q].iter().copied()).collect();
             s.memcpy_htod(&face, &mut t.face)?;
             s.memcpy_htod(&r.face_clamp, &mut t.face_clamp)?;
+            s.memcpy_htod(&r.face_start, &mut t.face_start)?;
+        }
+        if !r.face_pts.is_empty() {
+            let pts: Vec<f32> = r
+                .face_pts
+                .iter()
+                .flat_map(|&(x, v)| (0..D::D).map(move |k| D::comp(x, k)).chain([v]))
+                .collect();
+            s.memcpy_htod(&pts, &mut t.face_pts)?;
         }
         s.memcpy_htod(&r.start, &mut t.start)?;
         if !r.nbr.is_empty() {

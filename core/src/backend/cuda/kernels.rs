@@ -354,8 +354,9 @@ impl Family {
                 Dims,
                 "const SphParams p, unsigned n_solid, const unsigned* slot, const unsigned* start, \
                  const unsigned* nbr, const float* x0, const float* vol, const float* face, \
-                 const unsigned* face_clamp, const float* disp, const float* grad, \
-                 const float* pk1_corr, const float* pos, float* acc, unsigned* red",
+                 const unsigned* face_clamp, const unsigned* face_start, const float* face_pts, \
+                 const float* disp, const float* grad, const float* pk1_corr, const float* pos, \
+                 float* acc, unsigned* red",
             ),
             Family::TlDrift => (
                 "tlsph",

@@ -723,6 +723,7 @@ pub fn tl_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     }
     let ns = t.n_solid as u32;
     // SAFETY: the arguments of `Family::TlForces`; the solid-space arrays as in `tl_stress`;
+    // face_start holds n_solid + 1 offsets into face_pts (D + 1 floats per point);
     // pos and acc hold n vectors and every slot is NONE or below n; distinct solids have
     // distinct slots, so each thread writes its own acc entry; red holds 3 words (the forces
     // pass's maxima, |a| of these particles left out: `ForceSum::finish`).
@@ -738,6 +739,8 @@ pub fn tl_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
             .arg(&t.vol)
             .arg(&t.face)
             .arg(&t.face_clamp)
+            .arg(&t.face_start)
+            .arg(&t.face_pts)
             .arg(&t.disp)
             .arg(&t.grad)
             .arg(&t.pk1_corr)
