@@ -587,6 +587,8 @@ mod tests {
                     "u64".to_string()
                 } else if a.starts_with("const SphParams") {
                     format!("b8[{}]", std::mem::size_of::<SphParams>())
+                } else if a.starts_with("unsigned long long ") {
+                    "u64".to_string()
                 } else if a.starts_with("unsigned ") {
                     "u32".to_string()
                 } else if a.starts_with("float ") {
