@@ -106,10 +106,14 @@ __device__ __forceinline__ unsigned cell_start_of(const unsigned* __restrict__ l
 // a cell with the lane before: each run of equal cells takes its slots with one atomic,
 // from its first lane (__match_any_sync, which would also join runs that are apart,
 // measured slower than one atomic per particle on the H100, docs/reference/performance.md).
+// It also clears the step size's maxima `red` for the step's forces pass (a kick or a
+// drift-kick that took the last step's dt from them left them: integrate.cu).
 extern "C" __global__ void __launch_bounds__(MF_BLOCK)
 sph_grid_scatter(unsigned n, const unsigned* __restrict__ cell, const unsigned* __restrict__ local,
-                 const unsigned* __restrict__ bsum, unsigned* __restrict__ count, unsigned* __restrict__ order) {
+                 const unsigned* __restrict__ bsum, unsigned* __restrict__ count, unsigned* __restrict__ order,
+                 unsigned* __restrict__ red) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i == 0) red[0] = red[1] = red[2] = 0u;
     const bool valid = i < n;  // every lane takes part in the warp's exchanges
     const unsigned k = valid ? cell[i] : 0xffffffffu;
     const int lane = threadIdx.x & 31;

@@ -1,12 +1,16 @@
 // Time integration: the kick (v += dt a; v set in the inflow band; a driven group's
 // velocity set) and the drift (x += dt (v + xsph), eq. (18), with the periodic wrap;
 // rho += dt d rho/dt, for solids rho_dev += dt d rho/dt and rho = rho0_s + rho_dev; S += dt dS/dt; the device clock; the next grid build's cell counts). dt is read on the device (written
-// by sph_step_size): no host round trip per step.
+// by sph_step_size): no host round trip per step. The kick and the drift-kick take dt
+// from the forces pass's maxima themselves where `red` is given (step_size_of in
+// device/step_size.cuh; they write it to dt_dev and leave red for the next grid build's
+// scatter to clear), which saves the step-size kernel's launch.
 // Twin: src/backend/cpu/integrate.rs; parity test: tests/cuda_parity.rs.
 #include "device/entries.cuh"
 #include "device/grid.cuh"
 #include "device/packing.cuh"
 #include "device/particle.cuh"
+#include "device/step_size.cuh"
 #include "device/vectors.cuh"
 
 // The driven group: `is_driven` in device/particle.cuh. The group array is read only where a group
@@ -41,21 +45,32 @@ __device__ __forceinline__ bool kick_one(const SphParams& p, unsigned char k, un
     return true;
 }
 
+// The step's dt: from the forces pass's maxima `red` where given (every thread computes it,
+// the first writes it to dt_dev), else the one sph_step_size wrote to dt_dev.
+__device__ __forceinline__ float step_dt(const SphParams& p, const unsigned* __restrict__ red,
+                                         float* __restrict__ dt_dev) {
+    if (!red) return *dt_dev;
+    const float dt = step_size_of(p, red);
+    if (blockIdx.x == 0 && threadIdx.x == 0) *dt_dev = dt;
+    return dt;
+}
+
 template <int DIM>
-__device__ void sph_kick_body(const SphParams p, unsigned n, const float* __restrict__ dt_dev,
+__device__ void sph_kick_body(const SphParams p, unsigned n, float* __restrict__ dt_dev, const unsigned* __restrict__ red,
                               const unsigned char* __restrict__ kind, const unsigned* __restrict__ group,
                               const float* __restrict__ pos, float* __restrict__ vel,
                               const float* __restrict__ acc) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
+    const float dt = step_dt(p, red, dt_dev);
     if (i >= n) return;
     const Vec<DIM> x = p.inflow ? vload<DIM>(pos, i) : vzero<DIM>();
     Vec<DIM> v = vel_load<DIM>(vel, i);
-    if (kick_one<DIM>(p, kind[i], driven_test_group(p, group, i), x, *dt_dev, acc, i, v)) vel_store<DIM>(vel, i, v);  // keeps rho, m
+    if (kick_one<DIM>(p, kind[i], driven_test_group(p, group, i), x, dt, acc, i, v)) vel_store<DIM>(vel, i, v);  // keeps rho, m
 }
 MF_ENTRY2(sph_kick,
-          (const SphParams p, unsigned n, const float* dt_dev, const unsigned char* kind, const unsigned* group,
+          (const SphParams p, unsigned n, float* dt_dev, const unsigned* red, const unsigned char* kind, const unsigned* group,
            const float* pos, float* vel, const float* acc),
-          (p, n, dt_dev, kind, group, pos, vel, acc))
+          (p, n, dt_dev, red, kind, group, pos, vel, acc))
 
 // The drift of one particle (kind k, group g, velocity v) by dt; returns its new position.
 // drho: null without the continuity density; rho_dev, stress, rate: null without solids. The callers
@@ -137,8 +152,8 @@ MF_ENTRY2(sph_drift,
 // The forward Euler's drift then kick in one pass (`Solver::drift_kick`): the drift takes
 // the old velocity, the kick's inflow test the new position, as the two kernels in turn.
 template <int DIM>
-__device__ void sph_drift_kick_body(const SphParams p, unsigned n, const float* __restrict__ dt_dev,
-                                    double* __restrict__ time, const unsigned char* __restrict__ kind,
+__device__ void sph_drift_kick_body(const SphParams p, unsigned n, float* __restrict__ dt_dev,
+                                    const unsigned* __restrict__ red, double* __restrict__ time, const unsigned char* __restrict__ kind,
                                     const unsigned* __restrict__ group, float* __restrict__ pos,
                                     float* __restrict__ vel, const float* __restrict__ xsph,
                                     float* __restrict__ rho, const float* __restrict__ drho,
@@ -146,7 +161,7 @@ __device__ void sph_drift_kick_body(const SphParams p, unsigned n, const float* 
                                     const float* __restrict__ acc, unsigned* __restrict__ cell,
                                     unsigned* __restrict__ count) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
-    const float dt = *dt_dev;
+    const float dt = step_dt(p, red, dt_dev);
     if (i == 0) *time += (double)dt;
     if (i >= n) return;
     const unsigned char k = kind[i];
@@ -157,7 +172,7 @@ __device__ void sph_drift_kick_body(const SphParams p, unsigned n, const float* 
     hist_one<DIM>(p, i, x, cell, count);
 }
 MF_ENTRY2(sph_drift_kick,
-          (const SphParams p, unsigned n, const float* dt_dev, double* time, const unsigned char* kind,
+          (const SphParams p, unsigned n, float* dt_dev, const unsigned* red, double* time, const unsigned char* kind,
            const unsigned* group, float* pos, float* vel, const float* xsph, float* rho, const float* drho,
            float* rho_dev, float* stress, const float* rate, const float* acc, unsigned* cell, unsigned* count),
-          (p, n, dt_dev, time, kind, group, pos, vel, xsph, rho, drho, rho_dev, stress, rate, acc, cell, count))
+          (p, n, dt_dev, red, time, kind, group, pos, vel, xsph, rho, drho, rho_dev, stress, rate, acc, cell, count))

@@ -5,22 +5,17 @@
 #include "device/packing.cuh"
 #include "device/particle.cuh"
 #include "device/reductions.cuh"
+#include "device/step_size.cuh"
 #include "device/vectors.cuh"
 #include <stddef.h>
 
-// red = (max |v|, max |a|, max c) as float bits, filled by sph_forces_*. Writes dt, clears red.
+// red = (max |v|, max |a|, max c) as float bits, filled by sph_forces_*. Writes dt, clears
+// red (step_size_of in device/step_size.cuh). Where a kick or drift-kick follows at once,
+// the launcher lets that kernel take dt itself instead (`Buffers::dt_pending`).
 extern "C" __global__ void sph_step_size(const SphParams p, unsigned* __restrict__ red, float* __restrict__ dt_out) {
     if (threadIdx.x != 0 || blockIdx.x != 0) return;
-    const float v_max = __uint_as_float(red[0]), a_max = __uint_as_float(red[1]), c_max = __uint_as_float(red[2]);
+    const float dt = step_size_of(p, red);
     red[0] = red[1] = red[2] = 0u;
-    if (p.dt > 0.0f) {
-        *dt_out = p.dt;
-        return;
-    }
-    float dt = p.h / (c_max + v_max);  // eq. (19)
-    if (a_max > 0.0f) dt = fminf(dt, sqrtf(p.h / a_max));
-    dt *= p.courant;
-    if (p.viscosity > 0.0f) dt = fminf(dt, MF_VISCOUS_DT * p.h * p.h / p.viscosity);
     *dt_out = dt;
 }
 
@@ -89,8 +84,10 @@ MF_ENTRY2(sph_diagnostics,
            const float* rho, double* partial, unsigned* maxes, unsigned* counts),
           (p, n, kind, pos, vel, rho, partial, maxes, counts))
 
-// Health check: the first unhealthy slot, as atomicMin of (slot << MF_FAULT_SLOT_SHIFT) |
-// fault class (MF_FAULT_* in sph_consts.h) into *first (the caller sets it to ~0).
+// Health check: the first unhealthy slot, as atomicMax of the complement of (slot <<
+// MF_FAULT_SLOT_SHIFT) | fault class (MF_FAULT_* in sph_consts.h) into *first (the caller
+// sets it to 0: healthy; the complement, so that the lowest slot wins and a zeroed word
+// means none).
 template <int DIM>
 __device__ void sph_check_body(const SphParams p, unsigned n, const unsigned char* __restrict__ kind,
                                const float* __restrict__ pos, const float* __restrict__ vel,
@@ -111,12 +108,51 @@ __device__ void sph_check_body(const SphParams p, unsigned n, const unsigned cha
     if (!code && (r < MF_DENSITY_SANE_LOW * r0 || r > MF_DENSITY_SANE_HIGH * r0)) code = MF_FAULT_DENSITY_RANGE;
     for (int a = 0; a < DIM && !code; ++a)
         if (!p.periodic[a] && (x.c[a] < p.domain_min[a] || x.c[a] > p.domain_max[a])) code = MF_FAULT_ESCAPED;
-    if (code) atomicMin(first, ((unsigned long long)i << MF_FAULT_SLOT_SHIFT) | code);
+    if (code) atomicMax(first, ~(((unsigned long long)i << MF_FAULT_SLOT_SHIFT) | code));
 }
 MF_ENTRY2(sph_check,
           (const SphParams p, unsigned n, const unsigned char* kind, const float* pos, const float* vel,
            const float* rho, unsigned long long* first),
           (p, n, kind, pos, vel, rho, first))
+
+// After a queued check (`Solver::queue_check`, one thread): where sph_check found a fault
+// (*first != 0) and no earlier check did (clock[1] == 0), the fault is kept for the host's
+// next read of the clock: clock[1] = *first (read back with the time, clock[0]), and the
+// faulty particle's record into rec (MF_FAULT_RECORD_WORDS words: id, kind, position x y z,
+// velocity x y z, density, the step (2 words) and the time (2 words) of the check).
+// *first is cleared for the next check.
+template <int DIM>
+__device__ void sph_check_record_body(unsigned long long step, unsigned long long* __restrict__ first,
+                                      double* __restrict__ clock, unsigned* __restrict__ rec,
+                                      const unsigned* __restrict__ id, const unsigned char* __restrict__ kind,
+                                      const float* __restrict__ pos, const float* __restrict__ vel,
+                                      const float* __restrict__ rho) {
+    if (threadIdx.x != 0 || blockIdx.x != 0) return;
+    const unsigned long long found = *first;
+    if (!found) return;
+    *first = 0ull;
+    unsigned long long* kept = reinterpret_cast<unsigned long long*>(clock) + 1;
+    if (*kept) return;  // an earlier check's fault stands
+    *kept = found;
+    const unsigned i = (unsigned)(~found >> MF_FAULT_SLOT_SHIFT);
+    const Vec<DIM> x = vload<DIM>(pos, i), v = vel_load<DIM>(vel, i);
+    rec[0] = id[i];
+    rec[1] = kind[i];
+    for (int a = 0; a < 3; ++a) {
+        rec[2 + a] = __float_as_uint(a < DIM ? x.c[a] : 0.0f);
+        rec[5 + a] = __float_as_uint(a < DIM ? v.c[a] : 0.0f);
+    }
+    rec[8] = __float_as_uint(rho[i]);
+    rec[9] = (unsigned)step;
+    rec[10] = (unsigned)(step >> 32);
+    const unsigned long long t = (unsigned long long)__double_as_longlong(clock[0]);
+    rec[11] = (unsigned)t;
+    rec[12] = (unsigned)(t >> 32);
+}
+MF_ENTRY2(sph_check_record,
+          (unsigned long long step, unsigned long long* first, double* clock, unsigned* rec, const unsigned* id,
+           const unsigned char* kind, const float* pos, const float* vel, const float* rho),
+          (step, first, clock, rec, id, kind, pos, vel, rho))
 
 // Layout probe: out = (sizeof(SphParams), offsetof dt, offsetof gravity, p.dim).
 extern "C" __global__ void sph_params_layout(const SphParams p, unsigned* out) {

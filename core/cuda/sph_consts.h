@@ -47,8 +47,12 @@
 #define MF_FAULT_DENSITY_RANGE 4 /* outside [LOW, HIGH] x the reference density */
 #define MF_FAULT_ESCAPED 5       /* outside the domain on a closed axis */
 
-/* The device's first fault: atomicMin of (slot << MF_FAULT_SLOT_SHIFT) | fault class. */
+/* The device's first fault: the lowest (slot << MF_FAULT_SLOT_SHIFT) | fault class (kept
+ * as its complement by atomicMax, so that 0 means none). */
 #define MF_FAULT_SLOT_SHIFT 8
+/* Words of a queued check's fault record (sph_check_record: id, kind, position, velocity,
+ * density, step, time). */
+#define MF_FAULT_RECORD_WORDS 13
 
 /* Density outside [LOW, HIGH] x the reference density counts as a blow-up. LOW is loose
  * because summation density, eq. (8), gives an isolated splash particle about 0.27 rho0. [-] */

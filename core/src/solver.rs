@@ -276,6 +276,19 @@ pub trait Solver: Send {
     /// The first particle with non-finite values, a density out of the sane range, or
     /// outside the domain on a non-periodic axis.
     fn check(&mut self) -> Result<(), Fault>;
+    /// `check` of the particles as they are now, whose fault may be reported later, by
+    /// `queued_fault`, with the step, time and particle of this check: a GPU backend queues
+    /// the check and keeps the first fault on the device, so that stepping never waits for
+    /// it (`step::Stepper` reads it with the clock at the end of each batch). The default
+    /// checks at once.
+    fn queue_check(&mut self) -> Result<(), Fault> {
+        self.check()
+    }
+    /// The first fault that the checks queued so far found, if any (the default queues
+    /// none).
+    fn queued_fault(&mut self) -> Result<(), Fault> {
+        Ok(())
+    }
     fn diagnostics(&mut self) -> Diagnostics;
     /// All particles, ordered by id (a read-back on the GPU).
     fn particles(&mut self) -> Vec<Particle>;

@@ -7,8 +7,12 @@
 //! to the next event (from the last batch's mean dt; one step when there is no estimate),
 //! at most `MAX_BATCH`, and never past a gate: so the last steps before an event are taken
 //! one at a time and an event is met at the first step boundary at or past its time, as
-//! with single steps. The particles' health (`Solver::check`) is checked every
-//! `CHECK_EVERY` steps of the solver's count, whatever the batches.
+//! with single steps. The particles' health is checked every `CHECK_EVERY` steps of the
+//! solver's count, whatever the batches (`Solver::queue_check`); a backend may report a
+//! check's fault at the end of the batch (`Solver::queued_fault`: the CUDA backend keeps it
+//! on the device and reads it with the clock), with the step, time and particle of the
+//! check that found it, so that a blow-up stops a run at most `MAX_BATCH` steps after that
+//! check, and at most `CHECK_EVERY + MAX_BATCH` steps after it began.
 
 use std::time::Instant;
 
@@ -231,12 +235,13 @@ impl Stepper {
             solver.advance(k);
             left -= k;
             if solver.steps() % CHECK_EVERY == 0 {
-                solver.check()?;
+                solver.queue_check()?;
             }
         }
         if n > 0 {
             self.dt_estimate = (solver.time() - t) / n as f64;
         }
+        solver.queued_fault()?;
         self.stepping_seconds += started.elapsed().as_secs_f64();
         if n > 0 && self.dt_estimate < self.dt_floor {
             return Err(collapsed_step(solver, self.dt_estimate, self.dt_floor));

@@ -2318,3 +2318,70 @@ fn long_run_2d_total_lagrangian_remove_a_body() {
     let setup = total_lagrangian_of(setup, 0.1);
     tl_long_run::<D2>("total Lagrangian bodies, one removed", setup, 100, Some(4));
 }
+
+/// A health check queued on the GPU (`Solver::queue_check`, read by `queued_fault` with
+/// the clock) reports the fault that the immediate check (`Solver::check`) and the CPU's
+/// check report, with the step and time of the queued check; and a later check's fault
+/// does not replace the first one's.
+fn queued_check_on<D: Dim>(setup: Setup) {
+    let mut g = gpu::<D>(&setup);
+    let mut c = CpuSolver::<D>::new(setup.clone());
+    for _ in 0..3 {
+        c.step();
+    }
+    let mut st = c.state().clone();
+    g.upload_state(&st);
+    assert!(
+        g.queue_check().is_ok() && g.queued_fault().is_ok(),
+        "a fault on a healthy state"
+    );
+    let fluid: Vec<usize> = (0..st.len())
+        .filter(|&i| st.kind[i] == Kind::Fluid.code())
+        .collect();
+    let (a, b) = (fluid[fluid.len() / 2], fluid[fluid.len() / 4]);
+    st.rho[a] *= 5.0;
+    g.upload_state(&st);
+    g.queue_check().expect("queued: nothing read back yet");
+    let (step, time) = (g.steps(), g.time());
+    // The CPU's check of the same particles.
+    let mut faulty = setup;
+    faulty.particles = st.to_particles();
+    let cpu = CpuSolver::<D>::new(faulty)
+        .check()
+        .expect_err("the CPU's fault");
+    // A second fault, at a lower slot, found by a later check.
+    let rho_b = st.rho[b];
+    st.rho[b] = f32::NAN;
+    g.upload_state(&st);
+    g.queue_check().expect("queued");
+    let queued = g.queued_fault().expect_err("the queued check's fault");
+    st.rho[b] = rho_b;
+    g.upload_state(&st);
+    let now = g.check().expect_err("the immediate check's fault");
+    eprintln!("queued: {queued}\nnow:    {now}\ncpu:    {cpu}");
+    assert_eq!((queued.step, queued.time), (step, time));
+    for f in [&queued, &now] {
+        assert_eq!(f.particle, st.id[a]);
+        assert_eq!(
+            (&f.kind, &f.quantity, f.value, &f.reason),
+            (&cpu.kind, &cpu.quantity, cpu.value, &cpu.reason)
+        );
+    }
+    assert_eq!(cpu.particle, st.id[a]);
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn queued_check_reports_the_first_fault_2d() {
+    queued_check_on::<D2>(scene_with(2, V_2D_B, 0.05));
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn queued_check_reports_the_first_fault_3d() {
+    queued_check_on::<D3>(scene_with(3, V_3D_B, 0.05));
+}

@@ -12,6 +12,7 @@ pub const MF_FAULT_NON_FINITE_DENSITY: u32 = 3;
 pub const MF_FAULT_DENSITY_RANGE: u32 = 4;
 pub const MF_FAULT_ESCAPED: u32 = 5;
 pub const MF_FAULT_SLOT_SHIFT: u32 = 8;
+pub const MF_FAULT_RECORD_WORDS: u32 = 13;
 pub const MF_DENSITY_SANE_LOW: f64 = 0.1;
 pub const MF_DENSITY_SANE_HIGH: f64 = 2.0;
 pub const MF_SHIFT_ANTI_CLUMP: f64 = 0.2;

@@ -31,7 +31,7 @@ use crate::consts::{
 use crate::dim::Dim;
 use crate::frame::{Fields, FrameData, PendingFrame, Ready};
 use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
-use crate::particle::Particle;
+use crate::particle::{Kind, Particle};
 use crate::solver::{BackendInfo, Diagnostics, Fault, PointSample, Setup, Solver};
 use crate::state::State;
 
@@ -184,13 +184,8 @@ impl<D: Dim> Solver for CpuSolver<D> {
         let Some((i, code, value)) = reduce::first_fault(&self.params, &self.state) else {
             return Ok(());
         };
-        Err(fault(
-            self.steps,
-            self.time,
-            self.state.particle(i),
-            code,
-            value,
-        ))
+        let (id, kind) = (self.state.id[i], self.state.particle(i).kind);
+        Err(fault(self.steps, self.time, id, kind, code, value))
     }
     fn diagnostics(&mut self) -> Diagnostics {
         let mut d = reduce::diagnostics(&self.params, &self.state);
@@ -274,9 +269,9 @@ impl<D: Dim> Solver for CpuSolver<D> {
     }
 }
 
-/// The `Fault` for particle `p` with fault class `code` (`MF_FAULT_*` in
-/// `cuda/sph_consts.h`); shared by both backends so that they report blow-ups alike.
-pub fn fault(step: u64, time: f64, p: Particle, code: u32, value: f32) -> Fault {
+/// The `Fault` for the particle `id` of kind `kind` with fault class `code` (`MF_FAULT_*`
+/// in `cuda/sph_consts.h`); shared by both backends so that they report blow-ups alike.
+pub fn fault(step: u64, time: f64, id: u32, kind: Kind, code: u32, value: f32) -> Fault {
     let (quantity, reason) = match code {
         MF_FAULT_NON_FINITE_POSITION => ("position", "not finite".to_string()),
         MF_FAULT_NON_FINITE_VELOCITY => ("velocity", "not finite".to_string()),
@@ -294,8 +289,8 @@ pub fn fault(step: u64, time: f64, p: Particle, code: u32, value: f32) -> Fault 
     Fault {
         step,
         time,
-        particle: p.id,
-        kind: p.kind.name().into(),
+        particle: id,
+        kind: kind.name().into(),
         quantity: quantity.into(),
         value: value as f64,
         reason,

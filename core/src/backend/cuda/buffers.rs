@@ -7,10 +7,12 @@
 
 use std::sync::Arc;
 
-use cudarc::driver::{CudaSlice, CudaStream, DeviceRepr, DriverError, ValidAsZeroBits};
+use cudarc::driver::{
+    CudaSlice, CudaStream, CudaViewMut, DeviceRepr, DriverError, ValidAsZeroBits,
+};
 use rayon::prelude::*;
 
-use crate::consts::{MF_BLOCK, MF_SCAN_CELLS};
+use crate::consts::{MF_BLOCK, MF_FAULT_RECORD_WORDS, MF_SCAN_CELLS};
 use crate::dim::Dim;
 use crate::params::MF_KIND_BOUNDARY;
 use crate::state::{SolidState, State};
@@ -83,17 +85,25 @@ pub struct Buffers {
     pub wall_surface: Option<CudaSlice<f32>>,
     // grid
     pub cell: CudaSlice<u32>,
-    pub order: CudaSlice<u32>,
     /// Per cell, n_cells + 1 (the last stays 0: the scan's sentinel).
     pub count: CudaSlice<u32>,
-    /// The scan's block-relative cell starts (n_cells + 1) and block offsets.
-    pub local: CudaSlice<u32>,
+    /// The scan's block-relative cell starts (n_cells + 1 words), where they do not fit in
+    /// the spare `xsph` (`grid_scratch`); `None` where they do.
+    pub local: Option<CudaSlice<u32>>,
+    /// The scan's block offsets.
     pub bsum: CudaSlice<u32>,
     pub cell_start: CudaSlice<u32>,
     // scalars
+    /// The forces pass's maxima (max |v|, max |a|, max c as float bits), zero before the
+    /// pass: cleared by `sph_step_size`, or, after a kick or drift-kick that took the step
+    /// size from them (`dt_pending`), by the next grid build's scatter (`red_stale` until).
     pub red: CudaSlice<u32>,
     pub dt: CudaSlice<f32>,
+    /// The clock [T] and, as the bits of the second double, the key of the first fault that
+    /// a queued health check found (0: none; `sph_check_record`): read back together.
     pub time: CudaSlice<f64>,
+    /// That fault's particle record (`MF_FAULT_RECORD_WORDS` words, `sph_check_record`).
+    pub fault_rec: CudaSlice<u32>,
     /// The diagnostics' totals: (kinetic energy, momentum x, y), (momentum z, 0, 0).
     pub diag_sums: CudaSlice<f64>,
     /// Their per-block partial sums (`sph_diagnostics`, summed by `sph_sum_partials`): two
@@ -101,6 +111,7 @@ pub struct Buffers {
     pub diag_partial: CudaSlice<f64>,
     pub diag_max: CudaSlice<u32>,
     pub diag_counts: CudaSlice<u32>,
+    /// The health check's first fault (`sph_check`; 0 between checks).
     pub first: CudaSlice<u64>,
     pub layout: CudaSlice<u32>,
     /// The force monitors' block partial sums (3 doubles per block and wall group) and
@@ -123,6 +134,14 @@ pub struct Buffers {
     /// Set by the drift, which files every particle in its cell (`cell`, `count`) for
     /// the next grid build; that build takes it and skips its own pass.
     pub hist_done: bool,
+    /// Set by `Solver::time_step`: the step size is due from `red`. The kick or the
+    /// drift-kick that follows takes it (one launch fewer a step); anything else that reads
+    /// dt or writes red first runs `sph_step_size` (`launch::settle_step_size`).
+    pub dt_pending: bool,
+    /// Set by the kick or drift-kick that took the step size from `red`, which they leave
+    /// as it is; cleared by the grid build, whose scatter zeroes `red`. A forces pass that
+    /// finds it set (no grid build between: a test's order) zeroes `red` first.
+    pub red_stale: bool,
 }
 
 /// A subdomain's selection of particles (`cuda/exchange.cu`): a mark per slot and the
@@ -146,7 +165,6 @@ struct Working {
     art: Option<CudaSlice<f32>>,
     grad_rho: Option<CudaSlice<f32>>,
     cell: CudaSlice<u32>,
-    order: CudaSlice<u32>,
     diag_partial: CudaSlice<f64>,
 }
 
@@ -224,7 +242,6 @@ impl Working {
             art: opt(a, h.art, cap * ns)?,
             grad_rho: opt(a, h.grad_rho, cap * D::D)?,
             cell: a.z(cap)?,
-            order: a.z(cap)?,
             diag_partial: a.z(2 * 3 * (cap.max(1) as u32).div_ceil(MF_BLOCK) as usize)?,
         })
     }
@@ -289,14 +306,18 @@ impl Buffers {
                 Some(a.z(surface.len() * 4)?)
             },
             cell: w.cell,
-            order: w.order,
             count: a.z(n_cells + 1)?,
-            local: a.z(n_cells + 1)?,
+            local: if local_fits::<D>(n, n_cells) {
+                None
+            } else {
+                Some(a.z(n_cells + 1)?)
+            },
             bsum: a.z(n_blocks)?,
             cell_start: a.z(n_cells + 1)?,
             red: a.z(3)?,
             dt: a.z(1)?,
-            time: a.z(1)?,
+            time: a.z(2)?,
+            fault_rec: a.z(MF_FAULT_RECORD_WORDS as usize)?,
             diag_sums: a.z(6)?,
             diag_partial: w.diag_partial,
             diag_max: a.z(2)?,
@@ -311,6 +332,8 @@ impl Buffers {
             swapped: false,
             eos_done: false,
             hist_done: false,
+            dt_pending: false,
+            red_stale: false,
         };
         b.bytes = a.bytes;
         b.write_state(s, state)?;
@@ -355,8 +378,13 @@ impl Buffers {
         self.art = w.art;
         self.grad_rho = w.grad_rho;
         self.cell = w.cell;
-        self.order = w.order;
         self.diag_partial = w.diag_partial;
+        // The scan's cell starts move into the new `xsph` where they fit now (they never
+        // stop fitting: cap only grows).
+        if self.local.is_some() && local_fits::<D>(cap, self.n_cells) {
+            self.local = None;
+            self.bytes -= 4 * (self.n_cells + 1);
+        }
         self.bytes = self.bytes - self.particle_bytes + a.bytes;
         self.particle_bytes = a.bytes;
         self.cap = cap;
@@ -492,6 +520,39 @@ impl Buffers {
             solid,
         })
     }
+}
+
+/// The grid build's two scratch arrays of `b`'s `acc`, `xsph` and `local`, in memory no
+/// stage needs during the build: the scatter's order (`cap` words) in `acc` (written by the
+/// forces pass, last read by the kick or the drift-kick) and the scan's block-relative cell
+/// starts (n_cells + 1 words, 16-byte aligned) in `xsph` (written by the rates pass, last
+/// read by the drift), or in `local` where they do not fit there (`local_fits`): 4 + 4
+/// n_cells / n B per particle fewer than arrays of their own. Takes the fields, so that
+/// the caller keeps the others.
+pub fn grid_scratch<'a>(
+    acc: &'a mut CudaSlice<f32>,
+    xsph: &'a mut CudaSlice<f32>,
+    local: &'a mut Option<CudaSlice<u32>>,
+    cap: usize,
+    n_cells: usize,
+) -> (CudaViewMut<'a, u32>, CudaViewMut<'a, u32>) {
+    // SAFETY (both views): u32 and f32 have one size and every bit pattern is a valid u32;
+    // the grid kernels write these words before they read them (scatter: order; scan:
+    // local), and the stages that own acc and xsph write them whole before reading them.
+    let order =
+        unsafe { acc.transmute_mut::<u32>(cap.max(1)) }.expect("acc holds 2 or 4 words a particle");
+    let local = match local {
+        Some(l) => l.slice_mut(..),
+        None => unsafe { xsph.transmute_mut::<u32>(n_cells + 1) }
+            .expect("local_fits: xsph holds the cell starts"),
+    };
+    (order, local)
+}
+
+/// Whether the scan's n_cells + 1 cell starts fit in the `xsph` of `cap` particles
+/// (`Buffers::grid_scratch`).
+fn local_fits<D: Dim>(cap: usize, n_cells: usize) -> bool {
+    n_cells < cap * vstride::<D>()
 }
 
 /// `clone_dtoh` of `src`, adding its bytes to `read`.

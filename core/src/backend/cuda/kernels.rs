@@ -92,6 +92,7 @@ pub enum Family {
     DriftKick,
     Diagnostics,
     Check,
+    CheckRecord,
     ParamsLayout,
     SamplePoints,
     MonitorEos,
@@ -146,7 +147,7 @@ const WALL_FORCE_PARAMS: &str =
 
 impl Family {
     /// Every family, in the order of the discriminants.
-    pub const ALL: [Family; 33] = [
+    pub const ALL: [Family; 34] = [
         Family::GridHist,
         Family::ScanLocal,
         Family::ScanTop,
@@ -163,6 +164,7 @@ impl Family {
         Family::DriftKick,
         Family::Diagnostics,
         Family::Check,
+        Family::CheckRecord,
         Family::ParamsLayout,
         Family::SamplePoints,
         Family::MonitorEos,
@@ -209,7 +211,7 @@ impl Family {
                 "sph_grid_scatter",
                 One,
                 "unsigned n, const unsigned* cell, const unsigned* local, const unsigned* bsum, \
-                 unsigned* count, unsigned* order",
+                 unsigned* count, unsigned* order, unsigned* red",
             ),
             Family::GridGather => (
                 "grid",
@@ -265,8 +267,9 @@ impl Family {
                 "integrate",
                 "sph_kick",
                 Dims,
-                "const SphParams p, unsigned n, const float* dt_dev, const unsigned char* kind, \
-                 const unsigned* group, const float* pos, float* vel, const float* acc",
+                "const SphParams p, unsigned n, float* dt_dev, const unsigned* red, \
+                 const unsigned char* kind, const unsigned* group, const float* pos, float* vel, \
+                 const float* acc",
             ),
             Family::Drift => (
                 "integrate",
@@ -282,7 +285,7 @@ impl Family {
                 "integrate",
                 "sph_drift_kick",
                 Dims,
-                "const SphParams p, unsigned n, const float* dt_dev, double* time, \
+                "const SphParams p, unsigned n, float* dt_dev, const unsigned* red, double* time, \
                  const unsigned char* kind, const unsigned* group, float* pos, float* vel, \
                  const float* xsph, float* rho, const float* drho, float* rho_dev, \
                  float* stress, const float* rate, const float* acc, unsigned* cell, \
@@ -302,6 +305,14 @@ impl Family {
                 Dims,
                 "const SphParams p, unsigned n, const unsigned char* kind, const float* pos, \
                  const float* vel, const float* rho, unsigned long long* first",
+            ),
+            Family::CheckRecord => (
+                "reduce",
+                "sph_check_record",
+                Dims,
+                "unsigned long long step, unsigned long long* first, double* clock, \
+                 unsigned* rec, const unsigned* id, const unsigned char* kind, \
+                 const float* pos, const float* vel, const float* rho",
             ),
             Family::ParamsLayout => (
                 "reduce",
@@ -577,6 +588,8 @@ mod tests {
                     "u64".to_string()
                 } else if a.starts_with("const SphParams") {
                     format!("b8[{}]", std::mem::size_of::<SphParams>())
+                } else if a.starts_with("unsigned long long ") {
+                    "u64".to_string()
                 } else if a.starts_with("unsigned ") {
                     "u32".to_string()
                 } else if a.starts_with("float ") {

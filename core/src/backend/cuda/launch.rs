@@ -5,11 +5,11 @@
 use std::sync::Arc;
 
 use cudarc::driver::{
-    sys, CudaContext, CudaSlice, CudaStream, CudaView, DeviceRepr, DriverError, LaunchConfig,
-    PushKernelArg,
+    sys, CudaContext, CudaSlice, CudaStream, CudaView, CudaViewMut, DeviceRepr, DriverError,
+    LaunchConfig, PushKernelArg,
 };
 
-use super::buffers::{Buffers, TlBuffers};
+use super::buffers::{self, Buffers, TlBuffers};
 use super::kernels::{Family, Kernel, Kernels, Scheme};
 use crate::consts::{MF_BLOCK, MF_LANES_MAX, MF_SAMPLE_FLOATS, MF_SCAN_BLOCK, MF_SCAN_CELLS};
 use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
@@ -62,7 +62,7 @@ fn scan(
     s: &Arc<CudaStream>,
     n_scan: u32,
     input: &CudaSlice<u32>,
-    local: &mut CudaSlice<u32>,
+    local: &mut CudaViewMut<u32>,
     bsum: &mut CudaSlice<u32>,
 ) {
     let nb = n_scan.div_ceil(MF_SCAN_CELLS);
@@ -126,22 +126,28 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
                 .map(|_| ())
         });
     }
+    // order and local live in the spare acc and xsph (`buffers::grid_scratch`).
+    let (mut order, mut local) =
+        buffers::grid_scratch(&mut b.acc, &mut b.xsph, &mut b.local, b.cap, b.n_cells);
     // count holds n_cells + 1 entries, local n_cells + 1 and bsum n_blocks >= nb (16-byte
     // aligned allocations).
-    scan(k, s, n_scan, &b.count, &mut b.local, &mut b.bsum);
-    // SAFETY: the arguments of `Family::GridScatter`; cell and order hold n entries.
+    scan(k, s, n_scan, &b.count, &mut local, &mut b.bsum);
+    // SAFETY: the arguments of `Family::GridScatter`; cell and order hold n entries, red 3
+    // (zeroed: the step size's maxima, which no pass holds during a grid build).
     let kc = k.get(Family::GridScatter);
     kc.check(unsafe {
         s.launch_builder(&kc.f)
             .arg(&n)
             .arg(&b.cell)
-            .arg(&b.local)
+            .arg(&mut local)
             .arg(&b.bsum)
             .arg(&mut b.count)
-            .arg(&mut b.order)
+            .arg(&mut order)
+            .arg(&mut b.red)
             .launch(cfg(b.n))
             .map(|_| ())
     });
+    b.red_stale = false;
     // Continuity density without artificial stress: the reorder applies the equation of
     // state and the density pass has nothing left to do (`density` skips it).
     let eos = p.density_form as u32 == MF_DENSITY_CONTINUITY && b.art.is_none();
@@ -158,8 +164,8 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
             .arg(&n)
             .arg(&nc)
             .arg(&eos_arg)
-            .arg(&b.order)
-            .arg(&b.local)
+            .arg(&mut order)
+            .arg(&mut local)
             .arg(&b.bsum)
             .arg(&mut b.cell_start);
         l.arg(&c.id)
@@ -279,6 +285,7 @@ pub fn forces_rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buf
 /// fused kernel appends the rates' outputs. The entry is the scene's `Scheme` (same
 /// signatures).
 fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers, fused: bool) {
+    clear_red(k, s, p, b);
     if b.n == 0 {
         return;
     }
@@ -332,39 +339,63 @@ pub fn step_size(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
             .launch(cfg(1))
             .map(|_| ())
     });
+    b.dt_pending = false;
 }
 
-/// v += dt a (dt read on the device); v = inflow_velocity in the inflow band; the driven
-/// group's velocity set.
+/// `step_size` where it is pending (`Buffers::dt_pending`): before anything but the kick
+/// or the drift-kick that would take it.
+pub fn settle_step_size(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    if b.dt_pending {
+        step_size(k, s, p, b);
+    }
+}
+
+/// Before a pass that folds into `red`: the pending step size settled, and `red` zeroed
+/// where a kick or drift-kick left it and no grid build cleared it since
+/// (`Buffers::red_stale`).
+fn clear_red(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    settle_step_size(k, s, p, b);
+    if std::mem::take(&mut b.red_stale) {
+        if let Err(e) = s.memset_zeros(&mut b.red) {
+            panic!("CUDA error while clearing the step size's maxima: {e:?}")
+        }
+    }
+}
+
+/// v += dt a (dt read on the device, or taken from the forces pass's maxima where the step
+/// size is pending: `Buffers::dt_pending`); v = inflow_velocity in the inflow band; the
+/// driven group's velocity set.
 pub fn kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     if b.n == 0 {
+        settle_step_size(k, s, p, b);
         return;
     }
     let n = b.n as u32;
     let c = &mut b.cur;
-    // SAFETY: the arguments of `Family::Kick`; dt_dev holds 1 float.
+    // SAFETY: the arguments of `Family::Kick`; dt_dev holds 1 float; red null or the 3
+    // maxima of the forces pass.
     let kk = k.get(Family::Kick);
-    kk.check(unsafe {
-        s.launch_builder(&kk.f)
-            .arg(p)
-            .arg(&n)
-            .arg(&b.dt)
-            .arg(&c.kind)
-            .arg(&c.group)
-            .arg(&c.pos)
-            .arg(&mut c.vel)
-            .arg(&b.acc)
-            .launch(cfg(b.n))
-            .map(|_| ())
-    });
+    let mut l = s.launch_builder(&kk.f);
+    l.arg(p).arg(&n).arg(&mut b.dt);
+    opt!(l, b.dt_pending.then_some(&b.red));
+    l.arg(&c.kind)
+        .arg(&c.group)
+        .arg(&c.pos)
+        .arg(&mut c.vel)
+        .arg(&b.acc);
+    kk.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
+    b.red_stale |= b.dt_pending;
+    b.dt_pending = false;
 }
 
 /// x += dt (v + xsph), rho += dt d rho/dt, S += dt dS/dt, time += dt (all on the device).
 pub fn drift(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    settle_step_size(k, s, p, b);
     drift_with(k.get(Family::Drift), false, s, p, b);
 }
 
-/// The forward Euler's drift then kick in one kernel (`Solver::drift_kick`).
+/// The forward Euler's drift then kick in one kernel (`Solver::drift_kick`), which takes
+/// the step size itself where it is pending (`Buffers::dt_pending`).
 pub fn drift_kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     drift_with(k.get(Family::DriftKick), true, s, p, b);
 }
@@ -375,13 +406,17 @@ fn drift_with(f: &Kernel, kick: bool, s: &Arc<CudaStream>, p: &SphParams, b: &mu
     let n = b.n as u32;
     let c = &mut b.cur;
     // SAFETY: the arguments of `Family::Drift` or, with `kick`, `Family::DriftKick` (the
-    // same, with vel written and acc before cell); drho, rho_dev, stress and rate may be null; cell
-    // and count as in sph_grid_hist. Launched even for n = 0: it advances the clock.
+    // same, with red after dt_dev, vel written and acc before cell); drho, rho_dev, stress
+    // and rate may be null; red null or the 3 maxima (as for the kick); cell and count as in
+    // sph_grid_hist. Launched even for n = 0: it advances the clock.
     let mut l = s.launch_builder(&f.f);
-    l.arg(p)
-        .arg(&n)
-        .arg(&b.dt)
-        .arg(&mut b.time)
+    l.arg(p).arg(&n).arg(&mut b.dt);
+    if kick {
+        opt!(l, b.dt_pending.then_some(&b.red));
+        b.red_stale |= b.dt_pending;
+        b.dt_pending = false;
+    }
+    l.arg(&mut b.time)
         .arg(&c.kind)
         .arg(&c.group)
         .arg(&mut c.pos)
@@ -533,6 +568,7 @@ pub fn diagnostics(
     p: &SphParams,
     b: &mut Buffers,
 ) -> Result<(), DriverError> {
+    settle_step_size(k, s, p, b);
     s.memset_zeros(&mut b.diag_sums)?;
     s.memset_zeros(&mut b.diag_max)?;
     s.memset_zeros(&mut b.diag_counts)?;
@@ -568,13 +604,29 @@ pub fn diagnostics(
     Ok(())
 }
 
+/// The health check now: the complement of the first fault's key (`sph_check`), 0 where
+/// every particle is healthy (a read-back, which waits for the queued work).
 pub fn check(
     k: &Kernels,
     s: &Arc<CudaStream>,
     p: &SphParams,
     b: &mut Buffers,
 ) -> Result<u64, DriverError> {
-    s.memcpy_htod(&[u64::MAX][..], &mut b.first)?;
+    s.memset_zeros(&mut b.first)?;
+    launch_check(k, s, p, b)?;
+    let found = s.clone_dtoh(&b.first)?[0];
+    // Zero between checks (`queue_check` counts on it).
+    s.memset_zeros(&mut b.first)?;
+    Ok(found)
+}
+
+/// `sph_check` into `b.first` (which holds 0).
+fn launch_check(
+    k: &Kernels,
+    s: &Arc<CudaStream>,
+    p: &SphParams,
+    b: &mut Buffers,
+) -> Result<(), DriverError> {
     if b.n > 0 {
         let n = b.n as u32;
         let c = &b.cur;
@@ -591,7 +643,41 @@ pub fn check(
                 .launch(cfg(b.n))?;
         }
     }
-    Ok(s.clone_dtoh(&b.first)?[0])
+    Ok(())
+}
+
+/// A health check queued on the stream, nothing read back: `sph_check`, then
+/// `sph_check_record`, which keeps the first fault found (its key in `b.time[1]`, read back
+/// with the clock, and the particle's record, with `step`, in `b.fault_rec`) and clears
+/// `b.first`.
+pub fn queue_check(
+    k: &Kernels,
+    s: &Arc<CudaStream>,
+    p: &SphParams,
+    b: &mut Buffers,
+    step: u64,
+) -> Result<(), DriverError> {
+    if b.n == 0 {
+        return Ok(());
+    }
+    launch_check(k, s, p, b)?;
+    let c = &b.cur;
+    // SAFETY: the arguments of `Family::CheckRecord`; first holds 1 word, clock 2 doubles,
+    // rec MF_FAULT_RECORD_WORDS words; the slot in a nonzero first is below n (sph_check).
+    unsafe {
+        s.launch_builder(&k.get(Family::CheckRecord).f)
+            .arg(&step)
+            .arg(&mut b.first)
+            .arg(&mut b.time)
+            .arg(&mut b.fault_rec)
+            .arg(&c.id)
+            .arg(&c.kind)
+            .arg(&c.pos)
+            .arg(&c.vel)
+            .arg(&c.rho)
+            .launch(cfg(1))?;
+    }
+    Ok(())
 }
 
 /// The probes' sums at the points `points` (float4 each) into `out` (`MF_SAMPLE_FLOATS`
@@ -718,6 +804,7 @@ pub fn tl_stress(
 /// The total-Lagrangian internal force and hourglass control (`Solver::solid_forces`), added
 /// to the slots' accelerations.
 pub fn tl_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers, t: &TlBuffers) {
+    clear_red(k, s, p, b);
     if b.n == 0 || t.n_solid == 0 {
         return;
     }
@@ -754,7 +841,14 @@ pub fn tl_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
 
 /// u += dt (v + xsph), or dt times the driven velocity (dt read on the device); launched
 /// before the drift (or the drift-kick), which then moves the positions by the same amount.
-pub fn tl_drift(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &Buffers, t: &mut TlBuffers) {
+pub fn tl_drift(
+    k: &Kernels,
+    s: &Arc<CudaStream>,
+    p: &SphParams,
+    b: &mut Buffers,
+    t: &mut TlBuffers,
+) {
+    settle_step_size(k, s, p, b);
     if b.n == 0 || t.n_solid == 0 {
         return;
     }
@@ -857,7 +951,14 @@ pub fn select(
     let n_scan = n32 + 1;
     // mark and local hold cap + 1 >= n_scan (16-byte aligned allocations), bsum
     // ceil((cap + 1) / MF_SCAN_CELLS) >= its blocks.
-    scan(k, s, n_scan, &x.mark, &mut x.local, &mut x.bsum);
+    scan(
+        k,
+        s,
+        n_scan,
+        &x.mark,
+        &mut x.local.slice_mut(..),
+        &mut x.bsum,
+    );
     // SAFETY: the arguments of `Family::ExchangeTotal`; local holds n + 1 entries, bsum
     // n / MF_SCAN_CELLS + 1, total 1; one thread.
     let kc = k.get(Family::ExchangeTotal);

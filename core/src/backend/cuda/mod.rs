@@ -24,7 +24,7 @@ use crate::backend::BackendError;
 use crate::checkpoint::SolverCheckpoint;
 use crate::consts::{
     MF_FAULT_ESCAPED, MF_FAULT_NON_FINITE_POSITION, MF_FAULT_NON_FINITE_VELOCITY,
-    MF_FAULT_SLOT_SHIFT, MF_SAMPLE_FLOATS,
+    MF_FAULT_RECORD_WORDS, MF_FAULT_SLOT_SHIFT, MF_SAMPLE_FLOATS,
 };
 use crate::dim::Dim;
 use crate::frame::{Fields, FrameData, PendingFrame, Ready};
@@ -105,6 +105,9 @@ pub struct CudaSolver<D: Dim> {
     gl_view: Option<GlView>,
     /// Bytes read back from the device so far (`Solver::device_to_host_bytes`).
     d2h: u64,
+    /// The clock [T] and the key of a queued check's fault (`Buffers::time`) as last read
+    /// back, while nothing has changed them since (a step, `set_clock`, a queued check).
+    clock: Option<(f64, u64)>,
     /// The output frames' download stream and staging sets (made at the first capture).
     capturer: Option<Capturer>,
     /// Two steps of `Solver::step` captured as a CUDA graph (two, so that the grid's buffer
@@ -197,6 +200,7 @@ impl<D: Dim> CudaSolver<D> {
             host_vel: Vec::new(),
             gl_view: None,
             d2h: 0,
+            clock: None,
             capturer: None,
             graph: None,
             graphs: std::env::var("MESHFREE_CUDA_GRAPHS").map_or(true, |v| v != "0"),
@@ -242,15 +246,71 @@ impl<D: Dim> CudaSolver<D> {
         )
     }
 
-    /// Set the simulated time [T] and the last step size [T] on the device.
+    /// Set the simulated time [T] and the last step size [T] on the device (a queued
+    /// check's fault, if any, stays).
     fn set_clock(&mut self, time: f64, dt: f32) {
+        self.clock = None;
         let s = &self.dev.stream;
         let r = s
-            .memcpy_htod(&[time][..], &mut self.buf.time)
+            .memcpy_htod(&[time][..], &mut self.buf.time.slice_mut(..1))
             .and_then(|_| s.memcpy_htod(&[dt][..], &mut self.buf.dt));
         if let Err(e) = r {
             self.sync_err("setting the clock", e)
         }
+    }
+
+    /// The clock [T] and the key of a queued check's fault (0: none), read back together
+    /// unless nothing changed them since the last read.
+    fn read_clock(&mut self) -> (f64, u64) {
+        if let Some(c) = self.clock {
+            return c;
+        }
+        self.d2h += 16;
+        let t = self
+            .dev
+            .stream
+            .clone_dtoh(&self.buf.time)
+            .unwrap_or_else(|e| self.sync_err("reading the clock", e));
+        let c = (t[0], t[1].to_bits());
+        self.clock = Some(c);
+        c
+    }
+
+    /// The fault of the health check's `key` (the complement of `sph_check`'s (slot <<
+    /// MF_FAULT_SLOT_SHIFT) | class) at step `step` and time `time`, of the particle `id`
+    /// of kind `kind` with position `x`, velocity `v` and density `rho`.
+    #[allow(clippy::too_many_arguments)]
+    fn fault_of(
+        &self,
+        key: u64,
+        (step, time): (u64, f64),
+        id: u32,
+        kind: crate::particle::Kind,
+        x: [f32; 3],
+        v: [f32; 3],
+        rho: f32,
+    ) -> Fault {
+        let code = (!key & ((1 << MF_FAULT_SLOT_SHIFT) - 1)) as u32;
+        let value = match code {
+            MF_FAULT_NON_FINITE_POSITION => x
+                .iter()
+                .copied()
+                .find(|c| !c.is_finite())
+                .unwrap_or(f32::NAN),
+            MF_FAULT_NON_FINITE_VELOCITY => v
+                .iter()
+                .copied()
+                .find(|c| !c.is_finite())
+                .unwrap_or(f32::NAN),
+            MF_FAULT_ESCAPED => (0..D::D)
+                .find(|&a| {
+                    self.params.periodic[a] == 0
+                        && (x[a] < self.params.domain_min[a] || x[a] > self.params.domain_max[a])
+                })
+                .map_or(f32::NAN, |a| x[a]),
+            _ => rho,
+        };
+        fault(step, time, id, kind, code, value)
     }
 
     /// Map the total-Lagrangian solid space onto the storage (after a reorder).
@@ -268,6 +328,7 @@ impl<D: Dim> CudaSolver<D> {
 
     /// The step size of the last `time_step` [T] (read back).
     pub fn dt(&mut self) -> f32 {
+        launch::settle_step_size(&self.k, &self.dev.stream, &self.params, &mut self.buf);
         self.d2h += 4;
         self.dev
             .stream
@@ -394,28 +455,33 @@ impl<D: Dim> Solver for CudaSolver<D> {
             self.forces();
         }
     }
+    /// Due from the forces pass's maxima: the kick or the drift-kick that follows takes it
+    /// (`Buffers::dt_pending`; anything else runs `sph_step_size` first).
     fn time_step(&mut self) {
-        launch::step_size(&self.k, &self.dev.stream, &self.params, &mut self.buf);
+        launch::settle_step_size(&self.k, &self.dev.stream, &self.params, &mut self.buf);
+        self.buf.dt_pending = true;
     }
     fn kick(&mut self) {
         launch::kick(&self.k, &self.dev.stream, &self.params, &mut self.buf);
     }
     fn drift(&mut self) {
         if let Some(t) = self.tl.as_mut() {
-            launch::tl_drift(&self.k, &self.dev.stream, &self.params, &self.buf, t);
+            launch::tl_drift(&self.k, &self.dev.stream, &self.params, &mut self.buf, t);
         }
         launch::drift(&self.k, &self.dev.stream, &self.params, &mut self.buf);
         self.grid_current = false;
+        self.clock = None;
         self.steps += 1;
     }
     /// One kernel for both (`cuda/integrate.cu`).
     fn drift_kick(&mut self) {
         // The displacement first: it takes the old velocity, as the positions do.
         if let Some(t) = self.tl.as_mut() {
-            launch::tl_drift(&self.k, &self.dev.stream, &self.params, &self.buf, t);
+            launch::tl_drift(&self.k, &self.dev.stream, &self.params, &mut self.buf, t);
         }
         launch::drift_kick(&self.k, &self.dev.stream, &self.params, &mut self.buf);
         self.grid_current = false;
+        self.clock = None;
         self.steps += 1;
     }
     fn advance(&mut self, steps: u64) {
@@ -444,6 +510,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
                 self.steps += 2 * pairs;
                 if pairs > 0 {
                     self.grid_current = false;
+                    self.clock = None;
                 }
             }
         }
@@ -451,50 +518,61 @@ impl<D: Dim> Solver for CudaSolver<D> {
             self.step();
         }
     }
+    /// Read back with a queued check's fault (`read_clock`), once per change.
     fn time(&mut self) -> f64 {
-        self.d2h += 8;
-        self.dev
-            .stream
-            .clone_dtoh(&self.buf.time)
-            .unwrap_or_else(|e| self.sync_err("reading the time", e))[0]
+        self.read_clock().0
     }
     fn steps(&self) -> u64 {
         self.steps
     }
     fn check(&mut self) -> Result<(), Fault> {
-        let first = launch::check(&self.k, &self.dev.stream, &self.params, &mut self.buf)
+        let key = launch::check(&self.k, &self.dev.stream, &self.params, &mut self.buf)
             .unwrap_or_else(|e| self.sync_err("running the health check", e));
         self.d2h += 8;
-        if first == u64::MAX {
+        if key == 0 {
             return Ok(());
         }
-        // (slot << MF_FAULT_SLOT_SHIFT) | fault class, from sph_check.
-        let slot = (first >> MF_FAULT_SLOT_SHIFT) as usize;
-        let code = (first & ((1 << MF_FAULT_SLOT_SHIFT) - 1)) as u32;
+        let slot = (!key >> MF_FAULT_SLOT_SHIFT) as usize;
         let st = self.download_state();
-        let x = D::to3(st.pos[slot]);
-        let v = D::to3(st.vel[slot]);
-        let value = match code {
-            MF_FAULT_NON_FINITE_POSITION => x
-                .iter()
-                .copied()
-                .find(|c| !c.is_finite())
-                .unwrap_or(f32::NAN),
-            MF_FAULT_NON_FINITE_VELOCITY => v
-                .iter()
-                .copied()
-                .find(|c| !c.is_finite())
-                .unwrap_or(f32::NAN),
-            MF_FAULT_ESCAPED => (0..D::D)
-                .find(|&a| {
-                    self.params.periodic[a] == 0
-                        && (x[a] < self.params.domain_min[a] || x[a] > self.params.domain_max[a])
-                })
-                .map_or(f32::NAN, |a| x[a]),
-            _ => st.rho[slot],
-        };
-        let time = self.time();
-        Err(fault(self.steps, time, st.particle(slot), code, value))
+        let q = st.particle(slot);
+        let (x, v) = (D::to3(st.pos[slot]), D::to3(st.vel[slot]));
+        let at = (self.steps, self.time());
+        Err(self.fault_of(key, at, q.id, q.kind, x, v, st.rho[slot]))
+    }
+    /// `sph_check` and `sph_check_record` queued: the first fault stays on the device
+    /// until `queued_fault` reads it with the clock.
+    fn queue_check(&mut self) -> Result<(), Fault> {
+        let steps = self.steps;
+        launch::queue_check(
+            &self.k,
+            &self.dev.stream,
+            &self.params,
+            &mut self.buf,
+            steps,
+        )
+        .unwrap_or_else(|e| self.sync_err("queueing the health check", e));
+        self.clock = None;
+        Ok(())
+    }
+    fn queued_fault(&mut self) -> Result<(), Fault> {
+        let key = self.read_clock().1;
+        if key == 0 {
+            return Ok(());
+        }
+        self.d2h += 4 * MF_FAULT_RECORD_WORDS as u64;
+        let r = self
+            .dev
+            .stream
+            .clone_dtoh(&self.buf.fault_rec)
+            .unwrap_or_else(|e| self.sync_err("reading the health check's fault", e));
+        let f = |w: u32| f32::from_bits(w);
+        let kind = crate::particle::Kind::from_code(r[1] as u8)
+            .expect("sph_check_record writes a particle's kind code");
+        let step = u64::from(r[9]) | (u64::from(r[10]) << 32);
+        let time = f64::from_bits(u64::from(r[11]) | (u64::from(r[12]) << 32));
+        let x = [f(r[2]), f(r[3]), f(r[4])];
+        let v = [f(r[5]), f(r[6]), f(r[7])];
+        Err(self.fault_of(key, (step, time), r[0], kind, x, v, f(r[8])))
     }
     fn diagnostics(&mut self) -> Diagnostics {
         let s = &self.dev.stream;
@@ -751,6 +829,14 @@ impl<D: Dim> Solver for CudaSolver<D> {
         }
         self.tl_map_slots();
         self.set_clock(saved.time, saved.dt);
+        // A queued check's fault belongs to the run before the restore.
+        if let Err(e) = self
+            .dev
+            .stream
+            .memcpy_htod(&[saved.time, 0.0][..], &mut self.buf.time)
+        {
+            self.sync_err("restoring the clock", e)
+        }
         self.steps = saved.steps;
         self.graph = None;
         Ok(())
