@@ -386,8 +386,9 @@ pub struct RunArgs {
     #[arg(required_unless_present = "resume")]
     pub scene: Option<String>,
     /// Continue the run in DIR from its checkpoint (checkpoint.bin), with its own scene,
-    /// output interval and format; --backend, --t-end (to extend it), --steps and --quiet
-    /// apply.
+    /// output interval and format; --backend, --decompose / --gpus, --t-end (to extend it),
+    /// --steps and --quiet apply. A decomposed run's checkpoint (one piece per rank)
+    /// resumed on as many ranks gives each its own piece; on another count, gathered.
     #[arg(long, value_name = "DIR", conflicts_with_all = ["scene", "out", "overwrite", "format", "output_interval", "paper_exact", "max_particles"])]
     pub resume: Option<PathBuf>,
     /// Where to run: `auto` takes CUDA where a driver and a device answer, else the CPU.

@@ -20,13 +20,12 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use meshfree_core::checkpoint::SolverCheckpoint;
 use meshfree_core::scene::format::OutputFormat;
 use meshfree_core::scene::Scene;
 use meshfree_core::step::StepperState;
 
 use crate::monitors::MonitorsState;
-use crate::output::checkpoint;
+use crate::output::checkpoint::{self, Saved};
 use crate::output::writer::{Failure, Job, WriterState};
 use crate::output::{PvdSeries, Timing};
 use crate::probes::ProbesState;
@@ -65,7 +64,8 @@ pub struct RunState {
 
 /// A run's checkpoint, read back with its scene.
 pub struct Resume {
-    pub solver: SolverCheckpoint,
+    /// The solver's state: whole, or one piece per rank of a decomposed run.
+    pub solver: Saved,
     pub run: RunState,
     /// The run's scene (`DIR/scene.toml`).
     pub scene: Scene,
@@ -91,16 +91,16 @@ fn bad(path: &Path, reason: impl Into<String>) -> RunError {
 }
 
 /// The writer's job that completes the checkpoint `run` (all but the writer's part) of
-/// `solver` and writes it to `path` (`output::checkpoint::write`), on the writer thread after
-/// the frames queued before it.
-pub fn checkpoint_job(path: PathBuf, solver: SolverCheckpoint, mut run: RunState) -> Job {
+/// `solver` and writes it to `path` (`Saved::write`: one file, or a piece per rank and
+/// their index), on the writer thread after the frames queued before it.
+pub fn checkpoint_job(path: PathBuf, solver: Saved, mut run: RunState) -> Job {
     Job::Checkpoint(Box::new(move |w| {
         run.writer = w;
-        let bytes = checkpoint::write(&path, &solver, &run).map_err(|e| Failure {
+        let bytes = solver.write(&path, &run).map_err(|e| Failure {
             path: path.clone(),
             reason: e.to_string(),
         })?;
-        Ok((solver.time, bytes))
+        Ok((solver.clock().time, bytes))
     }))
 }
 
@@ -118,8 +118,8 @@ pub fn load(dir: &Path) -> Result<Resume, RunError> {
         };
         return Err(bad(&path, why));
     }
-    let (solver, run): (SolverCheckpoint, RunState) =
-        checkpoint::read(&path).map_err(|r| bad(&path, r))?;
+    let (solver, run): (Saved, RunState) =
+        checkpoint::load(&path).map_err(|(at, r)| bad(&at, r))?;
     let scene_path = dir.join("scene.toml");
     let scene = Scene::from_file(&scene_path)?;
     if digest(&scene.text) != run.scene_digest {
@@ -137,11 +137,12 @@ pub fn load(dir: &Path) -> Result<Resume, RunError> {
     })
 }
 
-/// Bring `dir` back to the checkpoint `run`: every CSV file cut to its length there (Err
+/// Bring `dir` back to the checkpoint `r`: every CSV file cut to its length there (Err
 /// where one is shorter: damaged), the particle files of later outputs (and the
-/// temporaries of interrupted writes) removed, and `particles.pvd` rewritten with the
-/// outputs up to it.
-pub fn rollback(dir: &Path, run: &RunState) -> Result<(), RunError> {
+/// temporaries of interrupted writes, and the checkpoint pieces the index does not list)
+/// removed, and `particles.pvd` rewritten with the outputs up to it.
+pub fn rollback(dir: &Path, r: &Resume) -> Result<(), RunError> {
+    let run = &r.run;
     let io = |path: &Path, e: std::io::Error| RunError::Io {
         path: path.to_path_buf(),
         reason: e.to_string(),
@@ -180,6 +181,13 @@ pub fn rollback(dir: &Path, run: &RunState) -> Result<(), RunError> {
             std::fs::remove_file(entry.path()).map_err(|e| io(&entry.path(), e))?;
         }
     }
+    let listed: Vec<String> = match &r.solver {
+        Saved::Whole(_) => Vec::new(),
+        Saved::Pieces { clock, pieces } => (0..pieces.len())
+            .map(|k| checkpoint::piece_name(clock.steps, k, pieces.len()))
+            .collect(),
+    };
+    checkpoint::remove_stale_pieces(dir, &listed).map_err(|e| io(dir, e))?;
     let series = PvdSeries::with_entries(dir.join("particles.pvd"), run.writer.series.clone());
     if !run.writer.series.is_empty() {
         series.write().map_err(|e| io(series.path(), e))?;

@@ -201,14 +201,12 @@ pub fn resume(dir: &Path, options: &RunOptions) -> Result<RunSummary, RunError> 
     let r = crate::resume::load(dir)?;
     // Without --t-end a finished run's checkpoint (at or just past its end) has nothing to
     // do: the run completes at once.
-    let t_end = options.t_end.unwrap_or(r.run.t_end.max(r.solver.time));
-    if t_end < r.solver.time {
+    let t = r.solver.clock().time;
+    let t_end = options.t_end.unwrap_or(r.run.t_end.max(t));
+    if t_end < t {
         return Err(RunError::Checkpoint {
             path: dir.join(crate::output::checkpoint::FILE),
-            reason: format!(
-                "--t-end {t_end} is before the checkpoint's time {}",
-                r.solver.time
-            ),
+            reason: format!("--t-end {t_end} is before the checkpoint's time {t}"),
         });
     }
     let options = RunOptions {
@@ -259,7 +257,7 @@ fn drive(
         .unwrap_or_else(|| default_out_dir(&scene));
     match &resume {
         None => prepare_out_dir(&out_dir, options.overwrite)?,
-        Some(r) => crate::resume::rollback(&out_dir, &r.run)?,
+        Some(r) => crate::resume::rollback(&out_dir, r)?,
     }
     let mut solver = match (options.gpus, options.decompose) {
         (Some(g), _) => backend::create_multi_gpu(setup, g)?,
@@ -270,8 +268,8 @@ fn drive(
     let mut stepper = Stepper::new(scene.gates()).with_end(scene.file.time.end);
     if let Some(r) = &resume {
         stepper.resume(&r.run.stepper, &mut *solver);
-        solver
-            .restore(&r.solver)
+        r.solver
+            .restore_into(&mut *solver)
             .map_err(|reason| RunError::Checkpoint {
                 path: out_dir.join(crate::output::checkpoint::FILE),
                 reason: format!("does not fit the scene: {reason}"),
@@ -332,8 +330,8 @@ fn drive(
         report.line(&format!(
             "meshfree: resuming {} from its checkpoint at t = {} (step {}, written by {} on build {})",
             out_dir.display(),
-            r.solver.time,
-            r.solver.steps,
+            r.solver.clock().time,
+            r.solver.clock().steps,
             r.run.backend,
             r.run.build
         ));
@@ -378,10 +376,10 @@ fn drive(
         fault_frame: None,
         monitors: Vec::new(),
         bodies: Vec::new(),
-        checkpoint_time: resume.as_ref().map(|r| r.solver.time),
+        checkpoint_time: resume.as_ref().map(|r| r.solver.clock().time),
         resumed_from: resume.as_ref().map_or_else(Vec::new, |r| {
             let mut v = r.run.resumed_from.clone();
-            v.push(r.solver.time);
+            v.push(r.solver.clock().time);
             v
         }),
     };
@@ -471,7 +469,7 @@ fn drive(
                 let waited = Instant::now();
                 out.send(crate::resume::checkpoint_job(
                     checkpoint_path.clone(),
-                    solver.save(),
+                    crate::output::checkpoint::Saved::of(solver),
                     state,
                 ))?;
                 out.wait_seconds += waited.elapsed().as_secs_f64();

@@ -138,26 +138,38 @@ fn the_documented_python_reader_reads_a_checkpoint() {
     let dir = tempfile::tempdir().unwrap();
     let script = dir.path().join("read_checkpoint.py");
     std::fs::write(&script, code).unwrap();
-    let out = dir.path().join("run");
+    // One domain's checkpoint, and a decomposed run's index with a piece per rank.
+    for decompose in [None, Some(2)] {
+        reads_one(&python, &script, &dir.path().join("run"), decompose);
+    }
+}
+
+fn reads_one(
+    python: &str,
+    script: &std::path::Path,
+    out: &std::path::Path,
+    decompose: Option<usize>,
+) {
     let summary = run::run(
         &Scene::builtin("impinging-2d").unwrap(),
         &RunOptions {
             backend: meshfree_core::backend::BackendChoice::Cpu,
-            out_dir: Some(out.clone()),
+            out_dir: Some(out.to_path_buf()),
+            overwrite: true,
             max_steps: Some(5),
             progress: Progress::Quiet,
             format: Some(OutputFormat::None),
+            decompose,
             ..Default::default()
         },
     )
     .unwrap();
-    let (c, _): (
-        meshfree_core::checkpoint::SolverCheckpoint,
-        serde_json::Value,
-    ) = meshfree::output::checkpoint::read(&out.join(meshfree::output::checkpoint::FILE)).unwrap();
+    let (saved, _): (meshfree::output::checkpoint::Saved, serde_json::Value) =
+        meshfree::output::checkpoint::load(&out.join(meshfree::output::checkpoint::FILE)).unwrap();
+    let c = saved.gathered();
     assert_eq!(c.steps, summary.steps);
-    let result = std::process::Command::new(&python)
-        .arg(&script)
+    let result = std::process::Command::new(python)
+        .arg(script)
         .arg(out.join(meshfree::output::checkpoint::FILE))
         .output()
         .unwrap_or_else(|e| panic!("cannot run {python}: {e}"));

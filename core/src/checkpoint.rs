@@ -18,7 +18,48 @@
 //! the positions alone fix.
 
 use crate::dim::Dim;
+use crate::exchange::Slab;
 use crate::state::{SolidState, State};
+
+/// One rank's share of a decomposed solver's state (`Solver::save_pieces`): the slab it
+/// owns and its particles (all of them in that slab: between steps a rank holds its owned
+/// particles alone), with the clock, step count and step size, which every rank shares.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Piece {
+    pub slab: Slab,
+    pub state: SolverCheckpoint,
+}
+
+impl Piece {
+    /// The pieces of every rank, in rank order, as one checkpoint (`SolverCheckpoint::concat`).
+    pub fn gather(pieces: &[Piece]) -> SolverCheckpoint {
+        let states: Vec<SolverCheckpoint> = pieces.iter().map(|p| p.state.clone()).collect();
+        SolverCheckpoint::concat(&states)
+    }
+
+    /// Why this piece is not what rank `rank` of `ranks` saved: a particle outside its
+    /// slab, or a clock other than `like`'s (the pieces of two checkpoints mixed). None
+    /// where it fits.
+    pub fn mismatch(&self, like: &SolverCheckpoint) -> Option<String> {
+        let s = &self.state;
+        if (s.time.to_bits(), s.steps, s.dt.to_bits())
+            != (like.time.to_bits(), like.steps, like.dt.to_bits())
+        {
+            return Some(format!(
+                "it was saved at t = {} (step {}), the other pieces at t = {} (step {})",
+                s.time, s.steps, like.time, like.steps
+            ));
+        }
+        let a = self.slab.axis;
+        if let Some(i) = (0..s.len()).find(|&i| !self.slab.contains(s.pos[i][a])) {
+            return Some(format!(
+                "particle {} lies outside its slab ({} <= x[{a}] < {})",
+                s.id[i], self.slab.lo, self.slab.hi
+            ));
+        }
+        None
+    }
+}
 
 /// The particle arrays `SolverCheckpoint::mismatch` compares against.
 struct Layout<'a> {

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::checkpoint::SolverCheckpoint;
+use crate::checkpoint::{Piece, SolverCheckpoint};
 use crate::frame::{Fields, FrameData, PendingFrame, Ready};
 use crate::params::{SphParams, MF_INTEGRATOR_EULER, MF_NO_SLIP_WALL_VELOCITY};
 use crate::particle::{Kind, Particle};
@@ -361,6 +361,19 @@ pub trait Solver: Send {
     /// bit for bit. Err: why the checkpoint does not fit (`SolverCheckpoint::mismatch`);
     /// the solver is then unchanged.
     fn restore(&mut self, saved: &SolverCheckpoint) -> Result<(), String>;
+    /// A decomposed solver's state as one piece per rank (its slab and its particles), in
+    /// rank order, for checkpoints written one file per rank; None for one domain (`save`).
+    fn save_pieces(&mut self) -> Option<Vec<Piece>> {
+        None
+    }
+    /// Continue from the pieces `save_pieces` gave: a decomposed solver of as many ranks
+    /// gives each rank its own piece and slab (the saved run's storage and cuts, so that
+    /// it steps on as the saved one would have, bit for bit); any other solver takes them
+    /// gathered into one (`restore`: equally exact, the cuts the solver's own). Err as
+    /// `restore`, or a piece that is not its rank's (`Piece::mismatch`).
+    fn restore_pieces(&mut self, pieces: &[Piece]) -> Result<(), String> {
+        self.restore(&Piece::gather(pieces))
+    }
     /// Remove every particle of a scene group (opening a gate). Returns how many went.
     fn remove_group(&mut self, group: u32) -> usize;
     /// `Setup::wall_surface` as the solver took it (empty unless `no_slip`), for the force

@@ -293,3 +293,79 @@ fn moving_the_cuts_keeps_the_run_exact_and_balances_the_load() {
     same(&one.particles(), &many.particles()).unwrap();
     assert_eq!(many.rebalances(), 2);
 }
+
+#[test]
+fn pieces_saved_per_rank_restore_each_rank_or_gather_into_another_count() {
+    use meshfree_core::backend::cpu::CpuSolver;
+    use meshfree_core::dim::D2;
+    use meshfree_core::exchange::{Decomposed, Refused};
+    let sc = scene("dam-break-2d", &[("spacing = 0.02", "spacing = 0.03")]);
+    let gates: Vec<u32> = sc.gates().iter().map(|g| g.0).collect();
+    let mut setup = sc.setup().unwrap();
+    setup.params.own_solids = 0;
+    let three = |setup: &Setup| {
+        let mut d = Decomposed::new(setup.clone(), 3, |s| {
+            Ok::<_, Refused>(CpuSolver::<D2>::new(s))
+        })
+        .unwrap();
+        for &g in &gates {
+            d.remove_group(g);
+        }
+        d
+    };
+    let mut many = three(&setup);
+    many.advance(30);
+    // Cuts of its own, other than a fresh start's: the pieces must bring them back.
+    assert!(many.rebalance(1.0).unwrap());
+    let pieces = many.save_pieces().unwrap();
+    assert_eq!(pieces.len(), 3);
+    assert_eq!(
+        pieces.iter().map(|p| p.slab).collect::<Vec<_>>(),
+        many.slabs()
+    );
+    let mut again = three(&setup);
+    assert_ne!(again.slabs(), many.slabs());
+    again.restore_pieces(&pieces).unwrap();
+    assert_eq!(again.slabs(), many.slabs(), "each rank took its own slab");
+    assert_eq!(again.counts(), many.counts());
+    many.advance(30);
+    again.advance(30);
+    same(&many.particles(), &again.particles()).unwrap();
+    assert_eq!(
+        again.save_pieces(),
+        many.save_pieces(),
+        "storage and cuts alike"
+    );
+    // Into another count (one domain, 2 subdomains): the pieces gathered, equally exact.
+    let pieces = many.save_pieces().unwrap();
+    let mut one = backend::create(BackendChoice::Cpu, setup.clone()).unwrap();
+    let mut two = backend::create_decomposed(BackendChoice::Cpu, setup.clone(), 2).unwrap();
+    for &g in &gates {
+        one.remove_group(g);
+        two.remove_group(g);
+    }
+    one.restore_pieces(&pieces).unwrap();
+    two.restore_pieces(&pieces).unwrap();
+    many.advance(20);
+    one.advance(20);
+    two.advance(20);
+    same(&many.particles(), &one.particles()).unwrap();
+    same(&many.particles(), &two.particles()).unwrap();
+    // Pieces swapped between ranks, or one from another step, are refused with the reason.
+    let mut mixed = many.save_pieces().unwrap();
+    mixed.swap(0, 1);
+    let e = three(&setup).restore_pieces(&mixed).unwrap_err();
+    assert!(e.contains("slabs do not follow"), "{e}");
+    let mut mixed = many.save_pieces().unwrap();
+    let first = mixed[0].state.clone();
+    mixed[0].state = std::mem::replace(&mut mixed[1].state, first);
+    let e = three(&setup).restore_pieces(&mixed).unwrap_err();
+    assert!(
+        e.contains("rank 0's piece") && e.contains("outside its slab"),
+        "{e}"
+    );
+    let mut stale = many.save_pieces().unwrap();
+    stale[2].state.steps -= 1;
+    let e = three(&setup).restore_pieces(&stale).unwrap_err();
+    assert!(e.contains("rank 2's piece") && e.contains("step"), "{e}");
+}

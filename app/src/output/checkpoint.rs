@@ -13,6 +13,15 @@
 //!   name (vectors as 3 floats, symmetric tensors as 6);
 //! - u32: the CRC-32 (IEEE) of everything before it.
 //!
+//! A decomposed run (`Solver::save_pieces`) writes one such file per rank, its *piece*
+//! (`checkpoint-step<S>-rank<k>of<N>.bin`: the rank's particles, and `{rank, ranks}` as
+//! its run state), and then `checkpoint.bin` as their *index*: the run's state and the
+//! clock, no particles, and the header's `pieces` (`PieceList`: the slabs' axis and cuts,
+//! each piece's file and particle count). The pieces are named by the step, so the index's
+//! rename is what moves a run from one checkpoint to the next; the previous pieces go after
+//! it (`remove_stale_pieces`). A kill at any moment leaves an index whose pieces are all
+//! there, whole.
+//!
 //! Python reads it with `struct`, `json`, `zlib` and `numpy.frombuffer`
 //! (`docs/reference/checkpoint.md`, whose reader `tests/python_readers.rs` runs).
 
@@ -23,6 +32,9 @@ use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use meshfree_core::checkpoint::SolverCheckpoint;
+
+mod pieces;
+pub use pieces::{load, piece_name, remove_stale_pieces, PieceFile, PieceList, Saved};
 
 /// The file name in a run's output directory.
 pub const FILE: &str = "checkpoint.bin";
@@ -39,6 +51,9 @@ struct Header<R> {
     steps: u64,
     dt: f32,
     arrays: Vec<ArrayEntry>,
+    /// Only in the index of a checkpoint in pieces.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pieces: Option<PieceList>,
 }
 
 #[derive(Serialize, Deserialize, PartialEq, Debug)]
@@ -125,7 +140,17 @@ impl<W: Write> Write for Crc<W> {
 /// Write `solver` and the run's state `run` to `path`, atomically (temporary file, fsync,
 /// rename, fsync of the directory). Returns the bytes written.
 pub fn write<R: Serialize>(path: &Path, solver: &SolverCheckpoint, run: &R) -> io::Result<u64> {
+    write_file(path, solver, run, None)
+}
+
+fn write_file<R: Serialize>(
+    path: &Path,
+    solver: &SolverCheckpoint,
+    run: &R,
+    pieces: Option<PieceList>,
+) -> io::Result<u64> {
     let header = Header {
+        pieces,
         run,
         dim: solver.dim,
         time: solver.time,
@@ -177,9 +202,22 @@ pub fn write<R: Serialize>(path: &Path, solver: &SolverCheckpoint, run: &R) -> i
     Ok(bytes)
 }
 
-/// Read a checkpoint: the solver's state and the run's. Err: why it cannot be used (not a
-/// checkpoint, another version, a wrong checksum, a truncated or inconsistent file).
+/// Read a whole checkpoint: the solver's state and the run's. Err: why it cannot be used
+/// (not a checkpoint, another version, a wrong checksum, a truncated or inconsistent file,
+/// the index of one in pieces: `load` reads those).
 pub fn read<R: DeserializeOwned>(path: &Path) -> Result<(SolverCheckpoint, R), String> {
+    match read_file(path)? {
+        (c, run, None) => Ok((c, run)),
+        (_, _, Some(_)) => Err(
+            "it is the index of a checkpoint in pieces, one file per rank (a decomposed run's)"
+                .into(),
+        ),
+    }
+}
+
+type Contents<R> = (SolverCheckpoint, R, Option<PieceList>);
+
+fn read_file<R: DeserializeOwned>(path: &Path) -> Result<Contents<R>, String> {
     let bytes = std::fs::read(path).map_err(|e| format!("cannot read it: {e}"))?;
     let fixed = MAGIC.len() + 4 + 8;
     if bytes.len() < fixed + 4 || &bytes[..MAGIC.len()] != MAGIC {
@@ -274,5 +312,5 @@ pub fn read<R: DeserializeOwned>(path: &Path) -> Result<(SolverCheckpoint, R), S
             data.len()
         ));
     }
-    Ok((c, header.run))
+    Ok((c, header.run, header.pieces))
 }

@@ -1,7 +1,7 @@
 //! `Decomposed`: the ranks of one process (one thread each, `InProcess` transport) as one
 //! `Solver`, which the run driver, the stepper and the tests use as they use any solver.
 
-use crate::checkpoint::SolverCheckpoint;
+use crate::checkpoint::{Piece, SolverCheckpoint};
 use crate::exchange::{
     balanced, halo_width, longest_axis, ExchangeStats, InProcess, Rank, Slab, Subdomain, Transport,
 };
@@ -356,6 +356,56 @@ impl<S: Subdomain, T: Transport<S::Halo>> Solver for Decomposed<S, T> {
             r.restore(&parts[k])
         });
         done.into_iter().collect()
+    }
+    fn save_pieces(&mut self) -> Option<Vec<Piece>> {
+        Some(self.on_all(|r| Piece {
+            slab: r.slab(),
+            state: r.save(),
+        }))
+    }
+    /// With as many pieces as ranks (cut along this run's axis), each rank takes its own
+    /// piece and slab; otherwise the pieces gathered (`restore`). Checked as `restore`
+    /// against the whole scene's particles, and each piece against its slab and the first
+    /// piece's clock (`Piece::mismatch`).
+    fn restore_pieces(&mut self, pieces: &[Piece]) -> Result<(), String> {
+        let axis = self.slabs[0].axis;
+        if pieces.len() != self.ranks.len() || pieces.iter().any(|p| p.slab.axis != axis) {
+            return self.restore(&Piece::gather(pieces));
+        }
+        let tiled = pieces[0].slab.lo == f32::NEG_INFINITY
+            && pieces[pieces.len() - 1].slab.hi == f32::INFINITY
+            && pieces.windows(2).all(|w| w[0].slab.hi == w[1].slab.lo);
+        if !tiled {
+            return Err(format!(
+                "the pieces' slabs do not follow each other along the axis: {:?}",
+                pieces
+                    .iter()
+                    .map(|p| (p.slab.lo, p.slab.hi))
+                    .collect::<Vec<_>>()
+            ));
+        }
+        for (k, p) in pieces.iter().enumerate() {
+            if let Some(why) = p.mismatch(&pieces[0].state) {
+                return Err(format!("rank {k}'s piece: {why}"));
+            }
+        }
+        let now = self.save();
+        if let Some(why) = Piece::gather(pieces).mismatch_with(&now) {
+            return Err(why);
+        }
+        let slabs: Vec<Slab> = pieces.iter().map(|p| p.slab).collect();
+        let slabs_ref = &slabs;
+        let done: Result<(), String> = self
+            .on_all(|r| {
+                r.set_slabs(slabs_ref.clone());
+                let k = r.index();
+                r.restore(&pieces[k].state)
+            })
+            .into_iter()
+            .collect();
+        done?;
+        self.slabs = slabs;
+        Ok(())
     }
     fn remove_group(&mut self, group: u32) -> usize {
         self.on_all(|r| r.remove_group(group)).into_iter().sum()
