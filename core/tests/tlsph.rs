@@ -167,6 +167,27 @@ fn reference_gradient_is_exact_at_a_clamp() {
     assert!(e < 2e-6, "3D: worst |H - grad u| in the body = {e}");
 }
 
+/// A solver of `ps` after one drift of a fixed step dt (`p.dt`, 1 in the tests: the particles'
+/// velocities become their displacements), then the density, stress and force stages. With
+/// alpha = 0 the force pass adds no viscosity (the pairs of the body skip eq. (16)): the
+/// accelerations are the internal force and the hourglass control.
+fn displaced_and_forced(p: SphParams, ps: Vec<Particle>) -> CpuSolver<D2> {
+    let mut solver = CpuSolver::<D2>::new(Setup {
+        params: p,
+        particles: ps,
+        wall_surface: Vec::new(),
+    });
+    solver.build_grid();
+    solver.time_step();
+    solver.drift();
+    solver.build_grid();
+    solver.density();
+    solver.solid_stress();
+    solver.forces();
+    solver.solid_forces();
+    solver
+}
+
 /// The accelerations of a clamped strip (8 by 2 particles, clamp 3 columns wide) displaced by
 /// u(X0) (the clamp stays), by particle id, after the stress and force stages with the given
 /// hourglass coefficient (alpha = 0, no gravity: the internal force and the hourglass control
@@ -182,20 +203,7 @@ fn clamped_strip_acc(hourglass: f32, u: impl Fn(Vec2) -> Vec2) -> Vec<Option<(Ve
         q.velocity = [v.x, v.y, 0.0];
     }
     let n = ps.len();
-    let mut solver = CpuSolver::<D2>::new(Setup {
-        params: p,
-        particles: ps,
-        wall_surface: Vec::new(),
-    });
-    // One step of 1 with v = u: x = X0 + u (`stretched_bar_pulls_back`).
-    solver.build_grid();
-    solver.time_step();
-    solver.drift();
-    solver.build_grid();
-    solver.density();
-    solver.solid_stress();
-    solver.forces();
-    solver.solid_forces();
+    let solver = displaced_and_forced(p, ps);
     let st = solver.state();
     let mut out = vec![None; n];
     for i in 0..st.len() {
@@ -355,19 +363,7 @@ fn stretched_bar_pulls_back() {
     for q in ps.iter_mut() {
         q.velocity[0] = e * q.position[0];
     }
-    let mut solver = CpuSolver::<D2>::new(Setup {
-        params: p,
-        particles: ps,
-        wall_surface: Vec::new(),
-    });
-    solver.build_grid();
-    solver.time_step();
-    solver.drift();
-    solver.build_grid();
-    solver.density();
-    solver.solid_stress();
-    solver.forces(); // alpha = 0: no viscosity; the pairs of the body skip eq. (16)
-    solver.solid_forces();
+    let solver = displaced_and_forced(p, ps);
     let st = solver.state();
     let m = Material::of(&p);
     let exx = e + 0.5 * e * e;
