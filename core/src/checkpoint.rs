@@ -24,7 +24,7 @@ use crate::state::{SolidState, State};
 /// One rank's share of a decomposed solver's state (`Solver::save_pieces`): the slab it
 /// owns and its particles (all of them in that slab: between steps a rank holds its owned
 /// particles alone), with the clock, step count and step size, which every rank shares.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Piece {
     pub slab: Slab,
     pub state: SolverCheckpoint,
@@ -72,7 +72,7 @@ struct Layout<'a> {
 }
 
 /// The solver state of one step boundary (`Solver::save`).
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SolverCheckpoint {
     /// 2 or 3.
     pub dim: u32,

@@ -21,7 +21,9 @@ pub trait Dim: Copy + Send + Sync + Debug + 'static {
         + Mul<f32, Output = Self::V>
         + Neg<Output = Self::V>
         + AddAssign
-        + SubAssign;
+        + SubAssign
+        + serde::Serialize
+        + serde::de::DeserializeOwned;
     /// A D x D tensor (velocity gradient, deviatoric stress, its rate). Note that glam's
     /// `Default` for matrices is the identity: use `zero()`.
     type M: Copy
@@ -33,7 +35,9 @@ pub trait Dim: Copy + Send + Sync + Debug + 'static {
         + Sub<Output = Self::M>
         + Mul<f32, Output = Self::M>
         + Mul<Self::M, Output = Self::M>
-        + AddAssign;
+        + AddAssign
+        + serde::Serialize
+        + serde::de::DeserializeOwned;
 
     fn dot(a: Self::V, b: Self::V) -> f32;
     fn comp(v: Self::V, axis: usize) -> f32;

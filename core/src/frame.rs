@@ -56,7 +56,7 @@ impl Named for Field {
 }
 
 /// A set of `Field`s.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Fields(u16);
 
 impl Fields {
@@ -100,7 +100,7 @@ impl Fields {
 /// One frame's particle fields, in the solver's storage order (`id` says which particle
 /// each row is). A field not captured is an empty vector. Vectors carry three components
 /// (z = 0 in 2D); stress is (xx, yy, zz, xy, xz, yz).
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct FrameData {
     pub step: u64,
     /// [T]

@@ -114,7 +114,7 @@ pub struct Fault {
 }
 
 /// The particle quantity a snapshot carries for display.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Shown {
     #[default]
     Speed,
@@ -125,7 +125,7 @@ pub enum Shown {
 
 /// What the viewer draws: positions, kinds and one quantity, in storage order, in buffers
 /// that are reused from frame to frame.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Snapshot {
     pub positions: Vec<[f32; 3]>,
     pub values: Vec<f32>,
@@ -157,7 +157,7 @@ pub struct GlFill {
 /// Shepard normalisation, f(x) = sum_j f_j W(x - x_j) V_j / sum_j W(x - x_j) V_j with
 /// V_j = m_j / rho_j, over the fluid particles within the support of x (and the wall
 /// particles too where asked). Elastic solid particles never enter.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct PointSample {
     /// [M L^-d L^2 T^-2] each neighbour's pressure from its density by its equation of
     /// state (eq. (9), with the background pressure); NaN where no particle is near.

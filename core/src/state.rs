@@ -12,7 +12,9 @@ use rayon::prelude::*;
 
 /// Struct-of-arrays particle state. Index `i` is a storage slot; `id[i]` is the particle's
 /// stable identity. The backends keep the storage sorted by (grid cell, id).
-#[derive(Clone, Debug, Default)]
+/// Serialised (`serde`) as a halo between processes (`meshfree run --mpi`).
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+#[serde(bound = "")]
 pub struct State<D: Dim> {
     pub id: Vec<u32>,
     /// `Kind` codes (`MF_KIND_*`).
@@ -40,7 +42,8 @@ pub struct State<D: Dim> {
 
 /// Arrays of the elastic-solid model, eqs. (11)-(16) (one entry per particle, zero for
 /// non-solid particles so that the storage order stays shared).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+#[serde(bound = "")]
 pub struct SolidState<D: Dim> {
     /// Deviatoric stress S^{ab}, eq. (11).
     pub stress: Vec<D::M>,

@@ -45,6 +45,9 @@ pub enum BackendError {
     Cuda(String),
     #[error("cannot decompose this scene: {0}")]
     Decomposition(String),
+    /// The ranks of a run in several processes could not start together (`run --mpi`).
+    #[error("starting the ranks: {0}")]
+    Launch(String),
 }
 
 impl From<crate::exchange::Refused> for BackendError {

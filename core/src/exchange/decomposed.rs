@@ -1,9 +1,13 @@
-//! `Decomposed`: the ranks of one process (one thread each, `InProcess` transport) as one
-//! `Solver`, which the run driver, the stepper and the tests use as they use any solver.
+//! `Decomposed`: the ranks of a run as one `Solver`, which the run driver, the stepper and
+//! the tests use as they use any solver. It speaks to its ranks through a `Group` (`Call`
+//! and `Reply`): threads of this process (`Threads`: `--decompose N`, `--gpus N`) or other
+//! processes (`meshfree run --mpi`).
 
 use crate::checkpoint::{Piece, SolverCheckpoint};
+use crate::exchange::call::unexpected;
 use crate::exchange::{
-    balanced, halo_width, longest_axis, ExchangeStats, InProcess, Rank, Slab, Subdomain, Transport,
+    balanced, halo_width, longest_axis, Call, ExchangeStats, Group, InProcess, Rank, Reply, Slab,
+    Status, Subdomain, Threads, Transport,
 };
 use crate::frame::{Fields, FrameData, PendingFrame};
 use crate::params::SphParams;
@@ -12,16 +16,19 @@ use crate::solver::{
     BackendInfo, Diagnostics, ExchangeCost, Fault, PointSample, Setup, Shown, Snapshot, Solver,
 };
 
-/// `n` subdomains of one scene, each a rank on its own thread, stepping together and
-/// talking through `T` (`InProcess` by default; NCCL between GPUs).
-pub struct Decomposed<S: Subdomain, T: Transport<S::Halo> = InProcess<<S as Subdomain>::Halo>> {
-    ranks: Vec<Rank<S, T>>,
+/// The subdomains of one scene, one rank each, stepping together (`Group`: threads of this
+/// process by default, talking through `InProcess` or NCCL; or processes).
+pub struct Decomposed<G: Group> {
+    group: G,
     /// The whole domain's parameters (`own_slab` off).
     params: SphParams,
     slabs: Vec<Slab>,
     wall_surface: Vec<[f32; 4]>,
     /// Times the cuts were moved (`rebalance`).
     rebalances: u32,
+    /// Each rank's status after the last call.
+    status: Vec<Status>,
+    info: BackendInfo,
 }
 
 /// The load the most loaded rank may carry beyond the mean before `advance` moves the
@@ -50,10 +57,35 @@ pub fn refusal(setup: &Setup, n: usize) -> Option<String> {
     None
 }
 
-impl<S: Subdomain> Decomposed<S> {
-    /// Split `setup` into `n` slabs of equal particle counts along the domain's longest
-    /// axis, and build each subdomain's solver with `make` (its particles, the whole
-    /// domain's parameters, the whole wall surface); the ranks talk in process.
+/// The `n` slabs of `setup`: equal particle counts along the domain's longest axis. Every
+/// process of a run cuts its own copy of the scene alike.
+pub fn cut(setup: &Setup, n: usize) -> Result<Vec<Slab>, Refused> {
+    if let Some(why) = refusal(setup, n) {
+        return Err(Refused(why));
+    }
+    let axis = longest_axis(&setup.params);
+    let coords: Vec<f32> = setup.particles.iter().map(|q| q.position[axis]).collect();
+    Ok(balanced(&setup.params, axis, &coords, n))
+}
+
+/// The part of `setup` a rank owning `slab` starts with: its particles, the whole domain's
+/// parameters and the whole wall surface.
+pub fn part(setup: &Setup, slab: &Slab) -> Setup {
+    Setup {
+        params: setup.params,
+        particles: setup
+            .particles
+            .iter()
+            .filter(|q| slab.contains(q.position[slab.axis]))
+            .cloned()
+            .collect(),
+        wall_surface: setup.wall_surface.clone(),
+    }
+}
+
+impl<S: Subdomain> Decomposed<Threads<S, InProcess<S::Halo>>> {
+    /// Split `setup` into `n` slabs (`cut`), and build each subdomain's solver with `make`
+    /// (`part`); the ranks are threads of this process and talk in process.
     pub fn new<E: From<Refused>>(
         setup: Setup,
         n: usize,
@@ -63,7 +95,7 @@ impl<S: Subdomain> Decomposed<S> {
     }
 }
 
-impl<S: Subdomain, T: Transport<S::Halo>> Decomposed<S, T> {
+impl<S: Subdomain, T: Transport<S::Halo>> Decomposed<Threads<S, T>> {
     /// `new` with the transport's ends made by `connect` from the built solvers (an NCCL
     /// communicator takes their streams), one per rank in rank order; `make` gets the rank
     /// (a GPU's ordinal) with its part of the scene.
@@ -73,27 +105,11 @@ impl<S: Subdomain, T: Transport<S::Halo>> Decomposed<S, T> {
         make: impl Fn(usize, Setup) -> Result<S, E>,
         connect: impl FnOnce(&mut [S]) -> Result<Vec<T>, E>,
     ) -> Result<Self, E> {
-        if let Some(why) = refusal(&setup, n) {
-            return Err(Refused(why).into());
-        }
-        let p = setup.params;
-        let axis = longest_axis(&p);
-        let coords: Vec<f32> = setup.particles.iter().map(|q| q.position[axis]).collect();
-        let width = halo_width(&p);
-        let slabs = balanced(&p, axis, &coords, n);
+        let slabs = cut(&setup, n)?;
+        let width = halo_width(&setup.params);
         let mut subs = Vec::with_capacity(n);
         for (k, slab) in slabs.iter().enumerate() {
-            let part = Setup {
-                params: p,
-                particles: setup
-                    .particles
-                    .iter()
-                    .filter(|q| slab.contains(q.position[axis]))
-                    .cloned()
-                    .collect(),
-                wall_surface: setup.wall_surface.clone(),
-            };
-            subs.push(make(k, part)?);
+            subs.push(make(k, part(&setup, slab))?);
         }
         let ends = connect(&mut subs)?;
         assert_eq!(ends.len(), n, "one transport end per rank");
@@ -102,12 +118,77 @@ impl<S: Subdomain, T: Transport<S::Halo>> Decomposed<S, T> {
             .zip(ends)
             .map(|(sub, end)| Rank::new(sub, end, slabs.clone(), width))
             .collect();
-        Ok(Decomposed {
-            ranks,
-            params: p,
+        Ok(Decomposed::with_group(
+            setup.params,
             slabs,
-            wall_surface: setup.wall_surface,
+            setup.wall_surface,
+            Threads { ranks },
+        ))
+    }
+}
+
+impl<G: Group> Decomposed<G> {
+    /// The ranks of `group`, which own `slabs` in rank order, as one solver of the scene
+    /// with `params` and `wall_surface` (the whole domain's).
+    pub fn with_group(
+        params: SphParams,
+        slabs: Vec<Slab>,
+        wall_surface: Vec<[f32; 4]>,
+        group: G,
+    ) -> Self {
+        let n = group.ranks();
+        assert_eq!(slabs.len(), n, "one slab per rank");
+        let mut d = Decomposed {
+            group,
+            params,
+            slabs,
+            wall_surface,
             rebalances: 0,
+            status: vec![Status::default(); n],
+            info: BackendInfo {
+                backend: String::new(),
+                device: String::new(),
+            },
+        };
+        d.info = match d.first(Call::Info) {
+            Reply::Info(i) => i,
+            _ => unexpected("its backend"),
+        };
+        d
+    }
+
+    /// Every rank carries out `call`; the replies in rank order.
+    fn call(&mut self, call: Call) -> Vec<Reply> {
+        let n = self.group.ranks();
+        self.each(vec![call; n])
+    }
+
+    /// Rank k carries out `calls[k]`; the replies in rank order.
+    fn each(&mut self, calls: Vec<Call>) -> Vec<Reply> {
+        let (replies, status): (Vec<Reply>, Vec<Status>) =
+            self.group.call_each(calls).into_iter().unzip();
+        self.status = status;
+        replies
+    }
+
+    /// `call` on every rank; rank 0's reply.
+    fn first(&mut self, call: Call) -> Reply {
+        self.call(call).into_iter().next().expect("a rank")
+    }
+
+    /// The ranks' answers to a call that returns a value of one kind.
+    fn gather<R>(&mut self, call: Call, pick: impl Fn(Reply) -> Option<R>, what: &str) -> Vec<R> {
+        self.call(call)
+            .into_iter()
+            .map(|r| pick(r).unwrap_or_else(|| unexpected(what)))
+            .collect()
+    }
+
+    /// Each rank's `Restored` reply, the first failure if any.
+    fn restored(replies: Vec<Reply>) -> Result<(), String> {
+        replies.into_iter().try_for_each(|r| match r {
+            Reply::Restored(r) => r,
+            _ => unexpected("a restore's result"),
         })
     }
 
@@ -117,12 +198,12 @@ impl<S: Subdomain, T: Transport<S::Halo>> Decomposed<S, T> {
 
     /// Each rank's exchange costs, in rank order.
     pub fn exchange_stats(&self) -> Vec<ExchangeStats> {
-        self.ranks.iter().map(|r| r.stats).collect()
+        self.status.iter().map(|s| s.stats).collect()
     }
 
     /// Each rank's particle count, in rank order.
     pub fn counts(&self) -> Vec<usize> {
-        self.ranks.iter().map(|r| r.len()).collect()
+        self.status.iter().map(|s| s.len).collect()
     }
 
     /// How often the cuts were moved so far.
@@ -141,65 +222,55 @@ impl<S: Subdomain, T: Transport<S::Halo>> Decomposed<S, T> {
     /// Move the cuts so that every rank holds about as many particles as the others, where
     /// the most loaded holds more than `threshold` x the mean (`imbalance`); true where
     /// they moved. Exact: ownership changes at a step boundary, and every particle steps
-    /// alike whoever owns it. The particles pass through the host (`save`, `replace`):
+    /// alike whoever owns it. The particles pass through the caller (`save`, `Recut`):
     /// occasional, not per step.
     pub fn rebalance(&mut self, threshold: f64) -> Result<bool, String> {
-        if self.ranks.len() == 1 || self.imbalance() <= threshold {
+        if self.group.ranks() == 1 || self.imbalance() <= threshold {
             return Ok(false);
         }
         let all = self.save();
         let axis = self.slabs[0].axis;
         let coords: Vec<f32> = all.pos.iter().map(|x| x[axis]).collect();
-        let slabs = balanced(&self.params, axis, &coords, self.ranks.len());
-        let parts: Vec<SolverCheckpoint> = slabs
-            .iter()
-            .map(|s| all.select(|x| s.contains(x[axis])))
-            .collect();
-        let (slabs_ref, parts) = (&slabs, &parts);
-        let done: Result<(), String> = self
-            .on_all(|r| {
-                r.set_slabs(slabs_ref.clone());
-                let k = r.index();
-                r.sub().replace(&parts[k])
-            })
-            .into_iter()
-            .collect();
-        done?;
-        self.slabs = slabs;
+        let slabs = balanced(&self.params, axis, &coords, self.group.ranks());
+        self.recut(&slabs, &all)?;
         self.rebalances += 1;
         Ok(true)
     }
 
-    /// `f` on every rank at once, each on its own thread (the ranks meet in the transport's
-    /// collective calls); the results in rank order.
-    fn on_all<R: Send>(&mut self, f: impl Fn(&mut Rank<S, T>) -> R + Sync) -> Vec<R> {
-        if self.ranks.len() == 1 {
-            return vec![f(&mut self.ranks[0])];
-        }
-        let f = &f;
-        std::thread::scope(|s| {
-            let handles: Vec<_> = self
-                .ranks
-                .iter_mut()
-                .map(|r| s.spawn(move || f(r)))
-                .collect();
-            handles
-                .into_iter()
-                .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
-                .collect()
-        })
+    /// Every rank owns its slab of `slabs` from now on, with the particles of `all` in it.
+    fn recut(&mut self, slabs: &[Slab], all: &SolverCheckpoint) -> Result<(), String> {
+        let calls = slabs
+            .iter()
+            .map(|s| Call::Recut {
+                slabs: slabs.to_vec(),
+                part: all.select(|x| s.contains(x[s.axis])),
+            })
+            .collect();
+        let done = self.each(calls);
+        Self::restored(done)?;
+        self.slabs = slabs.to_vec();
+        Ok(())
     }
 }
 
-impl<S: Subdomain, T: Transport<S::Halo>> Solver for Decomposed<S, T> {
+impl<G: Group> Drop for Decomposed<G> {
+    /// Ranks in other processes stop serving.
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            self.call(Call::Stop);
+        }
+    }
+}
+
+impl<G: Group> Solver for Decomposed<G> {
     fn info(&self) -> BackendInfo {
-        let i = self.ranks[0].info();
+        let i = self.group.describe(&self.info);
         BackendInfo {
             backend: i.backend,
             device: format!(
                 "{}, {} subdomains along {}",
                 i.device,
-                self.ranks.len(),
+                self.group.ranks(),
                 ["x", "y", "z"][self.slabs[0].axis]
             ),
         }
@@ -208,47 +279,47 @@ impl<S: Subdomain, T: Transport<S::Halo>> Solver for Decomposed<S, T> {
         &self.params
     }
     fn len(&self) -> usize {
-        self.ranks.iter().map(|r| r.len()).sum()
+        self.status.iter().map(|s| s.len).sum()
     }
     fn has_solids(&self) -> bool {
-        self.ranks.iter().any(|r| r.has_solids())
+        self.status.iter().any(|s| s.has_solids)
     }
     fn build_grid(&mut self) {
-        self.on_all(|r| r.build_grid());
+        self.call(Call::BuildGrid);
     }
     fn density(&mut self) {
-        self.on_all(|r| r.density());
+        self.call(Call::Density);
     }
     fn solid_stress(&mut self) {
-        self.on_all(|r| r.solid_stress());
+        self.call(Call::SolidStress);
     }
     fn forces(&mut self) {
-        self.on_all(|r| r.forces());
+        self.call(Call::Forces);
     }
     fn solid_forces(&mut self) {
-        self.on_all(|r| r.solid_forces());
+        self.call(Call::SolidForces);
     }
     fn rates(&mut self) {
-        self.on_all(|r| r.rates());
+        self.call(Call::Rates);
     }
     fn forces_and_rates(&mut self) {
-        self.on_all(|r| r.forces_and_rates());
+        self.call(Call::ForcesAndRates);
     }
     fn time_step(&mut self) {
-        self.on_all(|r| r.time_step());
+        self.call(Call::TimeStep);
     }
     fn kick(&mut self) {
-        self.on_all(|r| r.kick());
+        self.call(Call::Kick);
     }
     fn drift(&mut self) {
-        self.on_all(|r| r.drift());
+        self.call(Call::Drift);
     }
     fn drift_kick(&mut self) {
-        self.on_all(|r| r.drift_kick());
+        self.call(Call::DriftKick);
     }
-    /// Every rank steps on its own thread in the trait's order.
+    /// Every rank steps at once in the trait's order.
     fn step(&mut self) {
-        self.on_all(|r| r.step());
+        self.call(Call::Step);
     }
     /// The cuts moved first where the load drifted past `IMBALANCE` (the water of a dam
     /// break runs from one end of the tank to the other).
@@ -256,22 +327,41 @@ impl<S: Subdomain, T: Transport<S::Halo>> Solver for Decomposed<S, T> {
         if let Err(e) = self.rebalance(IMBALANCE) {
             panic!("moving the subdomains' cuts: {e}");
         }
-        self.on_all(|r| r.advance(steps));
+        self.call(Call::Advance(steps));
     }
     /// Every rank's clock is the same: each adds the same agreed steps.
     fn time(&mut self) -> f64 {
-        self.ranks[0].time()
+        match self.first(Call::Time) {
+            Reply::Time(t) => t,
+            _ => unexpected("a clock"),
+        }
     }
     fn steps(&self) -> u64 {
-        self.ranks[0].steps()
+        self.status[0].steps
     }
     fn check(&mut self) -> Result<(), Fault> {
-        self.on_all(|r| r.check()).into_iter().collect()
+        self.gather(
+            Call::Check,
+            |r| match r {
+                Reply::Checked(c) => Some(c),
+                _ => None,
+            },
+            "a check",
+        )
+        .into_iter()
+        .collect()
     }
     /// Counts and sums added and maxima taken over the ranks (the sums in another order
     /// than one domain's: equal to round-off).
     fn diagnostics(&mut self) -> Diagnostics {
-        let all = self.on_all(|r| r.diagnostics());
+        let all = self.gather(
+            Call::Diagnostics,
+            |r| match r {
+                Reply::Diagnostics(d) => Some(d),
+                _ => None,
+            },
+            "diagnostics",
+        );
         let mut d = all[0].clone();
         for o in &all[1..] {
             d.kinetic_energy += o.kinetic_energy;
@@ -287,21 +377,36 @@ impl<S: Subdomain, T: Transport<S::Halo>> Solver for Decomposed<S, T> {
         d
     }
     fn particles(&mut self) -> Vec<Particle> {
-        let mut all: Vec<Particle> = self.on_all(|r| r.particles()).concat();
+        let parts = self.gather(
+            Call::Particles,
+            |r| match r {
+                Reply::Particles(p) => Some(p),
+                _ => None,
+            },
+            "particles",
+        );
+        let mut all: Vec<Particle> = parts.concat();
         all.sort_unstable_by_key(|q| q.id);
         all
     }
     /// The ranks' frames one after the other (each in its storage order, with the ids).
     fn capture(&mut self, fields: Fields) -> Box<dyn PendingFrame> {
-        let pending: Vec<Box<dyn PendingFrame>> = self.on_all(|r| r.capture(fields));
+        let pending = self
+            .call(Call::Capture(fields))
+            .into_iter()
+            .map(Reply::into_frame)
+            .collect();
         Box::new(Joined(pending))
     }
     fn snapshot(&mut self, shown: Shown, out: &mut Snapshot) {
-        let parts = self.on_all(|r| {
-            let mut s = Snapshot::default();
-            r.snapshot(shown, &mut s);
-            s
-        });
+        let parts = self.gather(
+            Call::Snapshot(shown),
+            |r| match r {
+                Reply::Snapshot(s) => Some(s),
+                _ => None,
+            },
+            "a snapshot",
+        );
         out.positions.clear();
         out.values.clear();
         out.kinds.clear();
@@ -318,11 +423,17 @@ impl<S: Subdomain, T: Transport<S::Halo>> Solver for Decomposed<S, T> {
         include_walls: bool,
         out: &mut Vec<PointSample>,
     ) {
-        let all = self.on_all(|r| {
-            let mut o = Vec::new();
-            r.sample_points(points, include_walls, &mut o);
-            o
-        });
+        let all = self.gather(
+            Call::SamplePoints {
+                points: points.to_vec(),
+                include_walls,
+            },
+            |r| match r {
+                Reply::Samples(s) => Some(s),
+                _ => None,
+            },
+            "samples",
+        );
         out.clear();
         for (i, x) in points.iter().enumerate() {
             let k = self
@@ -335,7 +446,14 @@ impl<S: Subdomain, T: Transport<S::Halo>> Solver for Decomposed<S, T> {
     }
     /// The ranks' states one after the other.
     fn save(&mut self) -> SolverCheckpoint {
-        let parts = self.on_all(|r| r.save());
+        let parts = self.gather(
+            Call::Save,
+            |r| match r {
+                Reply::State(s) => Some(s),
+                _ => None,
+            },
+            "a state",
+        );
         SolverCheckpoint::concat(&parts)
     }
     /// Checked against the whole scene's particles (`SolverCheckpoint::mismatch_with`), then
@@ -345,23 +463,23 @@ impl<S: Subdomain, T: Transport<S::Halo>> Solver for Decomposed<S, T> {
         if let Some(why) = saved.mismatch_with(&now) {
             return Err(why);
         }
-        let slabs = self.slabs.clone();
-        let parts: Vec<SolverCheckpoint> = slabs
+        let calls = self
+            .slabs
             .iter()
-            .map(|s| saved.select(|x| s.contains(x[s.axis])))
+            .map(|s| Call::Restore(saved.select(|x| s.contains(x[s.axis]))))
             .collect();
-        let parts = &parts;
-        let done = self.on_all(|r| {
-            let k = r.index();
-            r.restore(&parts[k])
-        });
-        done.into_iter().collect()
+        let done = self.each(calls);
+        Self::restored(done)
     }
     fn save_pieces(&mut self) -> Option<Vec<Piece>> {
-        Some(self.on_all(|r| Piece {
-            slab: r.slab(),
-            state: r.save(),
-        }))
+        Some(self.gather(
+            Call::SavePiece,
+            |r| match r {
+                Reply::Piece(p) => Some(p),
+                _ => None,
+            },
+            "a piece",
+        ))
     }
     /// With as many pieces as ranks (cut along this run's axis), each rank takes its own
     /// piece and slab; otherwise the pieces gathered (`restore`). Checked as `restore`
@@ -369,7 +487,7 @@ impl<S: Subdomain, T: Transport<S::Halo>> Solver for Decomposed<S, T> {
     /// piece's clock (`Piece::mismatch`).
     fn restore_pieces(&mut self, pieces: &[Piece]) -> Result<(), String> {
         let axis = self.slabs[0].axis;
-        if pieces.len() != self.ranks.len() || pieces.iter().any(|p| p.slab.axis != axis) {
+        if pieces.len() != self.group.ranks() || pieces.iter().any(|p| p.slab.axis != axis) {
             return self.restore(&Piece::gather(pieces));
         }
         let tiled = pieces[0].slab.lo == f32::NEG_INFINITY
@@ -394,21 +512,29 @@ impl<S: Subdomain, T: Transport<S::Halo>> Solver for Decomposed<S, T> {
             return Err(why);
         }
         let slabs: Vec<Slab> = pieces.iter().map(|p| p.slab).collect();
-        let slabs_ref = &slabs;
-        let done: Result<(), String> = self
-            .on_all(|r| {
-                r.set_slabs(slabs_ref.clone());
-                let k = r.index();
-                r.restore(&pieces[k].state)
+        let calls = pieces
+            .iter()
+            .map(|p| Call::Recut {
+                slabs: slabs.clone(),
+                part: p.state.clone(),
             })
-            .into_iter()
             .collect();
-        done?;
+        let done = self.each(calls);
+        Self::restored(done)?;
         self.slabs = slabs;
         Ok(())
     }
     fn remove_group(&mut self, group: u32) -> usize {
-        self.on_all(|r| r.remove_group(group)).into_iter().sum()
+        self.gather(
+            Call::RemoveGroup(group),
+            |r| match r {
+                Reply::Removed(n) => Some(n),
+                _ => None,
+            },
+            "a count",
+        )
+        .into_iter()
+        .sum()
     }
     fn wall_surface(&self) -> &[[f32; 4]] {
         &self.wall_surface
@@ -428,11 +554,18 @@ impl<S: Subdomain, T: Transport<S::Halo>> Solver for Decomposed<S, T> {
                 .iter()
                 .map(|s| s.transfer.as_secs_f64())
                 .fold(0.0, f64::max),
-            device_bytes: self.ranks.iter().map(|r| r.device_bytes() as u64).sum(),
+            device_bytes: self.status.iter().map(|s| s.device_bytes as u64).sum(),
         })
     }
     fn wall_forces(&mut self, groups: &[u32]) -> Vec<[f64; 3]> {
-        let all = self.on_all(|r| r.wall_forces(groups));
+        let all = self.gather(
+            Call::WallForces(groups.to_vec()),
+            |r| match r {
+                Reply::Forces(f) => Some(f),
+                _ => None,
+            },
+            "forces",
+        );
         let mut sum = vec![[0.0f64; 3]; groups.len()];
         for part in all {
             for (s, f) in sum.iter_mut().zip(part) {

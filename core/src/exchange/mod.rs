@@ -14,14 +14,19 @@
 //!
 //! `Transport` carries the traffic (`InProcess` between threads of one process);
 //! `Subdomain` is what a backend implements to serve as a rank; `Decomposed` runs N ranks
-//! in one process as one `Solver` (`--decompose N`).
+//! as one `Solver`, calling them through a `Group` (`Call`, `Reply`): `Threads` of this
+//! process (`--decompose N`, `--gpus N`), or processes (`meshfree run --mpi`).
+mod call;
 mod decomposed;
+mod group;
 mod rank;
 mod slab;
 mod subdomain;
 mod transport;
 
-pub use decomposed::{refusal, Decomposed, Refused, IMBALANCE};
+pub use call::{Call, Reply, Status};
+pub use decomposed::{cut, part, refusal, Decomposed, Refused, IMBALANCE};
+pub use group::{Group, Threads};
 pub use rank::{ExchangeStats, Rank};
 pub use slab::{balanced, halo_width, longest_axis, passes, Slab};
 pub use subdomain::Subdomain;

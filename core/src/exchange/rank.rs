@@ -13,7 +13,7 @@ use crate::particle::Particle;
 use crate::solver::{BackendInfo, Diagnostics, Fault, PointSample, Shown, Snapshot, Solver};
 
 /// What the exchange cost one rank so far.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ExchangeStats {
     /// Halo fills (one per step, and one per wall-force or probe sample).
     pub fills: u64,

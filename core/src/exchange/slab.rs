@@ -6,7 +6,7 @@ use crate::params::{SphParams, MF_DENSITY_SUMMATION, MF_INTEGRATOR_EULER};
 /// The particles with `lo <= x[axis] < hi` [L]. The first slab of a non-periodic axis starts
 /// at -inf and the last ends at +inf, so that every particle, one that left the domain too,
 /// has one owner.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Slab {
     pub axis: usize,
     pub lo: f32,

@@ -40,6 +40,15 @@ pub fn driver_version() -> String {
     }
 }
 
+/// How many CUDA devices the driver reports (0 where no driver answers).
+pub fn device_count() -> usize {
+    // SAFETY: only tries to dlopen libcuda before asking it.
+    if !unsafe { sys::is_culib_present() } {
+        return 0;
+    }
+    CudaContext::device_count().map_or(0, |n| n.max(0) as usize)
+}
+
 /// What the driver runs of this build's modules on a GPU of compute capability `cc`
 /// (10 major + minor), as `cuModuleLoadData` chooses by default (`CU_PREFER_PTX`): the
 /// machine code for exactly `cc`; else PTX of an architecture `cc` can run, JIT-compiled

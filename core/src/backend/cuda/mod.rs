@@ -35,7 +35,7 @@ use crate::solver::{
 };
 use crate::state::State;
 
-pub use device::{driver_version, NVCC_VERSION};
+pub use device::{device_count, driver_version, NVCC_VERSION};
 pub use subdomain::CudaHalo;
 
 use buffers::{Buffers, TlBuffers};

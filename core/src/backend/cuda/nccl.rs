@@ -70,6 +70,14 @@ fn multi<D: Dim>(setup: Setup, n: usize) -> Result<Box<dyn Solver>, BackendError
     Ok(Box::new(d))
 }
 
+/// A new communicator's id, which one process makes and hands to the others
+/// (`Nccl::joined`).
+pub fn new_id() -> Result<[std::ffi::c_char; 128], BackendError> {
+    available()?;
+    let id = cudarc::nccl::Id::new().map_err(|e| err("unique id", e))?;
+    Ok(*id.internal())
+}
+
 /// Whether NCCL loads here; the error says why not.
 pub fn available() -> Result<(), BackendError> {
     // SAFETY: only probes whether the library file loads (cudarc's dynamic loading).
@@ -103,7 +111,7 @@ pub struct Nccl<H> {
 }
 
 // SAFETY: a communicator is used by the one thread that drives its rank at a time
-// (`Decomposed::on_all` moves each rank to its own thread); NCCL allows a communicator to
+// (`Threads::call_each` moves each rank to its own thread); NCCL allows a communicator to
 // be used from any thread, one at a time.
 unsafe impl<H: Send> Send for Nccl<H> {}
 
@@ -111,23 +119,41 @@ impl<H: Words> Nccl<H> {
     /// One end per stream, in rank order (rank k on `streams[k]`, one GPU each).
     pub fn group(streams: Vec<Arc<CudaStream>>) -> Result<Vec<Nccl<H>>, BackendError> {
         available()?;
-        let n = streams.len();
         let comms = Comm::from_devices(streams.clone()).map_err(|e| err("init", e))?;
         comms
             .into_iter()
             .zip(streams)
-            .map(|(comm, stream)| {
-                let alloc = |k| stream.alloc_zeros::<u64>(k);
-                Ok(Nccl {
-                    maxima: stream.alloc_zeros::<f32>(3).map_err(|e| err("alloc", e))?,
-                    sizes: alloc(2 * n).map_err(|e| err("alloc", e))?,
-                    all_sizes: alloc(2 * n * n).map_err(|e| err("alloc", e))?,
-                    comm,
-                    stream,
-                    _halo: PhantomData,
-                })
-            })
+            .map(|(comm, stream)| Self::end(comm, stream))
             .collect()
+    }
+
+    /// This process's end of a communicator of `ranks` processes, rank `rank` on `stream`'s
+    /// GPU (`meshfree run --mpi`): every process passes the same `id`, made by one of them
+    /// (`new_id`) and handed to the others.
+    pub fn joined(
+        stream: Arc<CudaStream>,
+        rank: usize,
+        ranks: usize,
+        id: [std::ffi::c_char; 128],
+    ) -> Result<Nccl<H>, BackendError> {
+        available()?;
+        let comm = Comm::from_rank(stream.clone(), rank, ranks, cudarc::nccl::Id::uninit(id))
+            .map_err(|e| err("init", e))?;
+        Self::end(comm, stream)
+    }
+
+    /// The end of `comm` on `stream`, with its collectives' buffers.
+    fn end(comm: Comm, stream: Arc<CudaStream>) -> Result<Nccl<H>, BackendError> {
+        let n = comm.world_size();
+        let alloc = |k| stream.alloc_zeros::<u64>(k);
+        Ok(Nccl {
+            maxima: stream.alloc_zeros::<f32>(3).map_err(|e| err("alloc", e))?,
+            sizes: alloc(2 * n).map_err(|e| err("alloc", e))?,
+            all_sizes: alloc(2 * n * n).map_err(|e| err("alloc", e))?,
+            comm,
+            stream,
+            _halo: PhantomData,
+        })
     }
 
     fn fail(&self, what: &str, e: impl std::fmt::Debug) -> ! {

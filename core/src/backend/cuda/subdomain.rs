@@ -16,7 +16,7 @@
 //!   agreed maxima back and runs the one-domain step-size kernel on them, so that dt is
 //!   the one domain's, bit for bit.
 //! - The lanes of the neighbour kernels are the whole scene's (`CudaSolver::new_subdomain`).
-//! - Each rank runs on a thread of its own (`Decomposed::on_all`); cudarc binds the
+//! - Each rank runs on a thread of its own (`Threads::call_each`); cudarc binds the
 //!   context to the calling thread in every call it makes (allocation, copy, launch, drop),
 //!   so nothing more is needed here.
 //! - CUDA graphs are not used by a rank (`Rank` steps stage by stage); every operation here
