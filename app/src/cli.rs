@@ -438,6 +438,13 @@ pub struct RunArgs {
     /// link to libnccl.so.2). The particles come out as on one GPU, bit for bit.
     #[arg(long, value_name = "N", conflicts_with_all = ["decompose", "backend"], value_parser = clap::value_parser!(u32).range(1..=64))]
     pub gpus: Option<u32>,
+    /// One subdomain per MPI process, on one machine or several: `mpirun -np N meshfree run
+    /// SCENE --mpi` (N processes; each takes the GPU of its local rank, and the GPUs talk
+    /// through NCCL; with --backend cpu, the halos go over MPI). Rank 0 writes the output;
+    /// the particles come out as with --decompose N, bit for bit. Needs a build with the
+    /// `mpi` feature (`cargo build --release --features mpi`, with OpenMPI installed).
+    #[arg(long, conflicts_with_all = ["decompose", "gpus"])]
+    pub mpi: bool,
     /// No progress output; only errors (and the final line on stdout).
     #[arg(long, short)]
     pub quiet: bool,
@@ -585,6 +592,27 @@ pub fn main(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Run(a) => {
+            // Held to the end of the run: its drop lets the other ranks go where the run
+            // stopped before they started (bad input), and finalises MPI.
+            #[cfg(feature = "mpi")]
+            let _mpi = match a.mpi {
+                true => {
+                    let m = crate::mpi::Mpi::init()?;
+                    if m.rank() != 0 {
+                        // The interrupt is rank 0's to act on: it stops the run for all.
+                        crate::interrupt::install();
+                        return crate::mpi::follow();
+                    }
+                    Some(m)
+                }
+                false => None,
+            };
+            #[cfg(not(feature = "mpi"))]
+            anyhow::ensure!(
+                !a.mpi,
+                "--mpi needs a build with the `mpi` feature: cargo build --release --features mpi \
+                 (with an MPI installation, e.g. OpenMPI's libopenmpi-dev)"
+            );
             let options = RunOptions {
                 format: a.format,
                 backend: a.backend,
@@ -597,6 +625,7 @@ pub fn main(cli: Cli) -> anyhow::Result<()> {
                 output_interval: a.output_interval,
                 decompose: a.decompose.map(|n| n as usize),
                 gpus: a.gpus.map(|n| n as usize),
+                mpi: a.mpi,
                 progress: if a.quiet {
                     Progress::Quiet
                 } else {

@@ -8,6 +8,8 @@ pub mod compare;
 pub mod docs;
 pub mod interrupt;
 pub mod monitors;
+#[cfg(feature = "mpi")]
+pub mod mpi;
 pub mod output;
 pub mod paper_bench;
 pub mod peers_bench;

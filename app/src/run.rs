@@ -87,6 +87,9 @@ pub struct RunOptions {
     /// One subdomain on each of this many GPUs, through NCCL (`backend::create_multi_gpu`);
     /// None: `decompose` or one domain.
     pub gpus: Option<usize>,
+    /// This process is rank 0 of an MPI run (`crate::mpi`, `run --mpi`): one subdomain per
+    /// process.
+    pub mpi: bool,
 }
 
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
@@ -177,6 +180,29 @@ fn prepare_out_dir(dir: &Path, overwrite: bool) -> Result<(), RunError> {
     Ok(())
 }
 
+/// The run's solver: one domain, `decompose` subdomains, one per GPU, or one per MPI
+/// process.
+fn create_solver(
+    scene: &Scene,
+    setup: meshfree_core::solver::Setup,
+    options: &RunOptions,
+) -> Result<Box<dyn Solver>, RunError> {
+    if options.mpi {
+        #[cfg(feature = "mpi")]
+        return Ok(crate::mpi::lead(scene, setup, options.backend)?);
+        #[cfg(not(feature = "mpi"))]
+        return Err(
+            backend::BackendError::Launch("this build has the `mpi` feature off".into()).into(),
+        );
+    }
+    let _ = scene;
+    Ok(match (options.gpus, options.decompose) {
+        (Some(g), _) => backend::create_multi_gpu(setup, g)?,
+        (None, Some(n)) => backend::create_decomposed(options.backend, setup, n)?,
+        (None, None) => backend::create(options.backend, setup)?,
+    })
+}
+
 /// Run `scene` to its end time (or `max_steps`), writing output. See the module docs.
 pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunError> {
     run_observed(scene, options, &mut |_| {})
@@ -259,11 +285,7 @@ fn drive(
         None => prepare_out_dir(&out_dir, options.overwrite)?,
         Some(r) => crate::resume::rollback(&out_dir, r)?,
     }
-    let mut solver = match (options.gpus, options.decompose) {
-        (Some(g), _) => backend::create_multi_gpu(setup, g)?,
-        (None, Some(n)) => backend::create_decomposed(options.backend, setup, n)?,
-        (None, None) => backend::create(options.backend, setup)?,
-    };
+    let mut solver = create_solver(&scene, setup, options)?;
     let info = solver.info();
     let mut stepper = Stepper::new(scene.gates()).with_end(scene.file.time.end);
     if let Some(r) = &resume {

@@ -17,28 +17,10 @@ use meshfree_core::backend::BackendChoice;
 use meshfree_core::checkpoint::SolverCheckpoint;
 use meshfree_core::scene::Scene;
 
-fn scene(dir: &Path) -> Scene {
-    let text = Scene::builtin("impinging-2d").unwrap().text;
-    let text = text
-        .replace("spacing = 0.375", "spacing = 0.75")
-        .replace("layers = 3", "layers = 2")
-        .replace("end = 12.0", "end = 1.0")
-        .replace("output_interval = 0.1 ", "output_interval = 0.25 ");
-    assert!(text.contains("end = 1.0") && text.contains("output_interval = 0.25"));
-    let text = text
-        + r#"
-[output]
-checkpoint_interval = 0.3
+mod support;
 
-[[monitors]]
-wall = 0
-interval = 0.1
-reference_velocity = 1.0
-reference_length = 1.0
-"#;
-    let path = dir.join("impinging-coarse.toml");
-    std::fs::write(&path, text).unwrap();
-    Scene::from_file(&path).unwrap()
+fn scene(dir: &Path) -> Scene {
+    Scene::from_file(support::coarse_impinging(dir, "1.0", "0.25")).unwrap()
 }
 
 fn options(out: &Path, ranks: usize) -> RunOptions {
