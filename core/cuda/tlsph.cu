@@ -11,12 +11,14 @@
 //
 // Layout (src/backend/cuda/buffers.rs `TlBuffers`): x0 and disp as float2 (2D) / float4 (3D,
 // w = 0) per solid; grad (H = F - I) row-major, DIM * DIM floats per solid; corr (C, the
-// reference gradient's second-order correction, src/tlsph/gradient.rs) and pk1_corr (P C) as
+// reference gradient's second-order correction, src/tlsph/gradient.rs) and pk1_corr ((omega / V0) P C) as
 // TL_Q columns of DIM floats per solid; face (F_a, the clamp's face points' basis sum,
 // src/tlsph/mod.rs `faces`) TL_Q floats per solid and face_clamp (the clamp particle whose
 // displacement the face takes, NONE where a has no face) one per solid; the face points within
-// a's support as a CSR (face_start, face_pts: DIM + 1 floats each, X0_m then V_m); slot NONE
-// (0xffffffff) for a removed particle.
+// a's support as a CSR (face_start, face_pts: DIM + 1 + TL_Q floats each, X0_m, V_m, then the
+// fit's value weights r_am, src/tlsph/mod.rs `FacePair`); quad (omega / V0, the strain energy's
+// quadrature weight, src/tlsph/quadrature.rs) one per solid; slot NONE (0xffffffff) for a
+// removed particle.
 #include "device/entries.cuh"
 #include "device/grid.cuh"
 #include "device/kernel.cuh"
@@ -121,7 +123,7 @@ extern "C" __global__ void __launch_bounds__(MF_BLOCK)
 // The stress stage of solid a (src/backend/cpu/tlsph.rs `TlBodies::stress`): the displacement
 // gradient H_a = sum_b (u_b - u_a) (x) g_ab, g_ab = V0_b w_ab C_a p(s_ab) [-] over the reference
 // neighbours present (src/tlsph/mod.rs `displacement_gradient`), the Saint Venant-Kirchhoff
-// stress (src/tlsph/mod.rs `svk`): Green strain E = (H + H^T + H^T H) / 2, S = lambda tr(E) I + 2 mu E, P = F S, J = det F; kept: H and P C;
+// stress (src/tlsph/mod.rs `svk`): Green strain E = (H + H^T + H^T H) / 2, S = lambda tr(E) I + 2 mu E, P = F S, J = det F; kept: H and (omega / V0) P C (quad: the energy's quadrature weight, src/tlsph/quadrature.rs);
 // written into a's slot: the deviator sigma + p I of the Cauchy stress sigma = J^-1 P F^T,
 // p = -tr(sigma) / 3 (2D plane strain: + sigma_zz = J^-1 lambda tr(E)), into stress. The
 // slot's density and pressure stay the continuity density's and its equation of state's,
@@ -131,8 +133,9 @@ template <int DIM>
 __device__ void sph_tl_stress_body(const SphParams p, unsigned n, unsigned n_solid, const unsigned* __restrict__ slot,
                                    const unsigned* __restrict__ start, const unsigned* __restrict__ nbr,
                                    const float* __restrict__ x0, const float* __restrict__ vol,
-                                   const float* __restrict__ corr, const float* __restrict__ face,
-                                   const unsigned* __restrict__ face_clamp, const float* __restrict__ disp,
+                                   const float* __restrict__ corr, const float* __restrict__ quad,
+                                   const float* __restrict__ face, const unsigned* __restrict__ face_clamp,
+                                   const float* __restrict__ disp,
                                    float* __restrict__ grad, float* __restrict__ pk1_corr,
                                    float* __restrict__ stress) {
     const unsigned a = blockIdx.x * blockDim.x + threadIdx.x;
@@ -198,12 +201,18 @@ __device__ void sph_tl_stress_body(const SphParams p, unsigned n, unsigned n_sol
 #pragma unroll
     for (int x = 0; x < DIM; ++x) sigma.m[x][x] += pressure;  // the deviator sigma + p I
     tl_mstore<DIM>(grad, a, h);
+    // The energy's quadrature weight omega_a = quad_a V0_a (src/tlsph/quadrature.rs): (omega / V0) P C.
+    Mat<DIM> pkw = pk1;
+#pragma unroll
+    for (int x = 0; x < DIM; ++x)
+#pragma unroll
+        for (int y = 0; y < DIM; ++y) pkw.m[x][y] *= quad[a];
 #pragma unroll
     for (int m = 0; m < Q; ++m) {
         Vec<DIM> c;
 #pragma unroll
         for (int d = 0; d < DIM; ++d) c.c[d] = corr[(a * Q + m) * DIM + d];
-        const Vec<DIM> pc = mat_vec<DIM>(pk1, c);
+        const Vec<DIM> pc = mat_vec<DIM>(pkw, c);
 #pragma unroll
         for (int d = 0; d < DIM; ++d) pk1_corr[(a * Q + m) * DIM + d] = pc.c[d];
     }
@@ -211,9 +220,10 @@ __device__ void sph_tl_stress_body(const SphParams p, unsigned n, unsigned n_sol
 }
 MF_ENTRY2(sph_tl_stress,
           (const SphParams p, unsigned n, unsigned n_solid, const unsigned* slot, const unsigned* start,
-           const unsigned* nbr, const float* x0, const float* vol, const float* corr, const float* face,
-           const unsigned* face_clamp, const float* disp, float* grad, float* pk1_corr, float* stress),
-          (p, n, n_solid, slot, start, nbr, x0, vol, corr, face, face_clamp, disp, grad, pk1_corr, stress))
+           const unsigned* nbr, const float* x0, const float* vol, const float* corr, const float* quad,
+           const float* face, const unsigned* face_clamp, const float* disp, float* grad, float* pk1_corr,
+           float* stress),
+          (p, n, n_solid, slot, start, nbr, x0, vol, corr, quad, face, face_clamp, disp, grad, pk1_corr, stress))
 
 // The internal force of solid a (src/backend/cpu/tlsph.rs `TlBodies::forces`), added to the
 // force stage's acceleration of its slot [L/T^2]:
@@ -223,19 +233,49 @@ MF_ENTRY2(sph_tl_stress,
 // V0_a / m_a = 1 / rho0_s), plus Ganzenmueller 2015's
 // hourglass control eq. (10) (src/tlsph/mod.rs `hourglass`): with eps = (H_a + H_b) X0_ab - 2 u_ab,
 // acc_a += (alpha / 2) (V0_b / rho0_s) W0_ab / |X0_ab|^2 E (eps . x_ab) x_ab / |x_ab|^2;
-// and the same over a's face points m (b -> m, V0_m, H_m = H_a, u_m = u_clamp,
-// x_am = X0_am + u_a - u_clamp), which hold the root of a thin gate on the face.
-// The hourglass term of one pair (src/tlsph/mod.rs `hourglass`).
+// and the same over a's face points m (b -> m, V0_m, u_m = u_clamp, x_am = X0_am + u_a - u_clamp,
+// eps = 2 (u_clamp - u_fit(X0_m)), u_fit(X0_m) = u_a + sum_k r_k B_k: a's fit at the face point,
+// src/backend/cpu/tlsph.rs `TlBodies::fit_sum`), which hold the root of a thin gate on the face.
+// The hourglass term of one pair with the error eps of its separation (src/tlsph/mod.rs `hourglass`).
 template <int DIM>
 __device__ __forceinline__ Vec<DIM> tl_hourglass(const SphParams& p, float young, float vb, float w0,
-                                                 const Vec<DIM>& x0ab, const Vec<DIM>& xab, const Vec<DIM>& uab,
-                                                 const Mat<DIM>& hsum) {
+                                                 const Vec<DIM>& x0ab, const Vec<DIM>& xab, const Vec<DIM>& eps) {
     const float r0_2 = dot(x0ab, x0ab), r2 = dot(xab, xab);
     if (!(r0_2 > 0.0f && r2 > 0.0f)) return vzero<DIM>();
-    const Vec<DIM> eps = mat_vec<DIM>(hsum, x0ab) - uab * 2.0f;
     const float k = 0.5f * p.hourglass * vb / p.solid_rho0 * w0 / r0_2 * young * dot(eps, xab) / r2;
     return xab * k;
 }
+// B_a = sum_b V0_b w_ab p(s_ab) (u_b - u_a) + F_a (u_c - u_a), the sum a's fit reads, as TL_Q
+// vectors (src/backend/cpu/tlsph.rs `TlBodies::fit_sum`), and with it a's fit at the face point
+// whose value weights are r (TL_Q floats): u_a + sum_k r_k B_k.
+template <int DIM> struct TlFitSum {
+    Vec<DIM> b[TlBasis<DIM>::Q];
+};
+template <int DIM>
+__device__ TlFitSum<DIM> tl_fit_sum(const SphParams& p, unsigned a, const Vec<DIM>& ua, const Vec<DIM>& uc,
+                                    const unsigned* __restrict__ slot, const unsigned* __restrict__ start,
+                                    const unsigned* __restrict__ nbr, const float* __restrict__ x0,
+                                    const float* __restrict__ vol, const float* __restrict__ face,
+                                    const float* __restrict__ disp) {
+    constexpr int Q = TlBasis<DIM>::Q;
+    TlFitSum<DIM> f;
+    const TlBasis<DIM> fa = tl_face<DIM>(face, a);
+    const Vec<DIM> duc = uc - ua;
+#pragma unroll
+    for (int k = 0; k < Q; ++k) f.b[k] = duc * fa.p[k];
+    const Vec<DIM> xa = vload<DIM>(x0, a);
+    for (unsigned e = start[a], end = start[a + 1]; e < end; ++e) {
+        const unsigned b = nbr[e];
+        if (slot[b] == MF_TL_NONE) continue;
+        float w, w0;
+        const TlBasis<DIM> pb = tl_basis<DIM>(tl_pair<DIM>(p, xa - vload<DIM>(x0, b), w, w0));
+        const Vec<DIM> du = (vload<DIM>(disp, b) - ua) * (vol[b] * w);
+#pragma unroll
+        for (int k = 0; k < Q; ++k) f.b[k] = f.b[k] + du * pb.p[k];
+    }
+    return f;
+}
+
 // The internal force and hourglass of solid a in slot i, added to acc[i]; returns the new |acc[i]|.
 template <int DIM>
 __device__ __forceinline__ float tl_force_one(const SphParams& p, unsigned a, unsigned i, const unsigned* __restrict__ slot,
@@ -256,19 +296,19 @@ __device__ __forceinline__ float tl_force_one(const SphParams& p, unsigned a, un
     if (c != MF_TL_NONE) {
         sum = sum + tl_apply<DIM>(pk1_corr, a, tl_face<DIM>(face, a)) * (1.0f / p.solid_rho0);
         if (p.hourglass > 0.0f) {
-            const Vec<DIM> uac = ua - vload<DIM>(disp, c);
-            Mat<DIM> h2;
-#pragma unroll
-            for (int x = 0; x < DIM; ++x)
-#pragma unroll
-                for (int y = 0; y < DIM; ++y) h2.m[x][y] = ha.m[x][y] + ha.m[x][y];
+            constexpr int Q = TlBasis<DIM>::Q, FP = DIM + 1 + Q;
+            const Vec<DIM> uc = vload<DIM>(disp, c);
+            const TlFitSum<DIM> fs = tl_fit_sum<DIM>(p, a, ua, uc, slot, start, nbr, x0, vol, face, disp);
             for (unsigned e = face_start[a], end = face_start[a + 1]; e < end; ++e) {
-                Vec<DIM> xm;
+                const float* m = face_pts + e * FP;
+                Vec<DIM> xm, u_fit = ua;
 #pragma unroll
-                for (int d = 0; d < DIM; ++d) xm.c[d] = face_pts[e * (DIM + 1) + d];
+                for (int d = 0; d < DIM; ++d) xm.c[d] = m[d];
+#pragma unroll
+                for (int k = 0; k < Q; ++k) u_fit = u_fit + fs.b[k] * m[DIM + 1 + k];
                 const Vec<DIM> x0am = xa - xm;
                 const float w0 = kernel_w(p, sqrtf(dot(x0am, x0am)));
-                sum = sum + tl_hourglass<DIM>(p, young, face_pts[e * (DIM + 1) + DIM], w0, x0am, x0am + uac, uac, h2);
+                sum = sum + tl_hourglass<DIM>(p, young, m[DIM], w0, x0am, x0am + (ua - uc), (uc - u_fit) * 2.0f);
             }
         }
     }
@@ -290,7 +330,9 @@ __device__ __forceinline__ float tl_force_one(const SphParams& p, unsigned a, un
             for (int x = 0; x < DIM; ++x)
 #pragma unroll
                 for (int y = 0; y < DIM; ++y) hs.m[x][y] = ha.m[x][y] + hs.m[x][y];
-            sum = sum + tl_hourglass<DIM>(p, young, vb, w0, x0ab, xab, ua - vload<DIM>(disp, b), hs);
+            // eps = (H_a + H_b) X0_ab - 2 u_ab (src/tlsph/mod.rs `pair_error`).
+            const Vec<DIM> eps = mat_vec<DIM>(hs, x0ab) - (ua - vload<DIM>(disp, b)) * 2.0f;
+            sum = sum + tl_hourglass<DIM>(p, young, vb, w0, x0ab, xab, eps);
         }
     }
     const Vec<DIM> out = vload<DIM>(acc, i) + sum;

@@ -81,10 +81,10 @@ pub fn weight<D: Dim>(p: &SphParams, c: &Corr<D>, vol_b: f32, x0a: D::V, x0b: D:
     apply::<D>(c, &basis::<D>(s)) * (vol_b * w)
 }
 
-/// C_a of the particle at `x0a` with the reference neighbours `nbrs` (positions, volumes).
-pub fn correction<D: Dim>(p: &SphParams, x0a: D::V, nbrs: &[(D::V, f32)]) -> Corr<D> {
+/// A_a = sum_b V0_b w_ab p(s_ab) p(s_ab)^T over the reference neighbours `nbrs` (positions,
+/// volumes) of the particle at `x0a` [L^-2] (f64: set up once, on the host).
+fn moments<D: Dim>(p: &SphParams, x0a: D::V, nbrs: &[(D::V, f32)]) -> [[f64; Q_MAX]; Q_MAX] {
     let q = basis_len(D::D);
-    let h = p.h as f64;
     let mut a = [[0.0f64; Q_MAX]; Q_MAX];
     for &(x0b, vol) in nbrs {
         let (w, s) = pair::<D>(p, x0a, x0b);
@@ -96,8 +96,15 @@ pub fn correction<D: Dim>(p: &SphParams, x0a: D::V, nbrs: &[(D::V, f32)]) -> Cor
             }
         }
     }
+    a
+}
+
+/// C_a of the particle at `x0a` with the reference neighbours `nbrs` (positions, volumes).
+pub fn correction<D: Dim>(p: &SphParams, x0a: D::V, nbrs: &[(D::V, f32)]) -> Corr<D> {
+    let q = basis_len(D::D);
+    let h = p.h as f64;
     let mut c = [D::V::default(); Q_MAX];
-    if let Some(inv) = invert(&a, q) {
+    if let Some(inv) = invert(&moments::<D>(p, x0a, nbrs), q) {
         for (m, col) in c.iter_mut().enumerate().take(q) {
             for (k, row) in inv.iter().enumerate().take(D::D) {
                 D::set_comp(col, k, (row[m] / h) as f32);
@@ -123,6 +130,59 @@ pub fn correction<D: Dim>(p: &SphParams, x0a: D::V, nbrs: &[(D::V, f32)]) -> Cor
         }
     }
     c
+}
+
+/// The fit's value at the point `x`: the weights r with which the quadratic that a's fit
+/// makes of the field f (`correction`, the same `nbrs`, and `c` = its C_a) predicts
+/// f(x) - f_a = sum_m r_m B_m, where B = sum_b V0_b w_ab p(s_ab) (f_b - f_a) is the sum the
+/// fit reads (the clamp's face adds (f_clamp - f_a) F_a to it) [-]:
+/// r = A_a^-1 p(s), s = (x - X0_a) / h (A_a symmetric), exact for a quadratic field; where
+/// A_a is singular, the linear fit's r_m = C_a column m . (x - X0_a) (zero on the quadratic
+/// terms), f_a + grad f_a (x - X0_a). The hourglass control of the clamp's face pairs
+/// predicts the face points' displacement with it (`TlBodies::forces`).
+pub fn value_weights<D: Dim>(
+    p: &SphParams,
+    c: &Corr<D>,
+    x0a: D::V,
+    nbrs: &[(D::V, f32)],
+    x: D::V,
+) -> [f32; Q_MAX] {
+    let q = basis_len(D::D);
+    let s = (x - x0a) * (1.0 / p.h);
+    let mut r = [0.0f32; Q_MAX];
+    if let Some(inv) = invert(&moments::<D>(p, x0a, nbrs), q) {
+        let ps = basis::<D>(s);
+        for (m, rm) in r.iter_mut().enumerate().take(q) {
+            *rm = (0..q).map(|k| inv[m][k] * ps[k] as f64).sum::<f64>() as f32;
+        }
+    } else {
+        for (m, rm) in r.iter_mut().enumerate().take(D::D) {
+            *rm = D::dot(c[m], x - x0a);
+        }
+    }
+    r
+}
+
+/// The fit's Laplacian: the weights l_a with which the quadratic that the fit about `x0a`
+/// (neighbours `nbrs`) makes of a field f gives its Laplacian,
+/// lap f_a = sum_b V0_b w_ab l_a . p(s_ab) (f_b - f_a) [L^-2], exact for a quadratic f;
+/// None where A_a is singular (the fit is linear). The quadratic term s_i^2 of the fit's
+/// coefficients c = A_a^-1 sum_b V0_b w_ab p(s_ab) (f_b - f_a) is c_ii X_i^2 / h^2, so
+/// lap f = (2 / h^2) sum_i c_ii: l_a = (2 / h^2) the sum of the rows ii of A_a^-1.
+pub fn laplacian<D: Dim>(p: &SphParams, x0a: D::V, nbrs: &[(D::V, f32)]) -> Option<[f32; Q_MAX]> {
+    let q = basis_len(D::D);
+    let inv = invert(&moments::<D>(p, x0a, nbrs), q)?;
+    let scale = 2.0 / (p.h as f64 * p.h as f64);
+    let mut l = [0.0f32; Q_MAX];
+    // The index of s_i^2 in the basis: after the d linear terms, the products s_i s_j (j >= i).
+    let mut k = D::D;
+    for i in 0..D::D {
+        for (m, lm) in l.iter_mut().enumerate().take(q) {
+            *lm += (scale * inv[k][m]) as f32;
+        }
+        k += D::D - i;
+    }
+    Some(l)
 }
 
 /// The inverse of the symmetric positive semi-definite q x q matrix `a`, or None where it is

@@ -26,6 +26,7 @@
 //! linear).
 
 pub mod gradient;
+pub mod quadrature;
 
 use std::collections::HashMap;
 
@@ -60,6 +61,8 @@ pub struct Reference<D: Dim> {
     pub vol: Vec<f32>,
     /// [L] C_a, the second-order correction of the reference gradient (`gradient`).
     pub corr: Vec<Corr<D>>,
+    /// [-] omega_a / V0_a, the weight of a's strain energy over its volume (`quadrature`).
+    pub quad: Vec<f32>,
     /// CSR: the neighbours of a are `nbr[start[a] .. start[a + 1]]` (solid indices).
     pub start: Vec<u32>,
     pub nbr: Vec<u32>,
@@ -70,10 +73,10 @@ pub struct Reference<D: Dim> {
     /// The solid index of a clamp particle whose displacement the face takes (the clamp is
     /// rigid), `NONE` where a has no face term.
     pub face_clamp: Vec<u32>,
-    /// CSR: the face points within a's support are `face_pts[face_start[a] .. face_start[a + 1]]`:
-    /// their reference position [L] and weight V_m [L^d] (the hourglass control's face pairs).
+    /// CSR: the face points within a's support are `face_pts[face_start[a] .. face_start[a + 1]]`
+    /// (the hourglass control's face pairs).
     pub face_start: Vec<u32>,
-    pub face_pts: Vec<(D::V, f32)>,
+    pub face_pts: Vec<FacePair<D>>,
 }
 
 impl<D: Dim> Reference<D> {
@@ -150,7 +153,7 @@ impl<D: Dim> Reference<D> {
         }
         let mut face = vec![[0.0f32; Q_MAX]; n];
         let mut face_clamp = vec![NONE; n];
-        let mut face_near: Vec<Vec<(D::V, f32)>> = vec![Vec::new(); n];
+        let mut face_near: Vec<Vec<FacePair<D>>> = vec![Vec::new(); n];
         let corr = (0..n)
             .map(|a| {
                 let mut nbrs: Vec<(D::V, f32)> = nbr[start[a] as usize..start[a + 1] as usize]
@@ -175,17 +178,24 @@ impl<D: Dim> Reference<D> {
                         *acc += f.vol * w * v;
                     }
                     face_clamp[a] = f.clamp;
-                    face_near[a].push((f.x, f.vol));
+                    face_near[a].push(FacePair {
+                        x0: f.x,
+                        vol: f.vol,
+                        fit: gradient::value_weights::<D>(p, &c, x0[a], &nbrs, f.x),
+                    });
                 }
                 c
             })
             .collect();
+        let group: Vec<u32> = solids.iter().map(|q| q.group).collect();
+        let quad = quadrature::weights::<D>(p, &x0, &vol, &start, &nbr, &group);
         Reference {
             id: solids.iter().map(|q| q.id).collect(),
             index_of_id,
             x0,
             vol,
             corr,
+            quad,
             start,
             nbr,
             face,
@@ -242,9 +252,9 @@ impl<D: Dim> Reference<D> {
         g
     }
 
-    /// The face points within a's support: reference position and weight.
+    /// The face points within a's support.
     #[inline]
-    pub fn faces_of(&self, a: usize) -> &[(D::V, f32)] {
+    pub fn faces_of(&self, a: usize) -> &[FacePair<D>] {
         &self.face_pts[self.face_start[a] as usize..self.face_start[a + 1] as usize]
     }
 
@@ -266,6 +276,20 @@ pub struct Face<D: Dim> {
     pub vol: f32,
     /// The clamp particle's solid index.
     pub clamp: u32,
+}
+
+/// A face point m as one body particle a sees it, for the hourglass control of the pair
+/// (a, m) (`TlBodies::forces`).
+#[derive(Clone, Copy, Debug)]
+pub struct FacePair<D: Dim> {
+    /// [L] X0_m.
+    pub x0: D::V,
+    /// [L^d] V_m, its weight in a's fit (`Face::vol`).
+    pub vol: f32,
+    /// [-] r_am, the weights with which a's fit predicts the displacement at X0_m from the
+    /// sum it reads (`gradient::value_weights`): u_a + sum_k r_k B_k, exact for a quadratic
+    /// field.
+    pub fit: [f32; Q_MAX],
 }
 
 /// The faces of the clamps (`[[solids]]` held by a driven group): for every body particle b,
@@ -389,11 +413,9 @@ pub fn svk<D: Dim>(m: &Material, rho0: f32, h: D::M) -> SolidStress<D::M> {
 /// Ganzenmueller 2015's hourglass control, eq. (10) as TrixiParticles writes it: the
 /// acceleration [L/T^2] of a from the pair (a, b) that pushes the pair's separation towards
 /// the one the deformation gradients predict. `x0_ab` = X0_a - X0_b, `x_ab` = x_a - x_b
-/// (current), `u_ab` = u_a - u_b, `h_a`, `h_b` the displacement gradients:
-/// eps = (F_a + F_b) X0_ab - 2 x_ab = (H_a + H_b) X0_ab - 2 u_ab (in displacements for
-/// f32), delta = eps . x_ab / |x_ab|, a_a = (alpha / 2) (V0_b / rho0) W0_ab / |X0_ab|^2 E
-/// delta x_ab / |x_ab|.
-#[allow(clippy::too_many_arguments)]
+/// (current), `eps` the error of the separation [L] (`pair_error`; for a face pair,
+/// `TlBodies::forces`): delta = eps . x_ab / |x_ab|,
+/// a_a = (alpha / 2) (V0_b / rho0) W0_ab / |X0_ab|^2 E delta x_ab / |x_ab|.
 #[inline]
 pub fn hourglass<D: Dim>(
     p: &SphParams,
@@ -401,18 +423,24 @@ pub fn hourglass<D: Dim>(
     vol_b: f32,
     x0_ab: D::V,
     x_ab: D::V,
-    u_ab: D::V,
-    h_a: D::M,
-    h_b: D::M,
+    eps: D::V,
 ) -> D::V {
     let r0_2 = D::length2(x0_ab);
     let r2 = D::length2(x_ab);
     if r0_2 <= 0.0 || r2 <= 0.0 {
         return D::V::default();
     }
-    let eps = D::mat_vec(h_a + h_b, x0_ab) - u_ab * 2.0;
     let w0 = kernel::w(p, r0_2.sqrt());
     // delta x_ab / |x_ab| = (eps . x_ab) x_ab / |x_ab|^2.
     let k = 0.5 * p.hourglass * vol_b / p.solid_rho0 * w0 / r0_2 * young * D::dot(eps, x_ab) / r2;
     x_ab * k
+}
+
+/// The error of a body pair's separation, Ganzenmueller 2015's
+/// eps = (F_a + F_b) X0_ab - 2 x_ab = (H_a + H_b) X0_ab - 2 u_ab [L] (in displacements for
+/// f32; `u_ab` = u_a - u_b, `h_a`, `h_b` the displacement gradients): zero for a quadratic
+/// field under gradients exact for it (the trapezoidal rule).
+#[inline]
+pub fn pair_error<D: Dim>(x0_ab: D::V, u_ab: D::V, h_a: D::M, h_b: D::M) -> D::V {
+    D::mat_vec(h_a + h_b, x0_ab) - u_ab * 2.0
 }

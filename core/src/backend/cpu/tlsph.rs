@@ -12,7 +12,7 @@ use crate::params::{SphParams, MF_KIND_SOLID};
 use crate::particle::Particle;
 use crate::state::State;
 use crate::tlsph::gradient::{apply, basis, pair, Q_MAX};
-use crate::tlsph::{hourglass, svk, Corr, Material, Reference, NONE};
+use crate::tlsph::{hourglass, pair_error, svk, Corr, Material, Reference, NONE};
 
 /// The bodies' reference configuration and what the stages keep per solid particle, in
 /// solid space (`crate::tlsph`).
@@ -25,8 +25,8 @@ pub struct TlBodies<D: Dim> {
     pub disp: Vec<D::V>,
     /// [-] H = F - I of the last stress stage.
     pub grad_u: Vec<D::M>,
-    /// [M L^-d L^2 T^-2 L] P C of the last stress stage, column by column (the internal
-    /// force's factor).
+    /// [M L^-d L^2 T^-2 L] (omega / V0) P C of the last stress stage, column by column (the
+    /// internal force's factor; `tlsph::quadrature`).
     pub pk1_corr: Vec<Corr<D>>,
 }
 
@@ -78,7 +78,9 @@ impl<D: Dim> TlBodies<D> {
                 let h =
                     r.displacement_gradient(p, a, disp[a], |b| (slot[b] != NONE).then(|| disp[b]));
                 let st = svk::<D>(&m, p.solid_rho0, h);
-                (h, r.corr[a].map(|c| D::mat_vec(st.pk1, c)), st.deviator)
+                // The energy's quadrature weight omega_a = quad_a V0_a (`tlsph::quadrature`).
+                let pk1 = st.pk1 * r.quad[a];
+                (h, r.corr[a].map(|c| D::mat_vec(pk1, c)), st.deviator)
             })
             .collect();
         let mut stress = s.solid.as_mut().map(|so| &mut so.stress);
@@ -119,23 +121,21 @@ impl<D: Dim> TlBodies<D> {
                 if let Some(c) = r.clamp_of(a).filter(|&c| slot[c] != NONE) {
                     acc += apply::<D>(pla, &r.face[a]) * (1.0 / p.solid_rho0);
                     // The face pairs' hourglass control (`hourglass`): a face point m moves with
-                    // the clamp (x_m = X0_m + u_c) and takes a's gradient as its own. Without
-                    // it the root of a thin gate slid along the face (0.3 dx in 0.05 s at 2
-                    // across, docs/journal/2026-11-27-clamp-face.md).
+                    // the clamp (x_m = X0_m + u_c); the error of the pair is that of a's fit at
+                    // X0_m, eps = 2 (u_c - u_fit(X0_m)), u_fit(X0_m) = u_a + sum_k r_k B_k
+                    // (`FacePair::fit`, B the sum a's fit reads: `gradient::value_weights`),
+                    // zero for a quadratic field that takes the clamp's value on the face
+                    // (with H_a X0_ma for u_fit - u_a, the bent beam's root came out soft at
+                    // first order). Without it the root of a thin gate slid along the face
+                    // (0.3 dx in 0.05 s at 2 across, docs/journal/2026-11-27-clamp-face.md).
                     if p.hourglass > 0.0 {
                         let uc = self.disp[c];
-                        for &(xm, vm) in r.faces_of(a) {
-                            let x0_am = r.x0[a] - xm;
-                            acc += hourglass::<D>(
-                                p,
-                                young,
-                                vm,
-                                x0_am,
-                                x0_am + (ua - uc),
-                                ua - uc,
-                                ha,
-                                ha,
-                            );
+                        let fit_sum = self.fit_sum(p, a, uc);
+                        for m in r.faces_of(a) {
+                            let x0_am = r.x0[a] - m.x0;
+                            let u_fit = ua + apply::<D>(&fit_sum, &m.fit);
+                            let eps = (uc - u_fit) * 2.0;
+                            acc += hourglass::<D>(p, young, m.vol, x0_am, x0_am + (ua - uc), eps);
                         }
                     }
                 }
@@ -151,16 +151,9 @@ impl<D: Dim> TlBodies<D> {
                     acc += f * (r.vol[b] * w / p.solid_rho0);
                     if p.hourglass > 0.0 {
                         let x_ab = separation::<D>(p, pos[i as usize], pos[j as usize]);
-                        acc += hourglass::<D>(
-                            p,
-                            young,
-                            r.vol[b],
-                            r.x0[a] - r.x0[b],
-                            x_ab,
-                            ua - self.disp[b],
-                            ha,
-                            self.grad_u[b],
-                        );
+                        let x0_ab = r.x0[a] - r.x0[b];
+                        let eps = pair_error::<D>(x0_ab, ua - self.disp[b], ha, self.grad_u[b]);
+                        acc += hourglass::<D>(p, young, r.vol[b], x0_ab, x_ab, eps);
                     }
                 }
                 acc
@@ -171,6 +164,32 @@ impl<D: Dim> TlBodies<D> {
                 s.acc[slot[a] as usize] += da;
             }
         }
+    }
+
+    /// B_a = sum_b V0_b w_ab p(s_ab) (u_b - u_a) + F_a (u_c - u_a) [L^-d L], the sum a's fit
+    /// reads (`gradient`; the face term with the clamp's displacement `uc`), as Q columns:
+    /// grad u_a = C_a B_a, the fit's value at a point `gradient::value_weights`.
+    fn fit_sum(&self, p: &SphParams, a: usize, uc: D::V) -> Corr<D> {
+        let r = &self.reference;
+        let ua = self.disp[a];
+        let mut sum = [D::V::default(); Q_MAX];
+        let mut add = |weights: &[f32; Q_MAX], du: D::V| {
+            for (s, &wk) in sum.iter_mut().zip(weights) {
+                *s += du * wk;
+            }
+        };
+        for &b in r.neighbours(a) {
+            let b = b as usize;
+            if self.slot[b] != NONE {
+                let (w, sab) = pair::<D>(p, r.x0[a], r.x0[b]);
+                add(
+                    &basis::<D>(sab).map(|v| v * r.vol[b] * w),
+                    self.disp[b] - ua,
+                );
+            }
+        }
+        add(&r.face[a], uc - ua);
+        sum
     }
 
     /// u += dt (v + xsph), or dt times the driven group's velocity: what the drift adds to

@@ -664,6 +664,8 @@ pub struct TlBuffers {
     /// [L] C, the reference gradient's second-order correction (`tlsph::gradient`): Q
     /// columns of D floats per solid (`corr_columns`).
     pub corr: CudaSlice<f32>,
+    /// [-] omega / V0, the strain energy's quadrature weight (`tlsph::quadrature`).
+    pub quad: CudaSlice<f32>,
     /// CSR of the reference neighbours (solid indices).
     pub start: CudaSlice<u32>,
     pub nbr: CudaSlice<u32>,
@@ -672,7 +674,8 @@ pub struct TlBuffers {
     /// The clamp particle whose displacement the face takes (`tlsph::NONE`: no face).
     pub face_clamp: CudaSlice<u32>,
     /// CSR of the face points within each solid's support (`tlsph::Reference::faces_of`):
-    /// offsets, and D + 1 floats per point (X0_m [L], then V_m [L^d]).
+    /// offsets, and D + 1 + Q floats per point (`tlsph::FacePair`: X0_m [L], V_m [L^d], then
+    /// the fit's value weights r_am [-]).
     pub face_start: CudaSlice<u32>,
     pub face_pts: CudaSlice<f32>,
     /// Solid index -> storage slot (`tlsph::NONE`: removed).
@@ -681,7 +684,7 @@ pub struct TlBuffers {
     pub disp: CudaSlice<f32>,
     /// [-] H = F - I, row-major D x D.
     pub grad: CudaSlice<f32>,
-    /// [M L^-d L^2 T^-2 L] P C, as corr.
+    /// [M L^-d L^2 T^-2 L] (omega / V0) P C, as corr.
     pub pk1_corr: CudaSlice<f32>,
     /// Bytes allocated for the above.
     pub bytes: usize,
@@ -718,12 +721,13 @@ impl TlBuffers {
             x0: a.z(n * vs)?,
             vol: a.z(n)?,
             corr: a.z(n * dq)?,
+            quad: a.z(n)?,
             start: a.z(n + 1)?,
             nbr: a.z(r.nbr.len())?,
             face: a.z(n * dq / D::D)?,
             face_clamp: a.z(n)?,
             face_start: a.z(n + 1)?,
-            face_pts: a.z(r.face_pts.len().max(1) * (D::D + 1))?,
+            face_pts: a.z(r.face_pts.len().max(1) * (D::D + 1 + dq / D::D))?,
             slot: a.z(n)?,
             disp: a.z(n * vs)?,
             grad: a.z(n * dd)?,
@@ -738,6 +742,7 @@ impl TlBuffers {
             s.memcpy_htod(&flat_v::<D>(&r.x0, |_| 0.0), &mut t.x0)?;
             s.memcpy_htod(&r.vol, &mut t.vol)?;
             s.memcpy_htod(&corr_columns::<D>(&r.corr), &mut t.corr)?;
+            s.memcpy_htod(&r.quad, &mut t.quad)?;
             let q = dq / D::D;
             let face: Vec<f32> = r.face.iter().flat_map(|f| f[..q].iter().copied()).collect();
             s.memcpy_htod(&face, &mut t.face)?;
@@ -745,10 +750,16 @@ impl TlBuffers {
             s.memcpy_htod(&r.face_start, &mut t.face_start)?;
         }
         if !r.face_pts.is_empty() {
+            let q = dq / D::D;
             let pts: Vec<f32> = r
                 .face_pts
                 .iter()
-                .flat_map(|&(x, v)| (0..D::D).map(move |k| D::comp(x, k)).chain([v]))
+                .flat_map(|m| {
+                    (0..D::D)
+                        .map(move |k| D::comp(m.x0, k))
+                        .chain([m.vol])
+                        .chain(m.fit[..q].iter().copied())
+                })
                 .collect();
             s.memcpy_htod(&pts, &mut t.face_pts)?;
         }

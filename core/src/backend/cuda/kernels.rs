@@ -356,8 +356,9 @@ impl Family {
                 Dims,
                 "const SphParams p, unsigned n, unsigned n_solid, const unsigned* slot, \
                  const unsigned* start, const unsigned* nbr, const float* x0, const float* vol, \
-                 const float* corr, const float* face, const unsigned* face_clamp, \
-                 const float* disp, float* grad, float* pk1_corr, float* stress",
+                 const float* corr, const float* quad, const float* face, \
+                 const unsigned* face_clamp, const float* disp, float* grad, float* pk1_corr, \
+                 float* stress",
             ),
             Family::TlForces => (
                 "tlsph",

@@ -778,7 +778,7 @@ pub fn tl_stress(
     // SAFETY: the arguments of `Family::TlStress`; slot, vol hold n_solid entries, start
     // n_solid + 1, nbr start[n_solid] (solid indices), x0 and disp n_solid vectors, grad
     // n_solid D x D blocks, corr and pk1_corr n_solid blocks of Q = basis_len(D) columns of D
-    // floats; face n_solid blocks of Q floats and face_clamp n_solid solid indices or NONE;
+    // floats, quad n_solid floats; face n_solid blocks of Q floats and face_clamp n_solid solid indices or NONE;
     // every slot is NONE or below n; stress n_sym planes of n (present: the scene has
     // solids).
     let kt = k.get(Family::TlStress);
@@ -792,6 +792,7 @@ pub fn tl_stress(
         .arg(&t.x0)
         .arg(&t.vol)
         .arg(&t.corr)
+        .arg(&t.quad)
         .arg(&t.face)
         .arg(&t.face_clamp)
         .arg(&t.disp)
@@ -810,7 +811,7 @@ pub fn tl_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     }
     let ns = t.n_solid as u32;
     // SAFETY: the arguments of `Family::TlForces`; the solid-space arrays as in `tl_stress`;
-    // face_start holds n_solid + 1 offsets into face_pts (D + 1 floats per point);
+    // face_start holds n_solid + 1 offsets into face_pts (D + 1 + Q floats per point);
     // pos and acc hold n vectors and every slot is NONE or below n; distinct solids have
     // distinct slots, so each thread writes its own acc entry; red holds 3 words (the forces
     // pass's maxima, |a| of these particles left out: `ForceSum::finish`).
