@@ -151,6 +151,39 @@ pub fn dominant_frequency(t: &[f64], x: &[f64]) -> Option<f64> {
     best_on(lo, hi, 1.0 / (256.0 * span)).map(|b| b.0)
 }
 
+/// The rms [x's units] of the part of `x` within the band |f / f0 - 1| <= `rel` around the
+/// frequency `f0` [1/T], `x` sampled at the evenly spaced times `t`: by Parseval's theorem
+/// over the discrete Fourier transform X_k = sum_j (x_j - mean) exp(-2 pi i k j / n) of the
+/// record (n samples, bin k at the frequency k / (n dt)),
+/// rms^2 = (2 / n^2) sum_{0 < k < n/2, |k / (n dt) / f0 - 1| <= rel} |X_k|^2.
+/// A narrow-band amplitude: broadband noise adds only its share of the band, and the
+/// signal in the band is not attenuated (a moving average would be, by its gain
+/// sin(N pi f dt) / (N sin(pi f dt)) at f). 0 with fewer than 2 samples or f0 <= 0.
+pub fn band_rms(t: &[f64], x: &[f64], f0: f64, rel: f64) -> f64 {
+    let n = t.len().min(x.len());
+    if n < 2 || f0 <= 0.0 {
+        return 0.0;
+    }
+    let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
+    let mean = x[..n].iter().sum::<f64>() / n as f64;
+    let tau = 2.0 * std::f64::consts::PI;
+    let mut sum = 0.0;
+    for k in 1..n.div_ceil(2) {
+        let f = k as f64 / (n as f64 * dt);
+        if (f / f0 - 1.0).abs() > rel {
+            continue;
+        }
+        let (mut re, mut im) = (0.0, 0.0);
+        for (j, xj) in x[..n].iter().enumerate() {
+            let ph = tau * (k * j % n) as f64 / n as f64;
+            re += (xj - mean) * ph.cos();
+            im -= (xj - mean) * ph.sin();
+        }
+        sum += re * re + im * im;
+    }
+    (2.0 * sum).sqrt() / n as f64
+}
+
 /// What a monitor reports at the end of a run (summary.json, end-of-run line).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MonitorSummary {
