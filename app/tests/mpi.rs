@@ -59,6 +59,14 @@ fn meshfree(args: &[&str]) -> Output {
     finish(cmd)
 }
 
+/// `run SCENE --backend cpu -q --out OUT` and `extra`.
+fn cpu_run<'a>(scene: &'a str, out: &'a Path, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut a = vec!["run", scene, "--backend", "cpu", "-q", "--out"];
+    a.push(out.to_str().unwrap());
+    a.extend_from_slice(extra);
+    a
+}
+
 fn ok(o: &Output, what: &str) {
     assert!(
         o.status.success(),
@@ -107,30 +115,10 @@ fn mpi_processes_write_what_one_process_of_as_many_subdomains_writes() {
             tmp.path().join(format!("decompose{n}")),
             tmp.path().join(format!("mpi{n}")),
         );
-        let d = meshfree(&[
-            "run",
-            s,
-            "--backend",
-            "cpu",
-            "-q",
-            "--decompose",
-            &n.to_string(),
-            "--out",
-            one.to_str().unwrap(),
-        ]);
+        let count = n.to_string();
+        let d = meshfree(&cpu_run(s, &one, &["--decompose", &count]));
         ok(&d, "the in-process run");
-        let m = mpirun(
-            n,
-            &[
-                "run",
-                s,
-                "--backend",
-                "cpu",
-                "-q",
-                "--out",
-                many.to_str().unwrap(),
-            ],
-        );
+        let m = mpirun(n, &cpu_run(s, &many, &[]));
         ok(&m, "the MPI run");
         let stdout = String::from_utf8_lossy(&m.stdout);
         assert!(
@@ -158,33 +146,9 @@ fn an_mpi_run_stopped_mid_way_resumes_under_mpi_to_the_same_files() {
     let scene = scene(tmp.path());
     let s = scene.to_str().unwrap();
     let (whole, parts) = (tmp.path().join("whole"), tmp.path().join("parts"));
-    let w = mpirun(
-        2,
-        &[
-            "run",
-            s,
-            "--backend",
-            "cpu",
-            "-q",
-            "--out",
-            whole.to_str().unwrap(),
-        ],
-    );
+    let w = mpirun(2, &cpu_run(s, &whole, &[]));
     ok(&w, "the uninterrupted run");
-    let first = mpirun(
-        2,
-        &[
-            "run",
-            s,
-            "--backend",
-            "cpu",
-            "-q",
-            "--steps",
-            "150",
-            "--out",
-            parts.to_str().unwrap(),
-        ],
-    );
+    let first = mpirun(2, &cpu_run(s, &parts, &["--steps", "150"]));
     ok(&first, "the first half");
     let rest = mpirun(
         2,
