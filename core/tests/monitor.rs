@@ -15,18 +15,22 @@ use meshfree_core::scene::Scene;
 use meshfree_core::solver::Solver;
 use meshfree_core::step::Stepper;
 
+/// Uniform noise in [-0.5, 0.5) from a xorshift generator seeded with `seed`.
+fn noise(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    }
+}
+
 /// A sine of frequency 1.37 with an offset, noise and a drag-like second harmonic, sampled
 /// at jittered times over 9 periods: the DFT peak is the sine's frequency within 1 %.
 #[test]
 fn dominant_frequency_of_a_noisy_sine() {
     let f0 = 1.37;
-    let mut seed = 12345u64;
-    let mut rnd = || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
+    let mut rnd = noise(12345);
     let (mut t, mut x) = (Vec::new(), Vec::new());
     let mut tk = 3.0;
     while tk < 3.0 + 9.0 / f0 {
@@ -51,13 +55,7 @@ fn dominant_frequency_of_a_noisy_sine() {
 #[test]
 fn band_rms_of_a_noisy_sine() {
     let (f0, a) = (0.09, 0.3);
-    let mut seed = 987654321u64;
-    let mut rnd = || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
+    let mut rnd = noise(987654321);
     let t: Vec<f64> = (0..480).map(|k| 0.25 * k as f64).collect();
     let w = |t: f64| 2.0 * std::f64::consts::PI * f0 * t;
     // Uniform noise on [-0.5, 0.5] has rms 1 / sqrt 12: times 0.2 sqrt 12, rms 0.2.
