@@ -15,8 +15,6 @@ use crate::solver::{BackendInfo, Diagnostics, Fault, PointSample, Shown, Snapsho
 /// where the work needs the others: the halo of a grid build, the step size).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub enum Call {
-    /// Nothing: the rank's `Status` alone.
-    Status,
     /// `Solver::info`.
     Info,
     BuildGrid,
@@ -137,7 +135,7 @@ impl<S: Subdomain, T: Transport<S::Halo>> Rank<S, T> {
     /// Carry out `call`; the reply, and this rank's status after it.
     pub fn serve(&mut self, call: Call) -> (Reply, Status) {
         let reply = match call {
-            Call::Status | Call::Stop => Reply::Done,
+            Call::Stop => Reply::Done,
             Call::Info => Reply::Info(self.info()),
             Call::BuildGrid => {
                 self.build_grid();
