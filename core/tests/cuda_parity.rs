@@ -29,11 +29,11 @@ use meshfree_core::backend::cpu::{self, CpuSolver};
 use meshfree_core::backend::cuda::CudaSolver;
 use meshfree_core::dim::{Dim, D2, D3};
 use meshfree_core::monitor;
-use meshfree_core::params::MF_INTEGRATOR_SYMPLECTIC_EULER;
 use meshfree_core::params::{
     self, SphParams, MF_DENSITY_CONTINUITY, MF_DENSITY_SUMMATION, MF_DIFFUSION_ANTUONO,
     MF_DIFFUSION_FOURTAKAS, MF_DIFFUSION_MOLTENI, MF_INTEGRATOR_EULER, MF_SOLID_TOTAL_LAGRANGIAN,
 };
+use meshfree_core::params::{MF_INTEGRATOR_LEAPFROG, MF_INTEGRATOR_SYMPLECTIC_EULER};
 use meshfree_core::particle::{Kind, Particle};
 use meshfree_core::solver::{PointSample, Setup, Solver};
 use meshfree_core::state::State;
@@ -1267,6 +1267,56 @@ fn diagnostics_after_200_steps_3d_lj_walls_symplectic() {
 )]
 fn diagnostics_after_200_steps_3d_dynamic_walls_euler() {
     long_run::<D3>(3, V_3D_B, 200);
+}
+
+/// `setup` under the leapfrog: the symplectic Euler's stages with the kick spanning
+/// (dt_prev + dt) / 2 and the rates at the drift's midpoint.
+fn leapfrog(mut setup: Setup) -> Setup {
+    setup.params.integrator = MF_INTEGRATOR_LEAPFROG as i32;
+    setup
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_2d_leapfrog_with_a_body() {
+    stages_on::<D2>("V_2D_B leapfrog", leapfrog(scene(2, V_2D_B)));
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_3d_fluid_only_leapfrog_density_diffusion() {
+    stages_on::<D3>(
+        "V_3D_DELTA fluid-only leapfrog",
+        leapfrog(fluid_only(3, V_3D_DELTA)),
+    );
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn diagnostics_after_200_steps_2d_leapfrog_with_a_body() {
+    long_run_on::<D2>(
+        "V_2D_B leapfrog",
+        leapfrog(scene_with(2, V_2D_B, 0.05)),
+        200,
+    );
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn diagnostics_after_200_steps_3d_fluid_only_leapfrog() {
+    long_run_on::<D3>(
+        "V_3D_DELTA fluid-only leapfrog",
+        leapfrog(fluid_only_of(scene_with(3, V_3D_DELTA, 0.05))),
+        200,
+    );
 }
 
 #[test]

@@ -31,6 +31,7 @@ fn main() -> anyhow::Result<()> {
         tier: Tier::Full,
         backend,
         courant: None,
+        integrator: None,
         out_dir: &out,
         verbose: true,
     };

@@ -14,6 +14,7 @@ fn quick_validation_passes_and_writes_reports() {
         cases: Vec::new(),
         verbose: false,
         courant: None,
+        integrator: None,
     })
     .expect("validation runs");
     for c in &report.checks {
@@ -90,6 +91,7 @@ fn unknown_case_is_an_error() {
         cases: vec!["no-such-case".into()],
         verbose: false,
         courant: None,
+        integrator: None,
     })
     .unwrap_err();
     assert!(err.to_string().contains("taylor-green"), "{err}");

@@ -36,16 +36,23 @@ template <int DIM> struct Neighbour {
 // j at r = x_i - x_j (r2 = |r|^2), pw the w slot of its stored position (3D: m_j): v_j,
 // m_j, rho_j and (fluid-only scenes) the kind from the spare slots of its position and
 // velocity (see vel_load), else the kind array.
+// Under the leapfrog (half_dt > 0: the rates pass, cpu/rates.rs `midpoint_pair`) the pair
+// is taken where the drift puts it halfway, r + half_dt (v_i - v_j), vi being v_i.
 template <int DIM, bool SOLIDS>
 __device__ __forceinline__ Neighbour<DIM> neighbour(const SphParams& p, unsigned j, Vec<DIM> r, float r2, float pw,
                                                     const float* __restrict__ vel,
-                                                    const unsigned char* __restrict__ kind) {
+                                                    const unsigned char* __restrict__ kind,
+                                                    const Vec<DIM>& vi = Vec<DIM>{}, float half_dt = 0.0f) {
     Neighbour<DIM> nb;
     float vm, vw;
     nb.j = j;
+    nb.v = vel_load<DIM>(vel, j, vm, vw);
+    if (half_dt != 0.0f) {  // uniform: the same for every thread
+        r = r + (vi - nb.v) * half_dt;
+        r2 = dot(r, r);
+    }
     nb.r = r;
     nb.r2 = r2;
-    nb.v = vel_load<DIM>(vel, j, vm, vw);
     nb.kind = neighbour_kind<DIM, SOLIDS>(kind, j, vw);
     nb.rr = fast_norm(r2);
     kernel_wf(p, nb.rr, nb.w, nb.fw);
