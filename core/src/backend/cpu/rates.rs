@@ -47,7 +47,7 @@ fn hydrostatic_rho_ji<D: Dim>(p: &SphParams, r: D::V) -> f32 {
 
 /// The pair's separation r = x_i - x_j and |r|^2 moved by `half_dt` [T] of the relative
 /// velocity `vij` [L/T]: the leapfrog's midpoint; the pair as given where `half_dt` is 0.
-/// Twin: `neighbour_midpoint` in cuda/device/neighbours.cuh.
+/// Twin: `neighbour`'s `half_dt` in cuda/device/neighbours.cuh.
 #[inline]
 fn midpoint_pair<D: Dim>(r: D::V, r2: f32, vij: D::V, half_dt: f32) -> (D::V, f32) {
     if half_dt == 0.0 {
@@ -165,11 +165,12 @@ pub fn rates<D: Dim>(p: &SphParams, dt: f32, grid: &Grid, s: &mut State<D>) {
                 let vij = vi - vel[j];
                 let (r, r2) = midpoint_pair::<D>(r, r2, vij, half_dt);
                 let rr = r2.sqrt();
-                let grad_w = r * kernel::f(p, rr); // grad_i W_ij
-                                                   // Continuity: d rho_i/dt = rho_i sum_j m_j / rho_j v_ij . grad W, the
-                                                   // volume form (Colagrossi & Landrini 2003): a fluid neighbour of mass 1.0 dx^d
-                                                   // must not compress a solid of density 0.6 as if it were its own kind.
-                                                   // (The sum of m_j / rho_j v_ij . grad W here, times rho_i after the loop.)
+                // grad_i W_ij
+                let grad_w = r * kernel::f(p, rr);
+                // Continuity: d rho_i/dt = rho_i sum_j m_j / rho_j v_ij . grad W, the
+                // volume form (Colagrossi & Landrini 2003): a fluid neighbour of mass 1.0 dx^d
+                // must not compress a solid of density 0.6 as if it were its own kind.
+                // (The sum of m_j / rho_j v_ij . grad W here, times rho_i after the loop.)
                 o.drho += mass[j] / rho[j] * D::dot(vij, grad_w);
                 if shift {
                     // Every neighbour that couples (fluid, solid, dynamic wall) fills the
