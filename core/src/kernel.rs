@@ -33,6 +33,18 @@ pub fn f(p: &SphParams, r: f32) -> f32 {
     p.kernel_norm / (p.h * p.h) * shape_f(p.kernel, q)
 }
 
+/// The q = r / h at which |dW/dr| peaks: 2/3 for the cubic spline (dw/dq = -3 q + 9/4 q^2),
+/// 1/2 for the Wendland C2 (dw/dq = -5 q (1 - q/2)^3) [-]. Closer than this (the kernel's
+/// core) |grad W| falls as r falls. Twin: `kernel_gradient_peak_q` in cuda/device/kernel.cuh.
+#[inline]
+pub fn gradient_peak_q(kernel: i32) -> f32 {
+    if kernel as u32 == MF_KERNEL_WENDLAND_C2 {
+        0.5
+    } else {
+        2.0 / 3.0
+    }
+}
+
 /// The dimensionless shape w(q), q = r / h.
 #[inline]
 pub fn shape(kernel: i32, q: f32) -> f32 {

@@ -26,6 +26,11 @@ __device__ __forceinline__ void kernel_wf(const SphParams& p, float r, float& w,
     w = p.kernel_norm * sw;
     f = p.kernel_norm / (p.h * p.h) * sf;
 }
+// The q = r / h at which |dW/dr| peaks (2/3 cubic spline, 1/2 Wendland C2) [-]: closer,
+// |grad W| falls as r falls. Twin: `gradient_peak_q` in src/kernel.rs.
+__device__ __forceinline__ float kernel_gradient_peak_q(const SphParams& p) {
+    return p.kernel == MF_KERNEL_WENDLAND_C2 ? 0.5f : 2.0f / 3.0f;
+}
 // W(r, h) [L^-d] alone (the gradient's arithmetic is dead code here and compiled out).
 __device__ __forceinline__ float kernel_w(const SphParams& p, float r) {
     float w, f;

@@ -37,7 +37,8 @@ template <int DIM> struct Neighbour {
 // m_j, rho_j and (fluid-only scenes) the kind from the spare slots of its position and
 // velocity (see vel_load), else the kind array.
 // Under the leapfrog (half_dt > 0: the rates pass, cpu/rates.rs `midpoint_pair`) the pair
-// is taken where the drift puts it halfway, r + half_dt (v_i - v_j), vi being v_i.
+// is taken where the drift puts it halfway, r + half_dt (v_i - v_j), vi being v_i, unless
+// it or its midpoint is in the kernel's core (q < kernel_gradient_peak_q): there at x^n.
 template <int DIM, bool SOLIDS>
 __device__ __forceinline__ Neighbour<DIM> neighbour(const SphParams& p, unsigned j, Vec<DIM> r, float r2, float pw,
                                                     const float* __restrict__ vel,
@@ -48,8 +49,13 @@ __device__ __forceinline__ Neighbour<DIM> neighbour(const SphParams& p, unsigned
     nb.j = j;
     nb.v = vel_load<DIM>(vel, j, vm, vw);
     if (half_dt != 0.0f) {  // uniform: the same for every thread
-        r = r + (vi - nb.v) * half_dt;
-        r2 = dot(r, r);
+        const float core = kernel_gradient_peak_q(p) * p.h, core_r2 = core * core;
+        const Vec<DIM> rm = r + (vi - nb.v) * half_dt;
+        const float rm2 = dot(rm, rm);
+        if (r2 >= core_r2 && rm2 >= core_r2) {
+            r = rm;
+            r2 = rm2;
+        }
     }
     nb.r = r;
     nb.r2 = r2;
