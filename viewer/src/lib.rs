@@ -313,6 +313,9 @@ pub struct RenderOptions {
     pub outlines: bool,
     /// The on-screen panel (below the overlay lines); `None`: no panel.
     pub panel: Option<Panel>,
+    /// Draw every sprite as a 4-vertex quad instead of one point (`sprites.rs`): the
+    /// reference the points are tested against.
+    pub quads_only: bool,
 }
 
 impl Default for RenderOptions {
@@ -331,6 +334,7 @@ impl Default for RenderOptions {
             surface: false,
             outlines: true,
             panel: None,
+            quads_only: false,
         }
     }
 }
