@@ -31,7 +31,7 @@
 //! ## Live window
 //!
 //! [`run_window`] opens a window (winit 0.30 + glutin 0.32, GLX or EGL,
-//! OpenGL 3.3 core) and runs the solver in the render loop until the window is
+//! OpenGL 4.0 core, else 3.3) and runs the solver in the render loop until the window is
 //! closed. 2D frames get an orthographic pan/zoom camera, 3D frames an orbit
 //! camera. A panel at the top left ([`Panel`]) shows the time, step, particle
 //! count, solver steps/s and frames/s, and one row per control below; a click on
