@@ -31,7 +31,7 @@
 //! ## Live window
 //!
 //! [`run_window`] opens a window (winit 0.30 + glutin 0.32, GLX or EGL,
-//! OpenGL 3.3 core) and runs the solver in the render loop until the window is
+//! OpenGL 4.0 core, else 3.3) and runs the solver in the render loop until the window is
 //! closed. 2D frames get an orthographic pan/zoom camera, 3D frames an orbit
 //! camera. A panel at the top left ([`Panel`]) shows the time, step, particle
 //! count, solver steps/s and frames/s, and one row per control below; a click on
@@ -313,6 +313,9 @@ pub struct RenderOptions {
     pub outlines: bool,
     /// The on-screen panel (below the overlay lines); `None`: no panel.
     pub panel: Option<Panel>,
+    /// Draw every sprite as a 4-vertex quad instead of one point (`sprites.rs`): the
+    /// reference the points are tested against.
+    pub quads_only: bool,
 }
 
 impl Default for RenderOptions {
@@ -331,6 +334,7 @@ impl Default for RenderOptions {
             surface: false,
             outlines: true,
             panel: None,
+            quads_only: false,
         }
     }
 }

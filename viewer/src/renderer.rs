@@ -10,7 +10,7 @@ use crate::font;
 use crate::outline::Outlines;
 use crate::panel::{self, Action};
 use crate::shaders::{compile, sphere_fs, ParticleUniforms, SphereFs, PARTICLE_VS};
-use crate::sprites::{front_to_back_reversed, Sprites};
+use crate::sprites::{front_to_back_reversed, SpriteView, Sprites};
 use crate::surface::{Surface, SurfaceView};
 use crate::{Camera, Field, FrameData, ParticleBuffers, RenderOptions, ViewerError};
 
@@ -289,7 +289,13 @@ impl Renderer {
             ortho: m.ortho,
             px_scale: 0.5 * h as f32 * m.proj.y_axis.y,
         };
-        let reverse = front_to_back_reversed(m.view, m.ortho);
+        let sprites = SpriteView {
+            size: (sw, h),
+            count: self.count,
+            reverse: front_to_back_reversed(m.view, m.ortho),
+            bounds: (frame.domain_min.into(), frame.domain_max.into()),
+            quads_only: opts.quads_only,
+        };
         let bg = opts.background;
 
         unsafe {
@@ -311,7 +317,7 @@ impl Renderer {
                 let p = self.particle_prog;
                 gl.use_program(Some(p));
                 uniforms.set(gl, p, self.cmap_tex);
-                self.sprites.draw(gl, self.count, reverse);
+                self.sprites.draw(gl, p, &uniforms, &sprites);
             }
             // Outlines, then the surface over them: the water lets them through.
             if frame.dim == 3 && opts.outlines && !frame.outlines.is_empty() {
@@ -327,13 +333,11 @@ impl Renderer {
                 let view = SurfaceView {
                     uniforms,
                     spacing: 2.0 * frame.particle_radius,
-                    size: (sw, h),
                     scene_size: {
                         let (lo, hi) = frame.focus();
                         (0..3).map(|i| (hi[i] - lo[i]).powi(2)).sum::<f32>().sqrt()
                     },
-                    count: self.count,
-                    reverse,
+                    sprites,
                 };
                 self.surface
                     .draw(gl, target, &self.sprites, self.cmap_tex, &view);

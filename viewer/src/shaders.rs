@@ -21,10 +21,8 @@ const SPHERE: &str = include_str!("shaders/sphere.glsl");
 pub(crate) enum SphereFs {
     /// Lit spheres.
     Shaded,
-    /// The surface's eye distance.
-    SurfaceDepth,
-    /// The surface's thickness.
-    SurfaceThickness,
+    /// The surface's eye distance and thickness (one pass, two targets).
+    SurfaceSprites,
     /// The surface's shading (a full-screen pass; it uses `window_depth`).
     SurfaceShade,
 }
@@ -36,8 +34,7 @@ pub(crate) enum SphereFs {
 pub(crate) fn sphere_fs(which: SphereFs) -> String {
     let body = match which {
         SphereFs::Shaded => include_str!("shaders/particle.frag"),
-        SphereFs::SurfaceDepth => include_str!("shaders/surface_depth.frag"),
-        SphereFs::SurfaceThickness => include_str!("shaders/surface_thickness.frag"),
+        SphereFs::SurfaceSprites => include_str!("shaders/surface_sprites.frag"),
         SphereFs::SurfaceShade => include_str!("shaders/surface_shade.frag"),
     };
     format!("#version 330 core\n#extension GL_ARB_conservative_depth : enable\n{SPHERE}\n{body}")
@@ -100,6 +97,8 @@ impl ParticleUniforms {
         let loc = |n: &str| gl.get_uniform_location(prog, n);
         gl.uniform_matrix_4_f32_slice(loc("u_view").as_ref(), false, &self.view.to_cols_array());
         gl.uniform_matrix_4_f32_slice(loc("u_proj").as_ref(), false, &self.proj.to_cols_array());
+        let inv = self.proj.inverse().to_cols_array();
+        gl.uniform_matrix_4_f32_slice(loc("u_inv_proj").as_ref(), false, &inv);
         gl.uniform_1_f32(loc("u_radius").as_ref(), self.radius.max(1e-9));
         gl.uniform_2_f32(loc("u_range").as_ref(), self.range.0, self.range.1);
         gl.uniform_1_i32(loc("u_hidden").as_ref(), self.hidden);

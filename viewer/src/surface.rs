@@ -1,9 +1,11 @@
 //! The screen-space fluid surface of van der Laan, Green & Sainz (2009, "Screen space fluid
 //! rendering with curvature flow"), with a bilateral filter in place of their curvature
-//! flow: the fluid particles' spheres give the eye distance of the nearest fluid in each
-//! pixel and the fluid's thickness along it; the distance is smoothed, normals come from
-//! it, and the shading pass adds Fresnel reflection of a sky and Beer-Lambert absorption
-//! over the thickness, over what is already drawn. Our own shaders (`shaders/surface_*`).
+//! flow: the fluid particles' spheres, drawn once into two targets, give the eye distance
+//! of the nearest fluid in each pixel (MIN blending) and the fluid's thickness along it
+//! (additive blending; per-target blend equations, `glBlendEquationi`: OpenGL 4.0); the
+//! distance is smoothed, normals come from it, and the shading pass adds Fresnel
+//! reflection of a sky and Beer-Lambert absorption over the thickness, over what is
+//! already drawn. Our own shaders (`shaders/surface_*`).
 
 use glam::{Mat3, Vec3};
 use glow::HasContext;
@@ -12,7 +14,7 @@ use crate::error::gl_err;
 use crate::shaders::{
     compile, sphere_fs, ParticleUniforms, SphereFs, BLUR_FS, FULLSCREEN_VS, PARTICLE_VS,
 };
-use crate::sprites::Sprites;
+use crate::sprites::{SpriteView, Sprites};
 use crate::ViewerError;
 
 /// The surface's spheres are this many particle radii: neighbours overlap and merge.
@@ -32,6 +34,8 @@ const ABSORB: [f32; 3] = [8.0, 2.6, 1.5];
 const WATER: [f32; 3] = [0.14, 0.52, 0.86];
 /// The light, view space (the spheres' light too).
 const LIGHT: [f32; 3] = [-0.4, 0.6, 0.7];
+/// The eye distance of a pixel without fluid, before the blur (`surface_sprites.frag`).
+const NO_FLUID: f32 = 1e30;
 
 /// What the surface needs of one frame.
 pub(crate) struct SurfaceView {
@@ -39,13 +43,10 @@ pub(crate) struct SurfaceView {
     pub uniforms: ParticleUniforms,
     /// Particle spacing [L].
     pub spacing: f32,
-    /// The particle viewport (pixels), from the target's origin.
-    pub size: (u32, u32),
     /// The diagonal of the framed box [L], which sets the absorption's length.
     pub scene_size: f32,
-    /// Particles drawn, and their order ([`Sprites::draw`]).
-    pub count: usize,
-    pub reverse: bool,
+    /// The particle viewport and the sprites drawn ([`Sprites::draw`]).
+    pub sprites: SpriteView,
 }
 
 /// A single-channel float texture and the framebuffer that draws into it.
@@ -56,15 +57,15 @@ struct Target {
 
 struct Targets {
     size: (u32, u32),
-    depth_rb: glow::Renderbuffer,
+    /// The eye distance (colour attachment 0) and the thickness (1), drawn together.
+    sprites: glow::Framebuffer,
     depth: Target,
     thickness: Target,
     blur: [Target; 2],
 }
 
 pub(crate) struct Surface {
-    depth_prog: glow::Program,
-    thickness_prog: glow::Program,
+    sprites_prog: glow::Program,
     blur_prog: glow::Program,
     shade_prog: glow::Program,
     empty_vao: glow::VertexArray,
@@ -77,7 +78,6 @@ unsafe fn make_target(
     gl: &glow::Context,
     (w, h): (u32, u32),
     internal: u32,
-    depth: Option<glow::Renderbuffer>,
     mipmaps: bool,
 ) -> Result<Target, ViewerError> {
     let tex = gl.create_texture().map_err(gl_err)?;
@@ -116,22 +116,20 @@ unsafe fn make_target(
         Some(tex),
         0,
     );
-    if let Some(rb) = depth {
-        gl.framebuffer_renderbuffer(
-            glow::FRAMEBUFFER,
-            glow::DEPTH_ATTACHMENT,
-            glow::RENDERBUFFER,
-            Some(rb),
-        );
-    }
     gl.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
+    complete(gl)?;
+    Ok(Target { fbo, tex })
+}
+
+/// Whether the bound framebuffer is complete.
+unsafe fn complete(gl: &glow::Context) -> Result<(), ViewerError> {
     let status = gl.check_framebuffer_status(glow::FRAMEBUFFER);
     if status != glow::FRAMEBUFFER_COMPLETE {
         return Err(gl_err(format!(
             "surface framebuffer incomplete: 0x{status:x}"
         )));
     }
-    Ok(Target { fbo, tex })
+    Ok(())
 }
 
 impl Target {
@@ -143,23 +141,36 @@ impl Target {
 
 impl Targets {
     unsafe fn new(gl: &glow::Context, size: (u32, u32)) -> Result<Targets, ViewerError> {
-        let depth_rb = gl.create_renderbuffer().map_err(gl_err)?;
-        gl.bind_renderbuffer(glow::RENDERBUFFER, Some(depth_rb));
-        gl.renderbuffer_storage(
-            glow::RENDERBUFFER,
-            glow::DEPTH_COMPONENT24,
-            size.0 as i32,
-            size.1 as i32,
-        );
-        gl.bind_renderbuffer(glow::RENDERBUFFER, None);
+        let v = gl.version();
+        if (v.major, v.minor) < (4, 0) {
+            return Err(gl_err(format!(
+                "the surface needs OpenGL 4.0 (glBlendEquationi), this context is {}.{}",
+                v.major, v.minor
+            )));
+        }
+        let depth = make_target(gl, size, glow::R32F, false)?;
+        let thickness = make_target(gl, size, glow::R16F, true)?;
+        let sprites = gl.create_framebuffer().map_err(gl_err)?;
+        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(sprites));
+        for (i, t) in [&depth, &thickness].into_iter().enumerate() {
+            gl.framebuffer_texture_2d(
+                glow::FRAMEBUFFER,
+                glow::COLOR_ATTACHMENT0 + i as u32,
+                glow::TEXTURE_2D,
+                Some(t.tex),
+                0,
+            );
+        }
+        gl.draw_buffers(&[glow::COLOR_ATTACHMENT0, glow::COLOR_ATTACHMENT1]);
+        complete(gl)?;
         Ok(Targets {
             size,
-            depth_rb,
-            depth: make_target(gl, size, glow::R32F, Some(depth_rb), false)?,
-            thickness: make_target(gl, size, glow::R16F, None, true)?,
+            sprites,
+            depth,
+            thickness,
             blur: [
-                make_target(gl, size, glow::R32F, None, false)?,
-                make_target(gl, size, glow::R32F, None, false)?,
+                make_target(gl, size, glow::R32F, false)?,
+                make_target(gl, size, glow::R32F, false)?,
             ],
         })
     }
@@ -168,7 +179,7 @@ impl Targets {
         for t in [&self.depth, &self.thickness, &self.blur[0], &self.blur[1]] {
             t.destroy(gl);
         }
-        gl.delete_renderbuffer(self.depth_rb);
+        gl.delete_framebuffer(self.sprites);
     }
 }
 
@@ -176,8 +187,7 @@ impl Surface {
     pub(crate) fn new(gl: &glow::Context) -> Result<Surface, ViewerError> {
         unsafe {
             Ok(Surface {
-                depth_prog: compile(gl, PARTICLE_VS, &sphere_fs(SphereFs::SurfaceDepth))?,
-                thickness_prog: compile(gl, PARTICLE_VS, &sphere_fs(SphereFs::SurfaceThickness))?,
+                sprites_prog: compile(gl, PARTICLE_VS, &sphere_fs(SphereFs::SurfaceSprites))?,
                 blur_prog: compile(gl, FULLSCREEN_VS, BLUR_FS)?,
                 shade_prog: compile(gl, FULLSCREEN_VS, &sphere_fs(SphereFs::SurfaceShade))?,
                 empty_vao: gl.create_vertex_array().map_err(gl_err)?,
@@ -189,12 +199,7 @@ impl Surface {
 
     pub(crate) fn destroy(&self, gl: &glow::Context) {
         unsafe {
-            for p in [
-                self.depth_prog,
-                self.thickness_prog,
-                self.blur_prog,
-                self.shade_prog,
-            ] {
+            for p in [self.sprites_prog, self.blur_prog, self.shade_prog] {
                 gl.delete_program(p);
             }
             gl.delete_vertex_array(self.empty_vao);
@@ -227,7 +232,7 @@ impl Surface {
         self.targets.as_ref()
     }
 
-    /// Draws the fluid (kind 0) of the first `v.count` particles of `sprites` as a surface
+    /// Draws the fluid (kind 0) of the particles of `sprites` (`v.sprites`) as a surface
     /// over what `target` holds, depth-tested against it. Leaves `target` bound and blending
     /// off.
     pub(crate) unsafe fn draw(
@@ -238,10 +243,9 @@ impl Surface {
         cmap: glow::Texture,
         v: &SurfaceView,
     ) {
-        let (w, h) = v.size;
-        let (depth_prog, thickness_prog, blur_prog, shade_prog, empty_vao) = (
-            self.depth_prog,
-            self.thickness_prog,
+        let (w, h) = v.sprites.size;
+        let (sprites_prog, blur_prog, shade_prog, empty_vao) = (
+            self.sprites_prog,
             self.blur_prog,
             self.shade_prog,
             self.empty_vao,
@@ -255,42 +259,33 @@ impl Surface {
         u.hidden = !1; // every kind but the fluid
         gl.viewport(0, 0, w as i32, h as i32);
 
-        // 1. Eye distance of the nearest fluid sphere.
-        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.depth.fbo));
-        gl.clear_color(0.0, 0.0, 0.0, 0.0);
-        gl.clear_depth_f64(1.0);
-        gl.depth_mask(true);
-        gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
-        gl.enable(glow::DEPTH_TEST);
-        gl.depth_func(glow::LESS);
-        gl.disable(glow::BLEND);
-        gl.use_program(Some(depth_prog));
-        u.set(gl, depth_prog, cmap);
-        sprites.draw(gl, v.count, v.reverse);
-
-        // 2. Thickness: every sphere's chord, summed.
-        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.thickness.fbo));
-        gl.clear(glow::COLOR_BUFFER_BIT);
+        // 1. The spheres: eye distance of the nearest (MIN) and every chord (summed).
+        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.sprites));
+        gl.clear_buffer_f32_slice(glow::COLOR, 0, &[NO_FLUID, 0.0, 0.0, 0.0]);
+        gl.clear_buffer_f32_slice(glow::COLOR, 1, &[0.0; 4]);
         gl.disable(glow::DEPTH_TEST);
         gl.enable(glow::BLEND);
         gl.blend_func(glow::ONE, glow::ONE);
-        gl.use_program(Some(thickness_prog));
-        u.set(gl, thickness_prog, cmap);
+        gl.blend_equation_draw_buffer(0, glow::MIN);
+        gl.blend_equation_draw_buffer(1, glow::FUNC_ADD);
+        gl.use_program(Some(sprites_prog));
+        u.set(gl, sprites_prog, cmap);
         // Particle volume spacing^3 over the drawn sphere's volume.
         let fill = v.spacing.powi(3) / (4.0 / 3.0 * std::f32::consts::PI * u.radius.powi(3));
         gl.uniform_1_f32(
-            gl.get_uniform_location(thickness_prog, "u_fill").as_ref(),
+            gl.get_uniform_location(sprites_prog, "u_fill").as_ref(),
             fill,
         );
-        sprites.draw(gl, v.count, v.reverse);
+        sprites.draw(gl, sprites_prog, &u, &v.sprites);
+        gl.blend_equation(glow::FUNC_ADD);
         gl.disable(glow::BLEND);
-        // Its mipmaps: the shading reads it averaged over about a particle spacing, so
-        // that the spheres' chords do not show as discs.
+        // The thickness's mipmaps: the shading reads it averaged over about a particle
+        // spacing, so that the spheres' chords do not show as discs.
         gl.bind_texture(glow::TEXTURE_2D, Some(t.thickness.tex));
         gl.generate_mipmap(glow::TEXTURE_2D);
         gl.bind_texture(glow::TEXTURE_2D, None);
 
-        // 3. Bilateral smoothing of the distance, ping-pong between the blur targets.
+        // 2. Bilateral smoothing of the distance, ping-pong between the blur targets.
         gl.use_program(Some(blur_prog));
         gl.bind_vertex_array(Some(empty_vao));
         let loc = |n: &str| gl.get_uniform_location(blur_prog, n);
@@ -314,7 +309,7 @@ impl Surface {
             }
         }
 
-        // 4. Shade over the target, depth-tested against what it holds.
+        // 3. Shade over the target, depth-tested against what it holds.
         gl.bind_framebuffer(glow::FRAMEBUFFER, target);
         gl.enable(glow::DEPTH_TEST);
         gl.depth_func(glow::LESS);

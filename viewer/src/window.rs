@@ -233,7 +233,8 @@ impl<'a> App<'a> {
         let display = config.display();
         let mut context = None;
         let mut last = String::new();
-        for version in [Some(Version::new(3, 3)), None] {
+        // 4.0 first, as headless.rs asks.
+        for version in [Some(Version::new(4, 0)), Some(Version::new(3, 3)), None] {
             let ca = ContextAttributesBuilder::new()
                 .with_context_api(ContextApi::OpenGl(version))
                 .with_profile(GlProfile::Core)

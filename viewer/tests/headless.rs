@@ -705,3 +705,85 @@ fn surface_closes_the_gaps_of_a_sheet() {
         &parts[..parts.len().min(8)]
     );
 }
+
+/// The share of pixels where any channel of `a` and `b` differs by more than 8 of 255.
+fn differing(a: &Image, b: &Image) -> f64 {
+    assert_eq!((a.width, a.height), (b.width, b.height));
+    let n = a
+        .rgba
+        .chunks_exact(4)
+        .zip(b.rgba.chunks_exact(4))
+        .filter(|(p, q)| (0..3).any(|c| p[c].abs_diff(q[c]) > 8))
+        .count();
+    n as f64 / (a.width * a.height) as f64
+}
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_egl),
+    ignore = "needs EGL: build with MESHFREE_REQUIRE_EGL=1, or run with --include-ignored"
+)]
+fn points_draw_the_picture_of_quads() {
+    let _g = GL.lock().unwrap_or_else(|e| e.into_inner());
+    let mut r = renderer();
+    let tank = frame_tank();
+    // Close enough that the nearest spheres are wider than the widest point (the quads
+    // take them), and many sprites' centres lie off screen (the guard band).
+    let close = OrbitCamera {
+        target: [1.0, 0.2, 0.45],
+        distance: 0.15,
+        yaw: 0.3,
+        pitch: 0.2,
+        fov_y: 0.3,
+    };
+    let cases = [
+        ("2d", frame_2d(), Camera::Auto, false),
+        ("3d", frame_3d(), Camera::Auto, false),
+        ("tank", tank.clone(), Camera::Auto, false),
+        ("tank_surface", tank.clone(), Camera::Auto, true),
+        ("close", tank.clone(), Camera::Orbit(close), false),
+        ("close_surface", tank, Camera::Orbit(close), true),
+    ];
+    for (name, frame, camera, surface) in cases {
+        let opts = RenderOptions {
+            width: 360,
+            height: 240,
+            colorbar: false,
+            camera,
+            surface,
+            ..RenderOptions::default()
+        };
+        let points = r.render(&frame, &opts).unwrap();
+        let quads = r
+            .render(
+                &frame,
+                &RenderOptions {
+                    quads_only: true,
+                    ..opts.clone()
+                },
+            )
+            .unwrap();
+        points
+            .save_png(out_dir().join(format!("points_{name}.png")))
+            .unwrap();
+        quads
+            .save_png(out_dir().join(format!("quads_{name}.png")))
+            .unwrap();
+        let bg = opts.background;
+        let drawn = quads
+            .rgba
+            .chunks_exact(4)
+            .filter(|p| !is_background([p[0], p[1], p[2], p[3]], bg))
+            .count() as f64
+            / (quads.width * quads.height) as f64;
+        let (mean, _) = compare(&points, &quads);
+        let diff = differing(&points, &quads);
+        eprintln!("{name}: drawn {drawn:.3}, mean difference {mean:.4}, differing {diff:.5}");
+        assert!(drawn > 0.05, "{name}: only {drawn} of the image drawn");
+        // Float rounding moves single pixels at the spheres' edges, no more.
+        assert!(
+            mean < 0.1 && diff < 0.002,
+            "{name}: points and quads differ (mean {mean}, share of pixels {diff})"
+        );
+    }
+}

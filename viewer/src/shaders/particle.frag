@@ -12,7 +12,8 @@ layout(depth_greater) out float gl_FragDepth;
 void main() {
     vec3 h;
     vec3 n;
-    if (!sphere_hit(v_pos, v_center, u_radius, u_ortho != 0, h, n)) discard;
+    vec3 p = sprite_point(v_pos, v_center, u_radius, u_ortho != 0);
+    if (!sphere_hit(p, v_center, u_radius, u_ortho != 0, h, n)) discard;
     gl_FragDepth = window_depth(u_proj, h);
     // A sphere a few pixels across cannot show its shading: the lattice's spheres would
     // alias into Moire bands. Below 4 pixels of radius the shading fades to the sphere's

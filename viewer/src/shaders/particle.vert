@@ -1,8 +1,15 @@
 #version 330 core
-// One instanced 4-vertex strip per particle: a quad in the plane of the sphere's nearest
-// view depth (z = c.z + r, view space), so that every point of the sphere lies at or
-// behind it (the fragment shaders' depth_greater), spanning the sphere's silhouette: in
-// perspective its projection's bounding box, else (orthographic) the square about it.
+// One sprite per particle, in the plane of the sphere's nearest view depth (z = c.z + r,
+// view space), so that every point of the sphere lies at or behind it (the fragment
+// shaders' depth_greater), spanning the sphere's silhouette: in perspective its
+// projection's bounding box, else (orthographic) the square about it. Drawn two ways
+// (`sprites.rs`): one point per particle (u_points = 1, GL_POINTS: a square of
+// gl_PointSize pixels about the box's centre; the fragment shaders take the ray from
+// gl_FragCoord), or an instanced 4-vertex strip (u_points = 0: the box's corners; the
+// fragment shaders take the interpolated v_pos). With u_split = 1 the points take the
+// sprites that fit u_point_max and the strips the rest (the eye in or beside a sphere, or
+// a sprite too wide), so that each sprite is drawn once; with u_split = 0 each pass draws
+// every sprite (points wider than u_point_max clamped to it).
 layout(location = 0) in vec3 a_pos;
 layout(location = 1) in float a_value;
 layout(location = 2) in float a_kind;
@@ -15,13 +22,17 @@ uniform int u_grey_boundary;
 uniform int u_ortho;
 // Pixels per world unit: at any depth (orthographic), at unit depth (perspective).
 uniform float u_px_scale;
+uniform int u_points;
+uniform int u_split;
+// The widest point [px], and the clip-space scale of the viewport widened by half of it
+// on each side (points whose centre lies off screen still draw; a scissor keeps the view).
+uniform float u_point_max;
+uniform vec2 u_clip_scale;
 uniform sampler2D u_cmap;
 out vec3 v_center;
 out vec3 v_pos;
 out vec3 v_color;
 out float v_rpx;
-const vec2 CORNERS[4] = vec2[4](vec2(-1.0, -1.0), vec2(1.0, -1.0), vec2(-1.0, 1.0),
-                                vec2(1.0, 1.0));
 
 // The least and greatest slope x / -z of the two lines from the eye that touch the circle
 // of radius r about (x, z), in a plane through the eye and the view's z axis: the
@@ -41,6 +52,11 @@ bool slopes(float x, float z, float r, out vec2 s) {
     return true;
 }
 
+void cull() {
+    gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // outside the clip volume
+    gl_PointSize = 1.0;
+}
+
 void main() {
     int k = int(a_kind + 0.5);
     v_center = vec3(0.0);
@@ -48,29 +64,59 @@ void main() {
     v_color = vec3(0.0);
     v_rpx = 0.0;
     if (k >= 0 && k < 8 && ((u_hidden >> k) & 1) != 0) {
-        gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // outside the clip volume
+        cull();
         return;
     }
     vec3 c = (u_view * vec4(a_pos, 1.0)).xyz;
-    vec2 q = CORNERS[gl_VertexID & 3];
     float zq = c.z + u_radius; // the sphere's nearest view depth
     vec2 sx;
     vec2 sy;
-    vec3 p;
+    // The sprite's bounds in its plane: view x and y (orthographic, and the square), or
+    // slopes x / -z and y / -z (the box); its wider side in pixels, 0 for the square.
+    vec2 lo;
+    vec2 hi;
+    float px = 0.0;
+    bool box = false;
     if (u_ortho != 0) {
-        p = c + vec3(q * u_radius, u_radius);
+        lo = c.xy - u_radius;
+        hi = c.xy + u_radius;
+        px = 2.0 * u_radius * u_px_scale;
     } else if (zq < 0.0 && slopes(c.x, c.z, u_radius, sx) && slopes(c.y, c.z, u_radius, sy)) {
         // With the disc of radius r about the centre in that plane (the surface's
-        // thickness pass draws it; it reaches a little past the silhouette), widened by
-        // a twentieth of a pixel so that rounding never loses an edge pixel.
+        // thickness draws it; it reaches a little past the silhouette), widened by a
+        // twentieth of a pixel so that rounding never loses an edge pixel.
         float m = 0.05 / u_px_scale;
-        vec2 lo = min(vec2(sx.x, sy.x), (c.xy - u_radius) / -zq) - m;
-        vec2 hi = max(vec2(sx.y, sy.y), (c.xy + u_radius) / -zq) + m;
-        vec2 s = vec2(q.x < 0.0 ? lo.x : hi.x, q.y < 0.0 ? lo.y : hi.y);
-        p = vec3(s * -zq, zq);
+        lo = min(vec2(sx.x, sy.x), (c.xy - u_radius) / -zq) - m;
+        hi = max(vec2(sx.y, sy.y), (c.xy + u_radius) / -zq) + m;
+        px = max(hi.x - lo.x, hi.y - lo.y) * u_px_scale;
+        box = true;
     } else {
         // The eye in or beside the sphere: a square of 1.5 radii in the same plane.
-        p = c + vec3(q * u_radius * 1.5, u_radius);
+        lo = c.xy - 1.5 * u_radius;
+        hi = c.xy + 1.5 * u_radius;
+    }
+    // A point covers the pixels whose centres lie in the square of its size about its
+    // centre: one pixel more than the sprite, so that the rounding of either never drops
+    // an edge pixel.
+    float size = px + 1.0;
+    bool as_point = px > 0.0 && size <= u_point_max;
+    vec3 p;
+    if (u_points != 0) {
+        if (px <= 0.0 || (u_split != 0 && !as_point)) {
+            cull();
+            return;
+        }
+        gl_PointSize = min(size, u_point_max);
+        vec2 mid = 0.5 * (lo + hi);
+        p = vec3(box ? mid * -zq : mid, zq);
+    } else {
+        if (u_split != 0 && as_point) {
+            cull();
+            return;
+        }
+        int i = gl_VertexID & 3;
+        vec2 s = vec2((i & 1) == 0 ? lo.x : hi.x, (i & 2) == 0 ? lo.y : hi.y);
+        p = vec3(box ? s * -zq : s, zq);
     }
     v_center = c;
     v_pos = p;
@@ -82,4 +128,5 @@ void main() {
     v_color = textureLod(u_cmap, vec2((t * 255.0 + 0.5) / 256.0, 0.5), 0.0).rgb;
     if (k == 2 && u_grey_boundary != 0) v_color = vec3(0.55, 0.55, 0.58);
     gl_Position = u_proj * vec4(p, 1.0);
+    gl_Position.xy *= u_clip_scale;
 }

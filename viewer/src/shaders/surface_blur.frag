@@ -1,8 +1,9 @@
 #version 330 core
-// Screen-space fluid, pass 3: one direction of a separable bilateral filter of the depth
+// Screen-space fluid, pass 2: one direction of a separable bilateral filter of the depth
 // [L]. The spatial Gaussian spans about u_world_radius in the world (so far fluid is
 // smoothed over fewer pixels); the range weight exp(-(dz / u_depth_sigma)^2) keeps a front
-// sheet from blending with fluid behind it. Empty pixels (0) stay empty and are skipped.
+// sheet from blending with fluid behind it. Empty pixels (0 from a blur, NO_FLUID from the
+// sprites' pass) come out 0 and are skipped.
 uniform sampler2D u_depth;
 uniform ivec2 u_dir;
 uniform float u_world_radius;
@@ -10,11 +11,15 @@ uniform float u_px_scale;
 uniform float u_depth_sigma;
 uniform int u_max_px;
 layout(location = 0) out float o_depth;
+const float NO_FLUID = 1e30; // as in surface_sprites.frag
+bool fluid(float z) {
+    return z > 0.0 && z < NO_FLUID;
+}
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     ivec2 last = textureSize(u_depth, 0) - 1;
     float z = texelFetch(u_depth, p, 0).r;
-    if (z <= 0.0) {
+    if (!fluid(z)) {
         o_depth = 0.0;
         return;
     }
@@ -26,7 +31,7 @@ void main() {
     float wsum = 0.0;
     for (int i = -n; i <= n; i++) {
         float s = texelFetch(u_depth, clamp(p + u_dir * i, ivec2(0), last), 0).r;
-        if (s <= 0.0) continue;
+        if (!fluid(s)) continue;
         float dz = s - z;
         float w = exp(-float(i * i) * 0.5 * inv_s2 - dz * dz * inv_r2);
         sum += s * w;

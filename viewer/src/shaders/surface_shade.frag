@@ -1,4 +1,4 @@
-// Screen-space fluid, pass 4: shade the smoothed depth. Normals from the view-space
+// Screen-space fluid, pass 3: shade the smoothed depth. Normals from the view-space
 // positions of the neighbouring pixels (the smaller difference on each axis, so that a
 // silhouette does not bend them); Fresnel reflection of a sky (Schlick's approximation,
 // water F0 = 0.02); Beer-Lambert absorption over the thickness. Blending is
