@@ -127,6 +127,16 @@ __device__ __forceinline__ void for_each_neighbor_split(const SphParams& p, cons
 #define MF_QUEUE 8
 #endif
 
+// |r|^2 of the one-lane loop's candidate test in explicitly rounded operations, in the order
+// the compiler chose for dot(r, r) in every kernel before (y^2, then x, then z fused in):
+// never contracted otherwise, so that the forces pass and the rates pass accept the same
+// candidates (PairBits below; see slab_gap2 in grid.cuh).
+template <int DIM> __device__ __forceinline__ float dist2_rn(Vec<DIM> r) {
+    float s = __fmaf_rn(r.c[0], r.c[0], __fmul_rn(r.c[1], r.c[1]));
+    if constexpr (DIM == 3) s = __fmaf_rn(r.c[2], r.c[2], s);
+    return s;
+}
+
 // The accepted candidates of one particle's one-lane pass (queued_neighbours) as bits in
 // candidate order (the loop's chunks of up to 32, one after the other), recorded by the
 // forces pass and replayed by the rates pass of the symplectic Euler, which runs on the same
@@ -231,7 +241,7 @@ __device__ __forceinline__ void queued_neighbours(const SphParams& p, const unsi
 #pragma unroll
                                 for (int k = 0; k < B; ++k) {
                                     const Vec<DIM> r = separation<DIM, PERIODIC>(p, xi, xj[k]);
-                                    bits |= (dot(r, r) < p.support2 ? 1u : 0u) << k;
+                                    bits |= (dist2_rn<DIM>(r) < p.support2 ? 1u : 0u) << k;
                                 }
                                 mask |= bits << b;
                             }
