@@ -796,6 +796,10 @@ pub struct ValidateArgs {
     /// larger step costs in accuracy.
     #[arg(long, value_name = "C")]
     pub courant: Option<f64>,
+    /// Run every case with this integrator instead of its own (`symplectic-euler`,
+    /// `leapfrog`, `euler`): what another scheme gives on the same cases.
+    #[arg(long, value_parser = named::<IntegratorChoice>())]
+    pub integrator: Option<IntegratorChoice>,
 }
 
 fn validate(a: ValidateArgs) -> anyhow::Result<()> {
@@ -810,6 +814,7 @@ fn validate(a: ValidateArgs) -> anyhow::Result<()> {
         cases: a.case,
         verbose: true,
         courant: a.courant,
+        integrator: a.integrator,
     })?;
     let failed = report.checks.iter().filter(|c| !c.pass).count();
     println!(

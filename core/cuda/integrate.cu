@@ -45,8 +45,18 @@ __device__ __forceinline__ bool kick_one(const SphParams& p, unsigned char k, un
     return true;
 }
 
+// dt_dev holds 2 floats: [0] this step's dt (written by the kick, the drift-kick or
+// sph_step_size), [1] the last completed step's (written by the drift; 0 before the first
+// step): the leapfrog's kick spans their mean.
+
+// The time a kick spans [T]: dt, or under the leapfrog (dt_prev + dt) / 2, from the middle
+// of the last step to the middle of this one. Twin: `kick_span` in cpu/integrate.rs.
+__device__ __forceinline__ float kick_span(const SphParams& p, const float* __restrict__ dt_dev, float dt) {
+    return p.integrator == MF_INTEGRATOR_LEAPFROG ? 0.5f * (dt_dev[1] + dt) : dt;
+}
+
 // The step's dt: from the forces pass's maxima `red` where given (every thread computes it,
-// the first writes it to dt_dev), else the one sph_step_size wrote to dt_dev.
+// the first writes it to dt_dev[0]), else the one sph_step_size wrote to dt_dev[0].
 __device__ __forceinline__ float step_dt(const SphParams& p, const unsigned* __restrict__ red,
                                          float* __restrict__ dt_dev) {
     if (!red) return *dt_dev;
@@ -61,7 +71,7 @@ __device__ void sph_kick_body(const SphParams p, unsigned n, float* __restrict__
                               const float* __restrict__ pos, float* __restrict__ vel,
                               const float* __restrict__ acc) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
-    const float dt = step_dt(p, red, dt_dev);
+    const float dt = kick_span(p, dt_dev, step_dt(p, red, dt_dev));
     if (i >= n) return;
     const Vec<DIM> x = p.inflow ? vload<DIM>(pos, i) : vzero<DIM>();
     Vec<DIM> v = vel_load<DIM>(vel, i);
@@ -128,7 +138,7 @@ __device__ __forceinline__ Vec<DIM> drift_one(const SphParams& p, unsigned n, un
 }
 
 template <int DIM>
-__device__ void sph_drift_body(const SphParams p, unsigned n, const float* __restrict__ dt_dev,
+__device__ void sph_drift_body(const SphParams p, unsigned n, float* __restrict__ dt_dev,
                                double* __restrict__ time, const unsigned char* __restrict__ kind,
                                const unsigned* __restrict__ group, float* __restrict__ pos, const float* __restrict__ vel,
                                const float* __restrict__ xsph, float* __restrict__ rho,
@@ -136,15 +146,18 @@ __device__ void sph_drift_body(const SphParams p, unsigned n, const float* __res
                                float* __restrict__ stress, const float* __restrict__ rate, unsigned* __restrict__ cell,
                                unsigned* __restrict__ count) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
-    const float dt = *dt_dev;
-    if (i == 0) *time += (double)dt;
+    const float dt = dt_dev[0];
+    if (i == 0) {
+        *time += (double)dt;
+        dt_dev[1] = dt;  // the step is done: the next kick's dt_prev
+    }
     if (i >= n) return;
     const Vec<DIM> x =
         drift_one<DIM>(p, n, i, kind[i], driven_test_group(p, group, i), vel_load<DIM>(vel, i), dt, pos, xsph, rho, drho, rho_dev, stress, rate);
     hist_one<DIM>(p, i, x, cell, count);
 }
 MF_ENTRY2(sph_drift,
-          (const SphParams p, unsigned n, const float* dt_dev, double* time, const unsigned char* kind,
+          (const SphParams p, unsigned n, float* dt_dev, double* time, const unsigned char* kind,
            const unsigned* group, float* pos, const float* vel, const float* xsph, float* rho, const float* drho,
            float* rho_dev, float* stress, const float* rate, unsigned* cell, unsigned* count),
           (p, n, dt_dev, time, kind, group, pos, vel, xsph, rho, drho, rho_dev, stress, rate, cell, count))

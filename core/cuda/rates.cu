@@ -9,8 +9,11 @@
 #include "device/pairs.cuh"
 
 // drho: null without the continuity density; stress, rate: null without solids.
+// Under the leapfrog every pair at the drift's midpoint (`neighbour`'s half_dt: dt_dev[0] / 2,
+// the step size the kick took).
 template <int DIM, bool SOLIDS, bool EXTRAS, int L>
-__device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
+__device__ void rates_impl(const SphParams& p, unsigned n, const float* __restrict__ dt_dev,
+                           const unsigned* __restrict__ cell_start,
                            const float* __restrict__ pos, const float* __restrict__ vel,
                            const float* __restrict__ rho,
                            const unsigned char* __restrict__ kind, const unsigned* __restrict__ group,
@@ -23,12 +26,15 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
     const int lane = (int)(t % L);
     RateSum<DIM, SOLIDS, EXTRAS> r;
     r.begin(p, i, n, i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY, vel, rho, group, grad_rho);
-    // The record is read only (PairBits writes nothing in MF_PAIRS_REPLAY).
+    const float half_dt = p.integrator == MF_INTEGRATOR_LEAPFROG ? 0.5f * dt_dev[0] : 0.0f;
+    // The record is read only (PairBits writes nothing in MF_PAIRS_REPLAY). It holds the
+    // candidates accepted at these positions, x^n: the leapfrog's midpoint shifts each
+    // accepted pair after (`neighbour`), replayed or tested, so the set is x^n's either way.
     const PairBits<DIM> pb{const_cast<unsigned*>(pair_a), const_cast<unsigned*>(pair_b), n};
     neighbour_loop<DIM, L, MF_PAIRS_REPLAY>(p, cell_start, pos, i, r.on, lane,
-                                            [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
+                              [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
         if (j == i) return;
-        r.add(p, neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, kind), group);
+        r.add(p, neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, kind, r.vi, half_dt), group);
     }, pb);
     r.template finish<L>(p, i, n, lane, stress, drho_out, xsph_out, rate_out);
 }
@@ -38,12 +44,12 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const unsigned* __res
 // per SM (64 registers; unbounded they take 78-79 in 3D: 3 blocks).
 #define MF_RATES_ENTRY(name, DIM, SOLIDS, EXTRAS, L)                                                                   \
     extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 1 : MF_FLUID_BLOCKS)                                   \
-        name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel, \
-             const float* rho, const unsigned char* kind, const unsigned* group,          \
+        name(const SphParams p, unsigned n, const float* dt_dev, const unsigned* cell_start, const float* pos,       \
+             const float* vel, const float* rho, const unsigned char* kind, const unsigned* group,                 \
              const float* stress, const float* grad_rho, float* drho, float* xsph, float* rate,                  \
              const unsigned* pair_a, const unsigned* pair_b) {                                                   \
-        rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, pos, vel, rho, kind, group, stress, grad_rho, drho, xsph, \
-                                           rate, pair_a, pair_b);                                                \
+        rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, dt_dev, cell_start, pos, vel, rho, kind, group, stress, grad_rho,  \
+                                           drho, xsph, rate, pair_a, pair_b);                                    \
     }
 #define MF_RATES_LANES(L) MF_SCHEMES(MF_RATES_ENTRY, sph_rates, L)
 MF_LANES_EACH(MF_RATES_LANES)

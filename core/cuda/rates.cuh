@@ -78,6 +78,7 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
             mo = mzero<DIM>();
         }
         gr = nullptr;
+        vi = vzero<DIM>();
         if (!on) return;
         vi = vel_load<DIM>(vel, i);
         rhoi = rho[i];

@@ -26,6 +26,7 @@
 /* Time integrators (`integrator`). */
 #define MF_INTEGRATOR_EULER 0            /* eq. (19) forward Euler: x += dt (v^n + xsph) */
 #define MF_INTEGRATOR_SYMPLECTIC_EULER 1 /* semi-implicit: x += dt (v^{n+1} + xsph) */
+#define MF_INTEGRATOR_LEAPFROG 2         /* the same with v at half steps, v += (dt_prev + dt) / 2 a, and the rates at the drift's midpoint */
 
 /* Neighbour grid: cells of at least support / MF_CELL_REACH per axis, so the support of a
  * particle spans at most MF_CELL_REACH cells on each side of its own (finer cells: fewer

@@ -104,6 +104,11 @@ choice! {
         SymplecticEuler = "symplectic-euler" => MF_INTEGRATOR_SYMPLECTIC_EULER,
         /// The paper's forward Euler, eq. (19).
         Euler = "euler" => MF_INTEGRATOR_EULER,
+        /// The symplectic Euler made second order (a kick-drift leapfrog): velocities at
+        /// half steps (the first kick a half kick, then v += (dt_prev + dt) / 2 a) and the
+        /// rates (continuity, XSPH, shifting, stress rate) at the drift's midpoint
+        /// x + dt/2 v, with the same two neighbour passes a step.
+        Leapfrog = "leapfrog" => MF_INTEGRATOR_LEAPFROG,
     }
 }
 

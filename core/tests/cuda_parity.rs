@@ -29,11 +29,11 @@ use meshfree_core::backend::cpu::{self, CpuSolver};
 use meshfree_core::backend::cuda::CudaSolver;
 use meshfree_core::dim::{Dim, D2, D3};
 use meshfree_core::monitor;
-use meshfree_core::params::MF_INTEGRATOR_SYMPLECTIC_EULER;
 use meshfree_core::params::{
     self, SphParams, MF_DENSITY_CONTINUITY, MF_DENSITY_SUMMATION, MF_DIFFUSION_ANTUONO,
     MF_DIFFUSION_FOURTAKAS, MF_DIFFUSION_MOLTENI, MF_INTEGRATOR_EULER, MF_SOLID_TOTAL_LAGRANGIAN,
 };
+use meshfree_core::params::{MF_INTEGRATOR_LEAPFROG, MF_INTEGRATOR_SYMPLECTIC_EULER};
 use meshfree_core::particle::{Kind, Particle};
 use meshfree_core::solver::{PointSample, Setup, Solver};
 use meshfree_core::state::State;
@@ -1269,6 +1269,56 @@ fn diagnostics_after_200_steps_3d_dynamic_walls_euler() {
     long_run::<D3>(3, V_3D_B, 200);
 }
 
+/// `setup` under the leapfrog: the symplectic Euler's stages with the kick spanning
+/// (dt_prev + dt) / 2 and the rates at the drift's midpoint.
+fn leapfrog(mut setup: Setup) -> Setup {
+    setup.params.integrator = MF_INTEGRATOR_LEAPFROG as i32;
+    setup
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_2d_leapfrog_with_a_body() {
+    stages_on::<D2>("V_2D_B leapfrog", leapfrog(scene(2, V_2D_B)));
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_3d_fluid_only_leapfrog_density_diffusion() {
+    stages_on::<D3>(
+        "V_3D_DELTA fluid-only leapfrog",
+        leapfrog(fluid_only(3, V_3D_DELTA)),
+    );
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn diagnostics_after_200_steps_2d_leapfrog_with_a_body() {
+    long_run_on::<D2>(
+        "V_2D_B leapfrog",
+        leapfrog(scene_with(2, V_2D_B, 0.05)),
+        200,
+    );
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn diagnostics_after_200_steps_3d_fluid_only_leapfrog() {
+    long_run_on::<D3>(
+        "V_3D_DELTA fluid-only leapfrog",
+        leapfrog(fluid_only_of(scene_with(3, V_3D_DELTA, 0.05))),
+        200,
+    );
+}
+
 #[test]
 #[cfg_attr(
     not(meshfree_require_cuda),
@@ -1459,7 +1509,9 @@ fn fused_pass_equals_two_passes_no_slip_walls() {
 /// and the stress rate agree bit for bit. The record holds 256 candidates a particle in 3D
 /// and 192 in 2D: at h = 1.3 dx every particle's fit (about 180 and 40); at h = 2 dx in 3D
 /// and 4 dx in 2D most particles' overflow it, and the rates pass tests the candidates past
-/// it.
+/// it. The rates are taken as a step takes them, after the step size and the kick (under
+/// the leapfrog each pair at the drift's midpoint, r + dt/2 (v_i - v_j), from the record of
+/// x^n's candidates).
 fn replayed_rates_equal_tested<D: Dim>(what: &str, mut setup: Setup, h_over_dx: f32) {
     setup.params.h = h_over_dx * setup.params.dx;
     params::derive(&mut setup.params);
@@ -1473,8 +1525,15 @@ fn replayed_rates_equal_tested<D: Dim>(what: &str, mut setup: Setup, h_over_dx: 
         g.rates_replay_pairs(),
         "{what}: a forces pass of one lane records its candidates"
     );
+    g.time_step();
+    g.kick();
+    assert!(
+        g.rates_replay_pairs(),
+        "{what}: the record holds across the step size and the kick"
+    );
+    let kicked = g.download_state();
     // An upload moves the particles: the record goes, and the rates pass tests.
-    g.upload_state(&start);
+    g.upload_state(&kicked);
     assert!(
         !g.rates_replay_pairs(),
         "{what}: the record outlived an upload"
@@ -1483,6 +1542,8 @@ fn replayed_rates_equal_tested<D: Dim>(what: &str, mut setup: Setup, h_over_dx: 
     let tested = g.download_state();
     g.upload_state(&start);
     g.forces();
+    g.time_step();
+    g.kick();
     g.rates();
     let replayed = g.download_state();
     assert_eq!(
@@ -1498,8 +1559,6 @@ fn replayed_rates_equal_tested<D: Dim>(what: &str, mut setup: Setup, h_over_dx: 
             "{what}: stress rate"
         );
     }
-    g.time_step();
-    g.kick();
     g.drift();
     assert!(
         !g.rates_replay_pairs(),
@@ -1521,6 +1580,8 @@ fn replayed_rates_equal_tested_2d() {
         replayed_rates_equal_tested::<D2>("2D V_2D_LEAN fluid only", lean, h);
         let delta = fluid_only(2, V_2D_DELTA);
         replayed_rates_equal_tested::<D2>("2D V_2D_DELTA fluid only", delta, h);
+        let b = leapfrog(scene(2, V_2D_B));
+        replayed_rates_equal_tested::<D2>("2D V_2D_B leapfrog", b, h);
     }
 }
 #[test]
@@ -1534,6 +1595,8 @@ fn replayed_rates_equal_tested_3d() {
         replayed_rates_equal_tested::<D3>("3D V_3D_A fluid only", fluid_only(3, V_3D_A), h);
         let lean = fluid_only(3, V_3D_LEAN);
         replayed_rates_equal_tested::<D3>("3D V_3D_LEAN fluid only", lean, h);
+        let delta = leapfrog(fluid_only(3, V_3D_DELTA));
+        replayed_rates_equal_tested::<D3>("3D V_3D_DELTA fluid only leapfrog", delta, h);
     }
 }
 

@@ -170,6 +170,7 @@ pub fn run(options: &Options) -> anyhow::Result<Vec<Point>> {
                 tier: options.tier,
                 backend,
                 courant: None,
+                integrator: None,
                 out_dir: &options.out_dir,
                 verbose: options.verbose,
             };

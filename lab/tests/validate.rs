@@ -2,6 +2,7 @@
 //! report files and plots are written and the JSON report reads back.
 
 use meshfree_core::backend::BackendChoice;
+use meshfree_core::scheme::IntegratorChoice;
 use meshfree_lab::validate::{self, Options, Report, Tier};
 
 #[test]
@@ -14,6 +15,7 @@ fn quick_validation_passes_and_writes_reports() {
         cases: Vec::new(),
         verbose: false,
         courant: None,
+        integrator: None,
     })
     .expect("validation runs");
     for c in &report.checks {
@@ -90,15 +92,16 @@ fn unknown_case_is_an_error() {
         cases: vec!["no-such-case".into()],
         verbose: false,
         courant: None,
+        integrator: None,
     })
     .unwrap_err();
     assert!(err.to_string().contains("taylor-green"), "{err}");
 }
 
-/// `--courant`: every case at another Courant number, said in the report; a number that is
-/// no Courant number is refused.
+/// `--courant` and `--integrator`: every case at another Courant number and with another
+/// integrator, both said in the report; a number that is no Courant number is refused.
 #[test]
-fn a_courant_override_runs_and_is_reported() {
+fn a_courant_and_integrator_override_runs_and_is_reported() {
     let dir = tempfile::tempdir().unwrap();
     let options = |c: f64| Options {
         tier: Tier::Quick,
@@ -107,11 +110,15 @@ fn a_courant_override_runs_and_is_reported() {
         cases: vec!["taylor-green".into()],
         verbose: false,
         courant: Some(c),
+        integrator: Some(IntegratorChoice::Leapfrog),
     };
     let r = validate::run(&options(0.3)).unwrap();
     assert_eq!(r.courant, Some(0.3));
+    assert_eq!(r.integrator, Some(IntegratorChoice::Leapfrog));
     assert!(!r.checks.is_empty());
-    assert!(validate::markdown(&r).contains("Courant number 0.3"));
+    let md = validate::markdown(&r);
+    assert!(md.contains("Courant number 0.3"));
+    assert!(md.contains("with the leapfrog integrator"));
     for bad in [0.0, -1.0, f64::NAN] {
         let e = validate::run(&options(bad)).unwrap_err().to_string();
         assert!(e.contains("--courant"), "{e}");

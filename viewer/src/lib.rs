@@ -100,6 +100,7 @@ mod outline;
 mod panel;
 mod renderer;
 mod shaders;
+mod sprites;
 mod surface;
 mod window;
 

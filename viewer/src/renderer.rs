@@ -10,6 +10,7 @@ use crate::font;
 use crate::outline::Outlines;
 use crate::panel::{self, Action};
 use crate::shaders::{compile, sphere_fs, ParticleUniforms, SphereFs, PARTICLE_VS};
+use crate::sprites::{front_to_back_reversed, Sprites};
 use crate::surface::{Surface, SurfaceView};
 use crate::{Camera, Field, FrameData, ParticleBuffers, RenderOptions, ViewerError};
 
@@ -57,11 +58,7 @@ pub(crate) struct Renderer {
     cmap_tex: glow::Texture,
     font_tex: glow::Texture,
     font_w: u32,
-    particle_vao: glow::VertexArray,
-    vbo_pos: glow::Buffer,
-    vbo_val: glow::Buffer,
-    vbo_kind: glow::Buffer,
-    capacity: usize,
+    sprites: Sprites,
     count: usize,
     overlay_vao: glow::VertexArray,
     overlay_vbo: glow::Buffer,
@@ -165,25 +162,6 @@ impl Renderer {
             let (fw, fh, fpx) = font::atlas();
             let font_tex = texture(gl, fw, fh, glow::R8, glow::RED, &fpx, glow::NEAREST)?;
 
-            let particle_vao = gl.create_vertex_array().map_err(gl_err)?;
-            gl.bind_vertex_array(Some(particle_vao));
-            let vbo_pos = gl.create_buffer().map_err(gl_err)?;
-            let vbo_val = gl.create_buffer().map_err(gl_err)?;
-            let vbo_kind = gl.create_buffer().map_err(gl_err)?;
-            for (i, (b, n, ty, stride)) in [
-                (vbo_pos, 3, glow::FLOAT, 12),
-                (vbo_val, 1, glow::FLOAT, 4),
-                (vbo_kind, 1, glow::UNSIGNED_BYTE, 1),
-            ]
-            .into_iter()
-            .enumerate()
-            {
-                gl.bind_buffer(glow::ARRAY_BUFFER, Some(b));
-                gl.enable_vertex_attrib_array(i as u32);
-                gl.vertex_attrib_pointer_f32(i as u32, n, ty, false, stride, 0);
-                gl.vertex_attrib_divisor(i as u32, 1);
-            }
-
             let overlay_vao = gl.create_vertex_array().map_err(gl_err)?;
             gl.bind_vertex_array(Some(overlay_vao));
             let overlay_vbo = gl.create_buffer().map_err(gl_err)?;
@@ -202,11 +180,7 @@ impl Renderer {
                 cmap_tex,
                 font_tex,
                 font_w: fw,
-                particle_vao,
-                vbo_pos,
-                vbo_val,
-                vbo_kind,
-                capacity: 0,
+                sprites: Sprites::new(gl)?,
                 count: 0,
                 overlay_vao,
                 overlay_vbo,
@@ -225,12 +199,10 @@ impl Renderer {
             gl.delete_program(self.overlay_prog);
             gl.delete_texture(self.cmap_tex);
             gl.delete_texture(self.font_tex);
-            for b in [self.vbo_pos, self.vbo_val, self.vbo_kind, self.overlay_vbo] {
-                gl.delete_buffer(b);
-            }
-            gl.delete_vertex_array(self.particle_vao);
+            gl.delete_buffer(self.overlay_vbo);
             gl.delete_vertex_array(self.overlay_vao);
         }
+        self.sprites.destroy(gl);
         self.surface.destroy(gl);
         self.outlines.destroy(gl);
     }
@@ -242,61 +214,25 @@ impl Renderer {
         frame: &FrameData,
     ) -> Result<(), ViewerError> {
         frame.validate()?;
-        let n = frame.len();
-        self.grow(gl, n);
-        unsafe {
-            if n > 0 {
-                gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.vbo_pos));
-                gl.buffer_sub_data_u8_slice(glow::ARRAY_BUFFER, 0, vec3_bytes(&frame.positions));
-                gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.vbo_val));
-                gl.buffer_sub_data_u8_slice(glow::ARRAY_BUFFER, 0, f32_bytes(&frame.values));
-                gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.vbo_kind));
-                gl.buffer_sub_data_u8_slice(glow::ARRAY_BUFFER, 0, &frame.kinds);
-            }
-            gl.bind_buffer(glow::ARRAY_BUFFER, None);
-        }
-        self.count = n;
+        self.sprites.upload(
+            gl,
+            vec3_bytes(&frame.positions),
+            f32_bytes(&frame.values),
+            &frame.kinds,
+        );
+        self.count = frame.len();
         Ok(())
-    }
-
-    /// Grows the particle buffers to hold `n` (they never shrink).
-    fn grow(&mut self, gl: &glow::Context, n: usize) {
-        if n <= self.capacity {
-            return;
-        }
-        let sizes = [
-            ParticleBuffers::POSITION_BYTES,
-            ParticleBuffers::VALUE_BYTES,
-            ParticleBuffers::KIND_BYTES,
-        ];
-        unsafe {
-            for (b, size) in [self.vbo_pos, self.vbo_val, self.vbo_kind]
-                .into_iter()
-                .zip(sizes)
-            {
-                gl.bind_buffer(glow::ARRAY_BUFFER, Some(b));
-                gl.buffer_data_size(glow::ARRAY_BUFFER, (n * size) as i32, glow::DYNAMIC_DRAW);
-            }
-            gl.bind_buffer(glow::ARRAY_BUFFER, None);
-        }
-        self.capacity = n;
     }
 
     /// The particle buffers, grown to hold `n`, for a fill outside the renderer
     /// (`device_fill.rs`); `set_count` then says how many the next draw takes.
     pub(crate) fn particle_buffers(&mut self, gl: &glow::Context, n: usize) -> ParticleBuffers {
-        self.grow(gl, n);
-        ParticleBuffers {
-            positions: self.vbo_pos.0.get(),
-            values: self.vbo_val.0.get(),
-            kinds: self.vbo_kind.0.get(),
-            capacity: self.capacity,
-        }
+        self.sprites.buffers(gl, n)
     }
 
     /// How many particles of the buffers the next draw takes (at most their capacity).
     pub(crate) fn set_count(&mut self, n: usize) {
-        self.count = n.min(self.capacity);
+        self.count = n.min(self.sprites.capacity());
     }
 
     /// Draws the uploaded particles (using `frame` for the domain, radius, outlines and
@@ -346,7 +282,6 @@ impl Renderer {
             view: m.view,
             proj: m.proj,
             radius: frame.particle_radius,
-            quad_scale: if m.ortho { 1.0 } else { 1.5 },
             range,
             // The surface draws the fluid.
             hidden: hidden | surface as i32,
@@ -354,6 +289,7 @@ impl Renderer {
             ortho: m.ortho,
             px_scale: 0.5 * h as f32 * m.proj.y_axis.y,
         };
+        let reverse = front_to_back_reversed(m.view, m.ortho);
         let bg = opts.background;
 
         unsafe {
@@ -375,9 +311,7 @@ impl Renderer {
                 let p = self.particle_prog;
                 gl.use_program(Some(p));
                 uniforms.set(gl, p, self.cmap_tex);
-                gl.bind_vertex_array(Some(self.particle_vao));
-                gl.draw_arrays_instanced(glow::TRIANGLES, 0, 6, self.count as i32);
-                gl.bind_vertex_array(None);
+                self.sprites.draw(gl, self.count, reverse);
             }
             // Outlines, then the surface over them: the water lets them through.
             if frame.dim == 3 && opts.outlines && !frame.outlines.is_empty() {
@@ -398,15 +332,11 @@ impl Renderer {
                         let (lo, hi) = frame.focus();
                         (0..3).map(|i| (hi[i] - lo[i]).powi(2)).sum::<f32>().sqrt()
                     },
+                    count: self.count,
+                    reverse,
                 };
-                self.surface.draw(
-                    gl,
-                    target,
-                    self.particle_vao,
-                    self.count,
-                    self.cmap_tex,
-                    &view,
-                );
+                self.surface
+                    .draw(gl, target, &self.sprites, self.cmap_tex, &view);
             }
 
             // Overlay: colour bar and text, in pixels over the whole target.

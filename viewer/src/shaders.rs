@@ -30,6 +30,9 @@ pub(crate) enum SphereFs {
 }
 
 /// The full source of a particle fragment shader: version, the sphere ray-cast, the body.
+/// `GL_ARB_conservative_depth` (core in GL 4.2; NVIDIA's and Mesa's contexts have it) lets
+/// the impostors declare that their depth lies behind the quad's (`depth_greater`), which
+/// keeps the early depth test on; without it they still draw, tested late.
 pub(crate) fn sphere_fs(which: SphereFs) -> String {
     let body = match which {
         SphereFs::Shaded => include_str!("shaders/particle.frag"),
@@ -37,7 +40,7 @@ pub(crate) fn sphere_fs(which: SphereFs) -> String {
         SphereFs::SurfaceThickness => include_str!("shaders/surface_thickness.frag"),
         SphereFs::SurfaceShade => include_str!("shaders/surface_shade.frag"),
     };
-    format!("#version 330 core\n{SPHERE}\n{body}")
+    format!("#version 330 core\n#extension GL_ARB_conservative_depth : enable\n{SPHERE}\n{body}")
 }
 
 /// Compiles and links a program of one vertex and one fragment shader.
@@ -82,7 +85,6 @@ pub(crate) struct ParticleUniforms {
     pub proj: Mat4,
     /// Sphere radius [L].
     pub radius: f32,
-    pub quad_scale: f32,
     pub range: (f32, f32),
     /// Bit k hides kind k.
     pub hidden: i32,
@@ -99,7 +101,6 @@ impl ParticleUniforms {
         gl.uniform_matrix_4_f32_slice(loc("u_view").as_ref(), false, &self.view.to_cols_array());
         gl.uniform_matrix_4_f32_slice(loc("u_proj").as_ref(), false, &self.proj.to_cols_array());
         gl.uniform_1_f32(loc("u_radius").as_ref(), self.radius.max(1e-9));
-        gl.uniform_1_f32(loc("u_quad_scale").as_ref(), self.quad_scale);
         gl.uniform_2_f32(loc("u_range").as_ref(), self.range.0, self.range.1);
         gl.uniform_1_i32(loc("u_hidden").as_ref(), self.hidden);
         gl.uniform_1_i32(loc("u_grey_boundary").as_ref(), self.grey_boundary as i32);

@@ -12,6 +12,7 @@ use crate::error::gl_err;
 use crate::shaders::{
     compile, sphere_fs, ParticleUniforms, SphereFs, BLUR_FS, FULLSCREEN_VS, PARTICLE_VS,
 };
+use crate::sprites::Sprites;
 use crate::ViewerError;
 
 /// The surface's spheres are this many particle radii: neighbours overlap and merge.
@@ -42,6 +43,9 @@ pub(crate) struct SurfaceView {
     pub size: (u32, u32),
     /// The diagonal of the framed box [L], which sets the absorption's length.
     pub scene_size: f32,
+    /// Particles drawn, and their order ([`Sprites::draw`]).
+    pub count: usize,
+    pub reverse: bool,
 }
 
 /// A single-channel float texture and the framebuffer that draws into it.
@@ -223,14 +227,14 @@ impl Surface {
         self.targets.as_ref()
     }
 
-    /// Draws the fluid (kind 0) of the `count` particles in `vao` as a surface over what
-    /// `target` holds, depth-tested against it. Leaves `target` bound and blending off.
+    /// Draws the fluid (kind 0) of the first `v.count` particles of `sprites` as a surface
+    /// over what `target` holds, depth-tested against it. Leaves `target` bound and blending
+    /// off.
     pub(crate) unsafe fn draw(
         &mut self,
         gl: &glow::Context,
         target: Option<glow::Framebuffer>,
-        vao: glow::VertexArray,
-        count: usize,
+        sprites: &Sprites,
         cmap: glow::Texture,
         v: &SurfaceView,
     ) {
@@ -262,8 +266,7 @@ impl Surface {
         gl.disable(glow::BLEND);
         gl.use_program(Some(depth_prog));
         u.set(gl, depth_prog, cmap);
-        gl.bind_vertex_array(Some(vao));
-        gl.draw_arrays_instanced(glow::TRIANGLES, 0, 6, count as i32);
+        sprites.draw(gl, v.count, v.reverse);
 
         // 2. Thickness: every sphere's chord, summed.
         gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.thickness.fbo));
@@ -279,7 +282,7 @@ impl Surface {
             gl.get_uniform_location(thickness_prog, "u_fill").as_ref(),
             fill,
         );
-        gl.draw_arrays_instanced(glow::TRIANGLES, 0, 6, count as i32);
+        sprites.draw(gl, v.count, v.reverse);
         gl.disable(glow::BLEND);
         // Its mipmaps: the shading reads it averaged over about a particle spacing, so
         // that the spheres' chords do not show as discs.

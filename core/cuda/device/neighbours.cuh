@@ -36,16 +36,23 @@ template <int DIM> struct Neighbour {
 // j at r = x_i - x_j (r2 = |r|^2), pw the w slot of its stored position (3D: m_j): v_j,
 // m_j, rho_j and (fluid-only scenes) the kind from the spare slots of its position and
 // velocity (see vel_load), else the kind array.
+// Under the leapfrog (half_dt > 0: the rates pass, cpu/rates.rs `midpoint_pair`) the pair
+// is taken where the drift puts it halfway, r + half_dt (v_i - v_j), vi being v_i.
 template <int DIM, bool SOLIDS>
 __device__ __forceinline__ Neighbour<DIM> neighbour(const SphParams& p, unsigned j, Vec<DIM> r, float r2, float pw,
                                                     const float* __restrict__ vel,
-                                                    const unsigned char* __restrict__ kind) {
+                                                    const unsigned char* __restrict__ kind,
+                                                    const Vec<DIM>& vi = Vec<DIM>{}, float half_dt = 0.0f) {
     Neighbour<DIM> nb;
     float vm, vw;
     nb.j = j;
+    nb.v = vel_load<DIM>(vel, j, vm, vw);
+    if (half_dt != 0.0f) {  // uniform: the same for every thread
+        r = r + (vi - nb.v) * half_dt;
+        r2 = dot(r, r);
+    }
     nb.r = r;
     nb.r2 = r2;
-    nb.v = vel_load<DIM>(vel, j, vm, vw);
     nb.kind = neighbour_kind<DIM, SOLIDS>(kind, j, vw);
     nb.rr = fast_norm(r2);
     kernel_wf(p, nb.rr, nb.w, nb.fw);
@@ -139,13 +146,15 @@ template <int DIM> __device__ __forceinline__ float dist2_rn(Vec<DIM> r) {
 
 // The accepted candidates of one particle's one-lane pass (queued_neighbours) as bits in
 // candidate order (the loop's chunks of up to 32, one after the other), recorded by the
-// forces pass and replayed by the rates pass of the symplectic Euler, which runs on the same
-// positions and cell ranges (only the kick, which writes velocities, and the step size run
-// between them): the rates pass takes the recorded candidates without their position loads
-// and distance tests. Same neighbours, same order: the rates are those of the full test bit
-// for bit. The bits live in the reorder's second set of arrays (`Buffers::alt`, which no
-// stage reads between two grid builds: the next reorder writes it before anything reads it;
-// `Buffers::pairs_recorded` says while the record holds): word k < 4 of particle i at
+// forces pass and replayed by the rates pass of the symplectic Euler and the leapfrog, which
+// runs on the same positions and cell ranges (only the kick, which writes velocities, and the
+// step size run between them; the leapfrog's midpoint shifts each accepted pair after the
+// walk, in `neighbour`, as without the record): the rates pass takes the recorded candidates
+// without their position loads and distance tests. Same neighbours, same order: the rates
+// are those of the full test bit for bit. The bits live in the reorder's second set of
+// arrays (`Buffers::alt`, which no stage reads between two grid builds: the next reorder
+// writes it before anything reads it; `Buffers::pairs_recorded` says while the record
+// holds): word k < 4 of particle i at
 // a[k * n + i] (alt's velocities, float4 per particle), word k >= 4 at b[(k - 4) * n + i]
 // (alt's positions: float4 per particle in 3D, float2 in 2D): 256 bits a particle in 3D
 // (170-185 candidates at h = 1.3 dx), 192 in 2D (about 40). A chunk that does not fit

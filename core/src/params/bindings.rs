@@ -6,6 +6,7 @@ pub const MF_DENSITY_SUMMATION: u32 = 0;
 pub const MF_DENSITY_CONTINUITY: u32 = 1;
 pub const MF_INTEGRATOR_EULER: u32 = 0;
 pub const MF_INTEGRATOR_SYMPLECTIC_EULER: u32 = 1;
+pub const MF_INTEGRATOR_LEAPFROG: u32 = 2;
 pub const MF_CELL_REACH: u32 = 2;
 pub const MF_KIND_FLUID: u32 = 0;
 pub const MF_KIND_SOLID: u32 = 1;

@@ -72,6 +72,7 @@ fn integrator_name(i: IntegratorChoice) -> &'static str {
     match i {
         IntegratorChoice::SymplecticEuler => "symplectic",
         IntegratorChoice::Euler => "euler",
+        IntegratorChoice::Leapfrog => "leapfrog",
     }
 }
 
@@ -79,6 +80,7 @@ fn integrator_title(i: IntegratorChoice) -> &'static str {
     match i {
         IntegratorChoice::SymplecticEuler => "symplectic Euler",
         IntegratorChoice::Euler => "forward Euler (the paper)",
+        IntegratorChoice::Leapfrog => "leapfrog",
     }
 }
 

@@ -25,7 +25,7 @@
 
 use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
-use meshfree_core::monitor::{band_rms, ForceSample, MonitorSummary};
+use meshfree_core::monitor::{band_rms, ForceSample, MonitorSummary, BAND_REL};
 use meshfree_core::particle::Kind;
 use meshfree_core::scene::Scene;
 use meshfree_core::voids::{VoidMeter, VoidSummary};
@@ -240,16 +240,11 @@ pub fn smooth(x: &[f64], half: usize) -> Vec<f64> {
 /// (sin(pi St w) / (pi St w)) and takes out the force noise.
 pub const SMOOTH_HALF: usize = 4;
 
-/// The half-width of the band around the shedding frequency f_s whose part of the raw lift
-/// is its rms (`summary`): [0.5, 1.5] f_s holds the fundamental and its spread (a record
-/// of ~10 periods resolves 0.1 f_s) and leaves out the mean's drift below and the odd
-/// harmonic at 3 f_s (a few per cent of the amplitude at Re 100, under 0.1 % of the
-/// rms squared).
-pub const BAND_REL: f64 = 0.5;
-
-/// The monitor summary (second half): St the DFT peak of the lift smoothed by `smooth`,
-/// the rms lift that of the raw lift within `BAND_REL` of the shedding frequency
-/// (`meshfree_core::monitor::band_rms`), mean Cd and Cl those of the record. The rms of
+/// The monitor summary (second half): St the DFT peak of the lift smoothed by `smooth`
+/// (which takes out the force noise, rms Cl ~0.5 sample to sample at D / dx = 5), the rms lift that of
+/// the raw lift within `BAND_REL` of the shedding frequency (`band_rms`, as
+/// `MonitorSummary::of` takes it about the raw lift's own peak), mean Cd and Cl those of
+/// the record. The rms of
 /// the smoothed lift, used until 2026-11-27, was low by the moving average's gain
 /// at St (0.93 at St 0.18: issue #23) and high by the noise the average lets through
 /// (raw rms Cl 0.24 when the shedding's is 0.12, D / dx = 20); without a dominant
@@ -298,10 +293,10 @@ pub fn force_series(runs: &[(String, &[ForceSample])], from_ud: f64, half: usize
 
 // Published mean Cd at Re 100 (Liu et al. 1998 1.35, Park et al. 1998 1.33, Braza
 // et al. 1986 1.364): the reference file's band 1.31-1.37, centre 1.34.
-const CD_REF: f64 = 1.34;
+pub const CD_REF: f64 = 1.34;
 /// The published rms lift at Re 100 (amplitude 0.33-0.34 / sqrt 2, the reference file's
 /// band 0.226-0.247).
-const CL_RMS_REF: f64 = 0.235;
+pub const CL_RMS_REF: f64 = 0.235;
 const CD_SOURCE: &str = "Re 100 mean Cd 1.31-1.37 (Liu, Zheng & Sung 1998; Park, Kwon & Choi 1998; refdata/cylinder_flow_reference.json)";
 
 /// Roshko's and Williamson's St at `re` from refdata/cylinder_strouhal_vs_Re.csv.

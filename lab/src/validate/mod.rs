@@ -33,7 +33,10 @@ use anyhow::Context;
 use serde::{Deserialize, Serialize};
 
 use meshfree_core::backend::{self, BackendChoice};
+use meshfree_core::named::Named;
 use meshfree_core::scene::Counts;
+use meshfree_core::scheme::declare::ToParam;
+use meshfree_core::scheme::IntegratorChoice;
 use meshfree_core::solver::{BackendInfo, Setup, Solver};
 use meshfree_core::step::Stepper;
 
@@ -58,6 +61,8 @@ pub struct Options {
     /// Run every case at this Courant number (eq. (19)) instead of its own (0.2), to see
     /// what a larger step costs in accuracy.
     pub courant: Option<f64>,
+    /// Run every case with this integrator instead of its own, to compare them.
+    pub integrator: Option<IntegratorChoice>,
 }
 
 /// What a case gets.
@@ -66,6 +71,8 @@ pub struct Ctx<'a> {
     pub backend: BackendChoice,
     /// `Options::courant`.
     pub courant: Option<f64>,
+    /// `Options::integrator`.
+    pub integrator: Option<IntegratorChoice>,
     /// Where the case writes its plots.
     pub out_dir: &'a Path,
     pub verbose: bool,
@@ -323,6 +330,9 @@ impl Sim {
         if let Some(c) = ctx.courant {
             setup.params.courant = c as f32;
         }
+        if let Some(i) = ctx.integrator {
+            setup.params.integrator = i.to_param();
+        }
         let solver = backend::create(ctx.backend, setup)?;
         Ok(Sim {
             solver,
@@ -404,6 +414,9 @@ pub struct Report {
     /// The Courant number every case ran at instead of its own (`Options::courant`).
     #[serde(default)]
     pub courant: Option<f64>,
+    /// The integrator every case ran with instead of its own (`Options::integrator`).
+    #[serde(default)]
+    pub integrator: Option<IntegratorChoice>,
     pub wall_seconds: f64,
     pub pass: bool,
     pub checks: Vec<Check>,
@@ -454,6 +467,7 @@ pub fn run(options: &Options) -> anyhow::Result<Report> {
         tier: options.tier,
         backend: options.backend,
         courant: options.courant,
+        integrator: options.integrator,
         out_dir: &options.out_dir,
         verbose: options.verbose,
     };
@@ -519,6 +533,7 @@ pub fn run(options: &Options) -> anyhow::Result<Report> {
         date: meshfree_core::build_info::today(),
         commit: meshfree_core::build_info::COMMIT.into(),
         courant: options.courant,
+        integrator: options.integrator,
         wall_seconds: started.elapsed().as_secs_f64(),
         pass: checks.iter().all(|c| c.pass),
         checks,
@@ -558,6 +573,13 @@ pub fn markdown(r: &Report) -> String {
         let _ = writeln!(
             s,
             "Every case ran at Courant number {c} instead of its own.\n"
+        );
+    }
+    if let Some(i) = r.integrator {
+        let _ = writeln!(
+            s,
+            "Every case ran with the {} integrator instead of its own.\n",
+            i.name()
         );
     }
     let _ = writeln!(

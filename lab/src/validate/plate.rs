@@ -481,6 +481,7 @@ mod tests {
             tier: Tier::Quick,
             backend: BackendChoice::Cpu,
             courant: None,
+            integrator: None,
             out_dir: &out,
             verbose: true,
         };

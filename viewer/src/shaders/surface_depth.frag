@@ -8,6 +8,9 @@ uniform mat4 u_proj;
 uniform float u_radius;
 uniform int u_ortho;
 layout(location = 0) out float o_depth;
+#ifdef GL_ARB_conservative_depth
+layout(depth_greater) out float gl_FragDepth;
+#endif
 void main() {
     vec3 h;
     vec3 n;

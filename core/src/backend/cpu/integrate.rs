@@ -4,7 +4,9 @@
 use rayon::prelude::*;
 
 use crate::dim::Dim;
-use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID};
+use crate::params::{
+    SphParams, MF_INTEGRATOR_LEAPFROG, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID,
+};
 use crate::state::State;
 
 /// Wrap a position into the domain on periodic axes.
@@ -52,6 +54,20 @@ pub fn wall_density_floor(p: &SphParams, kind: u8, rho: f32) -> f32 {
         rho.max(p.rho0)
     } else {
         rho
+    }
+}
+
+/// The time a kick spans [T]: dt, except under the leapfrog, whose velocities live at half
+/// steps: from the middle of the last step to the middle of this one, (dt_prev + dt) / 2
+/// (the first step's dt_prev is 0: a half kick from the initial velocities). With the
+/// rates at the drift's midpoint (`rates::rates`) this makes the symplectic Euler second
+/// order in dt. Twin: `kick_span` in `cuda/integrate.cu`.
+#[inline]
+pub fn kick_span(p: &SphParams, dt_prev: f32, dt: f32) -> f32 {
+    if p.integrator == MF_INTEGRATOR_LEAPFROG as i32 {
+        0.5 * (dt_prev + dt)
+    } else {
+        dt
     }
 }
 

@@ -51,6 +51,9 @@ pub struct CpuSolver<D: Dim> {
     time: f64,
     steps: u64,
     dt: f32,
+    /// [T] the last completed step's dt (0 before the first): the leapfrog's kick spans
+    /// (dt_prev + dt) / 2.
+    dt_prev: f32,
 }
 
 impl<D: Dim> CpuSolver<D> {
@@ -82,6 +85,7 @@ impl<D: Dim> CpuSolver<D> {
             time: 0.0,
             steps: 0,
             dt: 0.0,
+            dt_prev: 0.0,
         }
     }
 
@@ -138,7 +142,7 @@ impl<D: Dim> Solver for CpuSolver<D> {
         density::density(&self.params, &self.grid, &mut self.state);
     }
     fn rates(&mut self) {
-        rates::rates(&self.params, &self.grid, &mut self.state);
+        rates::rates(&self.params, self.dt, &self.grid, &mut self.state);
     }
     fn solid_stress(&mut self) {
         if let Some(tl) = self.tl.as_mut() {
@@ -163,7 +167,8 @@ impl<D: Dim> Solver for CpuSolver<D> {
         self.dt = step_size(&self.params, c, v, a);
     }
     fn kick(&mut self) {
-        integrate::kick(&self.params, self.dt, &mut self.state);
+        let dt = integrate::kick_span(&self.params, self.dt_prev, self.dt);
+        integrate::kick(&self.params, dt, &mut self.state);
     }
     fn drift(&mut self) {
         if let Some(tl) = self.tl.as_mut() {
@@ -173,6 +178,7 @@ impl<D: Dim> Solver for CpuSolver<D> {
         self.grid_stale = true;
         self.time += self.dt as f64;
         self.steps += 1;
+        self.dt_prev = self.dt;
     }
     fn time(&mut self) -> f64 {
         self.time
@@ -255,6 +261,7 @@ impl<D: Dim> Solver for CpuSolver<D> {
         self.time = saved.time;
         self.steps = saved.steps;
         self.dt = saved.dt;
+        self.dt_prev = saved.dt;
         Ok(())
     }
     fn remove_group(&mut self, group: u32) -> usize {

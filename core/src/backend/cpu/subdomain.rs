@@ -77,6 +77,7 @@ impl<D: Dim> Subdomain for CpuSolver<D> {
         self.time = part.time;
         self.steps = part.steps;
         self.dt = part.dt;
+        self.dt_prev = part.dt;
         Ok(())
     }
 }

@@ -98,6 +98,8 @@ pub struct Buffers {
     /// pass: cleared by `sph_step_size`, or, after a kick or drift-kick that took the step
     /// size from them (`dt_pending`), by the next grid build's scatter (`red_stale` until).
     pub red: CudaSlice<u32>,
+    /// [T] this step's dt, and the last completed step's (written by the drift; 0 before the
+    /// first step): the leapfrog's kick spans their mean (`kick_span` in cuda/integrate.cu).
     pub dt: CudaSlice<f32>,
     /// The clock [T] and, as the bits of the second double, the key of the first fault that
     /// a queued health check found (0: none; `sph_check_record`): read back together.
@@ -327,7 +329,7 @@ impl Buffers {
             bsum: a.z(n_blocks)?,
             cell_start: a.z(n_cells + 1)?,
             red: a.z(3)?,
-            dt: a.z(1)?,
+            dt: a.z(2)?,
             time: a.z(2)?,
             fault_rec: a.z(MF_FAULT_RECORD_WORDS as usize)?,
             diag_sums: a.z(6)?,

@@ -251,7 +251,8 @@ impl Family {
                 "rates",
                 "sph_rates",
                 Schemes,
-                "const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, \
+                "const SphParams p, unsigned n, const float* dt_dev, const unsigned* cell_start, \
+                 const float* pos, \
                  const float* vel, const float* rho, const unsigned char* kind, \
                  const unsigned* group, const float* stress, const float* grad_rho, \
                  float* drho, float* xsph, float* rate, const unsigned* pair_a, \
@@ -281,7 +282,7 @@ impl Family {
                 "integrate",
                 "sph_drift",
                 Dims,
-                "const SphParams p, unsigned n, const float* dt_dev, double* time, \
+                "const SphParams p, unsigned n, float* dt_dev, double* time, \
                  const unsigned char* kind, const unsigned* group, float* pos, \
                  const float* vel, const float* xsph, float* rho, const float* drho, \
                  float* rho_dev, float* stress, const float* rate, unsigned* cell, \

@@ -255,14 +255,16 @@ pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     let (kr, lanes) = (k.neighbour(Family::Rates, scheme(p, b)), k.lanes);
     let replay = b.pairs_recorded && lanes == 1;
     let c = &b.cur;
-    // SAFETY: the arguments of `Family::Rates` (every scheme's); drho null without the
-    // continuity density; stress and rate null without solids (the fluid-only schemes read
-    // neither); grad_rho null unless `needs_density_gradient`; pair_a and pair_b null, or
-    // the record of the forces pass at these positions (`Buffers::pairs_recorded`: alt's vel
-    // and pos, 4 and vstride words per particle), which the kernel only reads.
+    // SAFETY: the arguments of `Family::Rates` (every scheme's); dt_dev holds 2 floats (the
+    // kick wrote this step's dt in its first); drho null without the continuity density;
+    // stress and rate null without solids (the fluid-only schemes read neither); grad_rho
+    // null unless `needs_density_gradient`; pair_a and pair_b null, or the record of the
+    // forces pass at these positions (`Buffers::pairs_recorded`: alt's vel and pos, 4 and
+    // vstride words per particle), which the kernel only reads.
     let mut l = s.launch_builder(&kr.f);
     l.arg(p)
         .arg(&n)
+        .arg(&b.dt)
         .arg(&b.cell_start)
         .arg(&c.pos)
         .arg(&c.vel)
@@ -386,7 +388,7 @@ pub fn kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     }
     let n = b.n as u32;
     let c = &mut b.cur;
-    // SAFETY: the arguments of `Family::Kick`; dt_dev holds 1 float; red null or the 3
+    // SAFETY: the arguments of `Family::Kick`; dt_dev holds 2 floats; red null or the 3
     // maxima of the forces pass.
     let kk = k.get(Family::Kick);
     let mut l = s.launch_builder(&kk.f);
@@ -869,7 +871,7 @@ pub fn tl_drift(
         return;
     }
     let ns = t.n_solid as u32;
-    // SAFETY: the arguments of `Family::TlDrift`; dt_dev holds 1 float; slot and disp as in
+    // SAFETY: the arguments of `Family::TlDrift`; dt_dev holds 2 floats; slot and disp as in
     // `tl_stress`; group, vel (float4) and xsph hold n entries.
     let kt = k.get(Family::TlDrift);
     kt.check(unsafe {

@@ -253,7 +253,7 @@ impl<D: Dim> CudaSolver<D> {
         let s = &self.dev.stream;
         let r = s
             .memcpy_htod(&[time][..], &mut self.buf.time.slice_mut(..1))
-            .and_then(|_| s.memcpy_htod(&[dt][..], &mut self.buf.dt));
+            .and_then(|_| s.memcpy_htod(&[dt, dt][..], &mut self.buf.dt));
         if let Err(e) = r {
             self.sync_err("setting the clock", e)
         }
@@ -339,7 +339,7 @@ impl<D: Dim> CudaSolver<D> {
         self.d2h += 4;
         self.dev
             .stream
-            .clone_dtoh(&self.buf.dt)
+            .clone_dtoh(&self.buf.dt.slice(..1))
             .unwrap_or_else(|e| self.sync_err("reading dt", e))[0]
     }
 
@@ -588,7 +588,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
                 s.clone_dtoh(&self.buf.diag_sums)?,
                 s.clone_dtoh(&self.buf.diag_max)?,
                 s.clone_dtoh(&self.buf.diag_counts)?,
-                s.clone_dtoh(&self.buf.dt)?,
+                s.clone_dtoh(&self.buf.dt.slice(..1))?,
                 s.clone_dtoh(&self.buf.time)?,
             ))
         });
