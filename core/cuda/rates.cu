@@ -1,5 +1,8 @@
 // Rates from the current velocities (RateSum in rates.cuh): d rho/dt, XSPH and, with solids,
-// the Jaumann stress rate. Twin: src/backend/cpu/rates.rs; parity test: tests/cuda_parity.rs.
+// the Jaumann stress rate; at one lane per particle from the accepted candidates that the
+// forces pass recorded at the same positions, where pair_a and pair_b hold them (PairBits in
+// device/neighbours.cuh; null: every candidate tested). Twin: src/backend/cpu/rates.rs;
+// parity test: tests/cuda_parity.rs.
 #include "rates.cuh"
 #include "device/entries.cuh"
 #include "device/neighbours.cuh"
@@ -16,18 +19,23 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const float* __restri
                            const unsigned char* __restrict__ kind, const unsigned* __restrict__ group,
                            const float* __restrict__ stress, const float* __restrict__ grad_rho,
                            float* __restrict__ drho_out,
-                           float* __restrict__ xsph_out, float* __restrict__ rate_out) {
+                           float* __restrict__ xsph_out, float* __restrict__ rate_out,
+                           const unsigned* __restrict__ pair_a, const unsigned* __restrict__ pair_b) {
     const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
     const unsigned i = t / L;
     const int lane = (int)(t % L);
     RateSum<DIM, SOLIDS, EXTRAS> r;
     r.begin(p, i, n, i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY, vel, rho, group, grad_rho);
     const float half_dt = p.integrator == MF_INTEGRATOR_LEAPFROG ? 0.5f * dt_dev[0] : 0.0f;
-    neighbour_loop<DIM, L>(p, cell_start, pos, i, r.on, lane,
+    // The record is read only (PairBits writes nothing in MF_PAIRS_REPLAY). It holds the
+    // candidates accepted at these positions, x^n: the leapfrog's midpoint shifts each
+    // accepted pair after (`neighbour`), replayed or tested, so the set is x^n's either way.
+    const PairBits<DIM> pb{const_cast<unsigned*>(pair_a), const_cast<unsigned*>(pair_b), n};
+    neighbour_loop<DIM, L, MF_PAIRS_REPLAY>(p, cell_start, pos, i, r.on, lane,
                               [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
         if (j == i) return;
         r.add(p, neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, kind, r.vi, half_dt), group);
-    });
+    }, pb);
     r.template finish<L>(p, i, n, lane, stress, drho_out, xsph_out, rate_out);
 }
 
@@ -38,9 +46,10 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const float* __restri
     extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 1 : MF_FLUID_BLOCKS)                                   \
         name(const SphParams p, unsigned n, const float* dt_dev, const unsigned* cell_start, const float* pos,       \
              const float* vel, const float* rho, const unsigned char* kind, const unsigned* group,                 \
-             const float* stress, const float* grad_rho, float* drho, float* xsph, float* rate) {             \
+             const float* stress, const float* grad_rho, float* drho, float* xsph, float* rate,                  \
+             const unsigned* pair_a, const unsigned* pair_b) {                                                   \
         rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, dt_dev, cell_start, pos, vel, rho, kind, group, stress, grad_rho,  \
-                                           drho, xsph, rate);                                                    \
+                                           drho, xsph, rate, pair_a, pair_b);                                    \
     }
 #define MF_RATES_LANES(L) MF_SCHEMES(MF_RATES_ENTRY, sph_rates, L)
 MF_LANES_EACH(MF_RATES_LANES)

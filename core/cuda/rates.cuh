@@ -58,7 +58,7 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
                                           const unsigned* __restrict__ group,
                                           const float* __restrict__ grad_rho) {
         ki = k;
-        on = i < n && (ki != MF_KIND_BOUNDARY || p.wall_coupling != 0);
+        on = i < n && has_rates(p, ki);
         // A total-Lagrangian body takes its stress from F (tlsph.cu): no Jaumann rate (its
         // rate stays 0, as the fluid's).
         solid_i = i < n && ki == MF_KIND_SOLID && p.solid_formulation != MF_SOLID_TOTAL_LAGRANGIAN;

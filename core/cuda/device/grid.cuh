@@ -47,11 +47,16 @@ __device__ __forceinline__ Vec<DIM> separation(const SphParams& p, Vec<DIM> xi, 
     return r;
 }
 
-// Squared distance from coordinate x to the slab of (unwrapped) cell c on axis a.
+// Squared distance from coordinate x to the slab of (unwrapped) cell c on axis a. The row
+// bounds are written in explicitly rounded operations (__fmul_rn, __fadd_rn, ...), which the
+// compiler never contracts into fused multiply-adds: every kernel then walks the same
+// candidates, as the forces pass's record of accepted candidates needs (PairBits in
+// neighbours.cuh: the rates pass replays it bit by bit along its own walk; with the
+// contraction left to the compiler, the walks of two kernels differed for a few particles).
 __device__ __forceinline__ float slab_gap2(const SphParams& p, int a, int c, float x) {
-    const float lo = p.domain_min[a] + (float)c * p.cell_size[a];
-    const float g = fmaxf(fmaxf(lo - x, x - (lo + p.cell_size[a])), 0.0f);
-    return g * g;
+    const float lo = __fadd_rn(p.domain_min[a], __fmul_rn((float)c, p.cell_size[a]));
+    const float g = fmaxf(fmaxf(__fsub_rn(lo, x), __fsub_rn(x, __fadd_rn(lo, p.cell_size[a]))), 0.0f);
+    return __fmul_rn(g, g);
 }
 
 // The neighbour candidates of xi as rows of cells: for each (z, y) cell offset within
@@ -80,18 +85,19 @@ __device__ __forceinline__ void plane_rows(const SphParams& p, Vec<DIM> xi, cons
             if (!p.periodic[1]) continue;
             cy = (cy + p.grid_dims[1]) % p.grid_dims[1];
         }
-        const float d2 = gz + slab_gap2(p, 1, ci[1] + dy, xi.c[1]);
+        const float d2 = __fadd_rn(gz, slab_gap2(p, 1, ci[1] + dy, xi.c[1]));
         if (d2 > r2max * (1.0f + MF_PRUNE_SLACK)) continue;
         // Half-width of the support's cross-section at this row, then the x cells it spans.
         // The root and the cell quotient are the fast ones (rsqrt, a product by the
         // reciprocal: IEEE's root and two divisions took about a third of the row's
         // instructions). Their rounding (about 1e-7 of the root and of the quotient, the
         // size of the rounding already in x +- w) is covered by the pruning's slack, as the
-        // contracted slack term already is: the CPU's exact forms prune to the same
-        // neighbours.
-        const float w = fast_norm(fmaxf(r2max - d2, 0.0f)) + MF_PRUNE_SLACK * p.support;
-        int x0 = max(ci[0] - reach, (int)floorf((xi.c[0] - w - p.domain_min[0]) * inv_cx));
-        int x1 = min(ci[0] + reach, (int)floorf((xi.c[0] + w - p.domain_min[0]) * inv_cx));
+        // GPU's rounding of the slack term already is: the CPU's exact forms prune to the
+        // same neighbours. Explicitly rounded, as slab_gap2.
+        const float h2 = fmaxf(__fsub_rn(r2max, d2), 0.0f);
+        const float w = __fadd_rn(h2 > 0.0f ? __fmul_rn(h2, rsqrtf(h2)) : 0.0f, MF_PRUNE_SLACK * p.support);
+        int x0 = max(ci[0] - reach, (int)floorf(__fmul_rn(__fsub_rn(__fsub_rn(xi.c[0], w), p.domain_min[0]), inv_cx)));
+        int x1 = min(ci[0] + reach, (int)floorf(__fmul_rn(__fsub_rn(__fadd_rn(xi.c[0], w), p.domain_min[0]), inv_cx)));
         if (!p.periodic[0]) {
             x0 = max(x0, 0);
             x1 = min(x1, nx - 1);

@@ -140,6 +140,70 @@ __device__ __forceinline__ void for_each_neighbor_split(const SphParams& p, cons
 #define MF_QUEUE 8
 #endif
 
+// |r|^2 of the one-lane loop's candidate test in explicitly rounded operations, in the order
+// the compiler chose for dot(r, r) in every kernel before (y^2, then x, then z fused in):
+// never contracted otherwise, so that the forces pass and the rates pass accept the same
+// candidates (PairBits below; see slab_gap2 in grid.cuh).
+template <int DIM> __device__ __forceinline__ float dist2_rn(Vec<DIM> r) {
+    float s = __fmaf_rn(r.c[0], r.c[0], __fmul_rn(r.c[1], r.c[1]));
+    if constexpr (DIM == 3) s = __fmaf_rn(r.c[2], r.c[2], s);
+    return s;
+}
+
+// The accepted candidates of one particle's one-lane pass (queued_neighbours) as bits in
+// candidate order (the loop's chunks of up to 32, one after the other), recorded by the
+// forces pass and replayed by the rates pass of the symplectic Euler and the leapfrog, which
+// runs on the same positions and cell ranges (only the kick, which writes velocities, and the
+// step size run between them; the leapfrog's midpoint shifts each accepted pair after the
+// walk, in `neighbour`, as without the record): the rates pass takes the recorded candidates
+// without their position loads and distance tests. Same neighbours, same order: the rates
+// are those of the full test bit for bit. The bits live in the reorder's second set of
+// arrays (`Buffers::alt`, which no stage reads between two grid builds: the next reorder
+// writes it before anything reads it; `Buffers::pairs_recorded` says while the record
+// holds): word k < 4 of particle i at
+// a[k * n + i] (alt's velocities, float4 per particle), word k >= 4 at b[(k - 4) * n + i]
+// (alt's positions: float4 per particle in 3D, float2 in 2D): 256 bits a particle in 3D
+// (170-185 candidates at h = 1.3 dx), 192 in 2D (about 40). A chunk that does not fit
+// within them, and every chunk after it, is tested again by the rates pass.
+#define MF_PAIRS_NONE 0
+#define MF_PAIRS_RECORD 1
+#define MF_PAIRS_REPLAY 2
+template <int DIM> struct PairBits {
+    unsigned* a;  // null: nothing recorded (forces) or to replay (rates)
+    unsigned* b;
+    unsigned n;  // the particles of the pass (the planes' stride)
+    static constexpr unsigned BITS = 32u * (DIM == 3 ? 8u : 6u);
+    __device__ __forceinline__ unsigned* word(unsigned k, unsigned i) const {
+        return k < 4u ? a + (size_t)k * n + i : b + (size_t)(k - 4u) * n + i;
+    }
+    // The cnt bits of chunk `mask` at bit off of particle i; pending: the bits of word
+    // off / 32 below off % 32, not yet written.
+    __device__ __forceinline__ void write(unsigned i, unsigned off, unsigned cnt, unsigned mask,
+                                          unsigned& pending) const {
+        const unsigned sh = off & 31u;
+        if (off + cnt <= BITS) {
+            pending |= mask << sh;
+            if (sh + cnt >= 32u) {
+                *word(off >> 5, i) = pending;
+                pending = __funnelshift_l(mask, 0u, sh);  // mask >> (32 - sh); 0 where sh = 0
+            }
+        } else if (off < BITS && sh != 0u) {
+            *word(off >> 5, i) = pending;  // the last bits that fit
+        }
+    }
+    // After a particle's last chunk (off: its candidates).
+    __device__ __forceinline__ void flush(unsigned i, unsigned off, unsigned pending) const {
+        if (off < BITS && (off & 31u) != 0u) *word(off >> 5, i) = pending;
+    }
+    // The cnt bits at bit off of particle i (off + cnt <= BITS).
+    __device__ __forceinline__ unsigned read(unsigned i, unsigned off, unsigned cnt) const {
+        const unsigned sh = off & 31u;
+        const unsigned lo = __ldg(word(off >> 5, i));
+        const unsigned hi = sh + cnt > 32u ? __ldg(word((off >> 5) + 1u, i)) : 0u;
+        return __funnelshift_r(lo, hi, sh) & (0xffffffffu >> (32u - cnt));
+    }
+};
+
 // The one-lane neighbour loop in two phases per plane of rows, for the pair sums' SIMT
 // efficiency: the lanes of a warp accept different numbers of candidates from each batch
 // and row, and a warp runs a pair sum while any lane has one, so summing after each batch
@@ -152,40 +216,55 @@ __device__ __forceinline__ void for_each_neighbor_split(const SphParams& p, cons
 // (a dense cluster) is tested again from its next unqueued chunk after each drain, so that
 // the fill and the pair sum each stay one site in the code (a second copy of the inlined
 // pair sum cost registers). Same neighbours, same order as for_each_neighbor_split with
-// L = 1: the same results bit for bit.
-template <int DIM, int B, bool PERIODIC, class F>
+// L = 1: the same results bit for bit. MODE (PairBits): MF_PAIRS_RECORD writes each chunk's
+// accepted candidates into pb (i: the particle's slot), MF_PAIRS_REPLAY takes them from pb
+// instead of testing (where pb.a is set); sum = false: record only, no pair sums (a
+// particle the rates pass sums and the forces pass does not, a dynamic wall).
+template <int DIM, int B, bool PERIODIC, int MODE, class F>
 __device__ __forceinline__ void queued_neighbours(const SphParams& p, const unsigned* __restrict__ cell_start,
-                                                  const float* __restrict__ pos, Vec<DIM> xi, uint2* q, F&& f) {
+                                                  const float* __restrict__ pos, Vec<DIM> xi, uint2* q,
+                                                  unsigned* po, const PairBits<DIM>& pb, unsigned i, bool sum, F&& f) {
     static_assert(32 % B == 0, "batches must tile the 32-candidate chunks");
     const unsigned t = threadIdx.x;
+    const bool record = MODE == MF_PAIRS_RECORD && pb.a != nullptr;
+    const bool replay = MODE == MF_PAIRS_REPLAY && pb.a != nullptr;
+    unsigned off = 0u, pending = 0u;  // candidates so far; the record's unwritten bits
     int ci[3];
     cell_coords<DIM>(p, xi, ci);
     const int rz = DIM == 3 ? MF_CELL_REACH : 0;
     for (int dz = -rz; dz <= rz; ++dz) {
+        if (MODE != MF_PAIRS_NONE) po[t] = off;  // the plane's first bit, for a second pass
         for (int skip = 0;; skip += MF_QUEUE) {
             int seen = 0;  // chunks with an accepted candidate, this pass
+            if (MODE != MF_PAIRS_NONE && skip > 0) off = po[t];
             plane_rows<DIM>(p, xi, ci, dz, [&](unsigned row, int x0, int x1) {
                 row_ranges(p, cell_start, row, x0, x1, [&](unsigned s, unsigned e) {
                     for (unsigned c = s; c < e; c += 32) {
                         const unsigned cnt = min(e - c, 32u);
                         unsigned mask = 0;
-                        // Batches of B with no test of the range per candidate: the loads
-                        // past e - 1 repeat it, and their bits are cleared once per chunk.
-                        for (unsigned b = 0; b < cnt; b += B) {
-                            const unsigned base = c + b;
-                            Vec<DIM> xj[B];
+                        if (replay && off + cnt <= PairBits<DIM>::BITS) {
+                            mask = pb.read(i, off, cnt);
+                        } else {
+                            // Batches of B with no test of the range per candidate: the loads
+                            // past e - 1 repeat it, and their bits are cleared once per chunk.
+                            for (unsigned b = 0; b < cnt; b += B) {
+                                const unsigned base = c + b;
+                                Vec<DIM> xj[B];
 #pragma unroll
-                            for (int k = 0; k < B; ++k) xj[k] = vload<DIM>(pos, min(base + k, e - 1));
-                            unsigned bits = 0;
+                                for (int k = 0; k < B; ++k) xj[k] = vload<DIM>(pos, min(base + k, e - 1));
+                                unsigned bits = 0;
 #pragma unroll
-                            for (int k = 0; k < B; ++k) {
-                                const Vec<DIM> r = separation<DIM, PERIODIC>(p, xi, xj[k]);
-                                bits |= (dot(r, r) < p.support2 ? 1u : 0u) << k;
+                                for (int k = 0; k < B; ++k) {
+                                    const Vec<DIM> r = separation<DIM, PERIODIC>(p, xi, xj[k]);
+                                    bits |= (dist2_rn<DIM>(r) < p.support2 ? 1u : 0u) << k;
+                                }
+                                mask |= bits << b;
                             }
-                            mask |= bits << b;
+                            mask &= 0xffffffffu >> (32u - cnt);
+                            if (record && skip == 0) pb.write(i, off, cnt, mask, pending);
                         }
-                        mask &= 0xffffffffu >> (32u - cnt);
-                        if (mask == 0u) continue;
+                        off += cnt;
+                        if (!sum || mask == 0u) continue;
                         const int slot = seen - skip;
                         if (slot >= 0 && slot < MF_QUEUE) q[slot * MF_BLOCK + t] = make_uint2(c, mask);
                         ++seen;
@@ -209,29 +288,33 @@ __device__ __forceinline__ void queued_neighbours(const SphParams& p, const unsi
             if (seen - skip <= MF_QUEUE) break;
         }
     }
+    if (record) pb.flush(i, off, pending);
 }
 
 // The neighbour loop of the forces and rates kernels (for_each_neighbor_split, or
 // queued_neighbours for one lane), with the minimum image compiled in only where the scene
-// has a periodic axis: tested once here, not per candidate. on: whether this lane sums for
-// particle i.
-template <int DIM, int L, class F>
+// has a periodic axis: tested once here, not per candidate. on: whether this lane takes
+// particle i's candidates; sum: whether it calls f for its neighbours (false: it only
+// records them, MODE and pb as for queued_neighbours: one lane only, and nothing is recorded
+// or replayed without the queue, MF_QUEUE 0).
+template <int DIM, int L, int MODE = MF_PAIRS_NONE, class F>
 __device__ __forceinline__ void neighbour_loop(const SphParams& p, const unsigned* __restrict__ cell_start,
                                                const float* __restrict__ pos, unsigned i, bool on, int lane,
-                                               F&& f) {
+                                               F&& f, const PairBits<DIM>& pb = PairBits<DIM>{}, bool sum = true) {
 #if MF_QUEUE > 0
     if constexpr (L == 1) {
         __shared__ uint2 q[MF_QUEUE * MF_BLOCK];
+        __shared__ unsigned po[MODE == MF_PAIRS_NONE ? 1 : MF_BLOCK];
         constexpr int QB = DIM == 2 ? MF_QUEUE_BATCH_2D : MF_QUEUE_BATCH_3D;
         if (!on) return;
         if (p.periodic[0] || p.periodic[1] || p.periodic[2])
-            queued_neighbours<DIM, QB, true>(p, cell_start, pos, vload<DIM>(pos, i), q, f);
+            queued_neighbours<DIM, QB, true, MODE>(p, cell_start, pos, vload<DIM>(pos, i), q, po, pb, i, sum, f);
         else
-            queued_neighbours<DIM, QB, false>(p, cell_start, pos, vload<DIM>(pos, i), q, f);
+            queued_neighbours<DIM, QB, false, MODE>(p, cell_start, pos, vload<DIM>(pos, i), q, po, pb, i, sum, f);
         return;
     }
 #endif
-    if (!on) return;
+    if (!on || !sum) return;
     if (p.periodic[0] || p.periodic[1] || p.periodic[2])
         for_each_neighbor_split<DIM, L, MF_NB_BATCH, true>(p, cell_start, pos, vload<DIM>(pos, i), lane, f);
     else

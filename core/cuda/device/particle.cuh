@@ -20,6 +20,14 @@ __device__ __forceinline__ float pressure(const SphParams& p, unsigned char kind
     return 0.0f;
 }
 
+// Whether a particle of kind k has rates (RateSum in rates.cuh: d rho/dt, XSPH, stress
+// rate): every kind but the paper's walls (a dynamic wall has its d rho/dt). The forces pass
+// records the accepted candidates of these particles for the rates pass (PairBits in
+// device/neighbours.cuh).
+__device__ __forceinline__ bool has_rates(const SphParams& p, unsigned char k) {
+    return k != MF_KIND_BOUNDARY || p.wall_coupling != 0;
+}
+
 __device__ __forceinline__ float sound_speed(const SphParams& p, unsigned char kind) {
     if (kind == MF_KIND_SOLID)
         return sqrtf(p.solid_c0 * p.solid_c0 +

@@ -144,6 +144,18 @@ pub struct Buffers {
     /// as it is; cleared by the grid build, whose scatter zeroes `red`. A forces pass that
     /// finds it set (no grid build between: a test's order) zeroes `red` first.
     pub red_stale: bool,
+    /// Set by a forces pass of one lane per particle, which records in `alt`'s `vel` and
+    /// `pos` the accepted candidates of every particle with rates (`PairBits` in
+    /// `cuda/device/neighbours.cuh`); a rates pass of one lane takes them from there instead
+    /// of testing the candidates while it holds. `alt` is free between two grid builds: its
+    /// arrays are only ever written (the grid's reorder and a subdomain's compaction fill
+    /// them, then swap them in; `unpack` uses `alt.stress` alone), never read as a set, and
+    /// nothing between the forces and the rates pass writes them (the step size, the kick,
+    /// a subdomain's exchange of the step size's extremes, the total-Lagrangian forces, the
+    /// density gradients). Cleared by whatever moves a particle, changes the count or the
+    /// grid, or writes `alt`: the grid build, the drift (and drift-kick), `write_state`,
+    /// `reserve`, a subdomain's `unpack` and `compact`.
+    pub pairs_recorded: bool,
 }
 
 /// A subdomain's selection of particles (`cuda/exchange.cu`): a mark per slot and the
@@ -336,6 +348,7 @@ impl Buffers {
             hist_done: false,
             dt_pending: false,
             red_stale: false,
+            pairs_recorded: false,
         };
         b.bytes = a.bytes;
         b.write_state(s, state)?;
@@ -361,6 +374,7 @@ impl Buffers {
             return Ok(false);
         }
         let cap = need.max(self.cap) + need.max(self.cap) / 8;
+        self.pairs_recorded = false;
         let held = Held {
             solids: self.cur.stress.is_some(),
             drho: self.drho.is_some(),
@@ -426,8 +440,9 @@ impl Buffers {
             self.n,
             "write_state: length differs from the allocation"
         );
-        // What a drift or a grid build derived from the old state goes with it.
+        // What a drift, a grid build or a forces pass derived from the old state goes with it.
         self.eos_done = false;
+        self.pairs_recorded = false;
         if std::mem::take(&mut self.hist_done) {
             s.memset_zeros(&mut self.count)?;
         }

@@ -123,8 +123,8 @@ pub struct Spec {
     pub signature: &'static str,
 }
 
-/// The parameters of the forces kernels, which the fused forces-and-rates kernels follow
-/// with theirs (`more`).
+/// The parameters of the forces kernels, which the forces kernels follow with the record of
+/// accepted candidates and the fused forces-and-rates kernels with theirs (`more`).
 macro_rules! forces_params {
     ($($more:literal)?) => {
         concat!(
@@ -241,7 +241,12 @@ impl Family {
                  const float* vel, const float* rho, const unsigned char* kind, \
                  const unsigned* group, float* grad",
             ),
-            Family::Forces => ("forces", "sph_forces", Schemes, forces_params!()),
+            Family::Forces => (
+                "forces",
+                "sph_forces",
+                Schemes,
+                forces_params!("unsigned* pair_a, unsigned* pair_b"),
+            ),
             Family::Rates => (
                 "rates",
                 "sph_rates",
@@ -250,7 +255,8 @@ impl Family {
                  const float* pos, \
                  const float* vel, const float* rho, const unsigned char* kind, \
                  const unsigned* group, const float* stress, const float* grad_rho, \
-                 float* drho, float* xsph, float* rate",
+                 float* drho, float* xsph, float* rate, const unsigned* pair_a, \
+                 const unsigned* pair_b",
             ),
             Family::ForcesRates => (
                 "forces_rates",

@@ -102,6 +102,8 @@ fn scan(
 /// sort by id within cells fused with the reorder (gather), which also writes the cell
 /// ranges; then the two persistent buffer sets are swapped.
 pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    // The reorder writes alt and the cells change: the forces pass's record goes.
+    b.pairs_recorded = false;
     let n = b.n as u32;
     let nc = b.n_cells as u32;
     // The scan runs over n_cells + 1 counts (the last, 0, closes the last cell's range).
@@ -251,11 +253,14 @@ pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     grad_rho(k, s, p, b);
     let n = b.n as u32;
     let (kr, lanes) = (k.neighbour(Family::Rates, scheme(p, b)), k.lanes);
+    let replay = b.pairs_recorded && lanes == 1;
     let c = &b.cur;
     // SAFETY: the arguments of `Family::Rates` (every scheme's); dt_dev holds 2 floats (the
     // kick wrote this step's dt in its first); drho null without the continuity density;
     // stress and rate null without solids (the fluid-only schemes read neither); grad_rho
-    // null unless `needs_density_gradient`.
+    // null unless `needs_density_gradient`; pair_a and pair_b null, or the record of the
+    // forces pass at these positions (`Buffers::pairs_recorded`: alt's vel and pos, 4 and
+    // vstride words per particle), which the kernel only reads.
     let mut l = s.launch_builder(&kr.f);
     l.arg(p)
         .arg(&n)
@@ -271,6 +276,8 @@ pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     opt!(l, &mut b.drho);
     l.arg(&mut b.xsph);
     opt!(l, &mut b.stress_rate);
+    opt!(l, replay.then_some(&b.alt.vel));
+    opt!(l, replay.then_some(&b.alt.pos));
     kr.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
 }
 
@@ -306,7 +313,9 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     // followed by grad_rho, drho, xsph and rate (every scheme's); stress, art, surf may be
     // null (surf is read only under no_slip, when Buffers holds it: float4 per boundary
     // particle by id - wall_first_id); red holds 3 words; grad_rho, drho and rate may be
-    // null, as for the rates kernel.
+    // null, as for the rates kernel; unfused, pair_a and pair_b: alt's vel and pos, 4 and
+    // vstride words per particle, which no stage reads between two grid builds (the
+    // record of accepted candidates, `Buffers::pairs_recorded`).
     let mut l = s.launch_builder(&kf.f);
     l.arg(p)
         .arg(&n)
@@ -326,8 +335,13 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
         opt!(l, &mut b.drho);
         l.arg(&mut b.xsph);
         opt!(l, &mut b.stress_rate);
+    } else {
+        l.arg(&mut b.alt.vel).arg(&mut b.alt.pos);
     }
     kf.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
+    // At one lane the forces kernel records the accepted candidates of every particle with
+    // rates, for a rates pass before anything moves the particles or writes alt.
+    b.pairs_recorded |= !fused && lanes == 1;
 }
 
 pub fn step_size(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
@@ -405,6 +419,7 @@ pub fn drift_kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
 /// Launches sph_drift (`kick` false) or sph_drift_kick (true), which take the same arguments
 /// but for the kick's accelerations, and marks the cells filed for the next grid build.
 fn drift_with(f: &Kernel, kick: bool, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    b.pairs_recorded = false;
     let n = b.n as u32;
     let c = &mut b.cur;
     // SAFETY: the arguments of `Family::Drift` or, with `kick`, `Family::DriftKick` (the
@@ -1017,6 +1032,7 @@ pub fn unpack(
     (words, planes): (usize, usize),
     halos: &[(usize, &CudaSlice<u32>)],
 ) {
+    b.pairs_recorded = false;
     let n0 = b.n;
     let n1 = n0 + halos.iter().map(|h| h.0).sum::<usize>();
     assert!(n1 <= b.cap, "unpack: {n1} particles, room for {}", b.cap);
@@ -1077,6 +1093,7 @@ pub fn unpack(
 /// Keep the `kept` particles the last `select` marked, in storage order: moved into the
 /// other persistent set, which becomes the current one. Sets `b.n`.
 pub fn compact(k: &Kernels, s: &Arc<CudaStream>, b: &mut Buffers, kept: usize) {
+    b.pairs_recorded = false;
     let x = b.scratch.as_ref().expect("compact follows a select");
     let (n, kept32) = (b.n as u32, kept as u32);
     let (c, a) = (&b.cur, &mut b.alt);

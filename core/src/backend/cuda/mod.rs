@@ -326,6 +326,13 @@ impl<D: Dim> CudaSolver<D> {
         self.buf.eos_done
     }
 
+    /// Whether the next rates pass takes its candidates from the forces pass's record of
+    /// accepted ones (`Buffers::pairs_recorded`, one lane per particle) instead of testing
+    /// them. For parity tests.
+    pub fn rates_replay_pairs(&self) -> bool {
+        self.buf.pairs_recorded && self.k.lanes == 1
+    }
+
     /// The step size of the last `time_step` [T] (read back).
     pub fn dt(&mut self) -> f32 {
         launch::settle_step_size(&self.k, &self.dev.stream, &self.params, &mut self.buf);
