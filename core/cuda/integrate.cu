@@ -1,5 +1,5 @@
-// Time integration: the kick (v += dt a; v set in the inflow band; a driven group's
-// velocity set) and the drift (x += dt (v + xsph), eq. (18), with the periodic wrap;
+// Time integration: the kick (v += dt a; v set in the inflow band, ramped from rest under
+// `inflow_ramp`, which also accelerates the rest uniformly; a driven group's velocity set) and the drift (x += dt (v + xsph), eq. (18), with the periodic wrap;
 // rho += dt d rho/dt, for solids rho_dev += dt d rho/dt and rho = rho0_s + rho_dev; S += dt dS/dt; the device clock; the next grid build's cell counts). dt is read on the device (written
 // by sph_step_size): no host round trip per step. The kick and the drift-kick take dt
 // from the forces pass's maxima themselves where `red` is given (step_size_of in
@@ -20,17 +20,41 @@ __device__ __forceinline__ unsigned driven_test_group(const SphParams& p, const 
     return p.driven ? group[i] : 0u;
 }
 
-// The kick of one particle (kind k, group g, position x): v += dt a; the velocity of the
-// inflow band (`p.inflow`: fluid particles with inflow_lo <= x[inflow_axis] < inflow_hi;
-// twin: `in_inflow_band`) or of the driven group instead; false where v stays (walls).
+// The ramp of a ramped start [-] (`inflow_ramp` T_r > 0): r = (1 - cos(pi t / T_r)) / 2 for
+// 0 <= t < T_r, 0 before, 1 after; 1 without a ramp and under the forward Euler (the scene
+// check rejects that pair: the fused drift-kick below advances the clock in its own pass).
+// In double precision: the kick takes its difference over one step. Twin: `ramp_share` in
+// src/backend/cpu/integrate.rs.
+__device__ __forceinline__ double ramp_share(const SphParams& p, double t) {
+    const double tr = (double)p.inflow_ramp;
+    if (!p.inflow || tr <= 0.0 || t >= tr || p.integrator == MF_INTEGRATOR_EULER) return 1.0;
+    if (t <= 0.0) return 0.0;
+    return 0.5 * (1.0 - cos(3.14159265358979323846 * t / tr));
+}
+
+// The time a kick taken at time t (the step's start) brings the velocities to [T]: t + dt,
+// under the leapfrog t + dt / 2. Twin: `kick_end` in src/backend/cpu/integrate.rs.
+__device__ __forceinline__ double kick_end(const SphParams& p, double t, float dt) {
+    return p.integrator == MF_INTEGRATOR_LEAPFROG ? t + 0.5 * (double)dt : t + (double)dt;
+}
+
+// The kick of one particle (kind k, group g, position x): v += dt a + r_step inflow_velocity
+// (r_step: the ramp's increase over the kick, 0 without a ramp: a uniform body force, so
+// that the fluid outside the band keeps pace with it); the velocity of the inflow band
+// (`p.inflow`: fluid particles with inflow_lo <= x[inflow_axis] < inflow_hi; twin:
+// `in_inflow_band`), r_now inflow_velocity, or of the driven group instead; false where v
+// stays (walls). Twin: `kick` in src/backend/cpu/integrate.rs.
 template <int DIM>
 __device__ __forceinline__ bool kick_one(const SphParams& p, unsigned char k, unsigned g, const Vec<DIM>& x, float dt,
-                                         const float* __restrict__ acc, unsigned i, Vec<DIM>& v) {
+                                         float r_now, float r_step, const float* __restrict__ acc, unsigned i,
+                                         Vec<DIM>& v) {
+    Vec<DIM> u;
+#pragma unroll
+    for (int d = 0; d < DIM; ++d) u.c[d] = p.inflow_velocity[d];
     if (p.inflow && k == MF_KIND_FLUID) {
         const float c = x.c[p.inflow_axis];
         if (c >= p.inflow_lo && c < p.inflow_hi) {
-#pragma unroll
-            for (int d = 0; d < DIM; ++d) v.c[d] = p.inflow_velocity[d];
+            v = u * r_now;
             return true;
         }
     }
@@ -42,6 +66,7 @@ __device__ __forceinline__ bool kick_one(const SphParams& p, unsigned char k, un
     }
     if (k == MF_KIND_BOUNDARY) return false;
     v = v + vload<DIM>(acc, i) * dt;
+    v = v + u * r_step;
     return true;
 }
 
@@ -65,22 +90,32 @@ __device__ __forceinline__ float step_dt(const SphParams& p, const unsigned* __r
     return dt;
 }
 
+// time: the device clock, the step's start (the drift advances it after the kick).
 template <int DIM>
 __device__ void sph_kick_body(const SphParams p, unsigned n, float* __restrict__ dt_dev, const unsigned* __restrict__ red,
-                              const unsigned char* __restrict__ kind, const unsigned* __restrict__ group,
-                              const float* __restrict__ pos, float* __restrict__ vel,
-                              const float* __restrict__ acc) {
+                              const double* __restrict__ time, const unsigned char* __restrict__ kind,
+                              const unsigned* __restrict__ group, const float* __restrict__ pos,
+                              float* __restrict__ vel, const float* __restrict__ acc) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
-    const float dt = kick_span(p, dt_dev, step_dt(p, red, dt_dev));
+    const float step = step_dt(p, red, dt_dev);
+    const float dt = kick_span(p, dt_dev, step);
     if (i >= n) return;
+    float r_now = 1.0f, r_step = 0.0f;
+    if (p.inflow && p.inflow_ramp > 0.0f) {
+        const double t1 = kick_end(p, *time, step);
+        const double r1 = ramp_share(p, t1), r0 = ramp_share(p, t1 - (double)dt);
+        r_now = (float)r1;
+        r_step = (float)(r1 - r0);
+    }
     const Vec<DIM> x = p.inflow ? vload<DIM>(pos, i) : vzero<DIM>();
     Vec<DIM> v = vel_load<DIM>(vel, i);
-    if (kick_one<DIM>(p, kind[i], driven_test_group(p, group, i), x, dt, acc, i, v)) vel_store<DIM>(vel, i, v);  // keeps rho, m
+    if (kick_one<DIM>(p, kind[i], driven_test_group(p, group, i), x, dt, r_now, r_step, acc, i, v))
+        vel_store<DIM>(vel, i, v);  // keeps rho, m
 }
 MF_ENTRY2(sph_kick,
-          (const SphParams p, unsigned n, float* dt_dev, const unsigned* red, const unsigned char* kind, const unsigned* group,
-           const float* pos, float* vel, const float* acc),
-          (p, n, dt_dev, red, kind, group, pos, vel, acc))
+          (const SphParams p, unsigned n, float* dt_dev, const unsigned* red, const double* time,
+           const unsigned char* kind, const unsigned* group, const float* pos, float* vel, const float* acc),
+          (p, n, dt_dev, red, time, kind, group, pos, vel, acc))
 
 // The drift of one particle (kind k, group g, velocity v) by dt; returns its new position.
 // drho: null without the continuity density; rho_dev, stress, rate: null without solids. The callers
@@ -181,7 +216,8 @@ __device__ void sph_drift_kick_body(const SphParams p, unsigned n, float* __rest
     const unsigned g = driven_test_group(p, group, i);
     Vec<DIM> v = vel_load<DIM>(vel, i);
     const Vec<DIM> x = drift_one<DIM>(p, n, i, k, g, v, dt, pos, xsph, rho, drho, rho_dev, stress, rate);
-    if (kick_one<DIM>(p, k, g, x, dt, acc, i, v)) vel_store<DIM>(vel, i, v);  // keeps rho, m
+    // No ramp under the forward Euler (`ramp_share`): the band at inflow_velocity.
+    if (kick_one<DIM>(p, k, g, x, dt, 1.0f, 0.0f, acc, i, v)) vel_store<DIM>(vel, i, v);  // keeps rho, m
     hist_one<DIM>(p, i, x, cell, count);
 }
 MF_ENTRY2(sph_drift_kick,

@@ -184,6 +184,10 @@ typedef struct SphParams {
     float inflow_lo;            /* [L] */
     float inflow_hi;            /* [L] */
     float inflow_velocity[3];   /* [L/T] */
+    float inflow_ramp;          /* [T] T_r: 0 = the mean flow from the start; > 0: a start from rest,
+                                   the band at r(t) inflow_velocity and every particle the kick
+                                   integrates outside it accelerated by d(r inflow_velocity)/dt,
+                                   r = (1 - cos(pi t / T_r)) / 2 up to T_r, then 1 */
 
     /* ---- beyond the paper: cohesion and density diffusion ---- */
     float cohesion;        /* [L^(d+1) M^-1 T^-2] gamma of the fluid-fluid cohesion force of

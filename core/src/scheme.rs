@@ -603,6 +603,7 @@ pub const FROM_SCENE: &[(&str, &str)] = &[
     ("inflow_lo", "[inflow] min"),
     ("inflow_hi", "[inflow] max"),
     ("inflow_velocity", "[inflow] velocity"),
+    ("inflow_ramp", "[inflow] ramp"),
     (
         "wall_first_id",
         "Scene::setup: the first boundary particle's id",

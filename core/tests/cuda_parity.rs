@@ -2,9 +2,9 @@
 //! fluid, an elastic body, wall particles and a periodic axis, in four variants (dynamic
 //! walls / Lennard-Jones-only walls, summation / continuity density, forward / symplectic
 //! Euler, with / without artificial stress, with / without density diffusion; two also
-//! with an inflow band); the stages run in the order of `Solver::step` for the variant's
-//! integrator (forward Euler: the GPU's fused `forces_and_rates` pass against the CPU's two
-//! stages). Then diagnostics after 200 steps; the fused pass against the GPU's two separate
+//! with an inflow band, two more and a long run with the band's ramped start); the stages
+//! run in the order of `Solver::step` for the variant's integrator (forward Euler: the
+//! GPU's fused `forces_and_rates` pass against the CPU's two stages). Then diagnostics after 200 steps; the fused pass against the GPU's two separate
 //! passes, bit for bit; and the `SphParams` layout as nvcc sees it. Morris's no-slip walls
 //! (`no_slip`) run in five stage scenes, a long run and the fused-pass check. Probes
 //! (`Solver::sample_points`, `cuda/probes.cu`) sample the same values as the CPU's at points
@@ -543,6 +543,17 @@ fn with_inflow_band(dim: usize, v: Variant) -> Setup {
     setup
 }
 
+/// `setup` (with an inflow band) under a ramped start (`inflow_ramp`) of 8 of its first
+/// steps, so that the stage tests' four rounds all kick inside the ramp: the band at its
+/// share r(t) of the inflow velocity and the rest accelerated by its increase
+/// (src/backend/cpu/integrate.rs::kick, `ramp_share`, `kick_end`).
+fn ramped<D: Dim>(mut setup: Setup) -> Setup {
+    let mut c = CpuSolver::<D>::new(setup.clone());
+    c.step();
+    setup.params.inflow_ramp = 8.0 * c.dt();
+    setup
+}
+
 /// `scene(dim, v)` with the solid body turned into fluid (rest density, no stress): the only
 /// scenes that take the fluid-only entries of forces and rates (`sph_forces_fluid_*`,
 /// `sph_rates_fluid_*`: batches of 8 candidates at one lane, and the neighbour's kind read
@@ -996,6 +1007,41 @@ fn stages_2d_inflow_band_symplectic() {
 )]
 fn stages_3d_inflow_band_euler() {
     stages_on::<D3>("V_3D_B + inflow band", with_inflow_band(3, V_3D_B));
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_2d_inflow_ramp_symplectic() {
+    let setup = ramped::<D2>(with_inflow_band(2, V_2D_B));
+    stages_on::<D2>("V_2D_B + inflow band, ramped", setup);
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_3d_inflow_ramp_leapfrog() {
+    let setup = ramped::<D3>(leapfrog(with_inflow_band(3, V_3D_A)));
+    stages_on::<D3>("V_3D_A leapfrog + inflow band, ramped", setup);
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn diagnostics_after_200_steps_2d_inflow_ramp() {
+    // The ramp ends inside the run (at 100 of its first steps): graphs, the clock and the
+    // ramp's end together.
+    let mut setup = scene_with(2, V_2D_B, 0.05);
+    let p = &mut setup.params;
+    (p.inflow, p.inflow_axis, p.inflow_lo, p.inflow_hi) = (1, 0, 0.4, 0.8);
+    p.inflow_velocity = [0.5, -0.2, 0.0];
+    let mut c = CpuSolver::<D2>::new(setup.clone());
+    c.step();
+    setup.params.inflow_ramp = 100.0 * c.dt();
+    long_run_on::<D2>("V_2D_B + inflow band, ramped", setup, 200);
 }
 #[test]
 #[cfg_attr(

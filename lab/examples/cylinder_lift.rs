@@ -12,7 +12,8 @@
 //! (background pressure X q, e.g. `bg1.5`), `hY` (the channel Y high instead of 24: the
 //! blockage D / Y; the cylinder keeps its place, the y axis being periodic), `lX` (the
 //! channel X long instead of 40, the 1-long inflow band moved to end 10 D upstream of the
-//! cylinder, across the periodic end, leaving X - 21 of wake behind the cylinder's centre).
+//! cylinder, across the periodic end, leaving X - 21 of wake behind the cylinder's centre),
+//! `rX` (a start ramped over X D / U, `[inflow] ramp`: the fluid from rest).
 //!
 //! Per run it also prints the blockage-corrected St, Cd and rms Cl (Allen & Vincenti, as
 //! `validate`) against issue #23's targets, and `SCORE name s`, s the largest of
@@ -69,6 +70,10 @@ fn main() -> anyhow::Result<()> {
                     s.file.fluid_blocks[0].max[0] = l;
                     if let Some(i) = s.file.inflow.as_mut() {
                         (i.min, i.max) = (b - 1.0, b);
+                    }
+                } else if let Some(r) = num("r") {
+                    if let Some(i) = s.file.inflow.as_mut() {
+                        i.ramp = r * D / U;
                     }
                 } else if token != "confined" {
                     panic!("unknown variant token {token}");

@@ -139,6 +139,8 @@ pub struct SphParams {
     pub inflow_hi: f32,
     #[doc = " [L/T]"]
     pub inflow_velocity: [f32; 3usize],
+    #[doc = " [T] T_r: 0 = the mean flow from the start; > 0: a start from rest,\nthe band at r(t) inflow_velocity and every particle the kick\nintegrates outside it accelerated by d(r inflow_velocity)/dt,\nr = (1 - cos(pi t / T_r)) / 2 up to T_r, then 1"]
+    pub inflow_ramp: f32,
     #[doc = " [L^(d+1) M^-1 T^-2] gamma of the fluid-fluid cohesion force of\nAkinci, Akinci & Teschner 2013 (droplets); 0 = off"]
     pub cohesion: f32,
     #[doc = " [-] delta of the density-diffusion term of Molteni & Colagrossi\n2009 in the continuity equation; 0 = off (the paper)"]

@@ -43,6 +43,18 @@ pub struct Inflow {
     pub max: f64,
     /// [L/T] `dimension` numbers.
     pub velocity: Vec<f64>,
+    /// [T] T_r, default 0 (the mean flow from the start). > 0: a start from rest: the
+    /// generator takes `velocity` off the fluid's initial velocity, and the kick gives it
+    /// back over T_r as r(t) = (1 - cos(pi t / T_r)) / 2 (the band at r `velocity`, every
+    /// particle it integrates outside the band accelerated by d(r `velocity`)/dt, a uniform
+    /// body force: the fluid's frame accelerates as a body started from rest would see
+    /// it), instead of every particle at `velocity` at once.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub ramp: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 /// The force of the fluid (and solids) on one wall object, sampled every `interval`.

@@ -18,6 +18,9 @@
 //!   list is ordered by group, then generation order; `id` = index in that list.
 //! * Mass = reference density * dx^dim (boundary particles take the fluid's rho0).
 //! * A driven object (`motion`) starts at its prescribed velocity.
+//! * Under a ramped start (`[inflow] ramp` > 0) the fluid starts at its block's velocity
+//!   less the inflow's `velocity` (at rest where the block moves with the mean flow); the
+//!   kick adds the mean flow back over the ramp.
 //! * A `hydrostatic` fluid block starts at p = rho0 g depth (eq. (9) gives its density), and,
 //!   with `[boundary] hydrostatic_walls`, so does every dynamic wall particle within a kernel
 //!   support (2h) of one of its fluid particles, at the wall particle's own depth below the
@@ -621,7 +624,16 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
     let mut out: Vec<Particle> = Vec::with_capacity(kept.iter().map(Vec::len).sum());
     for (i, obj) in objects.iter().enumerate() {
         let (rho_ref, velocity) = match obj.kind {
-            Kind::Fluid => (f.density, vec3(s.fluid_blocks[i].velocity.as_ref())),
+            Kind::Fluid => {
+                let mut v = vec3(s.fluid_blocks[i].velocity.as_ref());
+                if let Some(b) = s.inflow.as_ref().filter(|b| b.ramp > 0.0) {
+                    // A ramped start: the mean flow comes from the kick (`integrate::kick`).
+                    for (x, u) in v.iter_mut().zip(&b.velocity) {
+                        *x -= u;
+                    }
+                }
+                (f.density, v)
+            }
             Kind::Solid => {
                 let o = &s.solids[i - n_fluid as usize];
                 (

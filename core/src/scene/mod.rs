@@ -334,6 +334,7 @@ fn scene_params(s: &SceneFile) -> SphParams {
         p.inflow_axis = b.axis.index() as i32;
         p.inflow_lo = b.min as f32;
         p.inflow_hi = b.max as f32;
+        p.inflow_ramp = b.ramp as f32;
         for (o, v) in p.inflow_velocity.iter_mut().zip(&b.velocity) {
             *o = *v as f32;
         }

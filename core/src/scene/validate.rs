@@ -385,6 +385,16 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
             ));
         }
         c.vec("inflow.velocity", &b.velocity)?;
+        c.non_negative("inflow.ramp", b.ramp)?;
+        if b.ramp > 0.0 && s.time.integrator == IntegratorChoice::Euler {
+            return Err(c.err(
+                "inflow.ramp",
+                "a ramped start needs a kick before the drift (time.integrator \
+                 \"symplectic-euler\" or \"leapfrog\"): the ramp's velocity is set at the \
+                 kick's time, which the forward Euler's fused drift-kick advances in the same \
+                 pass on the GPU",
+            ));
+        }
     }
     let mut names = std::collections::HashSet::new();
     for (i, m) in s.monitors.iter().enumerate() {

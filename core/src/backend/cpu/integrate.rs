@@ -5,7 +5,8 @@ use rayon::prelude::*;
 
 use crate::dim::Dim;
 use crate::params::{
-    SphParams, MF_INTEGRATOR_LEAPFROG, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID,
+    SphParams, MF_INTEGRATOR_EULER, MF_INTEGRATOR_LEAPFROG, MF_KIND_BOUNDARY, MF_KIND_FLUID,
+    MF_KIND_SOLID,
 };
 use crate::state::State;
 
@@ -71,12 +72,51 @@ pub fn kick_span(p: &SphParams, dt_prev: f32, dt: f32) -> f32 {
     }
 }
 
-/// The kick: v += dt a for fluid and solid particles; v = inflow_velocity for fluid in the
-/// inflow band (`in_inflow_band`); the driven group's velocity is set to its prescribed
-/// value, whatever the forces. [L/T]
-pub fn kick<D: Dim>(p: &SphParams, dt: f32, s: &mut State<D>) {
+/// The ramp of a ramped start [-] (`inflow_ramp` T_r > 0, `[inflow] ramp`): the share of
+/// the inflow velocity reached at time t [T], r = (1 - cos(pi t / T_r)) / 2 for
+/// 0 <= t < T_r (smooth: zero slope at both ends), 0 before, 1 after; 1 without a ramp,
+/// and under the forward Euler, whose drift comes before its kick (the scene check rejects
+/// that pair: the GPU's fused drift-kick advances the clock in the pass that would read
+/// it). In double precision, since the kick takes its difference over one step. Twin:
+/// `ramp_share` in `cuda/integrate.cu`.
+#[inline]
+pub fn ramp_share(p: &SphParams, t: f64) -> f64 {
+    let tr = p.inflow_ramp as f64;
+    if p.inflow == 0 || tr <= 0.0 || t >= tr || p.integrator == MF_INTEGRATOR_EULER as i32 {
+        1.0
+    } else if t <= 0.0 {
+        0.0
+    } else {
+        0.5 * (1.0 - (std::f64::consts::PI * t / tr).cos())
+    }
+}
+
+/// The time a kick taken at time t (the step's start) [T] brings the velocities to: t + dt,
+/// under the leapfrog t + dt / 2 (its velocities live at half steps). Twin: `kick_end` in
+/// `cuda/integrate.cu`.
+#[inline]
+pub fn kick_end(p: &SphParams, t: f64, dt: f32) -> f64 {
+    if p.integrator == MF_INTEGRATOR_LEAPFROG as i32 {
+        t + 0.5 * dt as f64
+    } else {
+        t + dt as f64
+    }
+}
+
+/// The kick over `dt` (its span, `kick_span`) ending at time `t_end` (`kick_end`): v += dt a
+/// for fluid and solid particles; v = r(t_end) inflow_velocity for fluid in the inflow band
+/// (`in_inflow_band`; r = 1 without a ramp, `ramp_share`), and under a ramped start the
+/// mean flow's increase over the span, (r(t_end) - r(t_end - dt)) inflow_velocity, added
+/// to every particle the kick integrates outside the band (a uniform body force: the
+/// fluid outside the band keeps pace with it without a pressure gradient along the
+/// channel); the driven group's velocity is set to its prescribed value, whatever the
+/// forces. [L/T]
+pub fn kick<D: Dim>(p: &SphParams, dt: f32, t_end: f64, s: &mut State<D>) {
     let (kind, group, acc, pos) = (&s.kind, &s.group, &s.acc, &s.pos);
-    let band_v = D::from3(p.inflow_velocity);
+    let (r1, r0) = (ramp_share(p, t_end), ramp_share(p, t_end - dt as f64));
+    let u = D::from3(p.inflow_velocity);
+    let band_v = u * r1 as f32;
+    let ramp_dv = u * (r1 - r0) as f32;
     s.vel.par_iter_mut().enumerate().for_each(|(i, v)| {
         // Inflow band: the velocity is set, not integrated (holds the mean flow of a
         // periodic channel, wiping the wake that comes round).
@@ -86,6 +126,7 @@ pub fn kick<D: Dim>(p: &SphParams, dt: f32, s: &mut State<D>) {
         }
         if kind[i] as u32 != MF_KIND_BOUNDARY {
             *v += acc[i] * dt;
+            *v += ramp_dv;
         }
         // Driven group (piston, clamp): prescribed velocity.
         if let Some(u) = driven_velocity::<D>(p, group[i]) {

@@ -168,7 +168,8 @@ impl<D: Dim> Solver for CpuSolver<D> {
     }
     fn kick(&mut self) {
         let dt = integrate::kick_span(&self.params, self.dt_prev, self.dt);
-        integrate::kick(&self.params, dt, &mut self.state);
+        let t_end = integrate::kick_end(&self.params, self.time, self.dt);
+        integrate::kick(&self.params, dt, t_end, &mut self.state);
     }
     fn drift(&mut self) {
         if let Some(tl) = self.tl.as_mut() {

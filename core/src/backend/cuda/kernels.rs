@@ -275,8 +275,8 @@ impl Family {
                 "sph_kick",
                 Dims,
                 "const SphParams p, unsigned n, float* dt_dev, const unsigned* red, \
-                 const unsigned char* kind, const unsigned* group, const float* pos, float* vel, \
-                 const float* acc",
+                 const double* time, const unsigned char* kind, const unsigned* group, \
+                 const float* pos, float* vel, const float* acc",
             ),
             Family::Drift => (
                 "integrate",

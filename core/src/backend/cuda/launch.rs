@@ -379,8 +379,9 @@ fn clear_red(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
 }
 
 /// v += dt a (dt read on the device, or taken from the forces pass's maxima where the step
-/// size is pending: `Buffers::dt_pending`); v = inflow_velocity in the inflow band; the
-/// driven group's velocity set.
+/// size is pending: `Buffers::dt_pending`); v = inflow_velocity in the inflow band (under a
+/// ramped start, `inflow_ramp`, its share at the device clock's time, and the rest
+/// accelerated with it); the driven group's velocity set.
 pub fn kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     if b.n == 0 {
         settle_step_size(k, s, p, b);
@@ -389,12 +390,13 @@ pub fn kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     let n = b.n as u32;
     let c = &mut b.cur;
     // SAFETY: the arguments of `Family::Kick`; dt_dev holds 2 floats; red null or the 3
-    // maxima of the forces pass.
+    // maxima of the forces pass; time the device clock (1 double).
     let kk = k.get(Family::Kick);
     let mut l = s.launch_builder(&kk.f);
     l.arg(p).arg(&n).arg(&mut b.dt);
     opt!(l, b.dt_pending.then_some(&b.red));
-    l.arg(&c.kind)
+    l.arg(&b.time)
+        .arg(&c.kind)
         .arg(&c.group)
         .arg(&c.pos)
         .arg(&mut c.vel)
