@@ -80,7 +80,7 @@ impl Live {
             info.backend,
             info.device
         );
-        let stepper = Stepper::new(scene.gates());
+        let stepper = Stepper::new(scene.gates()).with_end(scene.file.time.end);
         Ok(Live {
             outlines: wall_outlines(&scene),
             scene,

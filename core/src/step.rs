@@ -115,8 +115,8 @@ fn collapsed_step(solver: &mut dyn Solver, dt: f64, floor: f64) -> Fault {
         quantity: "time step".into(),
         value: dt,
         reason: format!(
-            "below {DT_FLOOR:e} of the end time ({floor:.3e}): set by {term}; the particle \
-             named is the fastest"
+            "below {floor:.3e} ({DT_FLOOR:e} of the end time, or of the time stepped to): set \
+             by {term}; the particle named is the fastest"
         ),
     }
 }
@@ -152,7 +152,8 @@ pub struct Stepper {
     dt_estimate: f64,
     /// [s] wall time inside `batch`.
     stepping_seconds: f64,
-    /// [T] a batch's mean dt below this is a fault (0: no floor).
+    /// [T] a batch's mean dt below this is a fault (0: `DT_FLOOR` of the batch's event time
+    /// only, so that a step collapsed to 0 stops every loop that steps to a time).
     dt_floor: f64,
 }
 
@@ -243,8 +244,14 @@ impl Stepper {
         }
         solver.queued_fault()?;
         self.stepping_seconds += started.elapsed().as_secs_f64();
-        if n > 0 && self.dt_estimate < self.dt_floor {
-            return Err(collapsed_step(solver, self.dt_estimate, self.dt_floor));
+        // Without an end time (`with_end`) the event's time sets the floor: a step that has
+        // collapsed to 0 would otherwise step towards it for ever.
+        let floor = match event.is_finite() {
+            true => self.dt_floor.max(DT_FLOOR * event),
+            false => self.dt_floor,
+        };
+        if n > 0 && self.dt_estimate < floor {
+            return Err(collapsed_step(solver, self.dt_estimate, floor));
         }
         Ok(Batch { steps: n, opened })
     }

@@ -120,7 +120,12 @@ impl Depth {
     pub fn new(p: &SphParams, ps: &[Particle]) -> Depth {
         let support = (2.0 * p.h) as f64;
         let mut bins: Vec<Vec<(f64, f64)>> = Vec::new();
-        for q in ps.iter().filter(|q| q.kind == Kind::Fluid) {
+        // Only water inside the domain counts: a blown-up state (a particle at 1e30 or NaN,
+        // between two health checks) would otherwise ask for bins without end.
+        for q in ps
+            .iter()
+            .filter(|q| q.kind == Kind::Fluid && in_domain(p, q))
+        {
             let x = q.position[0] as f64;
             let k = (x / support).floor().max(0.0) as usize;
             if bins.len() <= k {
@@ -184,26 +189,36 @@ pub fn surge_front(p: &SphParams, ps: &[Particle], min_depth: f64) -> f64 {
     let step = 0.25 * p.dx as f64;
     let end = ps
         .iter()
-        .filter(|q| q.kind == Kind::Fluid)
+        .filter(|q| q.kind == Kind::Fluid && in_domain(p, q))
         .map(|q| q.position[0] as f64)
         .fold(0.0, f64::max)
         + 2.0 * p.h as f64;
+    // A depth that is not a number (a particle's NaN volume) counts as dry: both scans end.
     let (mut x, mut prev) = (0.0, depth.at(0.0));
-    while prev < min_depth {
+    while !(prev >= min_depth) {
         x += step;
         if x > end {
             return 0.0;
         }
         prev = depth.at(x);
     }
-    loop {
+    while x <= end {
         let next = depth.at(x + step);
-        if next < min_depth {
-            return x + (prev - min_depth) / (prev - next) * step;
+        if !(next >= min_depth) {
+            return match next.is_nan() {
+                true => x,
+                false => x + (prev - min_depth) / (prev - next) * step,
+            };
         }
         x += step;
         prev = next;
     }
+    end
+}
+
+/// Whether `q` lies inside the scene's domain (NaN does not).
+fn in_domain(p: &SphParams, q: &Particle) -> bool {
+    (0..2).all(|a| q.position[a] >= p.domain_min[a] && q.position[a] <= p.domain_max[a])
 }
 
 /// The water height [L] at the back wall x = 0 (the floor at y = 0): the free surface of the
@@ -239,19 +254,26 @@ pub fn wall_height(p: &SphParams, ps: &[Particle], dx: f64) -> f64 {
             .map(|&(x, yj, v)| 2.0 * v * (w(x, y - yj) + w(x, y + yj)))
             .sum()
     };
+    // A fraction that is not a number (a particle's NaN volume) counts as empty, and the
+    // gauge ends at the domain's top: the scan ends in a blown-up state too.
     let (mut y, mut prev) = (0.0, phi(0.0));
-    if prev < 0.5 {
+    if !(prev >= 0.5) {
         return 0.0;
     }
     let dy = 0.1 * dx;
-    loop {
+    let top = p.domain_max[1] as f64;
+    while y < top {
         let next = phi(y + dy);
-        if next < 0.5 {
-            return y + (prev - 0.5) / (prev - next) * dy;
+        if !(next >= 0.5) {
+            return match next.is_nan() {
+                true => y,
+                false => y + (prev - 0.5) / (prev - next) * dy,
+            };
         }
         y += dy;
         prev = next;
     }
+    top
 }
 
 /// Martin & Moyce's surge front (T = t sqrt(g/a), x/a) for the square column, where it is
@@ -601,5 +623,32 @@ mod tests {
             "{front_shifted} vs {front}"
         );
         assert_eq!(surge_front(&p, &[], FRONT_DEPTH), 0.0);
+    }
+
+    /// A state caught between two health checks of a blow-up (a particle flung to 1e30, one
+    /// at NaN, a NaN volume) still has a front, and the scan ends: it hung the stability
+    /// map of the forward Euler with the summation density.
+    #[test]
+    fn a_blown_up_state_has_a_front_and_the_scan_ends() {
+        let dx = 0.02;
+        let scene = Scene::from_toml(&scene_text(dx, 1.0, 1.0, 4.0, 2.0), "test").unwrap();
+        let p = scene.setup().unwrap().params;
+        let mut ps = block(dx, 1.0, 0.2, 0.0);
+        let clean = surge_front(&p, &ps, FRONT_DEPTH);
+        ps.push(water(dx, 1e30, 0.1));
+        ps.push(water(dx, f64::NAN, 0.1));
+        assert_eq!(surge_front(&p, &ps, FRONT_DEPTH), clean);
+        // Only water far away, no column: no front.
+        assert_eq!(surge_front(&p, &ps[ps.len() - 2..], FRONT_DEPTH), 0.0);
+        let mut nan = water(dx, 0.5, 0.1);
+        nan.density = f32::NAN;
+        ps.push(nan);
+        let front = surge_front(&p, &ps, FRONT_DEPTH);
+        assert!((0.0..=1.0 + 2.0 * p.h as f64).contains(&front), "{front}");
+        // The back wall's gauge, with a NaN volume beside the wall, ends too.
+        let mut wall = block(dx, 0.2, 0.2, 0.0);
+        wall[0].density = f32::NAN;
+        let height = wall_height(&p, &wall, dx);
+        assert!((0.0..=0.2).contains(&height), "{height}");
     }
 }
