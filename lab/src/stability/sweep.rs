@@ -95,7 +95,7 @@ fn density_name(d: DensityForm) -> &'static str {
 pub fn maps(tier: Tier) -> Vec<MapDef> {
     let quick = tier == Tier::Quick;
     let pick = |full: &[f64], q: &[f64]| if quick { q.to_vec() } else { full.to_vec() };
-    let courant = pick(&[0.1, 0.2, 0.4, 0.8, 1.2], &[0.2, 1.2]);
+    let courant = pick(&[0.1, 0.2, 0.4, 0.8, 1.2], &[0.4, 1.2]);
     let alpha = pick(&[0.0, 0.01, 0.02, 0.05, 0.1], &[0.0, 0.05]);
     let lj = pick(&[0.1, 0.3, 1.0, 3.0, 10.0], &[0.1, 1.0]);
     let delta = pick(&[0.0, 0.05, 0.1, 0.2], &[0.0, 0.1]);
@@ -105,7 +105,11 @@ pub fn maps(tier: Tier) -> Vec<MapDef> {
         values: values.clone(),
     };
     let mut out = Vec::new();
-    for integrator in [IntegratorChoice::SymplecticEuler, IntegratorChoice::Euler] {
+    for integrator in [
+        IntegratorChoice::Leapfrog,
+        IntegratorChoice::SymplecticEuler,
+        IntegratorChoice::Euler,
+    ] {
         for density_form in [DensityForm::Continuity, DensityForm::Summation] {
             let (i, d) = (integrator_name(integrator), density_name(density_form));
             out.push(MapDef {
@@ -144,7 +148,11 @@ pub fn maps(tier: Tier) -> Vec<MapDef> {
         x: axis(Param::Courant, &courant),
         y: axis(Param::DensityDiffusion, &delta),
     });
-    for integrator in [IntegratorChoice::SymplecticEuler, IntegratorChoice::Euler] {
+    for integrator in [
+        IntegratorChoice::Leapfrog,
+        IntegratorChoice::SymplecticEuler,
+        IntegratorChoice::Euler,
+    ] {
         let i = integrator_name(integrator);
         out.push(MapDef {
             name: format!("elastic-strip-{i}"),
