@@ -201,7 +201,7 @@ pub fn run(options: &Options) -> anyhow::Result<Vec<Point>> {
             if case == "cylinder" {
                 // The validate case's scheme (issue #23: the wake without voids).
                 vs.push(Variant {
-                    name: "shifting 0.2, background pressure 6 q",
+                    name: "shifting 0.2, background pressure 2 q, Morris walls, ramped start",
                     edit: cylinder::confined,
                 });
             }

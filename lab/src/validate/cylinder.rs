@@ -16,8 +16,10 @@
 //! `VOID_EVERY_UD`, and compares St, Cd and the rms lift with the unconfined values after
 //! the blockage correction of Allen & Vincenti (1944) (`blockage_epsilon`).
 //!
-//! Both cases run the confined-flow options (`confined`): particle shifting 0.2 and a
-//! background pressure of 6 q. Without them the near wake tears where its pressure goes
+//! Both cases run the confined-flow scheme (`confined`): particle shifting 0.2, a
+//! background pressure of 2 q, Morris's no-slip walls and a start ramped over 2 D / U (6 q,
+//! dynamic walls and an impulsive start until 2026-11-28). Without shifting and a background
+//! pressure the near wake tears where its pressure goes
 //! negative and the disordered particles dissipate like a fluid of about twice the
 //! viscosity: at D / dx = 20 the lift was a fifth of the expected one and the onset sweep
 //! could not tell Re 35 from Re 70 (docs/reference/accuracy.md, "Cylinder, Re 100"). The speed-vs-accuracy
@@ -28,12 +30,14 @@ use crate::plot::{plot, Figure, Series};
 use meshfree_core::monitor::{band_rms, ForceSample, MonitorSummary, BAND_REL};
 use meshfree_core::particle::Kind;
 use meshfree_core::scene::Scene;
+use meshfree_core::scheme::NoSlip;
 use meshfree_core::voids::{VoidMeter, VoidSummary};
 
 pub const NAME: &str = "cylinder";
 pub const DESCRIPTION: &str = "Flow past a cylinder, Re = 100, D = 2, U = 1, rho0 = 1, c0 = 10, periodic \
 40 x 24 channel (blockage 0.083) held at U by an inflow band, laminar viscosity nu = U D / Re, no artificial \
-viscosity, summation density, particle shifting 0.2 and background pressure 6 q (confined flow): Strouhal number and mean drag against Roshko / Williamson and published Re 100 \
+viscosity, summation density, the band 10 D upstream of the cylinder, particle shifting 0.2, background pressure 2 q, Morris's no-slip walls and a start ramped over \
+2 D / U (confined flow): Strouhal number and mean drag against Roshko / Williamson and published Re 100 \
 values, and (full tier) St, Cd and rms Cl corrected for the blockage (Allen & Vincenti 1944) and the largest void in the \
 wake; full tier at D / dx = 5, 10, 20 with the observed order of convergence.";
 
@@ -57,15 +61,36 @@ pub const KICK: f64 = 0.2;
 pub const SHIFTING: f64 = 0.2;
 /// [rho0 U^2 / 2] The background pressure of the cylinder cases (`[fluid]
 /// background_pressure`): above the wake's lowest pressure (Cp ~ -1.5 behind the cylinder,
-/// lower in the shed vortices' cores).
-pub const BACKGROUND_PRESSURE_Q: f64 = 6.0;
+/// lower in the shed vortices' cores). 6 q until 2026-11-28 damped the shedding (rms Cl_u
+/// -57 %); 2 q keeps voids under 2 dx with the ramped start (`RAMP_UD`), where an
+/// impulsive start tears the fluid at the shoulders (potential flow's Cp = -3; issue #23,
+/// docs/journal/2026-11-27-wake.md).
+pub const BACKGROUND_PRESSURE_Q: f64 = 2.0;
+/// [D / U] The start's ramp (`[inflow] ramp`): the fluid from rest to U over this time.
+pub const RAMP_UD: f64 = 2.0;
 
-/// The confined-flow options the cylinder cases run with: particle shifting and a
-/// background pressure (no free surface here).
+/// The confined-flow scheme the cylinder cases run with: particle shifting, a background
+/// pressure (no free surface here), Morris's no-slip walls (the zero-velocity dynamic
+/// walls' partial slip under-drags by ~8 %) and a ramped start.
 pub fn confined(s: &mut Scene) {
     s.file.fluid.shifting = SHIFTING;
     s.file.fluid.background_pressure = BACKGROUND_PRESSURE_Q * 0.5 * s.file.fluid.density * U * U;
+    if let Some(b) = s.file.boundary.as_mut() {
+        b.no_slip = NoSlip::Morris;
+    }
+    if let Some(i) = s.file.inflow.as_mut() {
+        i.ramp = RAMP_UD * D / U;
+    }
 }
+
+/// [D] How far upstream of the cylinder's centre the inflow band ends, across the periodic
+/// end (the band [29, 30) of the 40-long channel, the cylinder at x = 10, 9.5 D of wake
+/// before the band). With the band 4.5 D upstream (until 2026-11-28) it held the flow at U
+/// where the cylinder still slows it, and St_u read +5.6 % (2 q, Morris walls, ramped);
+/// 10 D upstream, +3.6 %, and 60 long, +2.8 % (issue #23).
+pub const BAND_UPSTREAM_D: f64 = 10.0;
+/// [L] the channel's length.
+const L: f64 = 40.0;
 
 /// The scene at spacing `dx` (40 and 24 must be multiples of it) and Reynolds number `re`.
 pub fn scene_text(dx: f64, t_end: f64, re: f64) -> String {
@@ -75,7 +100,7 @@ name = "validate-cylinder"
 
 [domain]
 min = [0.0, 0.0]
-max = [40.0, {H}]
+max = [{L}, {H}]
 periodic = [true, true]
 
 [discretisation]
@@ -97,7 +122,7 @@ wall_coupling = "dynamic"
 
 [[fluid_blocks]]
 min = [0.0, 0.0]
-max = [40.0, {H}]
+max = [{L}, {H}]
 velocity = [{U}, 0.0]
 
 [[walls]]
@@ -108,13 +133,15 @@ layers = 3
 
 [inflow]
 axis = "x"
-min = 0.0
-max = 1.0
+min = {band_min:e}
+max = {band_max:e}
 velocity = [{U}, 0.0]
 "#,
         nu = U * D / re,
         c0 = 5.0 * 0.5 * U * U / dx,
-        r = D / 2.0
+        r = D / 2.0,
+        band_min = XC - BAND_UPSTREAM_D * D + L - 1.0,
+        band_max = XC - BAND_UPSTREAM_D * D + L,
     )
 }
 

@@ -4,7 +4,7 @@
 //! 46.2; refdata/cylinder_flow_reference.json, `Re_c_onset_of_shedding`).
 //!
 //! The `cylinder` case's channel (blockage 0.083) and scheme (`cylinder::confined`: particle
-//! shifting and a background pressure) at D / dx = 20 (at 10 the lift's force noise is as
+//! shifting, a background pressure, Morris's walls, a ramped start) at D / dx = 20 (at 10 the lift's force noise is as
 //! large as Re 35's whole amplitude), started with the same antisymmetric kick
 //! (`cylinder::kick`), at Re 35, 45, 55 and 70. Per run: the lift's late amplitude
 //! (`late_amplitude`: sqrt 2 x the rms of the raw lift over the last quarter,
@@ -29,7 +29,7 @@ use meshfree_core::monitor::ForceSample;
 use meshfree_core::monitor::{band_rms, BAND_REL};
 
 pub const NAME: &str = "cylinder-onset";
-pub const DESCRIPTION: &str = "Onset of shedding: the cylinder case's channel (blockage 0.083) and scheme (shifting, background pressure) at D / dx = 20, \
+pub const DESCRIPTION: &str = "Onset of shedding: the cylinder case's channel (blockage 0.083) and scheme (shifting, background pressure, Morris walls, ramped start) at D / dx = 20, \
 Re 35, 45, 55, 70, kicked antisymmetrically at t = 0; late lift amplitude below and above Re_c and the \
 envelope growth rate sigma, fitted linearly in Re (sigma D^2 / nu, Provansal et al. 1987) for the critical Re.";
 
