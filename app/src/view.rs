@@ -420,6 +420,15 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
                     shoot(&mut live, Some(&numbered(f)))?;
                 }
             }
+            // GPU time per pass over the frames above (their timer queries, read late).
+            let passes: Vec<GpuPass> = renderer
+                .take_pass_times()
+                .into_iter()
+                .map(|p| GpuPass {
+                    pass: p.name,
+                    ms: p.ms,
+                })
+                .collect();
             // The ceiling: the same sprites drawn again from the buffers as they are.
             let o = opts(&live);
             let t0 = std::time::Instant::now();
@@ -442,8 +451,17 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
                 d2h_bytes_per_frame_drawing: per_frame(draw_bytes),
                 d2h_bytes_per_frame_stepping: per_frame(step_bytes),
                 size: a.size,
+                gpu_passes_ms: passes,
             };
             println!("{}", t.line());
+            if !t.gpu_passes_ms.is_empty() {
+                let list: Vec<String> = t
+                    .gpu_passes_ms
+                    .iter()
+                    .map(|p| format!("{} {:.2}", p.pass, p.ms))
+                    .collect();
+                println!("gpu ms per frame by pass: {}", list.join(", "));
+            }
             println!("timing-json: {}", serde_json::to_string(&t)?);
         }
         (Some(n), None) => {
@@ -490,6 +508,17 @@ struct FrameTiming {
     d2h_bytes_per_frame_drawing: Option<f64>,
     d2h_bytes_per_frame_stepping: Option<f64>,
     size: (u32, u32),
+    /// Mean GPU time per frame of each drawing pass (`GL_TIME_ELAPSED` queries), in order:
+    /// the particles, and with `--surface` the surface's sprites, thickness mipmaps, blur
+    /// passes and shading. Empty where the GL has no timer queries.
+    gpu_passes_ms: Vec<GpuPass>,
+}
+
+/// One drawing pass's mean GPU time per frame.
+#[derive(serde::Serialize)]
+struct GpuPass {
+    pass: &'static str,
+    ms: f64,
 }
 
 impl FrameTiming {

@@ -12,7 +12,7 @@ use glutin::context::{ContextApi, ContextAttributesBuilder, GlProfile, Version};
 use glutin::prelude::*;
 
 use crate::renderer::Renderer;
-use crate::{FrameData, Image, LiveSource, RenderOptions, ViewerError};
+use crate::{FrameData, Image, LiveSource, PassTime, RenderOptions, ViewerError};
 
 /// A reusable headless renderer: one EGL context and FBO for many frames.
 ///
@@ -277,6 +277,15 @@ impl HeadlessRenderer {
             }
         }
         Ok(img)
+    }
+}
+
+impl HeadlessRenderer {
+    /// The mean GPU time of each pass (the particles, the surface's passes) over the
+    /// frames drawn since the last call, as far as their timer queries have been read;
+    /// the measuring starts again. Empty where the context has no timer queries.
+    pub fn take_pass_times(&mut self) -> Vec<PassTime> {
+        self.renderer.take_pass_times(&self.gl)
     }
 }
 

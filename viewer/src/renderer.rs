@@ -7,6 +7,7 @@ use glow::HasContext;
 use crate::colormap::{colormap_table, fmt_value};
 use crate::error::gl_err;
 use crate::font;
+use crate::gpu_timers::{GpuTimers, PassTime};
 use crate::outline::Outlines;
 use crate::panel::{self, Action};
 use crate::shaders::{compile, sphere_fs, ParticleUniforms, SphereFs, PARTICLE_VS};
@@ -66,6 +67,8 @@ pub(crate) struct Renderer {
     verts: Vec<f32>,
     surface: Surface,
     outlines: Outlines,
+    /// GPU time per pass (the particles, the surface's passes).
+    timers: GpuTimers,
 }
 
 unsafe fn texture(
@@ -188,6 +191,7 @@ impl Renderer {
                 verts: Vec::new(),
                 surface: Surface::new(gl)?,
                 outlines: Outlines::new(gl)?,
+                timers: GpuTimers::default(),
             })
         }
     }
@@ -205,6 +209,12 @@ impl Renderer {
         self.sprites.destroy(gl);
         self.surface.destroy(gl);
         self.outlines.destroy(gl);
+        self.timers.destroy(gl);
+    }
+
+    /// The mean GPU time of each pass drawn since the last call ([`GpuTimers::take`]).
+    pub(crate) fn take_pass_times(&mut self, gl: &glow::Context) -> Vec<PassTime> {
+        unsafe { self.timers.take(gl) }
     }
 
     /// Copies the particles to the GPU; buffers grow only when the count grows.
@@ -300,6 +310,7 @@ impl Renderer {
 
         unsafe {
             let target = gl.get_parameter_framebuffer(glow::DRAW_FRAMEBUFFER_BINDING);
+            self.timers.collect(gl);
             gl.viewport(0, 0, w as i32, h as i32);
             gl.disable(glow::SCISSOR_TEST);
             gl.clear_color(bg[0], bg[1], bg[2], 1.0);
@@ -310,6 +321,7 @@ impl Renderer {
             // Particles.
             gl.viewport(0, 0, sw as i32, h as i32);
             if self.count > 0 {
+                self.timers.pass(gl, "particles");
                 gl.enable(glow::DEPTH_TEST);
                 gl.depth_func(glow::LESS);
                 gl.disable(glow::BLEND);
@@ -318,6 +330,7 @@ impl Renderer {
                 gl.use_program(Some(p));
                 uniforms.set(gl, p, self.cmap_tex);
                 self.sprites.draw(gl, p, &uniforms, &sprites);
+                self.timers.end(gl);
             }
             // Outlines, then the surface over them: the water lets them through.
             if frame.dim == 3 && opts.outlines && !frame.outlines.is_empty() {
@@ -339,8 +352,14 @@ impl Renderer {
                     },
                     sprites,
                 };
-                self.surface
-                    .draw(gl, target, &self.sprites, self.cmap_tex, &view);
+                self.surface.draw(
+                    gl,
+                    target,
+                    &self.sprites,
+                    self.cmap_tex,
+                    &view,
+                    &mut self.timers,
+                );
             }
 
             // Overlay: colour bar and text, in pixels over the whole target.

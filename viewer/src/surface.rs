@@ -11,6 +11,7 @@ use glam::{Mat3, Vec3};
 use glow::HasContext;
 
 use crate::error::gl_err;
+use crate::gpu_timers::GpuTimers;
 use crate::shaders::{
     compile, sphere_fs, ParticleUniforms, SphereFs, BLUR_FS, FULLSCREEN_VS, PARTICLE_VS,
 };
@@ -21,6 +22,8 @@ use crate::ViewerError;
 const SPHERE_SCALE: f32 = 1.5;
 /// Bilateral filter: horizontal then vertical passes, this many times.
 const BLUR_ITERATIONS: usize = 2;
+/// The blur passes' names for the GPU timers, in order.
+const BLUR_PASSES: [&str; 2 * BLUR_ITERATIONS] = ["blur 1 x", "blur 1 y", "blur 2 x", "blur 2 y"];
 /// The filter's Gaussian spans this many particle spacings in the world (sigma half of it).
 const BLUR_SPACINGS: f32 = 2.0;
 /// ... and never more than this many pixels either side.
@@ -242,6 +245,7 @@ impl Surface {
         sprites: &Sprites,
         cmap: glow::Texture,
         v: &SurfaceView,
+        timers: &mut GpuTimers,
     ) {
         let (w, h) = v.sprites.size;
         let (sprites_prog, blur_prog, shade_prog, empty_vao) = (
@@ -260,6 +264,7 @@ impl Surface {
         gl.viewport(0, 0, w as i32, h as i32);
 
         // 1. The spheres: eye distance of the nearest (MIN) and every chord (summed).
+        timers.pass(gl, "surface sprites");
         gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.sprites));
         gl.clear_buffer_f32_slice(glow::COLOR, 0, &[NO_FLUID, 0.0, 0.0, 0.0]);
         gl.clear_buffer_f32_slice(glow::COLOR, 1, &[0.0; 4]);
@@ -281,6 +286,7 @@ impl Surface {
         gl.disable(glow::BLEND);
         // The thickness's mipmaps: the shading reads it averaged over about a particle
         // spacing, so that the spheres' chords do not show as discs.
+        timers.pass(gl, "thickness mipmaps");
         gl.bind_texture(glow::TEXTURE_2D, Some(t.thickness.tex));
         gl.generate_mipmap(glow::TEXTURE_2D);
         gl.bind_texture(glow::TEXTURE_2D, None);
@@ -299,8 +305,9 @@ impl Surface {
         gl.uniform_1_i32(loc("u_max_px").as_ref(), BLUR_MAX_PX);
         gl.active_texture(glow::TEXTURE0);
         let mut src = t.depth.tex;
-        for _ in 0..BLUR_ITERATIONS {
+        for k in 0..BLUR_ITERATIONS {
             for (dst, dir) in [(&t.blur[0], (1, 0)), (&t.blur[1], (0, 1))] {
+                timers.pass(gl, BLUR_PASSES[2 * k + dir.1 as usize]);
                 gl.bind_framebuffer(glow::FRAMEBUFFER, Some(dst.fbo));
                 gl.bind_texture(glow::TEXTURE_2D, Some(src));
                 gl.uniform_2_i32(loc("u_dir").as_ref(), dir.0, dir.1);
@@ -310,6 +317,7 @@ impl Surface {
         }
 
         // 3. Shade over the target, depth-tested against what it holds.
+        timers.pass(gl, "shade");
         gl.bind_framebuffer(glow::FRAMEBUFFER, target);
         gl.enable(glow::DEPTH_TEST);
         gl.depth_func(glow::LESS);
@@ -344,6 +352,7 @@ impl Surface {
         gl.active_texture(glow::TEXTURE0);
         gl.bind_texture(glow::TEXTURE_2D, Some(src));
         gl.draw_arrays(glow::TRIANGLES, 0, 3);
+        timers.end(gl);
         gl.disable(glow::BLEND);
         gl.active_texture(glow::TEXTURE1);
         gl.bind_texture(glow::TEXTURE_2D, None);
