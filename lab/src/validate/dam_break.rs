@@ -195,7 +195,7 @@ pub fn surge_front(p: &SphParams, ps: &[Particle], min_depth: f64) -> f64 {
         + 2.0 * p.h as f64;
     // A depth that is not a number (a particle's NaN volume) counts as dry: both scans end.
     let (mut x, mut prev) = (0.0, depth.at(0.0));
-    while !(prev >= min_depth) {
+    while !at_least(prev, min_depth) {
         x += step;
         if x > end {
             return 0.0;
@@ -204,7 +204,7 @@ pub fn surge_front(p: &SphParams, ps: &[Particle], min_depth: f64) -> f64 {
     }
     while x <= end {
         let next = depth.at(x + step);
-        if !(next >= min_depth) {
+        if !at_least(next, min_depth) {
             return match next.is_nan() {
                 true => x,
                 false => x + (prev - min_depth) / (prev - next) * step,
@@ -214,6 +214,11 @@ pub fn surge_front(p: &SphParams, ps: &[Particle], min_depth: f64) -> f64 {
         prev = next;
     }
     end
+}
+
+/// Whether `v` reaches `min`: false for NaN, so that a scan counts a blown-up value as dry.
+fn at_least(v: f64, min: f64) -> bool {
+    v.partial_cmp(&min).is_some_and(|o| o.is_ge())
 }
 
 /// Whether `q` lies inside the scene's domain (NaN does not).
@@ -257,14 +262,14 @@ pub fn wall_height(p: &SphParams, ps: &[Particle], dx: f64) -> f64 {
     // A fraction that is not a number (a particle's NaN volume) counts as empty, and the
     // gauge ends at the domain's top: the scan ends in a blown-up state too.
     let (mut y, mut prev) = (0.0, phi(0.0));
-    if !(prev >= 0.5) {
+    if !at_least(prev, 0.5) {
         return 0.0;
     }
     let dy = 0.1 * dx;
     let top = p.domain_max[1] as f64;
     while y < top {
         let next = phi(y + dy);
-        if !(next >= 0.5) {
+        if !at_least(next, 0.5) {
             return match next.is_nan() {
                 true => y,
                 false => y + (prev - 0.5) / (prev - next) * dy,
