@@ -224,9 +224,9 @@ fn dam_break_surge_front_tracks_martin_moyce() {
 #[test]
 fn dam_break_column_height_at_the_wall_tracks_martin_moyce() {
     // The water surface at the back wall: the validation case's kernel gauge (the fluid
-    // mirrored across the wall and the floor, phi = 1/2). (The top-most particle there is
-    // quantised to whole spacings: at dx = 0.04 a = 9 % of the late Martin & Moyce
-    // heights, as large as the tolerance.)
+    // mirrored across the wall and the floor; the last phi = 1/2 below the first point where
+    // phi < 1/4). (The top-most particle there is quantised to whole spacings: at dx = 0.04 a
+    // = 9 % of the late Martin & Moyce heights, as large as the tolerance.)
     let height = |ps: &[Particle], p: &SphParams| wall_height(p, ps, p.dx as f64);
     let worst = worst_against_martin_moyce("residual_height_at_wall", 0.8..=2.6, height);
     // Without the wall's tensile cut-off the water clung to the wall at h/a ~ 0.98.
