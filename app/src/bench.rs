@@ -1,12 +1,12 @@
 //! `meshfree bench`: time the step of dam-break-like blocks (a fluid block in a walled box,
 //! open at the top) in 2D and 3D at several sizes on the chosen backend. Cubic spline,
-//! support 2h, h = 1.3 dx, f32, continuity density, dynamic walls; symplectic Euler or the
-//! paper's forward Euler (`BenchOptions::integrator`). Or any scene (`bench_scenes`,
-//! `meshfree bench --scene`) with its own scheme, from its start (gates opened as a run
-//! opens them). Every row names the scheme it ran (integrator, kernel, density form,
-//! density diffusion, viscosity) and gives the simulated time per wall second. Nothing is
-//! read back inside the timed steps; each repeat ends with one read-back of the simulated
-//! time (a synchronisation). Results: `docs/reference/performance.md`.
+//! support 2h, h = 1.3 dx, f32, continuity density, dynamic walls; the leapfrog at Courant
+//! 0.4, or the symplectic or the paper's forward Euler at 0.2 (`BenchOptions::integrator`).
+//! Or any scene (`bench_scenes`, `meshfree bench --scene`) with its own scheme, from its
+//! start (gates opened as a run opens them). Every row names the scheme it ran (integrator,
+//! kernel, density form, density diffusion, viscosity) and gives the simulated time per wall
+//! second. Nothing is read back inside the timed steps; each repeat ends with one read-back
+//! of the simulated time (a synchronisation). Results: `docs/reference/performance.md`.
 
 use std::path::Path;
 use std::time::Instant;
@@ -18,7 +18,7 @@ use meshfree_core::backend::{BackendChoice, BackendError};
 use meshfree_core::dim::{Dim, D2, D3};
 use meshfree_core::named::Named;
 use meshfree_core::params::{
-    self, SphParams, MF_DENSITY_CONTINUITY, MF_INTEGRATOR_SYMPLECTIC_EULER, MF_KIND_BOUNDARY,
+    self, SphParams, MF_DENSITY_CONTINUITY, MF_INTEGRATOR_LEAPFROG, MF_KIND_BOUNDARY,
 };
 use meshfree_core::particle::{Kind, Particle};
 use meshfree_core::scene::Scene;
@@ -44,7 +44,7 @@ pub struct BenchOptions {
     pub repeats: usize,
     /// Count neighbours (a CPU pass over a read-back; slow for many millions).
     pub count_neighbours: bool,
-    /// The time integrator of every run (default symplectic Euler).
+    /// The time integrator of every run (default the leapfrog).
     #[serde(default)]
     pub integrator: IntegratorChoice,
     /// Step in this many subdomains (`backend::create_decomposed`); None: one domain.
@@ -65,7 +65,7 @@ impl Default for BenchOptions {
             warmup: 10,
             repeats: 3,
             count_neighbours: true,
-            integrator: IntegratorChoice::SymplecticEuler,
+            integrator: IntegratorChoice::default(),
             decompose: None,
             gpus: None,
         }
@@ -92,7 +92,7 @@ pub struct BenchRow {
     pub bytes_per_particle: f64,
     /// Device bytes per fluid particle.
     pub bytes_per_fluid_particle: f64,
-    /// The scheme: "symplectic-euler" or "euler".
+    /// The scheme: "leapfrog", "symplectic-euler" or "euler".
     #[serde(default)]
     pub integrator: String,
     /// "continuity" or "summation".
@@ -217,8 +217,8 @@ pub fn dam_break(dim: u32, n_fluid: usize) -> Setup {
         wall_contact: 1,
         wall_coupling: 1,
         gravity: [0.0, -g, 0.0],
-        integrator: MF_INTEGRATOR_SYMPLECTIC_EULER as i32,
-        courant: 0.2,
+        integrator: MF_INTEGRATOR_LEAPFROG as i32,
+        courant: 0.4,
         ..Default::default()
     };
     params::derive(&mut p);
@@ -320,6 +320,10 @@ fn make<D: Dim>(
 fn run_one<D: Dim>(o: &BenchOptions, dim: u32, n: usize) -> Result<BenchRow, BackendError> {
     let mut setup = dam_break(dim, n);
     setup.params.integrator = o.integrator.to_param();
+    // The scenes' Courant numbers: the leapfrog's 0.4, the Euler schemes' 0.2 (eq. (19)).
+    if o.integrator != IntegratorChoice::Leapfrog {
+        setup.params.courant = 0.2;
+    }
     timed::<D>(o, setup, Vec::new(), "")
 }
 

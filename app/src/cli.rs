@@ -164,10 +164,10 @@ pub struct BenchArgs {
     /// Skip counting neighbours (a CPU pass over a read-back, slow at many millions).
     #[arg(long)]
     pub no_neighbours: bool,
-    /// Time integrator: `symplectic-euler` (the scenes' default) or `euler`, the paper's
-    /// forward Euler (forces and rates from one state: one neighbour pass on the GPU).
-    /// Every result line names the scheme it ran.
-    #[arg(long, value_parser = named::<IntegratorChoice>(), default_value = "symplectic-euler")]
+    /// Time integrator: `leapfrog` (the scenes' default), `symplectic-euler`, or `euler`,
+    /// the paper's forward Euler (forces and rates from one state: one neighbour pass on the
+    /// GPU). Every result line names the scheme it ran.
+    #[arg(long, value_parser = named::<IntegratorChoice>(), default_value = "leapfrog")]
     pub integrator: IntegratorChoice,
     /// Step every configuration in N subdomains (as `run --decompose`); each row then
     /// gives the exchange's microseconds and halo bytes per step.
@@ -792,7 +792,7 @@ pub struct ValidateArgs {
     /// gate.
     #[arg(long, value_name = "NAME")]
     pub case: Vec<String>,
-    /// Run every case at this Courant number (eq. (19)) instead of its own (0.2): what a
+    /// Run every case at this Courant number (eq. (19)) instead of its own (0.4): what a
     /// larger step costs in accuracy.
     #[arg(long, value_name = "C")]
     pub courant: Option<f64>,

@@ -39,7 +39,7 @@ fn a_scene_benches_with_its_own_scheme_from_its_start() {
     assert_eq!(r.scene, "impinging-2d");
     assert_eq!(
         (r.integrator.as_str(), r.kernel.as_str(), r.density.as_str()),
-        ("symplectic-euler", "cubic-spline", "continuity")
+        ("leapfrog", "cubic-spline", "continuity")
     );
     assert_eq!(r.diffusion, "none");
     let total = scenes[0].setup().unwrap().particles.len();
@@ -86,7 +86,7 @@ fn the_blocks_name_their_scheme() {
             r.kernel.as_str(),
             r.diffusion.as_str()
         ),
-        ("symplectic-euler", "cubic-spline", "none")
+        ("leapfrog", "cubic-spline", "none")
     );
     assert!(r.viscosity.starts_with("alpha "), "{}", r.viscosity);
 }

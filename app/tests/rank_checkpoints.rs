@@ -143,12 +143,12 @@ fn stopped_and_resumed(ranks: usize, stop: u64) -> (tempfile::TempDir, PathBuf) 
 
 #[test]
 fn two_ranks_stopped_and_resumed_from_their_pieces_equal_the_run_in_one_go() {
-    stopped_and_resumed(2, 250);
+    stopped_and_resumed(2, 125);
 }
 
 #[test]
 fn three_ranks_resume_from_their_pieces_or_gathered_on_another_count() {
-    let (dir, a) = stopped_and_resumed(3, 330);
+    let (dir, a) = stopped_and_resumed(3, 165);
     // A 3-rank checkpoint taken mid-way resumed on 2 ranks and on one domain: the pieces
     // gathered, the particles alike bit for bit (the diagnostics' sums, added over other
     // ranks, to round-off: not compared).

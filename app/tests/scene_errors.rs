@@ -659,7 +659,7 @@ fn syntax_errors_name_the_key_and_nan_is_explained() {
 
 #[test]
 fn solid_so_stiff_the_step_is_below_a_billionth_of_the_run() {
-    // h = 1.3 x 0.05, courant 0.2, end 0.01: dt = 0.013 / c is below 1e-11 where c > 1.3e9.
+    // h = 1.3 x 0.05, courant 0.4, end 0.01: dt = 0.026 / c is below 1e-11 where c > 2.6e9.
     let solid = |c: &str, g: &str| {
         format!(
             "{BASE}\n[solid]\ndensity = 500.0\nsound_speed = {c}\nshear_modulus = {g}\n\n\
@@ -670,7 +670,7 @@ fn solid_so_stiff_the_step_is_below_a_billionth_of_the_run() {
     let e = expect_error(&solid("5e9", "1e4"), "solid.sound_speed", "the time step");
     let msg = e.to_string();
     assert!(
-        msg.contains("would be 2.600e-12") && msg.contains("3.846e9 steps"),
+        msg.contains("would be 5.200e-12") && msg.contains("1.923e9 steps"),
         "{msg}"
     );
     // A shear modulus that dominates the wave speed names its own field.
@@ -693,7 +693,7 @@ fn a_fixed_step_or_a_fluid_sound_speed_that_needs_a_billion_steps_is_refused() {
         "below 1e-9 of the end time 0.01",
     );
     assert!(e.to_string().contains("1.000e10 steps"), "{e}");
-    // A sound speed in mm/s given as m/s: 3e10 (h = 0.065, courant 0.2: dt 4.3e-13).
+    // A sound speed in mm/s given as m/s: 3e10 (h = 0.065, courant 0.4: dt 8.7e-13).
     expect_error(
         &BASE.replace("sound_speed = 30.0", "sound_speed = 3e10"),
         "fluid.sound_speed",

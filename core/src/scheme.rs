@@ -100,16 +100,18 @@ choice! {
 choice! {
     /// The time integrator.
     pub enum IntegratorChoice {
-        /// Semi-implicit Euler: v first, then x with the new v (the default).
+        /// The symplectic Euler made second order (a kick-drift leapfrog; the default):
+        /// velocities at half steps (the first kick a half kick, then
+        /// v += (dt_prev + dt) / 2 a) and the rates (continuity, XSPH, shifting, stress
+        /// rate) at the drift's midpoint x + dt/2 v (a pair in the kernel's core, q below
+        /// |grad W|'s peak, at x), with the same two neighbour passes a step. Stable at
+        /// Courant 0.4 on the dam breaks.
+        Leapfrog = "leapfrog" => MF_INTEGRATOR_LEAPFROG,
+        /// Semi-implicit Euler: v first, then x with the new v (first order; the default
+        /// until 2026-11-28, at Courant 0.2).
         SymplecticEuler = "symplectic-euler" => MF_INTEGRATOR_SYMPLECTIC_EULER,
         /// The paper's forward Euler, eq. (19).
         Euler = "euler" => MF_INTEGRATOR_EULER,
-        /// The symplectic Euler made second order (a kick-drift leapfrog): velocities at
-        /// half steps (the first kick a half kick, then v += (dt_prev + dt) / 2 a) and the
-        /// rates (continuity, XSPH, shifting, stress rate) at the drift's midpoint
-        /// x + dt/2 v (a pair in the kernel's core, q below |grad W|'s peak, at x), with the
-        /// same two neighbour passes a step. Stable at Courant 0.4 on the dam breaks.
-        Leapfrog = "leapfrog" => MF_INTEGRATOR_LEAPFROG,
     }
 }
 
@@ -250,7 +252,7 @@ table! {
         },
         /// [-] Courant number of the CFL limit, eq. (19).
         courant: f64 {
-            default: [0.2, "eq. (19)'s limit with a margin; the force and viscous limits apply as well"],
+            default: [0.4, "eq. (19)'s limit for the default leapfrog, stable at 0.4 on every built-in scene and validate case (docs/reference/accuracy.md); the symplectic and forward Euler need 0.2 on free-surface flows; the force and viscous limits apply as well"],
             paper: [scene "eq. (19)'s number (unused at --paper-exact's fixed step)"],
             check: [Positive],
             param: [p.courant],
@@ -264,7 +266,7 @@ table! {
         },
         /// The time integrator.
         integrator: IntegratorChoice {
-            default: [IntegratorChoice::SymplecticEuler, "elastic and acoustic modes grow under forward Euler at the same step (ARCHITECTURE.md)"],
+            default: [IntegratorChoice::Leapfrog, "second order, and stable at twice the symplectic Euler's step with the same two neighbour passes: every validate check the symplectic Euler passes, in half the steps (docs/reference/accuracy.md); elastic and acoustic modes grow under forward Euler at the same step (ARCHITECTURE.md)"],
             paper: [is IntegratorChoice::Euler, "eq. (19)"],
             check: [Any],
             param: [p.integrator],

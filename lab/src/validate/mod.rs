@@ -58,7 +58,7 @@ pub struct Options {
     pub cases: Vec<String>,
     /// Progress lines on stderr.
     pub verbose: bool,
-    /// Run every case at this Courant number (eq. (19)) instead of its own (0.2), to see
+    /// Run every case at this Courant number (eq. (19)) instead of its own (0.4), to see
     /// what a larger step costs in accuracy.
     pub courant: Option<f64>,
     /// Run every case with this integrator instead of its own, to compare them.
