@@ -320,7 +320,7 @@ fn make<D: Dim>(
 fn run_one<D: Dim>(o: &BenchOptions, dim: u32, n: usize) -> Result<BenchRow, BackendError> {
     let mut setup = dam_break(dim, n);
     setup.params.integrator = o.integrator.to_param();
-    // The scenes' Courant numbers: the leapfrog's 0.4, the Euler schemes' 0.2 (eq. (19)).
+    // The validated Courant numbers (eq. (19)): the leapfrog's 0.4, the Euler schemes' 0.2.
     if o.integrator != IntegratorChoice::Leapfrog {
         setup.params.courant = 0.2;
     }

@@ -252,7 +252,7 @@ table! {
         },
         /// [-] Courant number of the CFL limit, eq. (19).
         courant: f64 {
-            default: [0.4, "eq. (19)'s limit for the default leapfrog, stable at 0.4 on every built-in scene and validate case (docs/reference/accuracy.md); the symplectic and forward Euler need 0.2 on free-surface flows; the force and viscous limits apply as well"],
+            default: [0.4, "eq. (19)'s limit for the default leapfrog, stable at 0.4 on every built-in scene and validate case (docs/reference/accuracy.md); the Euler schemes were validated at 0.2; the force and viscous limits apply as well"],
             paper: [scene "eq. (19)'s number (unused at --paper-exact's fixed step)"],
             check: [Positive],
             param: [p.courant],
