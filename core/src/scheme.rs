@@ -107,8 +107,8 @@ choice! {
         /// |grad W|'s peak, at x), with the same two neighbour passes a step. Stable at
         /// Courant 0.4 on the dam breaks.
         Leapfrog = "leapfrog" => MF_INTEGRATOR_LEAPFROG,
-        /// Semi-implicit Euler: v first, then x with the new v (first order; the default
-        /// until 2026-11-28, at Courant 0.2).
+        /// Semi-implicit Euler: v first, then x with the new v (first order; validated at
+        /// Courant 0.2, so set `courant = 0.2` with it; the default until 2026-11-28).
         SymplecticEuler = "symplectic-euler" => MF_INTEGRATOR_SYMPLECTIC_EULER,
         /// The paper's forward Euler, eq. (19).
         Euler = "euler" => MF_INTEGRATOR_EULER,
