@@ -287,7 +287,7 @@ pub fn summary(samples: &[ForceSample]) -> MonitorSummary {
 /// sample interval, at least 1 sample).
 pub fn summary_for(samples: &[ForceSample], u: f64, d: f64, h: f64) -> MonitorSummary {
     let interval_ud = match samples {
-        [a, b, ..] => (b.t - a.t) * u / d,
+        [a, .., b] => (b.t - a.t) / (samples.len() - 1) as f64 * u / d,
         _ => SAMPLE_UD,
     };
     let half = ((SMOOTH_HALF as f64 * SAMPLE_UD / interval_ud).round() as usize).max(1);
