@@ -4,7 +4,7 @@
 use meshfree::run::{run, Progress, RunOptions};
 use meshfree_core::scene::paper_exact::{alpha_for_viscosity, ALPHA_MIN, DT_FRACTION};
 use meshfree_core::scene::{builtin_names, Scene};
-use meshfree_core::scheme::{DensityForm, IntegratorChoice, SolidInterface, WallCoupling};
+use meshfree_core::scheme::{DensityForm, IntegratorChoice, NoSlip, SolidInterface, WallCoupling};
 use meshfree_core::scheme::{PAPER_BETA as BETA, PAPER_XSPH as XSPH};
 
 #[test]
@@ -44,6 +44,11 @@ fn the_transform_sets_exactly_the_paper_options() {
             // the paper's: --paper-exact sets every switch (issue #18).
             b.hydrostatic_walls = false;
             b.wall_density_floor = false;
+            b.no_slip = NoSlip::WallVelocity;
+        }
+        // The paper's impulsive start (forward Euler cannot ramp: `[inflow] ramp`).
+        if let Some(i) = want.inflow.as_mut() {
+            i.ramp = 0.0;
         }
         assert_eq!(p.file, want, "{name}");
         // Once is enough: a second application changes nothing.

@@ -4,7 +4,8 @@
 //! (10)), XSPH (eq. (18)), walls by the Lennard-Jones force alone (eq. (17)), an elastic
 //! body's whole stress across every pair (eq. (16)), and none of the terms beyond the paper
 //! (artificial stress, density diffusion, particle shifting, cohesion, background pressure,
-//! no-slip walls). The values the paper leaves open (alpha, beta, the step, XSPH epsilon)
+//! no-slip walls), and an inflow band's ramped start (`[inflow] ramp`) becomes the paper's
+//! impulsive one. The values the paper leaves open (alpha, beta, the step, XSPH epsilon)
 //! come from the parameter study in `docs/reference/paper-scenes.md` (section `--paper-exact`):
 //! forward Euler grows every undamped oscillation, so the paper's low-Mach advice
 //! (alpha = 0, 0 < beta < 1) blows a resting tank up, and alpha has a floor.
@@ -50,6 +51,11 @@ impl Scene {
         let nu_alpha = alpha_for_viscosity(f.fluid.viscosity, h, f.fluid.sound_speed, f.dimension);
         let alpha = f.fluid.alpha.max(nu_alpha).max(ALPHA_MIN);
         scheme::set_paper(f);
+        // An impulsive start, as the paper's "initial speed 15" (section 3.2): forward Euler
+        // has no kick before the drift to set a ramp's velocity (`[inflow] ramp`).
+        if let Some(i) = f.inflow.as_mut() {
+            i.ramp = 0.0;
+        }
         f.time.dt = Some(DT_FRACTION * h / c);
         f.fluid.alpha = alpha;
         s.text = format!(

@@ -277,20 +277,34 @@ pub const SMOOTH_HALF: usize = 4;
 /// (raw rms Cl 0.24 when the shedding's is 0.12, D / dx = 20); without a dominant
 /// frequency the rms stays that of the smoothed lift.
 pub fn summary(samples: &[ForceSample]) -> MonitorSummary {
+    summary_for(samples, U, D, H)
+}
+
+/// `summary` of any cylinder's force record (e.g. a built-in vortex street's forces.csv):
+/// reference speed `u`, diameter `d`, periodic spacing (channel height) `h`, samples at even
+/// intervals. The lift is smoothed over the same span in D / U as `summary`'s
+/// (2 `SMOOTH_HALF` + 1 samples of `SAMPLE_UD`: the half-width scaled to the record's
+/// sample interval, at least 1 sample).
+pub fn summary_for(samples: &[ForceSample], u: f64, d: f64, h: f64) -> MonitorSummary {
+    let interval_ud = match samples {
+        [a, .., b] => (b.t - a.t) / (samples.len() - 1) as f64 * u / d,
+        _ => SAMPLE_UD,
+    };
+    let half = ((SMOOTH_HALF as f64 * SAMPLE_UD / interval_ud).round() as usize).max(1);
     let raw: Vec<f64> = samples.iter().map(|s| s.cl).collect();
     let smoothed: Vec<ForceSample> = samples
         .iter()
-        .zip(smooth(&raw, SMOOTH_HALF))
+        .zip(smooth(&raw, half))
         .map(|(s, cl)| ForceSample { cl, ..*s })
         .collect();
-    let mut s = MonitorSummary::of(NAME, 0, &smoothed, U, D, D / H);
+    let mut s = MonitorSummary::of(NAME, 0, &smoothed, u, d, d / h);
     if let Some(st) = s.strouhal {
         let (t, cl): (Vec<f64>, Vec<f64>) = samples
             .iter()
             .filter(|x| x.t >= s.window_start)
             .map(|x| (x.t, x.cl))
             .unzip();
-        s.rms_cl = band_rms(&t, &cl, st * U / D, BAND_REL);
+        s.rms_cl = band_rms(&t, &cl, st * u / d, BAND_REL);
     }
     s
 }
