@@ -1,11 +1,11 @@
 //! The screen-space fluid surface of van der Laan, Green & Sainz (2009, "Screen space fluid
 //! rendering with curvature flow"), with a bilateral filter in place of their curvature
-//! flow: the fluid particles' spheres, drawn once into two targets, give the eye distance
-//! of the nearest fluid in each pixel (MIN blending) and the fluid's thickness along it
-//! (additive blending; per-target blend equations, `glBlendEquationi`: OpenGL 4.0); the
-//! distance is smoothed, normals come from it, and the shading pass adds Fresnel
-//! reflection of a sky and Beer-Lambert absorption over the thickness, over what is
-//! already drawn. Our own shaders (`shaders/surface_*`).
+//! flow: the fluid particles' spheres give the eye distance of the nearest fluid in each
+//! pixel (through a depth buffer, front to back, so that hidden spheres are rejected before
+//! they are shaded) and, drawn again at half the resolution, the fluid's thickness along it
+//! (additive blending); the distance is smoothed, normals come from it, and the shading
+//! pass adds Fresnel reflection of a sky and Beer-Lambert absorption over the thickness,
+//! over what is already drawn. Our own shaders (`shaders/surface_*`).
 
 use glam::{Mat3, Vec3};
 use glow::HasContext;
@@ -37,8 +37,12 @@ const ABSORB: [f32; 3] = [8.0, 2.6, 1.5];
 const WATER: [f32; 3] = [0.14, 0.52, 0.86];
 /// The light, view space (the spheres' light too).
 const LIGHT: [f32; 3] = [-0.4, 0.6, 0.7];
-/// The eye distance of a pixel without fluid, before the blur (`surface_sprites.frag`).
+/// The eye distance of a pixel without fluid, before the blur (`surface_blur.frag`).
 const NO_FLUID: f32 = 1e30;
+/// The thickness is drawn at the view's resolution over this (each axis): every sphere
+/// adds to it, so its fragments are not culled, and the shading reads it averaged over
+/// about a particle spacing anyway.
+const THICKNESS_DIV: u32 = 2;
 
 /// What the surface needs of one frame.
 pub(crate) struct SurfaceView {
@@ -60,15 +64,22 @@ struct Target {
 
 struct Targets {
     size: (u32, u32),
-    /// The eye distance (colour attachment 0) and the thickness (1), drawn together.
-    sprites: glow::Framebuffer,
+    /// The eye distance, with a depth buffer of its own (`depth_buffer`).
     depth: Target,
+    depth_buffer: glow::Renderbuffer,
+    /// The thickness, at the view's size over [`THICKNESS_DIV`].
     thickness: Target,
     blur: [Target; 2],
 }
 
+/// The thickness target's size for a view of `(w, h)` pixels.
+fn thickness_size((w, h): (u32, u32)) -> (u32, u32) {
+    (w.div_ceil(THICKNESS_DIV), h.div_ceil(THICKNESS_DIV))
+}
+
 pub(crate) struct Surface {
-    sprites_prog: glow::Program,
+    depth_prog: glow::Program,
+    thickness_prog: glow::Program,
     blur_prog: glow::Program,
     shade_prog: glow::Program,
     empty_vao: glow::VertexArray,
@@ -144,33 +155,29 @@ impl Target {
 
 impl Targets {
     unsafe fn new(gl: &glow::Context, size: (u32, u32)) -> Result<Targets, ViewerError> {
-        let v = gl.version();
-        if (v.major, v.minor) < (4, 0) {
-            return Err(gl_err(format!(
-                "the surface needs OpenGL 4.0 (glBlendEquationi), this context is {}.{}",
-                v.major, v.minor
-            )));
-        }
         let depth = make_target(gl, size, glow::R32F, false)?;
-        let thickness = make_target(gl, size, glow::R16F, true)?;
-        let sprites = gl.create_framebuffer().map_err(gl_err)?;
-        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(sprites));
-        for (i, t) in [&depth, &thickness].into_iter().enumerate() {
-            gl.framebuffer_texture_2d(
-                glow::FRAMEBUFFER,
-                glow::COLOR_ATTACHMENT0 + i as u32,
-                glow::TEXTURE_2D,
-                Some(t.tex),
-                0,
-            );
-        }
-        gl.draw_buffers(&[glow::COLOR_ATTACHMENT0, glow::COLOR_ATTACHMENT1]);
+        let depth_buffer = gl.create_renderbuffer().map_err(gl_err)?;
+        gl.bind_renderbuffer(glow::RENDERBUFFER, Some(depth_buffer));
+        gl.renderbuffer_storage(
+            glow::RENDERBUFFER,
+            glow::DEPTH_COMPONENT32F,
+            size.0 as i32,
+            size.1 as i32,
+        );
+        gl.bind_renderbuffer(glow::RENDERBUFFER, None);
+        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(depth.fbo));
+        gl.framebuffer_renderbuffer(
+            glow::FRAMEBUFFER,
+            glow::DEPTH_ATTACHMENT,
+            glow::RENDERBUFFER,
+            Some(depth_buffer),
+        );
         complete(gl)?;
         Ok(Targets {
             size,
-            sprites,
             depth,
-            thickness,
+            depth_buffer,
+            thickness: make_target(gl, thickness_size(size), glow::R16F, true)?,
             blur: [
                 make_target(gl, size, glow::R32F, false)?,
                 make_target(gl, size, glow::R32F, false)?,
@@ -182,7 +189,7 @@ impl Targets {
         for t in [&self.depth, &self.thickness, &self.blur[0], &self.blur[1]] {
             t.destroy(gl);
         }
-        gl.delete_framebuffer(self.sprites);
+        gl.delete_renderbuffer(self.depth_buffer);
     }
 }
 
@@ -190,7 +197,8 @@ impl Surface {
     pub(crate) fn new(gl: &glow::Context) -> Result<Surface, ViewerError> {
         unsafe {
             Ok(Surface {
-                sprites_prog: compile(gl, PARTICLE_VS, &sphere_fs(SphereFs::SurfaceSprites))?,
+                depth_prog: compile(gl, PARTICLE_VS, &sphere_fs(SphereFs::SurfaceDepth))?,
+                thickness_prog: compile(gl, PARTICLE_VS, &sphere_fs(SphereFs::SurfaceThickness))?,
                 blur_prog: compile(gl, FULLSCREEN_VS, BLUR_FS)?,
                 shade_prog: compile(gl, FULLSCREEN_VS, &sphere_fs(SphereFs::SurfaceShade))?,
                 empty_vao: gl.create_vertex_array().map_err(gl_err)?,
@@ -202,7 +210,12 @@ impl Surface {
 
     pub(crate) fn destroy(&self, gl: &glow::Context) {
         unsafe {
-            for p in [self.sprites_prog, self.blur_prog, self.shade_prog] {
+            for p in [
+                self.depth_prog,
+                self.thickness_prog,
+                self.blur_prog,
+                self.shade_prog,
+            ] {
                 gl.delete_program(p);
             }
             gl.delete_vertex_array(self.empty_vao);
@@ -248,8 +261,9 @@ impl Surface {
         timers: &mut GpuTimers,
     ) {
         let (w, h) = v.sprites.size;
-        let (sprites_prog, blur_prog, shade_prog, empty_vao) = (
-            self.sprites_prog,
+        let (depth_prog, thickness_prog, blur_prog, shade_prog, empty_vao) = (
+            self.depth_prog,
+            self.thickness_prog,
             self.blur_prog,
             self.shade_prog,
             self.empty_vao,
@@ -261,29 +275,49 @@ impl Surface {
         let mut u = v.uniforms;
         u.radius *= SPHERE_SCALE;
         u.hidden = !1; // every kind but the fluid
-        gl.viewport(0, 0, w as i32, h as i32);
 
-        // 1. The spheres: eye distance of the nearest (MIN) and every chord (summed).
-        timers.pass(gl, "surface sprites");
-        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.sprites));
+        // 1a. The eye distance of the nearest sphere: depth-tested, front to back.
+        timers.pass(gl, "surface depth");
+        gl.viewport(0, 0, w as i32, h as i32);
+        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.depth.fbo));
         gl.clear_buffer_f32_slice(glow::COLOR, 0, &[NO_FLUID, 0.0, 0.0, 0.0]);
-        gl.clear_buffer_f32_slice(glow::COLOR, 1, &[0.0; 4]);
+        gl.clear_buffer_f32_slice(glow::DEPTH, 0, &[1.0]);
+        gl.enable(glow::DEPTH_TEST);
+        gl.depth_func(glow::LESS);
+        gl.depth_mask(true);
+        gl.disable(glow::BLEND);
+        gl.use_program(Some(depth_prog));
+        u.set(gl, depth_prog, cmap);
+        sprites.draw(gl, depth_prog, &u, &v.sprites);
         gl.disable(glow::DEPTH_TEST);
+
+        // 1b. Every sphere's chord, summed, at the thickness target's resolution (pixels
+        // per world unit scaled to it: the wider of its two axes' scales, so that no
+        // sprite's point is too small).
+        timers.pass(gl, "surface thickness");
+        let (tw, th) = thickness_size((w, h));
+        let mut ut = u;
+        ut.px_scale *= (tw as f32 / w as f32).max(th as f32 / h as f32);
+        let thick_view = SpriteView {
+            size: (tw, th),
+            ..v.sprites
+        };
+        gl.viewport(0, 0, tw as i32, th as i32);
+        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.thickness.fbo));
+        gl.clear_buffer_f32_slice(glow::COLOR, 0, &[0.0; 4]);
         gl.enable(glow::BLEND);
         gl.blend_func(glow::ONE, glow::ONE);
-        gl.blend_equation_draw_buffer(0, glow::MIN);
-        gl.blend_equation_draw_buffer(1, glow::FUNC_ADD);
-        gl.use_program(Some(sprites_prog));
-        u.set(gl, sprites_prog, cmap);
+        gl.use_program(Some(thickness_prog));
+        ut.set(gl, thickness_prog, cmap);
         // Particle volume spacing^3 over the drawn sphere's volume.
         let fill = v.spacing.powi(3) / (4.0 / 3.0 * std::f32::consts::PI * u.radius.powi(3));
         gl.uniform_1_f32(
-            gl.get_uniform_location(sprites_prog, "u_fill").as_ref(),
+            gl.get_uniform_location(thickness_prog, "u_fill").as_ref(),
             fill,
         );
-        sprites.draw(gl, sprites_prog, &u, &v.sprites);
-        gl.blend_equation(glow::FUNC_ADD);
+        sprites.draw(gl, thickness_prog, &ut, &thick_view);
         gl.disable(glow::BLEND);
+        gl.viewport(0, 0, w as i32, h as i32);
         // The thickness's mipmaps: the shading reads it averaged over about a particle
         // spacing, so that the spheres' chords do not show as discs.
         timers.pass(gl, "thickness mipmaps");
@@ -345,7 +379,7 @@ impl Surface {
             ABSORB[2] / len,
         );
         gl.uniform_3_f32(loc("u_water").as_ref(), WATER[0], WATER[1], WATER[2]);
-        gl.uniform_1_f32(loc("u_spacing_px").as_ref(), v.spacing * u.px_scale);
+        gl.uniform_1_f32(loc("u_spacing_px").as_ref(), v.spacing * ut.px_scale);
         gl.uniform_1_f32(loc("u_edge_dz").as_ref(), DEPTH_SIGMA_SPACINGS * v.spacing);
         gl.active_texture(glow::TEXTURE1);
         gl.bind_texture(glow::TEXTURE_2D, Some(t.thickness.tex));

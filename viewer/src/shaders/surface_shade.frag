@@ -12,7 +12,7 @@ uniform vec2 u_tan_half; // tan of half the field of view, x and y
 uniform vec3 u_light;    // view space, unit
 uniform vec3 u_absorb;   // [1/L] per channel
 uniform vec3 u_water;    // colour scattered by deep water
-uniform float u_spacing_px; // a particle spacing in pixels at unit distance
+uniform float u_spacing_px; // a particle spacing in thickness texels at unit distance
 uniform float u_edge_dz;    // [L] a neighbour this much nearer or farther is another sheet
 layout(location = 0, index = 0) out vec4 o_color;
 layout(location = 0, index = 1) out vec4 o_trans;
@@ -69,8 +69,9 @@ void main() {
     float diffuse = 0.3 + 0.7 * max(dot(n, u_light), 0.0);
     // No highlight on the silhouette, where the normal is a guess.
     float spec = edge ? 0.0 : pow(max(dot(n, normalize(u_light + v)), 0.0), 60.0);
-    // The thickness averaged over about one particle spacing (its mipmaps).
-    vec2 uv = (vec2(p) + 0.5) / vec2(textureSize(u_thickness, 0));
+    // The thickness (half this resolution) averaged over about one particle spacing (its
+    // mipmaps).
+    vec2 uv = (vec2(p) + 0.5) / vec2(textureSize(u_depth, 0));
     float lod = log2(max(u_spacing_px / z, 1.0));
     vec3 trans = exp(-u_absorb * textureLod(u_thickness, uv, lod).r);
     vec3 body = u_water * diffuse * (vec3(1.0) - trans);
