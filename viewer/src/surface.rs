@@ -1,11 +1,15 @@
 //! The screen-space fluid surface of van der Laan, Green & Sainz (2009, "Screen space fluid
 //! rendering with curvature flow"), with a bilateral filter in place of their curvature
 //! flow: the fluid particles' spheres give the eye distance of the nearest fluid in each
-//! pixel (through a depth buffer, front to back, so that hidden spheres are rejected before
-//! they are shaded) and, drawn again at half the resolution, the fluid's thickness along it
-//! (additive blending); the distance is smoothed, normals come from it, and the shading
-//! pass adds Fresnel reflection of a sky and Beer-Lambert absorption over the thickness,
-//! over what is already drawn. Our own shaders (`shaders/surface_*`).
+//! pixel of a half-resolution target (through a depth buffer, front to back, so that hidden
+//! spheres are rejected before they are shaded) and, drawn again at a quarter of the
+//! resolution, the fluid's thickness along it (additive blending); the distance is
+//! smoothed, and the shading pass, at the view's resolution, takes it up (bilinear over the
+//! texels of the nearest sheet), makes normals from it, and adds Fresnel reflection of a
+//! sky and Beer-Lambert absorption over the thickness, over what is already drawn. Every
+//! sprite costs each pass about the same, whatever its size; what a pass's resolution sets
+//! is the overdraw of the spheres' pixels (hundreds deep in a large block of water). Our own
+//! shaders (`shaders/surface_*`).
 
 use glam::{Mat3, Vec3};
 use glow::HasContext;
@@ -26,7 +30,7 @@ const BLUR_ITERATIONS: usize = 2;
 const BLUR_PASSES: [&str; 2 * BLUR_ITERATIONS] = ["blur 1 x", "blur 1 y", "blur 2 x", "blur 2 y"];
 /// The filter's Gaussian spans this many particle spacings in the world (sigma half of it).
 const BLUR_SPACINGS: f32 = 2.0;
-/// ... and never more than this many pixels either side.
+/// ... and never more than this many pixels of the view either side.
 const BLUR_MAX_PX: i32 = 24;
 /// Depth differences of this many particle spacings count as another sheet of fluid.
 const DEPTH_SIGMA_SPACINGS: f32 = 2.0;
@@ -39,9 +43,12 @@ const WATER: [f32; 3] = [0.14, 0.52, 0.86];
 const LIGHT: [f32; 3] = [-0.4, 0.6, 0.7];
 /// The eye distance of a pixel without fluid, before the blur (`surface_blur.frag`).
 const NO_FLUID: f32 = 1e30;
-/// The thickness is drawn at the view's resolution over this (each axis): every sphere
-/// adds to it, so its fragments are not culled, and the shading reads it averaged over
-/// about a particle spacing anyway.
+/// The eye distance is drawn and smoothed at the view's resolution over this (each axis);
+/// the shading takes it up to the view's.
+const DEPTH_DIV: u32 = 2;
+/// The thickness at the view's resolution over this: every sphere adds to it, so none of
+/// its fragments is rejected early, and the shading reads it averaged over about a
+/// particle spacing anyway.
 const THICKNESS_DIV: u32 = 2;
 
 /// What the surface needs of one frame.
@@ -64,17 +71,32 @@ struct Target {
 
 struct Targets {
     size: (u32, u32),
-    /// The eye distance, with a depth buffer of its own (`depth_buffer`).
+    /// The eye distance, with a depth buffer of its own (`depth_buffer`), and the blur's
+    /// ping-pong targets: the view's size over [`DEPTH_DIV`].
     depth: Target,
     depth_buffer: glow::Renderbuffer,
+    blur: [Target; 2],
     /// The thickness, at the view's size over [`THICKNESS_DIV`].
     thickness: Target,
-    blur: [Target; 2],
 }
 
-/// The thickness target's size for a view of `(w, h)` pixels.
-fn thickness_size((w, h): (u32, u32)) -> (u32, u32) {
-    (w.div_ceil(THICKNESS_DIV), h.div_ceil(THICKNESS_DIV))
+/// The size of a target at `(w, h)` (the view's) over `div`, rounded up.
+fn reduced((w, h): (u32, u32), div: u32) -> (u32, u32) {
+    (w.div_ceil(div), h.div_ceil(div))
+}
+
+/// The particle uniforms and sprite view of `(u, v)` (at the view's size) for drawing into
+/// a target of `size`: pixels per world unit scaled to it (the greater of its two axes'
+/// scales, so that no sprite's point is too small: the sizes round up).
+fn at_size(
+    u: &ParticleUniforms,
+    v: &SpriteView,
+    size: (u32, u32),
+) -> (ParticleUniforms, SpriteView) {
+    let s = (size.0 as f32 / v.size.0 as f32).max(size.1 as f32 / v.size.1 as f32);
+    let mut u = *u;
+    u.px_scale *= s;
+    (u, SpriteView { size, ..*v })
 }
 
 pub(crate) struct Surface {
@@ -155,14 +177,15 @@ impl Target {
 
 impl Targets {
     unsafe fn new(gl: &glow::Context, size: (u32, u32)) -> Result<Targets, ViewerError> {
-        let depth = make_target(gl, size, glow::R32F, false)?;
+        let ds = reduced(size, DEPTH_DIV);
+        let depth = make_target(gl, ds, glow::R32F, false)?;
         let depth_buffer = gl.create_renderbuffer().map_err(gl_err)?;
         gl.bind_renderbuffer(glow::RENDERBUFFER, Some(depth_buffer));
         gl.renderbuffer_storage(
             glow::RENDERBUFFER,
             glow::DEPTH_COMPONENT32F,
-            size.0 as i32,
-            size.1 as i32,
+            ds.0 as i32,
+            ds.1 as i32,
         );
         gl.bind_renderbuffer(glow::RENDERBUFFER, None);
         gl.bind_framebuffer(glow::FRAMEBUFFER, Some(depth.fbo));
@@ -177,11 +200,11 @@ impl Targets {
             size,
             depth,
             depth_buffer,
-            thickness: make_target(gl, thickness_size(size), glow::R16F, true)?,
             blur: [
-                make_target(gl, size, glow::R32F, false)?,
-                make_target(gl, size, glow::R32F, false)?,
+                make_target(gl, ds, glow::R32F, false)?,
+                make_target(gl, ds, glow::R32F, false)?,
             ],
+            thickness: make_target(gl, reduced(size, THICKNESS_DIV), glow::R16F, true)?,
         })
     }
 
@@ -278,7 +301,9 @@ impl Surface {
 
         // 1a. The eye distance of the nearest sphere: depth-tested, front to back.
         timers.pass(gl, "surface depth");
-        gl.viewport(0, 0, w as i32, h as i32);
+        let (ud, depth_view) = at_size(&u, &v.sprites, reduced((w, h), DEPTH_DIV));
+        let (dw, dh) = depth_view.size;
+        gl.viewport(0, 0, dw as i32, dh as i32);
         gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.depth.fbo));
         gl.clear_buffer_f32_slice(glow::COLOR, 0, &[NO_FLUID, 0.0, 0.0, 0.0]);
         gl.clear_buffer_f32_slice(glow::DEPTH, 0, &[1.0]);
@@ -287,21 +312,14 @@ impl Surface {
         gl.depth_mask(true);
         gl.disable(glow::BLEND);
         gl.use_program(Some(depth_prog));
-        u.set(gl, depth_prog, cmap);
-        sprites.draw(gl, depth_prog, &u, &v.sprites);
+        ud.set(gl, depth_prog, cmap);
+        sprites.draw(gl, depth_prog, &ud, &depth_view);
         gl.disable(glow::DEPTH_TEST);
 
-        // 1b. Every sphere's chord, summed, at the thickness target's resolution (pixels
-        // per world unit scaled to it: the wider of its two axes' scales, so that no
-        // sprite's point is too small).
+        // 1b. Every sphere's chord, summed.
         timers.pass(gl, "surface thickness");
-        let (tw, th) = thickness_size((w, h));
-        let mut ut = u;
-        ut.px_scale *= (tw as f32 / w as f32).max(th as f32 / h as f32);
-        let thick_view = SpriteView {
-            size: (tw, th),
-            ..v.sprites
-        };
+        let (ut, thick_view) = at_size(&u, &v.sprites, reduced((w, h), THICKNESS_DIV));
+        let (tw, th) = thick_view.size;
         gl.viewport(0, 0, tw as i32, th as i32);
         gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.thickness.fbo));
         gl.clear_buffer_f32_slice(glow::COLOR, 0, &[0.0; 4]);
@@ -317,7 +335,6 @@ impl Surface {
         );
         sprites.draw(gl, thickness_prog, &ut, &thick_view);
         gl.disable(glow::BLEND);
-        gl.viewport(0, 0, w as i32, h as i32);
         // The thickness's mipmaps: the shading reads it averaged over about a particle
         // spacing, so that the spheres' chords do not show as discs.
         timers.pass(gl, "thickness mipmaps");
@@ -326,17 +343,18 @@ impl Surface {
         gl.bind_texture(glow::TEXTURE_2D, None);
 
         // 2. Bilateral smoothing of the distance, ping-pong between the blur targets.
+        gl.viewport(0, 0, dw as i32, dh as i32);
         gl.use_program(Some(blur_prog));
         gl.bind_vertex_array(Some(empty_vao));
         let loc = |n: &str| gl.get_uniform_location(blur_prog, n);
         gl.uniform_1_i32(loc("u_depth").as_ref(), 0);
         gl.uniform_1_f32(loc("u_world_radius").as_ref(), BLUR_SPACINGS * v.spacing);
-        gl.uniform_1_f32(loc("u_px_scale").as_ref(), u.px_scale);
+        gl.uniform_1_f32(loc("u_px_scale").as_ref(), ud.px_scale);
         gl.uniform_1_f32(
             loc("u_depth_sigma").as_ref(),
             DEPTH_SIGMA_SPACINGS * v.spacing,
         );
-        gl.uniform_1_i32(loc("u_max_px").as_ref(), BLUR_MAX_PX);
+        gl.uniform_1_i32(loc("u_max_px").as_ref(), BLUR_MAX_PX / DEPTH_DIV as i32);
         gl.active_texture(glow::TEXTURE0);
         let mut src = t.depth.tex;
         for k in 0..BLUR_ITERATIONS {
@@ -352,6 +370,7 @@ impl Surface {
 
         // 3. Shade over the target, depth-tested against what it holds.
         timers.pass(gl, "shade");
+        gl.viewport(0, 0, w as i32, h as i32);
         gl.bind_framebuffer(glow::FRAMEBUFFER, target);
         gl.enable(glow::DEPTH_TEST);
         gl.depth_func(glow::LESS);
@@ -361,6 +380,8 @@ impl Surface {
         let loc = |n: &str| gl.get_uniform_location(shade_prog, n);
         gl.uniform_1_i32(loc("u_depth").as_ref(), 0);
         gl.uniform_1_i32(loc("u_thickness").as_ref(), 1);
+        gl.uniform_2_f32(loc("u_view_size").as_ref(), w as f32, h as f32);
+        gl.uniform_1_f32(loc("u_depth_div").as_ref(), DEPTH_DIV as f32);
         gl.uniform_matrix_4_f32_slice(loc("u_proj").as_ref(), false, &u.proj.to_cols_array());
         let to_world = Mat3::from_mat4(u.view).transpose();
         gl.uniform_matrix_3_f32_slice(loc("u_to_world").as_ref(), false, &to_world.to_cols_array());
