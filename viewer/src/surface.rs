@@ -381,7 +381,12 @@ impl Surface {
         gl.uniform_1_i32(loc("u_depth").as_ref(), 0);
         gl.uniform_1_i32(loc("u_thickness").as_ref(), 1);
         gl.uniform_2_f32(loc("u_view_size").as_ref(), w as f32, h as f32);
-        gl.uniform_1_f32(loc("u_depth_div").as_ref(), DEPTH_DIV as f32);
+        // View pixels per distance texel on each axis (the sizes rounded up).
+        gl.uniform_2_f32(
+            loc("u_depth_div").as_ref(),
+            w as f32 / dw as f32,
+            h as f32 / dh as f32,
+        );
         gl.uniform_matrix_4_f32_slice(loc("u_proj").as_ref(), false, &u.proj.to_cols_array());
         let to_world = Mat3::from_mat4(u.view).transpose();
         gl.uniform_matrix_3_f32_slice(loc("u_to_world").as_ref(), false, &to_world.to_cols_array());

@@ -1,5 +1,5 @@
 // Screen-space fluid, pass 3: shade the smoothed depth, at the view's resolution: the
-// distance (smoothed at u_depth_div times fewer pixels on each axis) taken up bilinearly
+// distance (smoothed at u_depth_div times fewer pixels along x and y) taken up bilinearly
 // over the texels of the nearest sheet (`eye_distance`). Normals from the view-space
 // positions of the neighbouring pixels (the smaller difference on each axis, so that a
 // silhouette does not bend them); Fresnel reflection of a sky (Schlick's approximation,
@@ -8,7 +8,7 @@
 // crosses the water) and o_color is added.
 uniform sampler2D u_depth;
 uniform sampler2D u_thickness;
-uniform float u_depth_div;  // view pixels per u_depth texel, each axis (u_view_size: sphere.glsl)
+uniform vec2 u_depth_div;  // view pixels per u_depth texel, x and y (u_view_size: sphere.glsl)
 uniform mat4 u_proj;
 uniform mat3 u_to_world;
 uniform vec2 u_tan_half; // tan of half the field of view, x and y
