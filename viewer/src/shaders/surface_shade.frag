@@ -26,9 +26,10 @@ vec3 view_pos(ivec2 p, float z) {
 }
 
 // The smoothed eye distance at the centre of view pixel p; 0 without fluid. Bilinear over
-// the four nearest texels, of those that hold fluid only the ones within u_edge_dz of the
-// nearest (a sheet is never averaged with fluid behind it); the pixel holds fluid where the
-// texels with fluid weigh at least half, so that silhouettes run between texel centres.
+// the four nearest texels, of those that hold fluid only the ones nearer than the nearest
+// plus u_edge_dz per view pixel between texels (a sheet is not averaged with fluid behind
+// it, a surface seen at a grazing angle is); the pixel holds fluid where the texels with
+// fluid weigh at least half, so that silhouettes run between texel centres.
 float eye_distance(ivec2 p) {
     ivec2 last = textureSize(u_depth, 0) - 1;
     vec2 t = (vec2(p) + 0.5) / u_depth_div - 0.5;
@@ -49,10 +50,11 @@ float eye_distance(ivec2 p) {
         }
     }
     if (covered < 0.5) return 0.0;
+    float sheet = near + u_edge_dz * max(u_depth_div.x, u_depth_div.y);
     float sum = 0.0;
     float ws = 0.0;
     for (int k = 0; k < 4; k++) {
-        if (z[k] > 0.0 && z[k] - near <= u_edge_dz) {
+        if (z[k] > 0.0 && z[k] <= sheet) {
             sum += w[k] * z[k];
             ws += w[k];
         }
