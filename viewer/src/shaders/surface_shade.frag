@@ -109,7 +109,7 @@ void main() {
     float diffuse = 0.3 + 0.7 * max(dot(n, u_light), 0.0);
     // No highlight on the silhouette, where the normal is a guess.
     float spec = edge ? 0.0 : pow(max(dot(n, normalize(u_light + v)), 0.0), 60.0);
-    // The thickness (at the distance's resolution) averaged over about one particle spacing (its
+    // The thickness (at a lower resolution) averaged over about one particle spacing (its
     // mipmaps).
     vec2 uv = (vec2(p) + 0.5) / u_view_size;
     float lod = log2(max(u_spacing_px / z, 1.0));
