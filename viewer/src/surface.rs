@@ -2,14 +2,14 @@
 //! rendering with curvature flow"), with a bilateral filter in place of their curvature
 //! flow: the fluid particles' spheres give the eye distance of the nearest fluid in each
 //! pixel of a half-resolution target (through a depth buffer, front to back, so that hidden
-//! spheres are rejected before they are shaded) and, drawn again at a quarter of the
-//! resolution, the fluid's thickness along it (additive blending); the distance is
-//! smoothed, and the shading pass, at the view's resolution, takes it up (bilinear over the
-//! texels of the nearest sheet), makes normals from it, and adds Fresnel reflection of a
-//! sky and Beer-Lambert absorption over the thickness, over what is already drawn. Every
-//! sprite costs each pass about the same, whatever its size; what a pass's resolution sets
-//! is the overdraw of the spheres' pixels (hundreds deep in a large block of water). Our own
-//! shaders (`shaders/surface_*`).
+//! spheres are rejected before they are shaded) and, drawn again at half the resolution,
+//! the fluid's thickness along it (additive blending); the distance is smoothed, and the
+//! shading pass, at the view's resolution, takes it up (bilinear over the texels of the
+//! nearest sheet), makes normals from it, and adds Fresnel reflection of a sky and
+//! Beer-Lambert absorption over the thickness, over what is already drawn. A pass's cost
+//! is about 2 ns per sprite drawn (an H200) plus its spheres' pixels, hundreds deep in a
+//! large block of water: the resolutions cut the second. Our own shaders
+//! (`shaders/surface_*`).
 
 use glam::{Mat3, Vec3};
 use glow::HasContext;
