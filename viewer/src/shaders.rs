@@ -21,8 +21,10 @@ const SPHERE: &str = include_str!("shaders/sphere.glsl");
 pub(crate) enum SphereFs {
     /// Lit spheres.
     Shaded,
-    /// The surface's eye distance and thickness (one pass, two targets).
-    SurfaceSprites,
+    /// The surface's eye distance (depth-tested) ...
+    SurfaceDepth,
+    /// ... and its thickness (additive, at half resolution).
+    SurfaceThickness,
     /// The surface's shading (a full-screen pass; it uses `window_depth`).
     SurfaceShade,
 }
@@ -34,7 +36,8 @@ pub(crate) enum SphereFs {
 pub(crate) fn sphere_fs(which: SphereFs) -> String {
     let body = match which {
         SphereFs::Shaded => include_str!("shaders/particle.frag"),
-        SphereFs::SurfaceSprites => include_str!("shaders/surface_sprites.frag"),
+        SphereFs::SurfaceDepth => include_str!("shaders/surface_depth.frag"),
+        SphereFs::SurfaceThickness => include_str!("shaders/surface_thickness.frag"),
         SphereFs::SurfaceShade => include_str!("shaders/surface_shade.frag"),
     };
     format!("#version 330 core\n#extension GL_ARB_conservative_depth : enable\n{SPHERE}\n{body}")

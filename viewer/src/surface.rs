@@ -1,11 +1,15 @@
 //! The screen-space fluid surface of van der Laan, Green & Sainz (2009, "Screen space fluid
 //! rendering with curvature flow"), with a bilateral filter in place of their curvature
-//! flow: the fluid particles' spheres, drawn once into two targets, give the eye distance
-//! of the nearest fluid in each pixel (MIN blending) and the fluid's thickness along it
-//! (additive blending; per-target blend equations, `glBlendEquationi`: OpenGL 4.0); the
-//! distance is smoothed, normals come from it, and the shading pass adds Fresnel
-//! reflection of a sky and Beer-Lambert absorption over the thickness, over what is
-//! already drawn. Our own shaders (`shaders/surface_*`).
+//! flow: the fluid particles' spheres give the eye distance of the nearest fluid in each
+//! pixel of a half-resolution target (through a depth buffer, front to back, so that hidden
+//! spheres are rejected before they are shaded) and, drawn again at half the resolution,
+//! the fluid's thickness along it (additive blending); the distance is smoothed, and the
+//! shading pass, at the view's resolution, takes it up (bilinear over the texels of the
+//! nearest sheet), makes normals from it, and adds Fresnel reflection of a sky and
+//! Beer-Lambert absorption over the thickness, over what is already drawn. A pass's cost
+//! is about 2 ns per sprite drawn (an H200) plus its spheres' pixels, hundreds deep in a
+//! large block of water: the resolutions cut the second. Our own shaders
+//! (`shaders/surface_*`).
 
 use glam::{Mat3, Vec3};
 use glow::HasContext;
@@ -26,7 +30,7 @@ const BLUR_ITERATIONS: usize = 2;
 const BLUR_PASSES: [&str; 2 * BLUR_ITERATIONS] = ["blur 1 x", "blur 1 y", "blur 2 x", "blur 2 y"];
 /// The filter's Gaussian spans this many particle spacings in the world (sigma half of it).
 const BLUR_SPACINGS: f32 = 2.0;
-/// ... and never more than this many pixels either side.
+/// ... and never more than this many pixels of the view either side.
 const BLUR_MAX_PX: i32 = 24;
 /// Depth differences of this many particle spacings count as another sheet of fluid.
 const DEPTH_SIGMA_SPACINGS: f32 = 2.0;
@@ -37,8 +41,15 @@ const ABSORB: [f32; 3] = [8.0, 2.6, 1.5];
 const WATER: [f32; 3] = [0.14, 0.52, 0.86];
 /// The light, view space (the spheres' light too).
 const LIGHT: [f32; 3] = [-0.4, 0.6, 0.7];
-/// The eye distance of a pixel without fluid, before the blur (`surface_sprites.frag`).
+/// The eye distance of a pixel without fluid, before the blur (`surface_blur.frag`).
 const NO_FLUID: f32 = 1e30;
+/// The eye distance is drawn and smoothed at the view's resolution over this (each axis);
+/// the shading takes it up to the view's.
+const DEPTH_DIV: u32 = 2;
+/// The thickness at the view's resolution over this: every sphere adds to it, so none of
+/// its fragments is rejected early, and the shading reads it averaged over about a
+/// particle spacing anyway.
+const THICKNESS_DIV: u32 = 2;
 
 /// What the surface needs of one frame.
 pub(crate) struct SurfaceView {
@@ -60,15 +71,37 @@ struct Target {
 
 struct Targets {
     size: (u32, u32),
-    /// The eye distance (colour attachment 0) and the thickness (1), drawn together.
-    sprites: glow::Framebuffer,
+    /// The eye distance, with a depth buffer of its own (`depth_buffer`), and the blur's
+    /// ping-pong targets: the view's size over [`DEPTH_DIV`].
     depth: Target,
-    thickness: Target,
+    depth_buffer: glow::Renderbuffer,
     blur: [Target; 2],
+    /// The thickness, at the view's size over [`THICKNESS_DIV`].
+    thickness: Target,
+}
+
+/// The size of a target at `(w, h)` (the view's) over `div`, rounded up.
+fn reduced((w, h): (u32, u32), div: u32) -> (u32, u32) {
+    (w.div_ceil(div), h.div_ceil(div))
+}
+
+/// The particle uniforms and sprite view of `(u, v)` (at the view's size) for drawing into
+/// a target of `size`: pixels per world unit scaled to it (the greater of its two axes'
+/// scales, so that no sprite's point is too small: the sizes round up).
+fn at_size(
+    u: &ParticleUniforms,
+    v: &SpriteView,
+    size: (u32, u32),
+) -> (ParticleUniforms, SpriteView) {
+    let s = (size.0 as f32 / v.size.0 as f32).max(size.1 as f32 / v.size.1 as f32);
+    let mut u = *u;
+    u.px_scale *= s;
+    (u, SpriteView { size, ..*v })
 }
 
 pub(crate) struct Surface {
-    sprites_prog: glow::Program,
+    depth_prog: glow::Program,
+    thickness_prog: glow::Program,
     blur_prog: glow::Program,
     shade_prog: glow::Program,
     empty_vao: glow::VertexArray,
@@ -144,37 +177,34 @@ impl Target {
 
 impl Targets {
     unsafe fn new(gl: &glow::Context, size: (u32, u32)) -> Result<Targets, ViewerError> {
-        let v = gl.version();
-        if (v.major, v.minor) < (4, 0) {
-            return Err(gl_err(format!(
-                "the surface needs OpenGL 4.0 (glBlendEquationi), this context is {}.{}",
-                v.major, v.minor
-            )));
-        }
-        let depth = make_target(gl, size, glow::R32F, false)?;
-        let thickness = make_target(gl, size, glow::R16F, true)?;
-        let sprites = gl.create_framebuffer().map_err(gl_err)?;
-        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(sprites));
-        for (i, t) in [&depth, &thickness].into_iter().enumerate() {
-            gl.framebuffer_texture_2d(
-                glow::FRAMEBUFFER,
-                glow::COLOR_ATTACHMENT0 + i as u32,
-                glow::TEXTURE_2D,
-                Some(t.tex),
-                0,
-            );
-        }
-        gl.draw_buffers(&[glow::COLOR_ATTACHMENT0, glow::COLOR_ATTACHMENT1]);
+        let ds = reduced(size, DEPTH_DIV);
+        let depth = make_target(gl, ds, glow::R32F, false)?;
+        let depth_buffer = gl.create_renderbuffer().map_err(gl_err)?;
+        gl.bind_renderbuffer(glow::RENDERBUFFER, Some(depth_buffer));
+        gl.renderbuffer_storage(
+            glow::RENDERBUFFER,
+            glow::DEPTH_COMPONENT32F,
+            ds.0 as i32,
+            ds.1 as i32,
+        );
+        gl.bind_renderbuffer(glow::RENDERBUFFER, None);
+        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(depth.fbo));
+        gl.framebuffer_renderbuffer(
+            glow::FRAMEBUFFER,
+            glow::DEPTH_ATTACHMENT,
+            glow::RENDERBUFFER,
+            Some(depth_buffer),
+        );
         complete(gl)?;
         Ok(Targets {
             size,
-            sprites,
             depth,
-            thickness,
+            depth_buffer,
             blur: [
-                make_target(gl, size, glow::R32F, false)?,
-                make_target(gl, size, glow::R32F, false)?,
+                make_target(gl, ds, glow::R32F, false)?,
+                make_target(gl, ds, glow::R32F, false)?,
             ],
+            thickness: make_target(gl, reduced(size, THICKNESS_DIV), glow::R16F, true)?,
         })
     }
 
@@ -182,7 +212,7 @@ impl Targets {
         for t in [&self.depth, &self.thickness, &self.blur[0], &self.blur[1]] {
             t.destroy(gl);
         }
-        gl.delete_framebuffer(self.sprites);
+        gl.delete_renderbuffer(self.depth_buffer);
     }
 }
 
@@ -190,7 +220,8 @@ impl Surface {
     pub(crate) fn new(gl: &glow::Context) -> Result<Surface, ViewerError> {
         unsafe {
             Ok(Surface {
-                sprites_prog: compile(gl, PARTICLE_VS, &sphere_fs(SphereFs::SurfaceSprites))?,
+                depth_prog: compile(gl, PARTICLE_VS, &sphere_fs(SphereFs::SurfaceDepth))?,
+                thickness_prog: compile(gl, PARTICLE_VS, &sphere_fs(SphereFs::SurfaceThickness))?,
                 blur_prog: compile(gl, FULLSCREEN_VS, BLUR_FS)?,
                 shade_prog: compile(gl, FULLSCREEN_VS, &sphere_fs(SphereFs::SurfaceShade))?,
                 empty_vao: gl.create_vertex_array().map_err(gl_err)?,
@@ -202,7 +233,12 @@ impl Surface {
 
     pub(crate) fn destroy(&self, gl: &glow::Context) {
         unsafe {
-            for p in [self.sprites_prog, self.blur_prog, self.shade_prog] {
+            for p in [
+                self.depth_prog,
+                self.thickness_prog,
+                self.blur_prog,
+                self.shade_prog,
+            ] {
                 gl.delete_program(p);
             }
             gl.delete_vertex_array(self.empty_vao);
@@ -248,8 +284,9 @@ impl Surface {
         timers: &mut GpuTimers,
     ) {
         let (w, h) = v.sprites.size;
-        let (sprites_prog, blur_prog, shade_prog, empty_vao) = (
-            self.sprites_prog,
+        let (depth_prog, thickness_prog, blur_prog, shade_prog, empty_vao) = (
+            self.depth_prog,
+            self.thickness_prog,
             self.blur_prog,
             self.shade_prog,
             self.empty_vao,
@@ -261,28 +298,42 @@ impl Surface {
         let mut u = v.uniforms;
         u.radius *= SPHERE_SCALE;
         u.hidden = !1; // every kind but the fluid
-        gl.viewport(0, 0, w as i32, h as i32);
 
-        // 1. The spheres: eye distance of the nearest (MIN) and every chord (summed).
-        timers.pass(gl, "surface sprites");
-        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.sprites));
+        // 1a. The eye distance of the nearest sphere: depth-tested, front to back.
+        timers.pass(gl, "surface depth");
+        let (ud, depth_view) = at_size(&u, &v.sprites, reduced((w, h), DEPTH_DIV));
+        let (dw, dh) = depth_view.size;
+        gl.viewport(0, 0, dw as i32, dh as i32);
+        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.depth.fbo));
         gl.clear_buffer_f32_slice(glow::COLOR, 0, &[NO_FLUID, 0.0, 0.0, 0.0]);
-        gl.clear_buffer_f32_slice(glow::COLOR, 1, &[0.0; 4]);
+        gl.clear_buffer_f32_slice(glow::DEPTH, 0, &[1.0]);
+        gl.enable(glow::DEPTH_TEST);
+        gl.depth_func(glow::LESS);
+        gl.depth_mask(true);
+        gl.disable(glow::BLEND);
+        gl.use_program(Some(depth_prog));
+        ud.set(gl, depth_prog, cmap);
+        sprites.draw(gl, depth_prog, &ud, &depth_view);
         gl.disable(glow::DEPTH_TEST);
+
+        // 1b. Every sphere's chord, summed.
+        timers.pass(gl, "surface thickness");
+        let (ut, thick_view) = at_size(&u, &v.sprites, reduced((w, h), THICKNESS_DIV));
+        let (tw, th) = thick_view.size;
+        gl.viewport(0, 0, tw as i32, th as i32);
+        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.thickness.fbo));
+        gl.clear_buffer_f32_slice(glow::COLOR, 0, &[0.0; 4]);
         gl.enable(glow::BLEND);
         gl.blend_func(glow::ONE, glow::ONE);
-        gl.blend_equation_draw_buffer(0, glow::MIN);
-        gl.blend_equation_draw_buffer(1, glow::FUNC_ADD);
-        gl.use_program(Some(sprites_prog));
-        u.set(gl, sprites_prog, cmap);
+        gl.use_program(Some(thickness_prog));
+        ut.set(gl, thickness_prog, cmap);
         // Particle volume spacing^3 over the drawn sphere's volume.
         let fill = v.spacing.powi(3) / (4.0 / 3.0 * std::f32::consts::PI * u.radius.powi(3));
         gl.uniform_1_f32(
-            gl.get_uniform_location(sprites_prog, "u_fill").as_ref(),
+            gl.get_uniform_location(thickness_prog, "u_fill").as_ref(),
             fill,
         );
-        sprites.draw(gl, sprites_prog, &u, &v.sprites);
-        gl.blend_equation(glow::FUNC_ADD);
+        sprites.draw(gl, thickness_prog, &ut, &thick_view);
         gl.disable(glow::BLEND);
         // The thickness's mipmaps: the shading reads it averaged over about a particle
         // spacing, so that the spheres' chords do not show as discs.
@@ -292,17 +343,18 @@ impl Surface {
         gl.bind_texture(glow::TEXTURE_2D, None);
 
         // 2. Bilateral smoothing of the distance, ping-pong between the blur targets.
+        gl.viewport(0, 0, dw as i32, dh as i32);
         gl.use_program(Some(blur_prog));
         gl.bind_vertex_array(Some(empty_vao));
         let loc = |n: &str| gl.get_uniform_location(blur_prog, n);
         gl.uniform_1_i32(loc("u_depth").as_ref(), 0);
         gl.uniform_1_f32(loc("u_world_radius").as_ref(), BLUR_SPACINGS * v.spacing);
-        gl.uniform_1_f32(loc("u_px_scale").as_ref(), u.px_scale);
+        gl.uniform_1_f32(loc("u_px_scale").as_ref(), ud.px_scale);
         gl.uniform_1_f32(
             loc("u_depth_sigma").as_ref(),
             DEPTH_SIGMA_SPACINGS * v.spacing,
         );
-        gl.uniform_1_i32(loc("u_max_px").as_ref(), BLUR_MAX_PX);
+        gl.uniform_1_i32(loc("u_max_px").as_ref(), BLUR_MAX_PX / DEPTH_DIV as i32);
         gl.active_texture(glow::TEXTURE0);
         let mut src = t.depth.tex;
         for k in 0..BLUR_ITERATIONS {
@@ -318,6 +370,7 @@ impl Surface {
 
         // 3. Shade over the target, depth-tested against what it holds.
         timers.pass(gl, "shade");
+        gl.viewport(0, 0, w as i32, h as i32);
         gl.bind_framebuffer(glow::FRAMEBUFFER, target);
         gl.enable(glow::DEPTH_TEST);
         gl.depth_func(glow::LESS);
@@ -327,6 +380,13 @@ impl Surface {
         let loc = |n: &str| gl.get_uniform_location(shade_prog, n);
         gl.uniform_1_i32(loc("u_depth").as_ref(), 0);
         gl.uniform_1_i32(loc("u_thickness").as_ref(), 1);
+        gl.uniform_2_f32(loc("u_view_size").as_ref(), w as f32, h as f32);
+        // View pixels per distance texel on each axis (the sizes rounded up).
+        gl.uniform_2_f32(
+            loc("u_depth_div").as_ref(),
+            w as f32 / dw as f32,
+            h as f32 / dh as f32,
+        );
         gl.uniform_matrix_4_f32_slice(loc("u_proj").as_ref(), false, &u.proj.to_cols_array());
         let to_world = Mat3::from_mat4(u.view).transpose();
         gl.uniform_matrix_3_f32_slice(loc("u_to_world").as_ref(), false, &to_world.to_cols_array());
@@ -345,7 +405,7 @@ impl Surface {
             ABSORB[2] / len,
         );
         gl.uniform_3_f32(loc("u_water").as_ref(), WATER[0], WATER[1], WATER[2]);
-        gl.uniform_1_f32(loc("u_spacing_px").as_ref(), v.spacing * u.px_scale);
+        gl.uniform_1_f32(loc("u_spacing_px").as_ref(), v.spacing * ut.px_scale);
         gl.uniform_1_f32(loc("u_edge_dz").as_ref(), DEPTH_SIGMA_SPACINGS * v.spacing);
         gl.active_texture(glow::TEXTURE1);
         gl.bind_texture(glow::TEXTURE_2D, Some(t.thickness.tex));

@@ -3,7 +3,7 @@
 // [L]. The spatial Gaussian spans about u_world_radius in the world (so far fluid is
 // smoothed over fewer pixels); the range weight exp(-(dz / u_depth_sigma)^2) keeps a front
 // sheet from blending with fluid behind it. Empty pixels (0 from a blur, NO_FLUID from the
-// sprites' pass) come out 0 and are skipped.
+// depth pass, where no sphere is) come out 0 and are skipped.
 uniform sampler2D u_depth;
 uniform ivec2 u_dir;
 uniform float u_world_radius;
@@ -11,7 +11,7 @@ uniform float u_px_scale;
 uniform float u_depth_sigma;
 uniform int u_max_px;
 layout(location = 0) out float o_depth;
-const float NO_FLUID = 1e30; // as in surface_sprites.frag
+const float NO_FLUID = 1e30; // the depth pass's clear value (`surface.rs`)
 bool fluid(float z) {
     return z > 0.0 && z < NO_FLUID;
 }
