@@ -218,7 +218,7 @@ pub fn dam_break(dim: u32, n_fluid: usize) -> Setup {
         wall_coupling: 1,
         gravity: [0.0, -g, 0.0],
         integrator: MF_INTEGRATOR_LEAPFROG as i32,
-        courant: 0.4,
+        courant: IntegratorChoice::Leapfrog.default_courant() as f32,
         ..Default::default()
     };
     params::derive(&mut p);
@@ -320,10 +320,8 @@ fn make<D: Dim>(
 fn run_one<D: Dim>(o: &BenchOptions, dim: u32, n: usize) -> Result<BenchRow, BackendError> {
     let mut setup = dam_break(dim, n);
     setup.params.integrator = o.integrator.to_param();
-    // The validated Courant numbers (eq. (19)): the leapfrog's 0.4, the Euler schemes' 0.2.
-    if o.integrator != IntegratorChoice::Leapfrog {
-        setup.params.courant = 0.2;
-    }
+    // Each integrator at its own Courant number (eq. (19)), as a scene without `courant`.
+    setup.params.courant = o.integrator.default_courant() as f32;
     timed::<D>(o, setup, Vec::new(), "")
 }
 

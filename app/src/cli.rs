@@ -166,7 +166,8 @@ pub struct BenchArgs {
     pub no_neighbours: bool,
     /// Time integrator: `leapfrog` (the scenes' default), `symplectic-euler`, or `euler`,
     /// the paper's forward Euler (forces and rates from one state: one neighbour pass on the
-    /// GPU). Every result line names the scheme it ran.
+    /// GPU), each at its default Courant number (0.4, 0.2, 0.2). Every result line names the
+    /// scheme it ran.
     #[arg(long, value_parser = named::<IntegratorChoice>(), default_value = "leapfrog")]
     pub integrator: IntegratorChoice,
     /// Step every configuration in N subdomains (as `run --decompose`); each row then
@@ -792,12 +793,13 @@ pub struct ValidateArgs {
     /// gate.
     #[arg(long, value_name = "NAME")]
     pub case: Vec<String>,
-    /// Run every case at this Courant number (eq. (19)) instead of its own (0.4): what a
-    /// larger step costs in accuracy.
+    /// Run every case at this Courant number (eq. (19)) instead of its own (its integrator's
+    /// default: 0.4 for the leapfrog): what a larger step costs in accuracy.
     #[arg(long, value_name = "C")]
     pub courant: Option<f64>,
     /// Run every case with this integrator instead of its own (`symplectic-euler`,
-    /// `leapfrog`, `euler`): what another scheme gives on the same cases.
+    /// `leapfrog`, `euler`), at that integrator's default Courant number (0.2 for the Euler
+    /// schemes) unless --courant gives one: what another scheme gives on the same cases.
     #[arg(long, value_parser = named::<IntegratorChoice>())]
     pub integrator: Option<IntegratorChoice>,
 }

@@ -13,7 +13,7 @@ fn tank(integrator: IntegratorChoice, courant: f64) -> Scene {
         .unwrap()
         .with_spacing(0.05)
         .unwrap();
-    s.file.time.courant = courant;
+    s.file.time.courant = Some(courant);
     s.file.time.end = 0.5;
     s.file.time.integrator = integrator;
     s.revalidate().unwrap();

@@ -105,13 +105,34 @@ choice! {
         /// v += (dt_prev + dt) / 2 a) and the rates (continuity, XSPH, shifting, stress
         /// rate) at the drift's midpoint x + dt/2 v (a pair in the kernel's core, q below
         /// |grad W|'s peak, at x), with the same two neighbour passes a step. Stable at
-        /// Courant 0.4 on the dam breaks.
+        /// Courant 0.4 on the dam breaks, its default Courant number.
         Leapfrog = "leapfrog" => MF_INTEGRATOR_LEAPFROG,
         /// Semi-implicit Euler: v first, then x with the new v (first order; validated at
-        /// Courant 0.2, so set `courant = 0.2` with it; the default until 2026-11-28).
+        /// Courant 0.2, its default Courant number; the default integrator until
+        /// 2026-11-28).
         SymplecticEuler = "symplectic-euler" => MF_INTEGRATOR_SYMPLECTIC_EULER,
-        /// The paper's forward Euler, eq. (19).
+        /// The paper's forward Euler, eq. (19) (default Courant number 0.2).
         Euler = "euler" => MF_INTEGRATOR_EULER,
+    }
+}
+
+impl IntegratorChoice {
+    /// [-] The Courant number of eq. (19) a scene gets with this integrator when it sets
+    /// none: the number each was validated at (docs/reference/accuracy.md).
+    pub fn default_courant(self) -> f64 {
+        match self {
+            IntegratorChoice::Leapfrog => 0.4,
+            IntegratorChoice::SymplecticEuler | IntegratorChoice::Euler => 0.2,
+        }
+    }
+}
+
+impl Time {
+    /// [-] The Courant number of eq. (19): the scene's `courant`, else its integrator's
+    /// default.
+    pub fn courant_number(&self) -> f64 {
+        self.courant
+            .unwrap_or_else(|| self.integrator.default_courant())
     }
 }
 
@@ -251,11 +272,11 @@ table! {
             param: [none "the run driver"],
         },
         /// [-] Courant number of the CFL limit, eq. (19).
-        courant: f64 {
-            default: [0.4, "eq. (19)'s limit for the default leapfrog, stable at 0.4 on every built-in scene and validate case (docs/reference/accuracy.md); the Euler schemes were validated at 0.2; the force and viscous limits apply as well"],
+        courant: Option<f64> {
+            default: [absent "the integrator's own (`IntegratorChoice::default_courant`): 0.4 with the leapfrog, stable at 0.4 on every built-in scene and validate case; 0.2 with the symplectic and forward Euler schemes, where they were validated (docs/reference/accuracy.md); the force and viscous limits apply as well"],
             paper: [scene "eq. (19)'s number (unused at --paper-exact's fixed step)"],
             check: [Positive],
-            param: [p.courant],
+            param: [p.courant = |f: &SceneFile, _: &Option<f64>| f.time.courant_number() as f32],
         },
         /// [T] fixed time step.
         dt: Option<f64> {

@@ -201,6 +201,30 @@ max = [0.5, 0.5]
 }
 
 #[test]
+fn an_absent_courant_number_is_the_integrators_own() {
+    // Each integrator at the Courant number it was validated at when the scene gives none
+    // (the leapfrog 0.4, the Euler schemes 0.2); a scene's own number always wins.
+    let scene = |time: &str| {
+        let text = format!(
+            "dimension = 2\nname = \"c\"\n[domain]\nmin = [0.0, 0.0]\nmax = [1.0, 1.0]\n\
+             [discretisation]\nspacing = 0.1\n[time]\nend = 1.0\noutput_interval = 0.1\n{time}\n\
+             [fluid]\ndensity = 1.0\nsound_speed = 10.0\n\
+             [[fluid_blocks]]\nmin = [0.0, 0.0]\nmax = [0.5, 0.5]\n"
+        );
+        Scene::from_toml(&text, "courant").unwrap().params().courant
+    };
+    assert_eq!(scene(""), 0.4);
+    assert_eq!(scene("integrator = \"leapfrog\""), 0.4);
+    assert_eq!(scene("integrator = \"symplectic-euler\""), 0.2);
+    assert_eq!(scene("integrator = \"euler\""), 0.2);
+    assert_eq!(
+        scene("integrator = \"symplectic-euler\"\ncourant = 0.3"),
+        0.3
+    );
+    assert_eq!(scene("courant = 0.25"), 0.25);
+}
+
+#[test]
 fn a_missing_required_key_is_named_as_serde_names_it() {
     let e = Scene::from_toml(
         "dimension = 2\nname = \"x\"\n[domain]\nmin = [0.0, 0.0]\nmax = [1.0, 1.0]\n\

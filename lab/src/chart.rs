@@ -105,7 +105,7 @@ fn variants(quick: bool) -> Vec<Variant> {
         },
         Variant {
             name: "Courant 0.4",
-            edit: |s| s.file.time.courant = 0.4,
+            edit: |s| s.file.time.courant = Some(0.4),
         },
     ];
     if quick {

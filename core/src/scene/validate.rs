@@ -541,10 +541,11 @@ fn time_step(c: &Ctx, s: &SceneFile) -> R {
                 speed.2 = format!("{} (a longitudinal wave speed of {solid:.3e})", speed.2);
             }
         }
-        let dt = s.time.courant * h / speed.0; // [T], eq. (19) at rest
+        let courant = s.time.courant_number();
+        let dt = courant * h / speed.0; // [T], eq. (19) at rest
         let how = format!(
-            "{}: the time step (eq. 19: courant {} x h {h:.3e} / {:.3e})",
-            speed.2, s.time.courant, speed.0
+            "{}: the time step (eq. 19: courant {courant} x h {h:.3e} / {:.3e})",
+            speed.2, speed.0
         );
         (dt, speed.1, how)
     };

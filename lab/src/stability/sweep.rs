@@ -175,7 +175,7 @@ pub fn maps(tier: Tier) -> Vec<MapDef> {
 pub fn apply(scene: &mut Scene, param: Param, value: f64) {
     let f = &mut scene.file;
     match param {
-        Param::Courant => f.time.courant = value,
+        Param::Courant => f.time.courant = Some(value),
         Param::Alpha => f.fluid.alpha = value,
         Param::LjStrength => {
             if let Some(b) = f.boundary.as_mut() {

@@ -327,11 +327,13 @@ impl Sim {
     ) -> anyhow::Result<Sim> {
         let counts = Counts::of(&setup.particles);
         let mut setup = setup;
-        if let Some(c) = ctx.courant {
-            setup.params.courant = c as f32;
-        }
+        // Another integrator runs at its own default Courant number unless one is given.
         if let Some(i) = ctx.integrator {
             setup.params.integrator = i.to_param();
+            setup.params.courant = i.default_courant() as f32;
+        }
+        if let Some(c) = ctx.courant {
+            setup.params.courant = c as f32;
         }
         let solver = backend::create(ctx.backend, setup)?;
         Ok(Sim {
