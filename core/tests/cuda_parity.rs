@@ -2578,3 +2578,63 @@ fn queued_check_reports_the_first_fault_2d() {
 fn queued_check_reports_the_first_fault_3d() {
     queued_check_on::<D3>(scene_with(3, V_3D_B, 0.05));
 }
+
+/// The state's fields that a grid build moves (`acc` and `xsph` aside: the four-kernel
+/// build keeps its scratch there until the next forces and rates passes), as text: Rust's
+/// shortest round-trip form of each f32, so equal text is equal bits (signed zeros too).
+fn moved_fields<D: Dim>(s: &State<D>) -> String {
+    format!(
+        "{:?} {:?} {:?} {:?} {:?} {:?} {:?} {:?} {:?} {:?}",
+        s.id, s.kind, s.group, s.mass, s.pos, s.vel, s.rho, s.p, s.drho, s.solid
+    )
+}
+
+/// The one-block grid build (`sph_grid_one_block`, where the system fits one block) against
+/// the four-kernel build (scan, scan of the block totals, scatter, gather) on the same state:
+/// the same storage order and every array bit for bit after one build (from the unsorted
+/// upload, the build's own histogram), and after 20 steps (graphs replayed, the drift's
+/// histogram handed to each build), acc and xsph included.
+fn one_block_grid_on<D: Dim>(what: &str, setup: Setup) {
+    let mut one = gpu::<D>(&setup);
+    let mut four = gpu::<D>(&setup);
+    four.set_one_block_grid(false);
+    assert!(one.one_block_grid(), "{what}: the scene fits one block");
+    assert!(!four.one_block_grid());
+    one.build_grid();
+    four.build_grid();
+    let (a, b) = (one.download_state(), four.download_state());
+    assert_eq!(a.id, b.id, "{what}: storage order after one build");
+    assert!(
+        moved_fields(&a) == moved_fields(&b),
+        "{what}: the one-block build's arrays differ from the four-kernel build's"
+    );
+    one.advance(20);
+    four.advance(20);
+    let (a, b) = (one.download_state(), four.download_state());
+    assert_eq!(a.id, b.id, "{what}: storage order after 20 steps");
+    assert!(
+        format!("{a:?}") == format!("{b:?}"),
+        "{what}: the states differ after 20 steps"
+    );
+    eprintln!("  {what}: {} particles, the same bits", a.id.len());
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn one_block_grid_equals_the_four_kernel_build_2d() {
+    // continuity density: the equation of state in the reorder
+    one_block_grid_on::<D2>("V_2D_LEAN", scene_with(2, V_2D_LEAN, 0.05));
+    // summation density, solids, artificial stress: stress and rho_dev moved
+    one_block_grid_on::<D2>("V_2D_A", scene_with(2, V_2D_A, 0.05));
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn one_block_grid_equals_the_four_kernel_build_3d() {
+    one_block_grid_on::<D3>("V_3D_LEAN", scene_with(3, V_3D_LEAN, 0.05));
+    one_block_grid_on::<D3>("V_3D_B", scene_with(3, V_3D_B, 0.05));
+}
