@@ -139,29 +139,28 @@ sph_grid_scatter(unsigned n, const unsigned* __restrict__ cell, const unsigned* 
 // eos != 0 (continuity density without artificial stress, where the density pass has
 // nothing else to do): the equation of state eq. (9) is applied here, from the density
 // the particle carries, and the velocity's w slot set (vel_w): the density pass is skipped.
-// The arrays the gather moves, the current set's then the other's (`Buffers::cur`, `alt`).
-#define MF_GATHER_PARAMS                                                                                  \
-    const unsigned *__restrict__ id, const unsigned char *__restrict__ kind,                              \
-        const unsigned *__restrict__ group, const float *__restrict__ pos, const float *__restrict__ vel,   \
-        const float *__restrict__ rho, const float *__restrict__ pr, const float *__restrict__ stress,      \
-        const float *__restrict__ rho_dev, unsigned *__restrict__ id2, unsigned char *__restrict__ kind2,    \
-        unsigned *__restrict__ group2, float *__restrict__ pos2, float *__restrict__ vel2,                 \
-        float *__restrict__ rho2, float *__restrict__ pr2, float *__restrict__ stress2,                    \
-        float *__restrict__ rho_dev2
-#define MF_GATHER_ARGS \
-    id, kind, group, pos, vel, rho, pr, stress, rho_dev, id2, kind2, group2, pos2, vel2, rho2, pr2, stress2, rho_dev2
-
-// The gather of the particle in the order's slot a: `start` gives a cell's first slot (and
-// start(n_cells) = n), `order` the scatter's order (global or shared memory: Order is a
-// pointer or a functor).
-template <int DIM, typename Start, typename Order>
-__device__ __forceinline__ void gather_one(const SphParams& p, unsigned n, unsigned eos, unsigned a,
-                                           const Start& start, const Order& order, MF_GATHER_PARAMS) {
+template <int DIM>
+__device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned n_cells, unsigned eos,
+                                     const unsigned* __restrict__ order, const unsigned* __restrict__ local, const unsigned* __restrict__ bsum,
+                                     unsigned* __restrict__ cell_start,
+                                     const unsigned* __restrict__ id, const unsigned char* __restrict__ kind,
+                                     const unsigned* __restrict__ group,
+                                     const float* __restrict__ pos, const float* __restrict__ vel,
+                                     const float* __restrict__ rho, const float* __restrict__ pr,
+                                     const float* __restrict__ stress, const float* __restrict__ rho_dev,
+                                     unsigned* __restrict__ id2,
+                                     unsigned char* __restrict__ kind2, unsigned* __restrict__ group2,
+                                     float* __restrict__ pos2, float* __restrict__ vel2,
+                                     float* __restrict__ rho2, float* __restrict__ pr2, float* __restrict__ stress2,
+                                     float* __restrict__ rho_dev2) {
+    unsigned a = blockIdx.x * blockDim.x + threadIdx.x;
+    if (a <= n_cells) cell_start[a] = cell_start_of(local, bsum, a);
+    if (a >= n) return;
     const unsigned o = order[a];
     int cc[3];  // its cell, from the position it carries (as 1. found it; no read of cell[])
     cell_coords<DIM>(p, vload<DIM>(pos, o), cc);
     const unsigned c = cell_index(p, cc);
-    const unsigned s = start(c), e = start(c + 1);
+    const unsigned s = cell_start_of(local, bsum, c), e = cell_start_of(local, bsum, c + 1);
     const unsigned key = id[o];
     unsigned k = s;
     for (unsigned b = s; b < e; ++b) k += id[order[b]] < key;  // ids are unique
@@ -195,18 +194,6 @@ __device__ __forceinline__ void gather_one(const SphParams& p, unsigned n, unsig
         for (int q = 0; q < Sym<DIM>::N; ++q) stress2[q * n + k] = stress[q * n + o];
     }
 }
-
-template <int DIM>
-__device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned n_cells, unsigned eos,
-                                     const unsigned* __restrict__ order, const unsigned* __restrict__ local,
-                                     const unsigned* __restrict__ bsum, unsigned* __restrict__ cell_start,
-                                     MF_GATHER_PARAMS) {
-    unsigned a = blockIdx.x * blockDim.x + threadIdx.x;
-    if (a <= n_cells) cell_start[a] = cell_start_of(local, bsum, a);
-    if (a >= n) return;
-    const auto start = [&](unsigned c) { return cell_start_of(local, bsum, c); };
-    gather_one<DIM>(p, n, eos, a, start, order, MF_GATHER_ARGS);
-}
 MF_ENTRY2(sph_grid_gather,
           (const SphParams p, unsigned n, unsigned n_cells, unsigned eos, const unsigned* order,
            const unsigned* local, const unsigned* bsum, unsigned* cell_start, const unsigned* id,
@@ -215,86 +202,3 @@ MF_ENTRY2(sph_grid_gather,
            unsigned* group2, float* pos2, float* vel2, float* rho2, float* pr2, float* stress2, float* rho_dev2),
           (p, n, n_cells, eos, order, local, bsum, cell_start, id, kind, group, pos, vel, rho, pr, stress, rho_dev,
            id2, kind2, group2, pos2, vel2, rho2, pr2, stress2, rho_dev2))
-
-// 2.-5. in one block of MF_SCAN_BLOCK threads, for systems whose cell starts (n_cells + 1,
-// rounded up to 4) and order (n) fit MF_GRID_ONE_BLOCK_WORDS words of shared memory
-// (`launch::one_block_grid`): the scan of the counts chunk by chunk (as sph_scan_local and
-// sph_scan_top, the starts straight to shared memory and cell_start), the scatter (as
-// sph_grid_scatter, the order to shared memory) and the gather (gather_one), with
-// __syncthreads between them: one launch where the multi-block build takes four. The starts
-// and the sorted order (cell, id) are unique, so every array comes out bit for bit as the
-// four-kernel build's (cuda_parity: one_block_grid_equals_the_four_kernel_build).
-// count and cell_start are written here and read back by other threads after a
-// __syncthreads (no __restrict__: no read-only cache path for them).
-template <int DIM>
-__device__ void sph_grid_one_block_body(const SphParams p, unsigned n, unsigned n_cells, unsigned eos,
-                                        const unsigned* __restrict__ cell, unsigned* count,
-                                        unsigned* cell_start, unsigned* red, MF_GATHER_PARAMS) {
-    __shared__ unsigned sh[MF_SCAN_BLOCK / 32];
-    __shared__ unsigned carry;
-    __shared__ __align__(16) unsigned words[MF_GRID_ONE_BLOCK_WORDS];
-    const unsigned m = n_cells + 1;  // count[n_cells] = 0 closes the last cell's range
-    unsigned* start = words;
-    unsigned* order = words + ((m + 3u) & ~3u);
-    if (threadIdx.x == 0) {
-        carry = 0;
-        red[0] = red[1] = red[2] = 0u;  // the step size's maxima, as sph_grid_scatter
-    }
-    __syncthreads();
-    // 2.-3. Exclusive scan of the m counts, MF_SCAN_CELLS a chunk.
-    for (unsigned base = 0; base < m; base += MF_SCAN_CELLS) {
-        const unsigned c = base + threadIdx.x * MF_SCAN_ITEMS;
-        unsigned v[MF_SCAN_ITEMS];
-        unsigned t = 0;
-#pragma unroll
-        for (int q = 0; q < MF_SCAN_ITEMS; ++q) {
-            v[q] = c + q < m ? count[c + q] : 0u;
-            t += v[q];
-        }
-        const unsigned incl = block_inclusive_scan(t, sh);
-        unsigned e = carry + incl - t;
-#pragma unroll
-        for (int q = 0; q < MF_SCAN_ITEMS; ++q) {
-            if (c + q < m) {
-                start[c + q] = e;
-                cell_start[c + q] = e;
-            }
-            e += v[q];
-        }
-        __syncthreads();  // every thread has read carry
-        if (threadIdx.x == MF_SCAN_BLOCK - 1) carry += incl;
-        __syncthreads();
-    }
-    // 4. Scatter, a block of particles at a time (every lane of a warp in each round).
-    const int lane = threadIdx.x & 31;
-    for (unsigned base = 0; base < n; base += MF_SCAN_BLOCK) {
-        const unsigned i = base + threadIdx.x;
-        const bool valid = i < n;
-        const unsigned k = valid ? cell[i] : 0xffffffffu;
-        const unsigned before = __shfl_up_sync(0xffffffffu, k, 1);
-        const unsigned heads = __ballot_sync(0xffffffffu, lane == 0 || k != before);
-        const int head = 31 - __clz(heads & (0xffffffffu >> (31 - lane)));
-        const unsigned later = heads & ~(0xffffffffu >> (31 - lane));
-        const int end = later ? __ffs(later) - 1 : 32;
-        unsigned top = 0;
-        if (valid && lane == head) top = atomicSub(&count[k], (unsigned)(end - head));
-        top = __shfl_sync(0xffffffffu, top, head);
-        if (valid) order[start[k] + top - 1u - (unsigned)(lane - head)] = i;
-    }
-    __syncthreads();
-    // 5. Gather.
-    const auto st = [&](unsigned c) { return start[c]; };
-    for (unsigned a = threadIdx.x; a < n; a += MF_SCAN_BLOCK)
-        gather_one<DIM>(p, n, eos, a, st, order, MF_GATHER_ARGS);
-}
-#define MF_GRID_ONE_BLOCK_ENTRY(DIM)                                                                          \
-    extern "C" __global__ void __launch_bounds__(MF_SCAN_BLOCK) sph_grid_one_block_##DIM##d(                 \
-        const SphParams p, unsigned n, unsigned n_cells, unsigned eos, const unsigned* cell, unsigned* count, \
-        unsigned* cell_start, unsigned* red, const unsigned* id, const unsigned char* kind,                   \
-        const unsigned* group, const float* pos, const float* vel, const float* rho, const float* pr,         \
-        const float* stress, const float* rho_dev, unsigned* id2, unsigned char* kind2, unsigned* group2,     \
-        float* pos2, float* vel2, float* rho2, float* pr2, float* stress2, float* rho_dev2) {                 \
-        sph_grid_one_block_body<DIM>(p, n, n_cells, eos, cell, count, cell_start, red, MF_GATHER_ARGS);       \
-    }
-MF_GRID_ONE_BLOCK_ENTRY(2)
-MF_GRID_ONE_BLOCK_ENTRY(3)

@@ -22,13 +22,6 @@
 #define MF_SCAN_ITEMS 4
 #define MF_SCAN_CELLS (MF_SCAN_BLOCK * MF_SCAN_ITEMS)
 
-/* The grid build in one block of MF_SCAN_BLOCK threads (`sph_grid_one_block`, small systems):
- * the cell starts (n_cells + 1, rounded up to a multiple of 4) and the scatter's order (n)
- * live in shared memory, at most MF_GRID_ONE_BLOCK_WORDS 4-byte words together, which with
- * the scan's own MF_SCAN_BLOCK / 32 + 1 words stays under the 48 KiB of static shared memory
- * that every architecture gives a block. Larger systems take the four-kernel build. */
-#define MF_GRID_ONE_BLOCK_WORDS 12000
-
 /* Lanes per particle in the neighbour kernels (density, forces, rates): each particle's
  * candidate ranges are split over L consecutive threads (lane l takes every L-th candidate,
  * so a warp's loads are contiguous), then the partial sums are combined by shuffles in a

@@ -4,7 +4,6 @@ pub const MF_BLOCK: u32 = 256;
 pub const MF_SCAN_BLOCK: u32 = 1024;
 pub const MF_SCAN_ITEMS: u32 = 4;
 pub const MF_SCAN_CELLS: u32 = 4096;
-pub const MF_GRID_ONE_BLOCK_WORDS: u32 = 12000;
 pub const MF_LANES_MAX: u32 = 8;
 pub const MF_PRUNE_SLACK: f64 = 0.0001;
 pub const MF_FAULT_NON_FINITE_POSITION: u32 = 1;

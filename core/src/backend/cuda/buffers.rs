@@ -136,10 +136,6 @@ pub struct Buffers {
     /// Set by the drift, which files every particle in its cell (`cell`, `count`) for
     /// the next grid build; that build takes it and skips its own pass.
     pub hist_done: bool,
-    /// Whether a grid build that fits one block (`launch::one_block_grid`) runs as one
-    /// kernel (`sph_grid_one_block`); `MESHFREE_CUDA_ONE_BLOCK_GRID=0` (for measurements) or
-    /// `CudaSolver::set_one_block_grid` (for tests) takes the four-kernel build at every size.
-    pub one_block_grid: bool,
     /// Set by `Solver::time_step`: the step size is due from `red`. The kick or the
     /// drift-kick that follows takes it (one launch fewer a step); anything else that reads
     /// dt or writes red first runs `sph_step_size` (`launch::settle_step_size`).
@@ -350,8 +346,6 @@ impl Buffers {
             swapped: false,
             eos_done: false,
             hist_done: false,
-            one_block_grid: std::env::var("MESHFREE_CUDA_ONE_BLOCK_GRID")
-                .map_or(true, |v| v != "0"),
             dt_pending: false,
             red_stale: false,
             pairs_recorded: false,

@@ -81,7 +81,6 @@ pub enum Family {
     ScanTop,
     GridScatter,
     GridGather,
-    GridOneBlock,
     Density,
     GradRho,
     Forces,
@@ -148,13 +147,12 @@ const WALL_FORCE_PARAMS: &str =
 
 impl Family {
     /// Every family, in the order of the discriminants.
-    pub const ALL: [Family; 35] = [
+    pub const ALL: [Family; 34] = [
         Family::GridHist,
         Family::ScanLocal,
         Family::ScanTop,
         Family::GridScatter,
         Family::GridGather,
-        Family::GridOneBlock,
         Family::Density,
         Family::GradRho,
         Family::Forces,
@@ -226,18 +224,6 @@ impl Family {
                  const float* pr, const float* stress, const float* rho_dev, unsigned* id2, \
                  unsigned char* kind2, unsigned* group2, float* pos2, float* vel2, float* rho2, \
                  float* pr2, float* stress2, float* rho_dev2",
-            ),
-            Family::GridOneBlock => (
-                "grid",
-                "sph_grid_one_block",
-                Dims,
-                "const SphParams p, unsigned n, unsigned n_cells, unsigned eos, \
-                 const unsigned* cell, unsigned* count, unsigned* cell_start, unsigned* red, \
-                 const unsigned* id, const unsigned char* kind, const unsigned* group, \
-                 const float* pos, const float* vel, const float* rho, const float* pr, \
-                 const float* stress, const float* rho_dev, unsigned* id2, unsigned char* kind2, \
-                 unsigned* group2, float* pos2, float* vel2, float* rho2, float* pr2, \
-                 float* stress2, float* rho_dev2",
             ),
             Family::Density => (
                 "density",

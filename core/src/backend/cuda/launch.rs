@@ -11,9 +11,7 @@ use cudarc::driver::{
 
 use super::buffers::{self, Buffers, TlBuffers};
 use super::kernels::{Family, Kernel, Kernels, Scheme};
-use crate::consts::{
-    MF_BLOCK, MF_GRID_ONE_BLOCK_WORDS, MF_LANES_MAX, MF_SAMPLE_FLOATS, MF_SCAN_BLOCK, MF_SCAN_CELLS,
-};
+use crate::consts::{MF_BLOCK, MF_LANES_MAX, MF_SAMPLE_FLOATS, MF_SCAN_BLOCK, MF_SCAN_CELLS};
 use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
 
 // SAFETY: SphParams is the bindgen image of the C struct in `cuda/sph_params.h` (repr(C),
@@ -102,12 +100,14 @@ fn scan(
 
 /// Neighbour grid: hist (unless the last drift did it), scan (2 kernels), scatter, then the
 /// sort by id within cells fused with the reorder (gather), which also writes the cell
-/// ranges, or the last four in one kernel of one block where the system fits it
-/// (`one_block_grid`); then the two persistent buffer sets are swapped.
+/// ranges; then the two persistent buffer sets are swapped.
 pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     // The reorder writes alt and the cells change: the forces pass's record goes.
     b.pairs_recorded = false;
     let n = b.n as u32;
+    let nc = b.n_cells as u32;
+    // The scan runs over n_cells + 1 counts (the last, 0, closes the last cell's range).
+    let n_scan = nc + 1;
     if n == 0 {
         return;
     }
@@ -128,79 +128,6 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
                 .map(|_| ())
         });
     }
-    // Continuity density without artificial stress: the reorder applies the equation of
-    // state and the density pass has nothing left to do (`density` skips it).
-    let eos = p.density_form as u32 == MF_DENSITY_CONTINUITY && b.art.is_none();
-    if b.one_block_grid && one_block_grid(b.n, b.n_cells) {
-        grid_one_block(k, s, p, b, eos);
-    } else {
-        grid_four_kernels(k, s, p, b, eos);
-    }
-    b.red_stale = false;
-    b.eos_done = eos;
-    std::mem::swap(&mut b.cur, &mut b.alt);
-    b.swapped = !b.swapped;
-}
-
-/// Whether the grid build of `n` particles in `n_cells` cells fits one block
-/// (`sph_grid_one_block`): the cell starts (n_cells + 1, rounded up to 4) and the order (n)
-/// in MF_GRID_ONE_BLOCK_WORDS words of shared memory. Up to there one launch replaces four
-/// (2D bench block of 3,786 particles: 4,300 cells).
-pub fn one_block_grid(n: usize, n_cells: usize) -> bool {
-    (n_cells + 1).next_multiple_of(4) + n <= MF_GRID_ONE_BLOCK_WORDS as usize
-}
-
-/// The grid build in one block of MF_SCAN_BLOCK threads: scan, scatter and gather
-/// (`Family::GridOneBlock`).
-fn grid_one_block(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers, eos: bool) {
-    let n = b.n as u32;
-    let nc = b.n_cells as u32;
-    let eos_arg = eos as u32;
-    let (c, a) = (&b.cur, &mut b.alt);
-    // SAFETY: the arguments of `Family::GridOneBlock` (the nine persistent arrays of `cur`,
-    // then the same nine of `alt`, as `Family::GridGather`); cell holds n entries, count and
-    // cell_start n_cells + 1, red 3; n + n_cells + 1 within the shared memory's words
-    // (`one_block_grid`); one block of MF_SCAN_BLOCK threads.
-    let kg = k.get(Family::GridOneBlock);
-    let mut l = s.launch_builder(&kg.f);
-    l.arg(p)
-        .arg(&n)
-        .arg(&nc)
-        .arg(&eos_arg)
-        .arg(&b.cell)
-        .arg(&mut b.count)
-        .arg(&mut b.cell_start)
-        .arg(&mut b.red);
-    l.arg(&c.id)
-        .arg(&c.kind)
-        .arg(&c.group)
-        .arg(&c.pos)
-        .arg(&c.vel);
-    l.arg(&c.rho).arg(&c.p);
-    opt!(l, &c.stress);
-    opt!(l, &c.rho_dev);
-    l.arg(&mut a.id)
-        .arg(&mut a.kind)
-        .arg(&mut a.group)
-        .arg(&mut a.pos)
-        .arg(&mut a.vel);
-    l.arg(&mut a.rho).arg(&mut a.p);
-    opt!(l, &mut a.stress);
-    opt!(l, &mut a.rho_dev);
-    let one = LaunchConfig {
-        grid_dim: (1, 1, 1),
-        block_dim: (MF_SCAN_BLOCK, 1, 1),
-        shared_mem_bytes: 0,
-    };
-    kg.check(unsafe { l.launch(one).map(|_| ()) });
-}
-
-/// The grid build in four kernels: scan (two), scatter, gather.
-fn grid_four_kernels(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers, eos: bool) {
-    let n = b.n as u32;
-    let nc = b.n_cells as u32;
-    // The scan runs over n_cells + 1 counts (the last, 0, closes the last cell's range).
-    let n_scan = nc + 1;
     // order and local live in the spare acc and xsph (`buffers::grid_scratch`).
     let (mut order, mut local) =
         buffers::grid_scratch(&mut b.acc, &mut b.xsph, &mut b.local, b.cap, b.n_cells);
@@ -222,6 +149,10 @@ fn grid_four_kernels(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Bu
             .launch(cfg(b.n))
             .map(|_| ())
     });
+    b.red_stale = false;
+    // Continuity density without artificial stress: the reorder applies the equation of
+    // state and the density pass has nothing left to do (`density` skips it).
+    let eos = p.density_form as u32 == MF_DENSITY_CONTINUITY && b.art.is_none();
     let eos_arg = eos as u32;
     {
         let (c, a) = (&b.cur, &mut b.alt);
@@ -258,6 +189,9 @@ fn grid_four_kernels(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Bu
         let threads = b.n.max(b.n_cells + 1);
         kg.check(unsafe { l.launch(cfg(threads)).map(|_| ()) });
     }
+    b.eos_done = eos;
+    std::mem::swap(&mut b.cur, &mut b.alt);
+    b.swapped = !b.swapped;
 }
 
 pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {

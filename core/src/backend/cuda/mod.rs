@@ -355,20 +355,6 @@ impl<D: Dim> CudaSolver<D> {
         self.graph = None;
     }
 
-    /// Whether grid builds that fit one block run as one kernel (`true`, the default unless
-    /// `MESHFREE_CUDA_ONE_BLOCK_GRID=0`) or as the four-kernel build at every size: the same
-    /// bits either way. For tests and benchmarks.
-    pub fn set_one_block_grid(&mut self, on: bool) {
-        self.buf.one_block_grid = on;
-        self.graph = None;
-    }
-
-    /// Whether this solver's grid builds run as one kernel (`set_one_block_grid` and the
-    /// system's size, `launch::one_block_grid`). For tests.
-    pub fn one_block_grid(&self) -> bool {
-        self.buf.one_block_grid && launch::one_block_grid(self.buf.n, self.buf.n_cells)
-    }
-
     /// Threads per particle of the neighbour kernels now.
     pub fn lanes(&self) -> usize {
         self.k.lanes
