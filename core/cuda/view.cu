@@ -2,9 +2,10 @@
 // and kind written straight into the renderer's vertex buffers (meshfree-viewer's layout:
 // vec3 of f32, one f32, one u8 per particle) in the viewer's kind order (the fluid, then the
 // solids, then the rest, each in storage order: `ParticleBuffers`), and the colour range
-// reduced over the particles that set it. Twin: the host-copy path, `Solver::snapshot` (src/solver.rs, the
-// CUDA backend's in src/backend/cuda/mod.rs) and the viewer's `value_range`; test:
-// tests/cuda_view.rs.
+// reduced over the particles that set it. Twin: the host-copy path, `Solver::snapshot`
+// (src/solver.rs, the CUDA backend's in src/backend/cuda/mod.rs), the viewer's upload
+// (`Renderer::upload`, which orders the kinds alike) and `value_range`; test:
+// app/tests/render_interop.rs.
 #include "device/entries.cuh"
 #include "device/packing.cuh"
 #include "device/scan.cuh"

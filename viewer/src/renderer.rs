@@ -173,7 +173,7 @@ fn span(c: [usize; 3], hidden: i32) -> (usize, usize) {
     let mut shown = (0..3).filter(|&k| hidden & (1 << k) == 0 && c[k] > 0);
     match shown.next() {
         Some(a) => {
-            let b = shown.last().unwrap_or(a);
+            let b = shown.next_back().unwrap_or(a);
             (starts[a], starts[b] + c[b] - starts[a])
         }
         None => (0, 0),
@@ -257,13 +257,13 @@ impl Renderer {
         val.clear();
         kinds.clear();
         let mut counts = [0; 3];
-        for class in 0..3 {
+        for (class, count) in counts.iter_mut().enumerate() {
             for (i, &k) in frame.kinds.iter().enumerate() {
                 if kind_class(k) == class {
                     pos.push(frame.positions[i]);
                     val.push(frame.values[i]);
                     kinds.push(k);
-                    counts[class] += 1;
+                    *count += 1;
                 }
             }
         }

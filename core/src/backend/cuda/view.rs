@@ -2,9 +2,9 @@
 //! renderer's three particle buffers registered with CUDA once, then per drawn frame mapped,
 //! filled by `cuda/view.cu` straight from the solver's arrays in the viewer's kind order
 //! (fluid, solids, the rest; scans of the kinds' marks rank each particle), and unmapped;
-//! no particle crosses PCIe. The colour range is reduced on the device and comes back as 8 bytes, or not
-//! at all where the range is fixed. Twin: the host-copy path, `Solver::snapshot` and the
-//! viewer's upload; test: `tests/cuda_view.rs`.
+//! no particle crosses PCIe. The colour range is reduced on the device and comes back as 8
+//! bytes, or not at all where the range is fixed. Twin: the host-copy path,
+//! `Solver::snapshot` and the viewer's upload; test: `app/tests/render_interop.rs`.
 
 use cudarc::driver::{sys, CudaContext, CudaSlice, CudaStream, DriverError};
 
