@@ -176,6 +176,7 @@ impl LiveSource for Live {
                 self.frame_meta(out);
                 Some(Ok(DeviceFrame {
                     count: g.count,
+                    kinds: g.kinds,
                     range: g.range,
                 }))
             }
@@ -395,7 +396,8 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
             // Timed: K solver steps, then one frame drawn (finished, not read back: a window
             // does not read its pixels), N times; the last one is written as PNG.
             let bytes = |live: &Live| live.solver.device_to_host_bytes();
-            let (mut solve, mut draw) = (0.0f64, 0.0f64);
+            // Seconds of each frame's solving and drawing.
+            let (mut solves, mut draws) = (Vec::new(), Vec::new());
             let (mut step_bytes, mut draw_bytes) = (0u64, 0u64);
             let mut on_device = false;
             for f in 0..n {
@@ -407,8 +409,8 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
                 let b1 = bytes(&live);
                 let last = f + 1 == n;
                 on_device = shoot(&mut live, None)?;
-                draw += t1.elapsed().as_secs_f64();
-                solve += (t1 - t0).as_secs_f64();
+                draws.push(t1.elapsed().as_secs_f64());
+                solves.push((t1 - t0).as_secs_f64());
                 // Bytes from the second frame on: the first opens the scene's gates, whose
                 // removals read the state back once.
                 if let (Some(b0), Some(b1), Some(b2), true) = (b0, b1, bytes(&live), f > 0) {
@@ -438,22 +440,37 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
             let still = t0.elapsed().as_secs_f64();
             let later = n.saturating_sub(1).max(1) as f64;
             let per_frame = |b: u64| bytes(&live).map(|_| b as f64 / later);
+            let ms = |v: &[f64]| v.iter().map(|s| 1e3 * s).collect::<Vec<f64>>();
             let t = FrameTiming {
                 particles: live.solver.len(),
                 frames: n,
                 steps_per_frame: k,
                 path: if on_device { "device" } else { "host copy" },
-                frames_per_second: n as f64 / (solve + draw),
-                solver_ms_per_step: 1e3 * solve / (n as f64 * k as f64),
-                drawing_ms_per_frame: 1e3 * draw / n as f64,
+                all: FrameRates::of(&solves, &draws, k),
                 static_drawing_ms_per_frame: 1e3 * still / n as f64,
-                solver_slowdown_percent: 100.0 * draw / solve,
+                steady: (n > 1).then(|| FrameRates::of(&solves[1..], &draws[1..], k)),
+                first_frame_ms: (1e3 * solves[0], 1e3 * draws[0]),
+                frame_solver_ms: ms(&solves),
+                frame_drawing_ms: ms(&draws),
                 d2h_bytes_per_frame_drawing: per_frame(draw_bytes),
                 d2h_bytes_per_frame_stepping: per_frame(step_bytes),
                 size: a.size,
                 gpu_passes_ms: passes,
             };
             println!("{}", t.line());
+            if let Some(s) = &t.steady {
+                println!(
+                    "steady (frames after the first): {:.1} frames/s, solver {:.3} ms/step, \
+                     drawing {:.2} ms/frame, slow-down {:.1} %; the first frame: solver {:.1} \
+                     ms, drawing {:.1} ms",
+                    s.frames_per_second,
+                    s.solver_ms_per_step,
+                    s.drawing_ms_per_frame,
+                    s.solver_slowdown_percent,
+                    t.first_frame_ms.0,
+                    t.first_frame_ms.1
+                );
+            }
             if !t.gpu_passes_ms.is_empty() {
                 let list: Vec<String> = t
                     .gpu_passes_ms
@@ -486,6 +503,31 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Rates over some frames of `render --frames N --steps-per-frame K`.
+#[derive(serde::Serialize)]
+struct FrameRates {
+    frames_per_second: f64,
+    solver_ms_per_step: f64,
+    /// Filling (or reading back and uploading) and drawing one frame, to its finish.
+    drawing_ms_per_frame: f64,
+    /// Drawing time over solver time for the same frames.
+    solver_slowdown_percent: f64,
+}
+
+impl FrameRates {
+    /// From the frames' solving and drawing seconds, `k` steps each.
+    fn of(solves: &[f64], draws: &[f64], k: u32) -> FrameRates {
+        let (solve, draw) = (solves.iter().sum::<f64>(), draws.iter().sum::<f64>());
+        let n = solves.len().max(1) as f64;
+        FrameRates {
+            frames_per_second: n / (solve + draw),
+            solver_ms_per_step: 1e3 * solve / (n * k.max(1) as f64),
+            drawing_ms_per_frame: 1e3 * draw / n,
+            solver_slowdown_percent: 100.0 * draw / solve,
+        }
+    }
+}
+
 /// What `render --frames N --steps-per-frame K` measured.
 #[derive(serde::Serialize)]
 struct FrameTiming {
@@ -494,14 +536,19 @@ struct FrameTiming {
     steps_per_frame: u32,
     /// "device" (the vertex buffers filled on the GPU) or "host copy".
     path: &'static str,
-    frames_per_second: f64,
-    solver_ms_per_step: f64,
-    /// Filling (or reading back and uploading) and drawing one frame, to its finish.
-    drawing_ms_per_frame: f64,
+    /// Over all N frames (the first one's set-up included: the gates' removal, the CUDA
+    /// graph's capture, the modules' loading, the buffers' registration, the first draw).
+    #[serde(flatten)]
+    all: FrameRates,
     /// Drawing the same sprites again from the buffers as they are: the ceiling.
     static_drawing_ms_per_frame: f64,
-    /// Drawing time over solver time for the same frames.
-    solver_slowdown_percent: f64,
+    /// Over the frames after the first: a viewer's running cost.
+    steady: Option<FrameRates>,
+    /// The first frame's solving and drawing [ms].
+    first_frame_ms: (f64, f64),
+    /// Each frame's solving and drawing [ms].
+    frame_solver_ms: Vec<f64>,
+    frame_drawing_ms: Vec<f64>,
     /// Bytes read back from the device per frame by the drawing and by the stepping
     /// (`Solver::device_to_host_bytes`), over the frames after the first (which opens the
     /// scene's gates: a removal reads the state back once); `None` on the CPU.
@@ -535,12 +582,12 @@ impl FrameTiming {
             self.frames,
             self.steps_per_frame,
             self.path,
-            self.frames_per_second,
-            self.solver_ms_per_step,
-            self.drawing_ms_per_frame,
+            self.all.frames_per_second,
+            self.all.solver_ms_per_step,
+            self.all.drawing_ms_per_frame,
             self.static_drawing_ms_per_frame,
-            self.drawing_ms_per_frame / self.static_drawing_ms_per_frame.max(1e-9),
-            self.solver_slowdown_percent,
+            self.all.drawing_ms_per_frame / self.static_drawing_ms_per_frame.max(1e-9),
+            self.all.solver_slowdown_percent,
             bytes(self.d2h_bytes_per_frame_drawing),
             bytes(self.d2h_bytes_per_frame_stepping),
         )

@@ -38,8 +38,9 @@ fn difference(a: &Image, b: &Image) -> (f64, u8) {
     (differ as f64 / (a.width * a.height) as f64, most)
 }
 
-/// One scene at one moment drawn both ways: the same image.
-fn same_image(dir: &Path, scene: &str, at: &str, field: &str) {
+/// One scene at one moment drawn both ways (with the further arguments `extra`): the same
+/// image.
+fn same_image(dir: &Path, scene: &str, at: &str, field: &str, extra: &[&str]) {
     let (dev, host) = (
         dir.join(format!("{scene}-dev.png")),
         dir.join(format!("{scene}-host.png")),
@@ -55,7 +56,7 @@ fn same_image(dir: &Path, scene: &str, at: &str, field: &str) {
         "--size",
         "640x360",
     ];
-    let said = render(&[&common[..], &["--out", dev.to_str().unwrap()]].concat());
+    let said = render(&[&common[..], extra, &["--out", dev.to_str().unwrap()]].concat());
     assert!(
         said.contains("drawn from vertex buffers filled on the GPU"),
         "{said}"
@@ -63,6 +64,7 @@ fn same_image(dir: &Path, scene: &str, at: &str, field: &str) {
     let said = render(
         &[
             &common[..],
+            extra,
             &["--host-copy", "--out", host.to_str().unwrap()],
         ]
         .concat(),
@@ -96,9 +98,14 @@ fn same_image(dir: &Path, scene: &str, at: &str, field: &str) {
 #[ignore = "needs a CUDA GPU with EGL: run with --include-ignored there (MESHFREE_BIN names the binary)"]
 fn the_interop_frame_and_the_host_copy_frame_are_the_same_image() {
     let dir = tempfile::tempdir().unwrap();
-    same_image(dir.path(), "dam-break-2d", "0.3", "speed");
-    same_image(dir.path(), "dam-break-3d", "0.2", "speed");
-    same_image(dir.path(), "dam-break-3d", "0.2", "pressure");
+    same_image(dir.path(), "dam-break-2d", "0.3", "speed", &[]);
+    same_image(dir.path(), "dam-break-3d", "0.2", "speed", &[]);
+    same_image(dir.path(), "dam-break-3d", "0.2", "pressure", &[]);
+    // All three kinds, each its own part of the vertex buffers (the fluid, the sphere's
+    // solid, the walls): drawn as spheres in one span, and with the fluid as a surface.
+    let walls = ["--show-boundary"];
+    same_image(dir.path(), "impinging-3d", "1.0", "speed", &walls);
+    same_image(dir.path(), "impinging-3d", "1.0", "speed", &["--surface"]);
 }
 
 /// The `timing-json` line of a timed render.

@@ -26,6 +26,7 @@
 #include "device/entries.cuh"
 #include "device/packing.cuh"
 #include "device/particle.cuh"
+#include "device/scan.cuh"
 #include "device/vectors.cuh"
 
 // The persistent arrays of one storage (stress and rho_dev null without solids); the stress
@@ -131,12 +132,8 @@ MF_ENTRY2(sph_exchange_mark,
            unsigned periodic, float pmin, float pmax, const float* pos, unsigned* mark),
           (p, n, halo, axis, lo, hi, width, periodic, pmin, pmax, pos, mark))
 
-// The compacted slot of a marked slot i, from the scan of the marks (sph_scan_local and
-// sph_scan_top over n + 1 entries, grid.cu): the number of marked slots before it.
-__device__ __forceinline__ unsigned compacted(const unsigned* __restrict__ local, const unsigned* __restrict__ bsum,
-                                              unsigned i) {
-    return local[i] + bsum[i / MF_SCAN_CELLS];
-}
+// The compacted slot of a marked slot i: `compacted` (device/scan.cuh) over the scan of the
+// marks (sph_scan_local and sph_scan_top over n + 1 entries, grid.cu).
 
 // *total = the number of marked slots (the scan at the sentinel n). One thread.
 extern "C" __global__ void sph_exchange_total(unsigned n, const unsigned* __restrict__ local,

@@ -144,12 +144,14 @@ pub struct GlBuffers {
     pub capacity: usize,
 }
 
-/// What `Solver::fill_gl` wrote: `count` particles, and the least and greatest shown value
-/// of the particles that set the colour range (finite, neither boundary nor hidden), where
-/// the range was reduced and any particle set it.
+/// What `Solver::fill_gl` wrote: `count` particles, `kinds` of them of each kind class in
+/// the buffers' order (fluid, solid, every other kind), and the least and greatest shown
+/// value of the particles that set the colour range (finite, neither boundary nor hidden),
+/// where the range was reduced and any particle set it.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GlFill {
     pub count: usize,
+    pub kinds: [usize; 3],
     pub range: Option<(f32, f32)>,
 }
 
@@ -318,7 +320,8 @@ pub trait Solver: Send {
         }
     }
     /// Fills the viewer's vertex buffers `gl` from device memory (CUDA-OpenGL interop:
-    /// positions, quantity `shown` and kinds in storage order, as `snapshot` gives them), and
+    /// positions, quantity `shown` and kinds of the fluid, then of the solids, then of the
+    /// other kinds, each in storage order, as `snapshot` gives them), and
     /// reduces the colour range on the device unless `fixed_range` (then nothing comes back
     /// to the host); `hidden`'s bit k keeps kind k out of the range. `None`: this backend
     /// has no device memory to fill from (the viewer uploads a `snapshot`); `Err`: what failed.

@@ -8,10 +8,14 @@ use crate::renderer::{range_from, Renderer};
 use crate::{Field, FrameData, LiveSource, ViewerError};
 
 /// The renderer's particle vertex buffers, by their names in the current OpenGL context, for
-/// a source that fills them in device memory ([`LiveSource::fill_buffers`]). Per particle,
-/// in storage order: the position as three `f32` (z = 0 in 2D), the coloured value as one
-/// `f32`, the kind as one `u8` (see [`crate::kind`]). Each holds `capacity` particles; the
-/// names or the capacity change when the buffers are made anew (register them again).
+/// a source that fills them in device memory ([`LiveSource::fill_buffers`]). Per particle:
+/// the position as three `f32` (z = 0 in 2D), the coloured value as one `f32`, the kind as
+/// one `u8` (see [`crate::kind`]). The particles lie in kind order: every fluid particle,
+/// then every solid one, then the rest (boundary and any other kind), each part in the
+/// source's order (the upload of [`LiveSource::frame`] orders them alike), so that a pass
+/// walks only the kinds it draws ([`DeviceFrame::kinds`] says where each part ends). Each
+/// buffer holds `capacity` particles; the names or the capacity change when the buffers are
+/// made anew (register them again).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct ParticleBuffers {
     pub positions: u32,
@@ -34,6 +38,9 @@ impl ParticleBuffers {
 pub struct DeviceFrame {
     /// Particles written (at most the buffers' capacity).
     pub count: usize,
+    /// Of them, the fluid, the solid and the other particles, in that order in the buffers
+    /// (they sum to `count`).
+    pub kinds: [usize; 3],
     /// The least and greatest value of the particles that set the colour range (finite,
     /// neither boundary nor hidden), where the source reduced it and any particle set it.
     pub range: Option<(f32, f32)>,
@@ -60,7 +67,13 @@ pub(crate) fn prepare(
         let fixed = range.is_some() || field == Field::Kind;
         if let Some(r) = source.fill_buffers(field, hide_kinds, fixed, &bufs, frame) {
             let d = r.map_err(ViewerError::Source)?;
-            renderer.set_count(d.count);
+            if d.kinds.iter().sum::<usize>() != d.count {
+                return Err(ViewerError::Source(format!(
+                    "the fill's kinds {:?} do not sum to its {} particles",
+                    d.kinds, d.count
+                )));
+            }
+            renderer.set_counts(d.kinds);
             let (lo, hi) = d.range.unwrap_or((f32::INFINITY, f32::NEG_INFINITY));
             return Ok((
                 Some(range.unwrap_or_else(|| range_from(lo, hi, field))),

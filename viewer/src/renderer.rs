@@ -60,7 +60,11 @@ pub(crate) struct Renderer {
     font_tex: glow::Texture,
     font_w: u32,
     sprites: Sprites,
-    count: usize,
+    /// The particles in the buffers of each kind class, in their order there: fluid,
+    /// solid, every other kind ([`crate::ParticleBuffers`]).
+    counts: [usize; 3],
+    /// The host path's particles in that order (reused from frame to frame).
+    ordered: (Vec<[f32; 3]>, Vec<f32>, Vec<u8>),
     overlay_vao: glow::VertexArray,
     overlay_vbo: glow::Buffer,
     overlay_capacity: usize,
@@ -120,6 +124,12 @@ fn vec3_bytes(v: &[[f32; 3]]) -> &[u8] {
     unsafe { std::slice::from_raw_parts(v.as_ptr().cast::<u8>(), std::mem::size_of_val(v)) }
 }
 
+/// The kind class of kind `k` (the buffers' order, [`crate::ParticleBuffers`]): 0 fluid,
+/// 1 solid, 2 the boundary and any other kind.
+pub(crate) fn kind_class(k: u8) -> usize {
+    usize::from(k.min(crate::kind::BOUNDARY))
+}
+
 /// The colour range for `frame`: `opts.range`, or from the visible particles' values.
 pub(crate) fn value_range(frame: &FrameData, field: Field, hide: [bool; 3]) -> (f32, f32) {
     if field == Field::Kind {
@@ -155,6 +165,21 @@ pub(crate) fn range_from(mut lo: f32, mut hi: f32, field: Field) -> (f32, f32) {
     (lo, hi)
 }
 
+/// The range (first, count) of buffers holding `c` particles of each kind class, in that
+/// order, that holds the classes not in `hidden` (bit k hides class k): from the first shown
+/// class to the last (a hidden class between them is culled by the shaders).
+fn span(c: [usize; 3], hidden: i32) -> (usize, usize) {
+    let starts = [0, c[0], c[0] + c[1]];
+    let mut shown = (0..3).filter(|&k| hidden & (1 << k) == 0 && c[k] > 0);
+    match shown.next() {
+        Some(a) => {
+            let b = shown.next_back().unwrap_or(a);
+            (starts[a], starts[b] + c[b] - starts[a])
+        }
+        None => (0, 0),
+    }
+}
+
 impl Renderer {
     pub(crate) fn new(gl: &glow::Context) -> Result<Renderer, ViewerError> {
         unsafe {
@@ -184,7 +209,8 @@ impl Renderer {
                 font_tex,
                 font_w: fw,
                 sprites: Sprites::new(gl)?,
-                count: 0,
+                counts: [0; 3],
+                ordered: Default::default(),
                 overlay_vao,
                 overlay_vbo,
                 overlay_capacity: 0,
@@ -217,20 +243,33 @@ impl Renderer {
         unsafe { self.timers.take(gl) }
     }
 
-    /// Copies the particles to the GPU; buffers grow only when the count grows.
+    /// Copies the particles to the GPU in the buffers' kind order (the fluid, the solids,
+    /// the rest, each in the frame's order: what a device fill writes); buffers grow only
+    /// when the count grows.
     pub(crate) fn upload(
         &mut self,
         gl: &glow::Context,
         frame: &FrameData,
     ) -> Result<(), ViewerError> {
         frame.validate()?;
-        self.sprites.upload(
-            gl,
-            vec3_bytes(&frame.positions),
-            f32_bytes(&frame.values),
-            &frame.kinds,
-        );
-        self.count = frame.len();
+        let (pos, val, kinds) = &mut self.ordered;
+        pos.clear();
+        val.clear();
+        kinds.clear();
+        let mut counts = [0; 3];
+        for (class, count) in counts.iter_mut().enumerate() {
+            for (i, &k) in frame.kinds.iter().enumerate() {
+                if kind_class(k) == class {
+                    pos.push(frame.positions[i]);
+                    val.push(frame.values[i]);
+                    kinds.push(k);
+                    *count += 1;
+                }
+            }
+        }
+        self.sprites
+            .upload(gl, vec3_bytes(pos), f32_bytes(val), kinds);
+        self.counts = counts;
         Ok(())
     }
 
@@ -240,9 +279,14 @@ impl Renderer {
         self.sprites.buffers(gl, n)
     }
 
-    /// How many particles of the buffers the next draw takes (at most their capacity).
-    pub(crate) fn set_count(&mut self, n: usize) {
-        self.count = n.min(self.sprites.capacity());
+    /// How many particles of each kind class (fluid, solid, the rest) the buffers hold, in
+    /// that order, for the next draw (in all at most their capacity: else none are drawn).
+    pub(crate) fn set_counts(&mut self, counts: [usize; 3]) {
+        self.counts = if counts.iter().sum::<usize>() <= self.sprites.capacity() {
+            counts
+        } else {
+            [0; 3]
+        };
     }
 
     /// Draws the uploaded particles (using `frame` for the domain, radius, outlines and
@@ -299,9 +343,12 @@ impl Renderer {
             ortho: m.ortho,
             px_scale: 0.5 * h as f32 * m.proj.y_axis.y,
         };
+        // Kinds 3 and above share class 2 with the boundary: drawn where it is shown.
+        let (first, count) = span(self.counts, uniforms.hidden & 7);
         let sprites = SpriteView {
             size: (sw, h),
-            count: self.count,
+            first,
+            count,
             reverse: front_to_back_reversed(m.view, m.ortho),
             bounds: (frame.domain_min.into(), frame.domain_max.into()),
             quads_only: opts.quads_only,
@@ -320,7 +367,7 @@ impl Renderer {
 
             // Particles.
             gl.viewport(0, 0, sw as i32, h as i32);
-            if self.count > 0 {
+            if count > 0 {
                 self.timers.pass(gl, "particles");
                 gl.enable(glow::DEPTH_TEST);
                 gl.depth_func(glow::LESS);
@@ -342,7 +389,7 @@ impl Renderer {
                     1.5 * s as f32,
                 );
             }
-            if surface && self.count > 0 {
+            if surface && self.counts[0] > 0 {
                 let view = SurfaceView {
                     uniforms,
                     spacing: 2.0 * frame.particle_radius,
@@ -350,7 +397,12 @@ impl Renderer {
                         let (lo, hi) = frame.focus();
                         (0..3).map(|i| (hi[i] - lo[i]).powi(2)).sum::<f32>().sqrt()
                     },
-                    sprites,
+                    // The fluid: the buffers' first class.
+                    sprites: SpriteView {
+                        first: 0,
+                        count: self.counts[0],
+                        ..sprites
+                    },
                 };
                 self.surface.draw(
                     gl,
@@ -557,6 +609,25 @@ mod tests {
         assert_eq!(value_range(&f, Field::Kind, [false; 3]), (0.0, 2.0));
         let z = frame(vec![0.0; 3], vec![0; 3]);
         assert_eq!(value_range(&z, Field::Speed, [false; 3]), (0.0, 1e-6));
+    }
+
+    #[test]
+    fn a_pass_walks_only_the_kinds_it_draws() {
+        // 5 fluid, 2 solid, 3 boundary particles, in that order in the buffers.
+        let c = [5, 2, 3];
+        assert_eq!(span(c, 0), (0, 10));
+        assert_eq!(span(c, 0b100), (0, 7), "walls hidden");
+        assert_eq!(span(c, 0b001), (5, 5), "the fluid drawn as a surface");
+        assert_eq!(span(c, 0b101), (5, 2), "only the solids");
+        assert_eq!(
+            span(c, 0b010),
+            (0, 10),
+            "the solids between: culled by the shader"
+        );
+        assert_eq!(span(c, 0b111), (0, 0));
+        // No solids: the surface's sphere pass with the walls hidden draws nothing.
+        assert_eq!(span([5, 0, 3], 0b101), (0, 0));
+        assert_eq!(span([5, 0, 3], 0b001), (5, 3));
     }
 
     #[test]

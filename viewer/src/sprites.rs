@@ -1,5 +1,7 @@
-//! The particles' vertex buffers (the layout of [`crate::ParticleBuffers`]) and their
-//! draw (`shaders/particle.vert`), shared by the sphere pass and the surface's sprites.
+//! The particles' vertex buffers (the layout of [`crate::ParticleBuffers`]: the fluid, then
+//! the solids, then the other kinds, so that a pass draws the range of the kinds it shows)
+//! and their draw (`shaders/particle.vert`), shared by the sphere pass and the surface's
+//! sprites.
 //!
 //! One vertex per sprite: each is a point (`GL_POINTS`, `gl_PointSize` the bounding box
 //! of the sphere's projection, plus a pixel), drawn with the viewport widened by half the
@@ -58,7 +60,9 @@ type Attribute = (glow::Buffer, i32, u32, usize);
 pub(crate) struct SpriteView {
     /// The viewport (pixels, from the target's origin).
     pub size: (u32, u32),
-    /// Particles drawn, and their order (see the module's note).
+    /// The particles drawn, `first` .. `first + count` of the buffers, and their order (see
+    /// the module's note).
+    pub first: usize,
     pub count: usize,
     pub reverse: bool,
     /// World box holding every particle's centre.
@@ -185,7 +189,8 @@ impl Sprites {
         u: &ParticleUniforms,
         v: &SpriteView,
     ) {
-        let count = v.count.min(self.capacity);
+        let first = v.first.min(self.capacity);
+        let count = v.count.min(self.capacity - first);
         let (w, h) = (v.size.0 as i32, v.size.1 as i32);
         if count == 0 {
             return;
@@ -216,8 +221,8 @@ impl Sprites {
             gl.scissor(0, 0, w, h);
             gl.enable(glow::PROGRAM_POINT_SIZE);
             gl.bind_vertex_array(Some(self.points_vao));
-            self.in_order(count, v.reverse, |first, n| {
-                gl.draw_arrays(glow::POINTS, first as i32, n as i32);
+            self.in_order(first, count, v.reverse, |at, n| {
+                gl.draw_arrays(glow::POINTS, at as i32, n as i32);
             });
             gl.disable(glow::PROGRAM_POINT_SIZE);
             gl.disable(glow::SCISSOR_TEST);
@@ -227,34 +232,34 @@ impl Sprites {
             gl.uniform_1_i32(loc("u_points").as_ref(), 0);
             gl.uniform_2_f32(loc("u_clip_scale").as_ref(), 1.0, 1.0);
             gl.bind_vertex_array(Some(self.vao));
-            if v.reverse {
-                // Attributes with a divisor start at the pointer: moved per chunk.
-                self.in_order(count, true, |first, n| {
-                    self.point_attributes(gl, first);
-                    gl.draw_arrays_instanced(glow::TRIANGLE_STRIP, 0, 4, n as i32);
-                });
-                self.point_attributes(gl, 0);
-            } else {
-                gl.draw_arrays_instanced(glow::TRIANGLE_STRIP, 0, 4, count as i32);
-            }
+            // Attributes with a divisor start at the pointer: moved per chunk.
+            self.in_order(first, count, v.reverse, |at, n| {
+                if at != 0 {
+                    self.point_attributes(gl, at);
+                }
+                gl.draw_arrays_instanced(glow::TRIANGLE_STRIP, 0, 4, n as i32);
+                if at != 0 {
+                    self.point_attributes(gl, 0);
+                }
+            });
         }
         gl.bind_buffer(glow::ARRAY_BUFFER, None);
         gl.bind_vertex_array(None);
     }
 
-    /// Calls `f(first, n)` over the first `count` particles: one call, or with `reverse`
-    /// chunks from the last to the first.
-    fn in_order(&self, count: usize, reverse: bool, mut f: impl FnMut(usize, usize)) {
+    /// Calls `f(at, n)` over the particles `first` .. `first + count`: one call, or with
+    /// `reverse` chunks from the last to the first.
+    fn in_order(&self, first: usize, count: usize, reverse: bool, mut f: impl FnMut(usize, usize)) {
         if !reverse {
-            f(0, count);
+            f(first, count);
             return;
         }
         let chunk = MIN_CHUNK.max(count.div_ceil(MAX_CHUNKS));
-        let mut end = count;
-        while end > 0 {
-            let first = end.saturating_sub(chunk);
-            f(first, end - first);
-            end = first;
+        let mut end = first + count;
+        while end > first {
+            let at = end.saturating_sub(chunk).max(first);
+            f(at, end - at);
+            end = at;
         }
     }
 }

@@ -124,6 +124,10 @@ pub struct Buffers {
     /// The marks and their scan of a subdomain's halo selection and compaction
     /// (`cuda/exchange.cu`); allocated by the first (`scratch`).
     pub scratch: Option<Scratch>,
+    /// The particles of each kind class as last written from the host (`write_state`): fluid,
+    /// solid, every other kind (the viewer's kind order, `cuda/view.cu`). Kinds never change
+    /// in a step; a subdomain's exchange changes `n` without it (then the sum differs from n).
+    pub kinds: [usize; 3],
     /// Bytes allocated on the device for all of the above.
     pub bytes: usize,
     /// Of which the per-particle arrays (sized by `cap`).
@@ -341,6 +345,7 @@ impl Buffers {
             wall_partial: None,
             wall_force: None,
             scratch: None,
+            kinds: [0; 3],
             bytes: 0,
             particle_bytes,
             swapped: false,
@@ -440,6 +445,10 @@ impl Buffers {
             self.n,
             "write_state: length differs from the allocation"
         );
+        self.kinds = [0; 3];
+        for &k in &st.kind {
+            self.kinds[usize::from(k.min(MF_KIND_BOUNDARY as u8))] += 1;
+        }
         // What a drift, a grid build or a forces pass derived from the old state goes with it.
         self.eos_done = false;
         self.pairs_recorded = false;

@@ -109,6 +109,7 @@ pub enum Family {
     ExchangeUnpack,
     ExchangeCompact,
     ExchangeRestride,
+    ViewMark,
     ViewFill,
 }
 
@@ -147,7 +148,7 @@ const WALL_FORCE_PARAMS: &str =
 
 impl Family {
     /// Every family, in the order of the discriminants.
-    pub const ALL: [Family; 34] = [
+    pub const ALL: [Family; 35] = [
         Family::GridHist,
         Family::ScanLocal,
         Family::ScanTop,
@@ -181,6 +182,7 @@ impl Family {
         Family::ExchangeUnpack,
         Family::ExchangeCompact,
         Family::ExchangeRestride,
+        Family::ViewMark,
         Family::ViewFill,
     ];
 
@@ -432,13 +434,21 @@ impl Family {
                 One,
                 "unsigned n_old, unsigned n_new, unsigned planes, const float* src, float* dst",
             ),
+            Family::ViewMark => (
+                "view",
+                "sph_view_mark",
+                One,
+                "unsigned n, const unsigned char* kind, unsigned* mark_fluid, unsigned* mark_solid",
+            ),
             Family::ViewFill => (
                 "view",
                 "sph_view_fill",
                 Dims,
                 "const SphParams p, unsigned n, unsigned shown, unsigned hidden, const float* pos, \
                  const float* vel, const float* rho, const float* pr, const unsigned char* kind, \
-                 float* out_pos, float* out_val, unsigned char* out_kind, unsigned* range",
+                 float* out_pos, float* out_val, unsigned char* out_kind, unsigned* range, \
+                 const unsigned* f_local, const unsigned* f_bsum, const unsigned* s_local, \
+                 const unsigned* s_bsum, unsigned n_fluid, unsigned n_solid",
             ),
         };
         Spec {

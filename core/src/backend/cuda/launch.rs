@@ -11,6 +11,7 @@ use cudarc::driver::{
 
 use super::buffers::{self, Buffers, TlBuffers};
 use super::kernels::{Family, Kernel, Kernels, Scheme};
+use super::view::KindScans;
 use crate::consts::{MF_BLOCK, MF_LANES_MAX, MF_SAMPLE_FLOATS, MF_SCAN_BLOCK, MF_SCAN_CELLS};
 use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
 
@@ -1219,11 +1220,13 @@ pub fn gl_unmap(s: &CudaStream, res: &mut [sys::CUgraphicsResource]) -> Result<(
         .result()
 }
 
-/// The viewer's vertex fill (`Family::ViewFill`): the `b.n` particles' positions, quantity
-/// `shown` (MF_SHOWN_*) and kinds into the mapped buffers `out` (positions, values, kinds:
-/// device addresses of at least 12 n, 4 n and n bytes), and, where `range` is given (two
-/// words, zeroed here), the colour range of the particles that set it (`hidden`: bit k
-/// hides kind k).
+/// The viewer's vertex fill (`cuda/view.cu`): the marks of the fluid and the solids
+/// (`Family::ViewMark`), their scans, then `Family::ViewFill`, which writes the `b.n`
+/// particles' positions, quantity `shown` (MF_SHOWN_*) and kinds into the mapped buffers
+/// `out` (positions, values, kinds: device addresses of at least 12 n, 4 n and n bytes),
+/// each at its place in the kind order (`b.kinds` the class counts, equal to the storage's:
+/// checked by the caller), and, where `range` is given (two words, zeroed here), the colour
+/// range of the particles that set it (`hidden`: bit k hides kind k).
 #[allow(clippy::too_many_arguments)]
 pub fn view_fill(
     k: &Kernels,
@@ -1234,12 +1237,41 @@ pub fn view_fill(
     hidden: u32,
     out: [sys::CUdeviceptr; 3],
     range: Option<&mut CudaSlice<u32>>,
+    order: &mut KindScans,
 ) -> Result<(), DriverError> {
     let n = b.n as u32;
     if n == 0 {
         return Ok(());
     }
     let c = &b.cur;
+    let solids = b.kinds[1] > 0;
+    let km = k.get(Family::ViewMark);
+    {
+        let [mf, ms] = &mut order.mark;
+        let mut l = s.launch_builder(&km.f);
+        l.arg(&n).arg(&c.kind).arg(mf);
+        if solids {
+            l.arg(ms);
+        } else {
+            l.arg(&NULL);
+        }
+        // SAFETY: the arguments of `Family::ViewMark`: kind holds n particles, the marks
+        // `order.cap` >= n entries (the caller's check), mark_solid null without solids.
+        km.check(unsafe { l.launch(cfg(b.n)) }.map(|_| ()));
+    }
+    // The grid build's scan over the n marks of each (mark and local hold cap >= n entries,
+    // 16-byte aligned allocations; bsum ceil(cap / MF_SCAN_CELLS) blocks).
+    for q in 0..if solids { 2 } else { 1 } {
+        scan(
+            k,
+            s,
+            n,
+            &order.mark[q],
+            &mut order.local[q].slice_mut(..),
+            &mut order.bsum[q],
+        );
+    }
+    let (n_fluid, n_solid) = (b.kinds[0] as u32, b.kinds[1] as u32);
     let kf = k.get(Family::ViewFill);
     let mut l = s.launch_builder(&kf.f);
     l.arg(p)
@@ -1263,8 +1295,18 @@ pub fn view_fill(
             l.arg(&NULL);
         }
     }
+    l.arg(&order.local[0]).arg(&order.bsum[0]);
+    if solids {
+        l.arg(&order.local[1]).arg(&order.bsum[1]);
+    } else {
+        l.arg(&NULL).arg(&NULL);
+    }
+    l.arg(&n_fluid).arg(&n_solid);
     // SAFETY: the arguments of `Family::ViewFill`: pos, vel, rho, p and kind hold the n
     // current particles; out holds device addresses of mapped buffers of at least 12 n, 4 n
-    // and n bytes (checked by the caller, view.rs); range holds 2 words or is null.
+    // and n bytes (checked by the caller, view.rs); range holds 2 words or is null; the
+    // scans hold n entries (the solids' null without solids), and n_fluid + n_solid <= n
+    // counts the kinds of the storage (`b.kinds`, checked by the caller), so every slot
+    // written is below n.
     unsafe { l.launch(cfg(b.n)) }.map(|_| ())
 }

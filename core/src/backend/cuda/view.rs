@@ -1,22 +1,48 @@
 //! The viewer's vertex buffers filled from device memory (CUDA-OpenGL interop): the
 //! renderer's three particle buffers registered with CUDA once, then per drawn frame mapped,
-//! filled by `cuda/view.cu` straight from the solver's arrays, and unmapped; no particle
-//! crosses PCIe. The colour range is reduced on the device and comes back as 8 bytes, or not
-//! at all where the range is fixed. Twin: the host-copy path, `Solver::snapshot` and the
-//! viewer's upload; test: `tests/cuda_view.rs`.
+//! filled by `cuda/view.cu` straight from the solver's arrays in the viewer's kind order
+//! (fluid, solids, the rest; scans of the kinds' marks rank each particle), and unmapped;
+//! no particle crosses PCIe. The colour range is reduced on the device and comes back as 8
+//! bytes, or not at all where the range is fixed. Twin: the host-copy path,
+//! `Solver::snapshot` and the viewer's upload; test: `app/tests/render_interop.rs`.
 
 use cudarc::driver::{sys, CudaContext, CudaSlice, CudaStream, DriverError};
 
 use super::buffers::Buffers;
 use super::kernels::Kernels;
 use super::launch;
-use crate::consts::{MF_SHOWN_DENSITY, MF_SHOWN_KIND, MF_SHOWN_PRESSURE, MF_SHOWN_SPEED};
+use crate::consts::{
+    MF_SCAN_CELLS, MF_SHOWN_DENSITY, MF_SHOWN_KIND, MF_SHOWN_PRESSURE, MF_SHOWN_SPEED,
+};
 use crate::params::SphParams;
 use crate::solver::{GlBuffers, GlFill, Shown};
 use std::sync::Arc;
 
 /// Bytes per particle of the position, value and kind buffers (`GlBuffers`).
 const BYTES: [usize; 3] = [12, 4, 1];
+
+/// The scans that rank each particle among its kind (`cuda/view.cu`'s kind order): marks,
+/// per-block sums and block offsets, [0] of the fluid and [1] of the solids, for up to `cap`
+/// particles (the registered buffers' capacity).
+pub struct KindScans {
+    pub cap: usize,
+    pub mark: [CudaSlice<u32>; 2],
+    pub local: [CudaSlice<u32>; 2],
+    pub bsum: [CudaSlice<u32>; 2],
+}
+
+impl KindScans {
+    fn new(s: &Arc<CudaStream>, cap: usize) -> Result<KindScans, DriverError> {
+        let blocks = cap.div_ceil(MF_SCAN_CELLS as usize).max(1);
+        let z = |n: usize| s.alloc_zeros::<u32>(n.max(1));
+        Ok(KindScans {
+            cap,
+            mark: [z(cap)?, z(cap)?],
+            local: [z(cap)?, z(cap)?],
+            bsum: [z(blocks)?, z(blocks)?],
+        })
+    }
+}
 
 /// The registered buffers of one renderer.
 pub struct GlView {
@@ -26,6 +52,7 @@ pub struct GlView {
     res: [sys::CUgraphicsResource; 3],
     /// The range's two words (`cuda/view.cu`).
     range: CudaSlice<u32>,
+    order: KindScans,
 }
 
 // SAFETY: the resource handles are plain driver handles, used only through `&mut self` (so
@@ -65,11 +92,13 @@ impl GlView {
             }
         }
         let range = s.alloc_zeros::<u32>(2)?;
+        let order = KindScans::new(s, target.capacity)?;
         Ok(GlView {
             ctx,
             target,
             res,
             range,
+            order,
         })
     }
 
@@ -92,10 +121,15 @@ impl GlView {
         fixed_range: bool,
     ) -> Result<(GlFill, u64), String> {
         let n = b.n;
-        if n > self.target.capacity {
+        if n > self.target.capacity || n > self.order.cap {
             return Err(format!(
                 "the vertex buffers hold {} particles, the solver has {n}",
                 self.target.capacity
+            ));
+        }
+        if b.kinds.iter().sum::<usize>() != n {
+            return Err(format!(
+                "the particles' kinds are not counted for the {n} held (a subdomain's exchange)"
             ));
         }
         let mapped = launch::gl_map(s, &mut self.res).map_err(|e| format!("mapping: {e:?}"))?;
@@ -122,6 +156,7 @@ impl GlView {
                 u32::from(hidden),
                 out,
                 reduce.then_some(&mut self.range),
+                &mut self.order,
             )
             .map_err(|e| format!("the fill kernel: {e:?}")),
         };
@@ -132,6 +167,7 @@ impl GlView {
             return Ok((
                 GlFill {
                     count: n,
+                    kinds: b.kinds,
                     range: None,
                 },
                 0,
@@ -141,7 +177,14 @@ impl GlView {
             .clone_dtoh(&self.range)
             .map_err(|e| format!("reading the colour range: {e:?}"))?;
         let range = (w[1] != 0).then(|| (from_ordered(!w[0]), from_ordered(w[1])));
-        Ok((GlFill { count: n, range }, 8))
+        Ok((
+            GlFill {
+                count: n,
+                kinds: b.kinds,
+                range,
+            },
+            8,
+        ))
     }
 }
 
