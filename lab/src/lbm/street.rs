@@ -37,9 +37,10 @@ pub struct Street {
 /// (~Ma^2) is measured against 0.05 in docs/journal/2026-11-28-street-reference.md.
 pub const U_LATTICE: f64 = 0.1;
 /// [U] The seed of the shedding: a cross-flow velocity of this peak given once, at the end
-/// of the ramp, in a Gaussian of width D / 2 one diameter behind the cylinder's rear (as
-/// `validate::cylinder::kick`). The lattice's mirror-symmetric start would otherwise wait
-/// for round-off to break the symmetry; the SPH scenes' particle noise does it for them.
+/// of the ramp, in a Gaussian exp(-r^2 / w^2) of width w = D / 4 one diameter behind the
+/// cylinder's rear (where `validate::cylinder::kick` puts its own, of width D / 2). The
+/// lattice's mirror-symmetric start would otherwise wait for round-off to break the
+/// symmetry; the SPH scenes' particle noise does it for them.
 pub const KICK: f64 = 0.1;
 
 /// `scenes/vortex-street-re140.toml`: 20 x 8, D = 2 at (8, 4), U = 15, band [0, 1),
@@ -159,7 +160,7 @@ impl Street {
             lat.band_velocity = [u_lattice * r1, 0.0];
             lat.accel = [u_lattice * (r1 - r0), 0.0];
             if !kicked && t0 >= self.ramp {
-                let (x0, w) = (xc + 1.5 * d_cells as f64, 0.5 * r);
+                let (x0, w) = (xc + 1.5 * d_cells as f64, 0.25 * d_cells as f64);
                 lat.kick(
                     |p| (-((p[0] - x0).powi(2) + (p[1] - yc).powi(2)) / (w * w)).exp(),
                     [0.0, KICK * u_lattice],
