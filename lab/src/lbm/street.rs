@@ -2,11 +2,13 @@
 //! periodic (a row of cylinders one channel height apart), the mean flow held by an inflow
 //! band whose velocity is set to U ramp(t), the fluid outside the band accelerated with the
 //! ramp's mean-flow increase (the SPH kick's uniform body force, core/src/backend/cpu/
-//! integrate.rs), the same smooth ramp r(t) = (1 - cos(pi t / t_r)) / 2
-//! (`ramp_share`), Re = U D / nu. Scene units in, `ForceSample`s in scene time out, so
-//! that `validate::cylinder::summary_for` analyses them as it does an SPH run's forces.csv.
+//! integrate.rs), the same smooth ramp r(t) = (1 - cos(pi t / t_r)) / 2 (`smooth_ramp`, the
+//! shape of the SPH band's `ramp_share`), Re = U D / nu. Scene units in, `ForceSample`s in
+//! scene time out, so that `validate::cylinder::summary_for` analyses them as it does an SPH
+//! run's forces.csv.
 
 use super::Lattice;
+use meshfree_core::backend::cpu::smooth_ramp;
 use meshfree_core::monitor::ForceSample;
 
 /// A street in scene units (any consistent units; the built-ins' are dimensionless).
@@ -92,18 +94,6 @@ pub fn validate_cylinder() -> Street {
     }
 }
 
-/// The smooth ramp of the SPH inflow band, r(t) = (1 - cos(pi t / t_r)) / 2 on [0, t_r],
-/// 1 after (`ramp_share` in core/src/backend/cpu/integrate.rs).
-pub fn ramp_share(ramp: f64, t: f64) -> f64 {
-    if ramp <= 0.0 || t >= ramp {
-        1.0
-    } else if t <= 0.0 {
-        0.0
-    } else {
-        0.5 * (1.0 - (std::f64::consts::PI * t / ramp).cos())
-    }
-}
-
 /// A finished run: the force record and what it cost.
 #[derive(Clone, Debug)]
 pub struct StreetRun {
@@ -156,7 +146,7 @@ impl Street {
         let mut sum = [0.0; 2];
         for n in 0..steps {
             let (t0, t1) = (n as f64 * dt, (n + 1) as f64 * dt);
-            let (r0, r1) = (ramp_share(self.ramp, t0), ramp_share(self.ramp, t1));
+            let (r0, r1) = (smooth_ramp(self.ramp, t0), smooth_ramp(self.ramp, t1));
             lat.band_velocity = [u_lattice * r1, 0.0];
             lat.accel = [u_lattice * (r1 - r0), 0.0];
             if !kicked && t0 >= self.ramp {

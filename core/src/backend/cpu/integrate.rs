@@ -81,8 +81,19 @@ pub fn kick_span(p: &SphParams, dt_prev: f32, dt: f32) -> f32 {
 /// `ramp_share` in `cuda/integrate.cu`.
 #[inline]
 pub fn ramp_share(p: &SphParams, t: f64) -> f64 {
-    let tr = p.inflow_ramp as f64;
-    if p.inflow == 0 || tr <= 0.0 || t >= tr || p.integrator == MF_INTEGRATOR_EULER as i32 {
+    if p.inflow == 0 || p.integrator == MF_INTEGRATOR_EULER as i32 {
+        1.0
+    } else {
+        smooth_ramp(p.inflow_ramp as f64, t)
+    }
+}
+
+/// The ramp's shape alone [-]: (1 - cos(pi t / T_r)) / 2 for 0 <= t < T_r, 0 before, 1 after,
+/// and 1 for T_r <= 0 (no ramp), at time t [T] of a ramp T_r [T] (`ramp_share`; the lattice
+/// Boltzmann reference's band, `lab/src/lbm/street.rs`).
+#[inline]
+pub fn smooth_ramp(tr: f64, t: f64) -> f64 {
+    if tr <= 0.0 || t >= tr {
         1.0
     } else if t <= 0.0 {
         0.0

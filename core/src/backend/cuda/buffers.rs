@@ -174,6 +174,29 @@ pub struct Scratch {
     pub cap: usize,
 }
 
+/// The scans that rank each particle among its kind (`cuda/view.cu`'s kind order; the viewer's interop, `view.rs`): marks,
+/// per-block sums and block offsets, [0] of the fluid and [1] of the solids, for up to `cap`
+/// particles (the registered buffers' capacity).
+pub struct KindScans {
+    pub cap: usize,
+    pub mark: [CudaSlice<u32>; 2],
+    pub local: [CudaSlice<u32>; 2],
+    pub bsum: [CudaSlice<u32>; 2],
+}
+
+impl KindScans {
+    pub fn new(s: &Arc<CudaStream>, cap: usize) -> Result<KindScans, DriverError> {
+        let blocks = cap.div_ceil(MF_SCAN_CELLS as usize).max(1);
+        let z = |n: usize| s.alloc_zeros::<u32>(n.max(1));
+        Ok(KindScans {
+            cap,
+            mark: [z(cap)?, z(cap)?],
+            local: [z(cap)?, z(cap)?],
+            bsum: [z(blocks)?, z(blocks)?],
+        })
+    }
+}
+
 /// The per-particle arrays other than the persistent sets, for `cap` particles.
 struct Working {
     acc: CudaSlice<f32>,

@@ -9,9 +9,8 @@ use cudarc::driver::{
     LaunchConfig, PushKernelArg,
 };
 
-use super::buffers::{self, Buffers, TlBuffers};
+use super::buffers::{self, Buffers, KindScans, TlBuffers};
 use super::kernels::{Family, Kernel, Kernels, Scheme};
-use super::view::KindScans;
 use crate::consts::{MF_BLOCK, MF_LANES_MAX, MF_SAMPLE_FLOATS, MF_SCAN_BLOCK, MF_SCAN_CELLS};
 use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
 

@@ -8,41 +8,16 @@
 
 use cudarc::driver::{sys, CudaContext, CudaSlice, CudaStream, DriverError};
 
-use super::buffers::Buffers;
+use super::buffers::{Buffers, KindScans};
 use super::kernels::Kernels;
 use super::launch;
-use crate::consts::{
-    MF_SCAN_CELLS, MF_SHOWN_DENSITY, MF_SHOWN_KIND, MF_SHOWN_PRESSURE, MF_SHOWN_SPEED,
-};
+use crate::consts::{MF_SHOWN_DENSITY, MF_SHOWN_KIND, MF_SHOWN_PRESSURE, MF_SHOWN_SPEED};
 use crate::params::SphParams;
 use crate::solver::{GlBuffers, GlFill, Shown};
 use std::sync::Arc;
 
 /// Bytes per particle of the position, value and kind buffers (`GlBuffers`).
 const BYTES: [usize; 3] = [12, 4, 1];
-
-/// The scans that rank each particle among its kind (`cuda/view.cu`'s kind order): marks,
-/// per-block sums and block offsets, [0] of the fluid and [1] of the solids, for up to `cap`
-/// particles (the registered buffers' capacity).
-pub struct KindScans {
-    pub cap: usize,
-    pub mark: [CudaSlice<u32>; 2],
-    pub local: [CudaSlice<u32>; 2],
-    pub bsum: [CudaSlice<u32>; 2],
-}
-
-impl KindScans {
-    fn new(s: &Arc<CudaStream>, cap: usize) -> Result<KindScans, DriverError> {
-        let blocks = cap.div_ceil(MF_SCAN_CELLS as usize).max(1);
-        let z = |n: usize| s.alloc_zeros::<u32>(n.max(1));
-        Ok(KindScans {
-            cap,
-            mark: [z(cap)?, z(cap)?],
-            local: [z(cap)?, z(cap)?],
-            bsum: [z(blocks)?, z(blocks)?],
-        })
-    }
-}
 
 /// The registered buffers of one renderer.
 pub struct GlView {
