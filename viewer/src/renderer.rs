@@ -10,7 +10,7 @@ use crate::font;
 use crate::gpu_timers::{GpuTimers, PassTime};
 use crate::outline::Outlines;
 use crate::panel::{self, Action};
-use crate::shaders::{compile, sphere_fs, ParticleUniforms, SphereFs, PARTICLE_VS};
+use crate::shaders::{compile, ParticleUniforms, SphereFs, SpriteProgram};
 use crate::sprites::{front_to_back_reversed, SpriteView, Sprites};
 use crate::surface::{Surface, SurfaceView};
 use crate::{Camera, Field, FrameData, ParticleBuffers, RenderOptions, ViewerError};
@@ -54,7 +54,7 @@ pub(crate) struct DrawInfo {
 }
 
 pub(crate) struct Renderer {
-    particle_prog: glow::Program,
+    particle_prog: SpriteProgram,
     overlay_prog: glow::Program,
     cmap_tex: glow::Texture,
     font_tex: glow::Texture,
@@ -183,7 +183,7 @@ fn span(c: [usize; 3], hidden: i32) -> (usize, usize) {
 impl Renderer {
     pub(crate) fn new(gl: &glow::Context) -> Result<Renderer, ViewerError> {
         unsafe {
-            let particle_prog = compile(gl, PARTICLE_VS, &sphere_fs(SphereFs::Shaded))?;
+            let particle_prog = SpriteProgram::new(gl, SphereFs::Shaded)?;
             let overlay_prog = compile(gl, OVERLAY_VS, OVERLAY_FS)?;
             let table = colormap_table(256);
             let cmap_tex = texture(gl, 256, 1, glow::RGBA8, glow::RGBA, &table, glow::LINEAR)?;
@@ -225,7 +225,7 @@ impl Renderer {
     /// Frees the GL objects (the context must be current).
     pub(crate) fn destroy(&self, gl: &glow::Context) {
         unsafe {
-            gl.delete_program(self.particle_prog);
+            self.particle_prog.delete(gl);
             gl.delete_program(self.overlay_prog);
             gl.delete_texture(self.cmap_tex);
             gl.delete_texture(self.font_tex);
@@ -373,10 +373,14 @@ impl Renderer {
                 gl.depth_func(glow::LESS);
                 gl.disable(glow::BLEND);
                 gl.disable(glow::CULL_FACE);
-                let p = self.particle_prog;
-                gl.use_program(Some(p));
-                uniforms.set(gl, p, self.cmap_tex);
-                self.sprites.draw(gl, p, &uniforms, &sprites);
+                self.sprites.draw(
+                    gl,
+                    &self.particle_prog,
+                    &uniforms,
+                    &sprites,
+                    self.cmap_tex,
+                    &[],
+                );
                 self.timers.end(gl);
             }
             // Outlines, then the surface over them: the water lets them through.

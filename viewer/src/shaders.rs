@@ -8,7 +8,7 @@ use glow::HasContext;
 use crate::error::gl_err;
 use crate::ViewerError;
 
-pub(crate) const PARTICLE_VS: &str = include_str!("shaders/particle.vert");
+const PARTICLE_VS: &str = include_str!("shaders/particle.vert");
 pub(crate) const FULLSCREEN_VS: &str = include_str!("shaders/fullscreen.vert");
 pub(crate) const BLUR_FS: &str = include_str!("shaders/surface_blur.frag");
 pub(crate) const OUTLINE_VS: &str = include_str!("shaders/outline.vert");
@@ -29,7 +29,8 @@ pub(crate) enum SphereFs {
     SurfaceShade,
 }
 
-/// The full source of a particle fragment shader: version, the sphere ray-cast, the body.
+/// The full source of a particle fragment shader: version, the sphere ray-cast, the body
+/// (the sprite passes' ones build it through [`SpriteProgram`], with their defines).
 /// `GL_ARB_conservative_depth` (core in GL 4.2; NVIDIA's and Mesa's contexts have it) lets
 /// the impostors declare that their depth lies behind the quad's (`depth_greater`), which
 /// keeps the early depth test on; without it they still draw, tested late.
@@ -41,6 +42,52 @@ pub(crate) fn sphere_fs(which: SphereFs) -> String {
         SphereFs::SurfaceShade => include_str!("shaders/surface_shade.frag"),
     };
     format!("#version 330 core\n#extension GL_ARB_conservative_depth : enable\n{SPHERE}\n{body}")
+}
+
+/// `src` with `#define`s of `defines` after its first line (the `#version`).
+fn with_defines(src: &str, defines: &[&str]) -> String {
+    let (version, rest) = src.split_once('\n').unwrap_or((src, ""));
+    let defs: String = defines.iter().map(|d| format!("#define {d}\n")).collect();
+    format!("{version}\n{defs}{rest}")
+}
+
+/// A sprite pass's two programs, `particle.vert` with one fragment shader of `sphere.glsl`:
+/// one for points and one for instanced quads (built with `SPRITE_QUADS`, the only one
+/// whose sprites interpolate a point per fragment), so that a point carries only its flat
+/// outputs ([`crate::sprites::Sprites::draw`] picks them).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct SpriteProgram {
+    pub points: glow::Program,
+    pub quads: glow::Program,
+}
+
+impl SpriteProgram {
+    pub(crate) unsafe fn new(
+        gl: &glow::Context,
+        which: SphereFs,
+    ) -> Result<SpriteProgram, ViewerError> {
+        let fs = sphere_fs(which);
+        let build = |defines: &[&str]| {
+            compile(
+                gl,
+                &with_defines(PARTICLE_VS, defines),
+                &with_defines(&fs, defines),
+            )
+        };
+        let points = build(&["SPRITE_FS"])?;
+        match build(&["SPRITE_FS", "SPRITE_QUADS"]) {
+            Ok(quads) => Ok(SpriteProgram { points, quads }),
+            Err(e) => {
+                gl.delete_program(points);
+                Err(e)
+            }
+        }
+    }
+
+    pub(crate) unsafe fn delete(&self, gl: &glow::Context) {
+        gl.delete_program(self.points);
+        gl.delete_program(self.quads);
+    }
 }
 
 /// Compiles and links a program of one vertex and one fragment shader.
@@ -100,8 +147,6 @@ impl ParticleUniforms {
         let loc = |n: &str| gl.get_uniform_location(prog, n);
         gl.uniform_matrix_4_f32_slice(loc("u_view").as_ref(), false, &self.view.to_cols_array());
         gl.uniform_matrix_4_f32_slice(loc("u_proj").as_ref(), false, &self.proj.to_cols_array());
-        let inv = self.proj.inverse().to_cols_array();
-        gl.uniform_matrix_4_f32_slice(loc("u_inv_proj").as_ref(), false, &inv);
         gl.uniform_1_f32(loc("u_radius").as_ref(), self.radius.max(1e-9));
         gl.uniform_2_f32(loc("u_range").as_ref(), self.range.0, self.range.1);
         gl.uniform_1_i32(loc("u_hidden").as_ref(), self.hidden);

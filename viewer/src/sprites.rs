@@ -26,7 +26,7 @@ use glam::{Mat4, Vec3};
 use glow::HasContext;
 
 use crate::error::gl_err;
-use crate::shaders::ParticleUniforms;
+use crate::shaders::{ParticleUniforms, SpriteProgram};
 use crate::{ParticleBuffers, ViewerError};
 
 /// A reversed draw takes at least this many particles per chunk ...
@@ -179,15 +179,18 @@ impl Sprites {
         self.capacity
     }
 
-    /// Draws the sprites of `v` with `prog` (in use, `u` set on it): points, then quads
-    /// for what the points leave where any may (see the module's note). Leaves the
+    /// Draws the sprites of `v` with `prog`: points, then quads for what the points leave
+    /// where any may (see the module's note); each program in use with `u` (the colour map
+    /// `cmap`) and the float uniforms `extra` set on it. Leaves the program in use, the
     /// viewport at `v.size` and the scissor test off.
     pub(crate) unsafe fn draw(
         &self,
         gl: &glow::Context,
-        prog: glow::Program,
+        prog: &SpriteProgram,
         u: &ParticleUniforms,
         v: &SpriteView,
+        cmap: glow::Texture,
+        extra: &[(&str, f32)],
     ) {
         let first = v.first.min(self.capacity);
         let count = v.count.min(self.capacity - first);
@@ -195,8 +198,21 @@ impl Sprites {
         if count == 0 {
             return;
         }
-        let loc = |n: &str| gl.get_uniform_location(prog, n);
-        gl.uniform_2_f32(loc("u_view_size").as_ref(), w as f32, h as f32);
+        // A pixel centre's ray (`sphere.glsl`'s u_ray): its NDC x = 2 X / w - 1 ...
+        let (p00, p11) = (u.proj.x_axis.x, u.proj.y_axis.y);
+        let (ox, oy) = if u.ortho {
+            // ... is P00 x + P30 (a box) ...
+            (u.proj.w_axis.x, u.proj.w_axis.y)
+        } else {
+            // ... or P00 x / -z (a symmetric frustum: camera.rs).
+            (0.0, 0.0)
+        };
+        let ray = [
+            2.0 / (w as f32 * p00),
+            (-1.0 - ox) / p00,
+            2.0 / (h as f32 * p11),
+            (-1.0 - oy) / p11,
+        ];
         // The guard band: half the widest point, within the largest viewport.
         let room = (self.max_viewport.0 - w).min(self.max_viewport.1 - h) / 2;
         let guard = ((0.5 * self.point_max).ceil() as i32).min(room);
@@ -207,10 +223,21 @@ impl Sprites {
                 Some(px) => px > point_max,
                 None => true,
             };
-        gl.uniform_1_i32(loc("u_split").as_ref(), (points && quads) as i32);
-        gl.uniform_1_f32(loc("u_point_max").as_ref(), point_max);
+        // Puts `p` in use with every uniform but the pass's own (below).
+        let start = |p: glow::Program| {
+            gl.use_program(Some(p));
+            u.set(gl, p, cmap);
+            for &(name, value) in extra {
+                gl.uniform_1_f32(gl.get_uniform_location(p, name).as_ref(), value);
+            }
+            let loc = move |n: &str| gl.get_uniform_location(p, n);
+            gl.uniform_4_f32_slice(loc("u_ray").as_ref(), &ray);
+            gl.uniform_1_i32(loc("u_split").as_ref(), (points && quads) as i32);
+            gl.uniform_1_f32(loc("u_point_max").as_ref(), point_max);
+            loc
+        };
         if points {
-            gl.uniform_1_i32(loc("u_points").as_ref(), 1);
+            let loc = start(prog.points);
             gl.uniform_2_f32(
                 loc("u_clip_scale").as_ref(),
                 w as f32 / (w + 2 * guard) as f32,
@@ -229,7 +256,7 @@ impl Sprites {
             gl.viewport(0, 0, w, h);
         }
         if quads {
-            gl.uniform_1_i32(loc("u_points").as_ref(), 0);
+            let loc = start(prog.quads);
             gl.uniform_2_f32(loc("u_clip_scale").as_ref(), 1.0, 1.0);
             gl.bind_vertex_array(Some(self.vao));
             // Attributes with a divisor start at the pointer: moved per chunk.

@@ -17,7 +17,7 @@ use glow::HasContext;
 use crate::error::gl_err;
 use crate::gpu_timers::GpuTimers;
 use crate::shaders::{
-    compile, sphere_fs, ParticleUniforms, SphereFs, BLUR_FS, FULLSCREEN_VS, PARTICLE_VS,
+    compile, sphere_fs, ParticleUniforms, SphereFs, SpriteProgram, BLUR_FS, FULLSCREEN_VS,
 };
 use crate::sprites::{SpriteView, Sprites};
 use crate::ViewerError;
@@ -100,8 +100,8 @@ fn at_size(
 }
 
 pub(crate) struct Surface {
-    depth_prog: glow::Program,
-    thickness_prog: glow::Program,
+    depth_prog: SpriteProgram,
+    thickness_prog: SpriteProgram,
     blur_prog: glow::Program,
     shade_prog: glow::Program,
     empty_vao: glow::VertexArray,
@@ -220,8 +220,8 @@ impl Surface {
     pub(crate) fn new(gl: &glow::Context) -> Result<Surface, ViewerError> {
         unsafe {
             Ok(Surface {
-                depth_prog: compile(gl, PARTICLE_VS, &sphere_fs(SphereFs::SurfaceDepth))?,
-                thickness_prog: compile(gl, PARTICLE_VS, &sphere_fs(SphereFs::SurfaceThickness))?,
+                depth_prog: SpriteProgram::new(gl, SphereFs::SurfaceDepth)?,
+                thickness_prog: SpriteProgram::new(gl, SphereFs::SurfaceThickness)?,
                 blur_prog: compile(gl, FULLSCREEN_VS, BLUR_FS)?,
                 shade_prog: compile(gl, FULLSCREEN_VS, &sphere_fs(SphereFs::SurfaceShade))?,
                 empty_vao: gl.create_vertex_array().map_err(gl_err)?,
@@ -233,12 +233,9 @@ impl Surface {
 
     pub(crate) fn destroy(&self, gl: &glow::Context) {
         unsafe {
-            for p in [
-                self.depth_prog,
-                self.thickness_prog,
-                self.blur_prog,
-                self.shade_prog,
-            ] {
+            self.depth_prog.delete(gl);
+            self.thickness_prog.delete(gl);
+            for p in [self.blur_prog, self.shade_prog] {
                 gl.delete_program(p);
             }
             gl.delete_vertex_array(self.empty_vao);
@@ -311,9 +308,7 @@ impl Surface {
         gl.depth_func(glow::LESS);
         gl.depth_mask(true);
         gl.disable(glow::BLEND);
-        gl.use_program(Some(depth_prog));
-        ud.set(gl, depth_prog, cmap);
-        sprites.draw(gl, depth_prog, &ud, &depth_view);
+        sprites.draw(gl, &depth_prog, &ud, &depth_view, cmap, &[]);
         gl.disable(glow::DEPTH_TEST);
 
         // 1b. Every sphere's chord, summed.
@@ -325,15 +320,16 @@ impl Surface {
         gl.clear_buffer_f32_slice(glow::COLOR, 0, &[0.0; 4]);
         gl.enable(glow::BLEND);
         gl.blend_func(glow::ONE, glow::ONE);
-        gl.use_program(Some(thickness_prog));
-        ut.set(gl, thickness_prog, cmap);
         // Particle volume spacing^3 over the drawn sphere's volume.
         let fill = v.spacing.powi(3) / (4.0 / 3.0 * std::f32::consts::PI * u.radius.powi(3));
-        gl.uniform_1_f32(
-            gl.get_uniform_location(thickness_prog, "u_fill").as_ref(),
-            fill,
+        sprites.draw(
+            gl,
+            &thickness_prog,
+            &ut,
+            &thick_view,
+            cmap,
+            &[("u_fill", fill)],
         );
-        sprites.draw(gl, thickness_prog, &ut, &thick_view);
         gl.disable(glow::BLEND);
         // The thickness's mipmaps: the shading reads it averaged over about a particle
         // spacing, so that the spheres' chords do not show as discs.

@@ -3,10 +3,11 @@
 // view space), so that every point of the sphere lies at or behind it (the fragment
 // shaders' depth_greater), spanning the sphere's silhouette: in perspective its
 // projection's bounding box, else (orthographic) the square about it. Drawn two ways
-// (`sprites.rs`): one point per particle (u_points = 1, GL_POINTS: a square of
+// (`sprites.rs`), by two programs of this source: one point per particle (GL_POINTS: a square of
 // gl_PointSize pixels about the box's centre; the fragment shaders take the ray from
 // gl_FragCoord), or an instanced 4-vertex strip (u_points = 0: the box's corners; the
-// fragment shaders take the interpolated v_pos). With u_split = 1 the points take the
+// fragment shaders take the interpolated v_pos), the program built with SPRITE_QUADS.
+// With u_split = 1 the points take the
 // sprites that fit u_point_max and the strips the rest (the eye in or beside a sphere, or
 // a sprite too wide), so that each sprite is drawn once; with u_split = 0 each pass draws
 // every sprite (points wider than u_point_max clamped to it).
@@ -22,17 +23,22 @@ uniform int u_grey_boundary;
 uniform int u_ortho;
 // Pixels per world unit: at any depth (orthographic), at unit depth (perspective).
 uniform float u_px_scale;
-uniform int u_points;
 uniform int u_split;
 // The widest point [px], and the clip-space scale of the viewport widened by half of it
 // on each side (points whose centre lies off screen still draw; a scissor keeps the view).
 uniform float u_point_max;
 uniform vec2 u_clip_scale;
 uniform sampler2D u_cmap;
-out vec3 v_center;
+// Flat (one value per sprite; a point's vertex is its only one): the fewer a sprite's
+// outputs, the faster the pass (the graphics pipeline's attributes per primitive).
+flat out vec3 v_center;
+// The colour, and in .a the shading's level of detail (particle.frag).
+flat out vec4 v_color;
+#ifdef SPRITE_QUADS
 out vec3 v_pos;
-out vec3 v_color;
-out float v_rpx;
+#else
+vec3 v_pos;
+#endif
 
 // The least and greatest slope x / -z of the two lines from the eye that touch the circle
 // of radius r about (x, z), in a plane through the eye and the view's z axis: the
@@ -61,8 +67,7 @@ void main() {
     int k = int(a_kind + 0.5);
     v_center = vec3(0.0);
     v_pos = vec3(0.0);
-    v_color = vec3(0.0);
-    v_rpx = 0.0;
+    v_color = vec4(0.0);
     if (k >= 0 && k < 8 && ((u_hidden >> k) & 1) != 0) {
         cull();
         return;
@@ -101,7 +106,8 @@ void main() {
     float size = px + 1.0;
     bool as_point = px > 0.0 && size <= u_point_max;
     vec3 p;
-    if (u_points != 0) {
+#ifndef SPRITE_QUADS
+    {
         if (px <= 0.0 || (u_split != 0 && !as_point)) {
             cull();
             return;
@@ -109,7 +115,9 @@ void main() {
         gl_PointSize = min(size, u_point_max);
         vec2 mid = 0.5 * (lo + hi);
         p = vec3(box ? mid * -zq : mid, zq);
-    } else {
+    }
+#else
+    {
         if (u_split != 0 && as_point) {
             cull();
             return;
@@ -118,15 +126,20 @@ void main() {
         vec2 s = vec2((i & 1) == 0 ? lo.x : hi.x, (i & 2) == 0 ? lo.y : hi.y);
         p = vec3(box ? s * -zq : s, zq);
     }
+#endif
     v_center = c;
     v_pos = p;
-    v_rpx = u_radius * u_px_scale / (u_ortho != 0 ? 1.0 : max(-c.z, 1e-6));
+    // A sphere a few pixels across cannot show its shading: the lattice's spheres would
+    // alias into Moire bands. Below 4 pixels of radius the shading fades to the sphere's
+    // mean (particle.frag); orthographic views (2D) keep it.
+    float rpx = u_radius * u_px_scale / (u_ortho != 0 ? 1.0 : max(-c.z, 1e-6));
+    v_color.a = u_ortho != 0 ? 1.0 : smoothstep(1.0, 4.0, rpx);
     float span = u_range.y - u_range.x;
     float x = span > 0.0 ? (a_value - u_range.x) / span : 0.0;
     if (isnan(x)) x = 0.0;
     float t = clamp(x, 0.0, 1.0);
-    v_color = textureLod(u_cmap, vec2((t * 255.0 + 0.5) / 256.0, 0.5), 0.0).rgb;
-    if (k == 2 && u_grey_boundary != 0) v_color = vec3(0.55, 0.55, 0.58);
+    v_color.rgb = textureLod(u_cmap, vec2((t * 255.0 + 0.5) / 256.0, 0.5), 0.0).rgb;
+    if (k == 2 && u_grey_boundary != 0) v_color.rgb = vec3(0.55, 0.55, 0.58);
     gl_Position = u_proj * vec4(p, 1.0);
     gl_Position.xy *= u_clip_scale;
 }

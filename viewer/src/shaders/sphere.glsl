@@ -1,19 +1,30 @@
-// The sprites' drawing (`particle.vert`): 1 where they are points, whose fragments take
-// the ray from the pixel (the viewport's size, the inverse projection); 0 on quads.
-uniform int u_points;
+// The view's size in pixels (the surface's shading).
 uniform vec2 u_view_size;
-uniform mat4 u_inv_proj;
+
+#ifdef SPRITE_FS
+// What particle.vert hands each sprite: its centre (view space), its colour and shading
+// level (particle.frag), and on a quad the sprite-plane point of each fragment.
+flat in vec3 v_center;
+flat in vec4 v_color;
+#ifdef SPRITE_QUADS
+in vec3 v_pos;
+#endif
+// A pixel centre's ray (`sprites.rs`): s = gl_FragCoord.xy * u_ray.xz + u_ray.yw is, in
+// perspective, the view x and y where the ray crosses z = -1, orthographic its view x, y.
+uniform vec4 u_ray;
 
 // The point of the sprite's plane z = c.z + r (view space) that this fragment shows: on a
-// quad the interpolated vertex point v_pos, on a point the pixel centre's ray through it.
-vec3 sprite_point(vec3 v_pos, vec3 c, float r, bool ortho) {
-    if (u_points == 0) return v_pos;
-    vec2 ndc = gl_FragCoord.xy / u_view_size * 2.0 - 1.0;
-    vec4 e = u_inv_proj * vec4(ndc, 0.0, 1.0);
-    vec3 q = e.xyz / e.w;
+// quad the interpolated v_pos, on a point the pixel centre's ray through that plane.
+vec3 sprite_point(vec3 c, float r, bool ortho) {
+#ifdef SPRITE_QUADS
+    return v_pos;
+#else
+    vec2 s = gl_FragCoord.xy * u_ray.xz + u_ray.yw;
     float zq = c.z + r;
-    return ortho ? vec3(q.xy, zq) : q * (zq / q.z);
+    return ortho ? vec3(s, zq) : vec3(s * -zq, zq);
+#endif
 }
+#endif
 
 // Ray-casts the sphere of radius r about c (view space) through the quad point p. Returns
 // false on a miss; else the hit point and the unit normal there.
@@ -29,7 +40,7 @@ bool sphere_hit(vec3 p, vec3 c, float r, bool ortho, out vec3 hit, out vec3 n) {
     if (disc < 0.0) return false;
     float t = -b - sqrt(disc);
     hit = ro + t * rd;
-    n = (hit - c) / r;
+    n = (hit - c) * (1.0 / r);
     return true;
 }
 

@@ -3,8 +3,6 @@
 // depth buffer (test LESS, written): the sprites are drawn front to back and declare their
 // depth behind the sprite's plane (depth_greater), so that the spheres hidden behind nearer
 // ones are rejected before this shader runs.
-in vec3 v_center;
-in vec3 v_pos;
 uniform mat4 u_proj;
 uniform float u_radius;
 uniform int u_ortho;
@@ -13,7 +11,7 @@ layout(location = 0) out float o_depth;
 layout(depth_greater) out float gl_FragDepth;
 #endif
 void main() {
-    vec3 p = sprite_point(v_pos, v_center, u_radius, u_ortho != 0);
+    vec3 p = sprite_point(v_center, u_radius, u_ortho != 0);
     vec3 h;
     vec3 n;
     if (!sphere_hit(p, v_center, u_radius, u_ortho != 0, h, n)) discard;

@@ -4,14 +4,12 @@
 // Each sphere adds its chord through the disc of radius r in its sprite's plane, scaled by
 // u_fill = (particle volume) / (sphere volume), so that the sum is the fluid's thickness
 // even though the drawn spheres overlap.
-in vec3 v_center;
-in vec3 v_pos;
 uniform float u_radius;
 uniform int u_ortho;
 uniform float u_fill;
 layout(location = 0) out float o_thickness;
 void main() {
-    vec3 p = sprite_point(v_pos, v_center, u_radius, u_ortho != 0);
+    vec3 p = sprite_point(v_center, u_radius, u_ortho != 0);
     vec2 q = p.xy - v_center.xy;
     float s2 = u_radius * u_radius - dot(q, q);
     if (s2 <= 0.0) discard;
