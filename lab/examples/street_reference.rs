@@ -6,7 +6,10 @@
 //! the runs, the change between the two finest, the command).
 //!
 //! `cargo run --release -p meshfree-lab --example street_reference -- \
-//!     [--cases re140,re105,validate] [--d 20,30,40] [--out docs/data/street-reference.json] [--t-end T] [--u-lattice 0.1]`
+//!     [--cases re140,re105,validate] [--d 20,30,40] [--out docs/data/street-reference.json] [--t-end T] [--u-lattice 0.1] [--re RE]`
+//!
+//! `--re` replaces each case's Reynolds number (the viscosity follows; the geometry and U
+//! stay): the sensitivity of the statistics to Re.
 //!
 //! `validate` (the validate cylinder's geometry at Re 100, blockage 0.083) is also compared
 //! with Williamson's St and, after Allen & Vincenti's correction, the unconfined Cd 1.34 and
@@ -43,6 +46,9 @@ fn main() -> anyhow::Result<()> {
         };
         if let Some(t) = args.iter().position(|a| a == "--t-end") {
             street.t_end = args[t + 1].parse()?;
+        }
+        if let Some(r) = args.iter().position(|a| a == "--re") {
+            street.re = args[r + 1].parse()?;
         }
         let (u, d) = (street.u, street.diameter);
         let mut runs = Vec::new();
