@@ -223,7 +223,7 @@ impl Sprites {
                 Some(px) => px > point_max,
                 None => true,
             };
-        // Puts `p` in use with every uniform but the pass's own (below).
+        // Puts `p` in use with its uniforms, all but u_clip_scale (set by each draw below).
         let start = |p: glow::Program| {
             gl.use_program(Some(p));
             u.set(gl, p, cmap);
