@@ -24,7 +24,7 @@ void main() {
     vec3 hv = normalize(l + vec3(0.0, 0.0, 1.0));
     // x^48 by squaring (x^32 x^16): multiplies where pow takes two special-function
     // operations, which bound this pass (the H100/H200 shade fragments on few SMs).
-    float x = max(dot(n, hv), 0.0);
+    float x = clamp(dot(n, hv), 0.0, 1.0);
     float x2 = x * x;
     float x4 = x2 * x2;
     float x8 = x4 * x4;

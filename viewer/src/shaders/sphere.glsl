@@ -27,14 +27,19 @@ vec3 sprite_point(vec3 c, float r, bool ortho) {
 #endif
 
 // Ray-casts the sphere of radius r about c (view space) through the quad point p. Returns
-// false on a miss; else the hit point and the unit normal there.
+// false on a miss; else the hit point and the unit normal there (Haines et al., "Precision
+// improvements for ray/sphere intersection", Ray Tracing Gems 2019: the stable form).
 bool sphere_hit(vec3 p, vec3 c, float r, bool ortho, out vec3 hit, out vec3 n) {
     vec3 ro = ortho ? p : vec3(0.0);
     vec3 rd = ortho ? vec3(0.0, 0.0, -1.0) : normalize(p);
     vec3 oc = ro - c;
     float b = dot(rd, oc);
-    float cc = dot(oc, oc) - r * r;
-    float disc = b * b - cc;
+    // r^2 less the squared distance from the centre to the ray, from that distance's
+    // vector: b^2 - (|oc|^2 - r^2) loses every digit to cancellation where the eye is
+    // hundreds of radii away (|oc|^2 ~ 1e6 r^2 in float), and the normal then grew past
+    // unit length (white highlights on NVIDIA's spheres).
+    vec3 q = oc - b * rd;
+    float disc = r * r - dot(q, q);
     hit = vec3(0.0);
     n = vec3(0.0, 0.0, 1.0);
     if (disc < 0.0) return false;
