@@ -11,11 +11,11 @@ use meshfree_core::backend::create;
 use meshfree_core::frame;
 use meshfree_core::scene::format::{OutputFormat, Wall};
 use meshfree_core::scene::{Counts, Overrides, Scene};
-use meshfree_core::solver::{Diagnostics, GlBuffers, Shown, Snapshot, Solver};
+use meshfree_core::solver::{Diagnostics, GlBuffers, GlSplat, Shown, Snapshot, Solver};
 use meshfree_core::step::Stepper;
 use meshfree_viewer::{
     DeviceFrame, Field, FrameData, LiveSource, Outline, Panel, ParticleBuffers, RenderOptions,
-    Status, ViewOptions,
+    SplatView, Status, ViewOptions,
 };
 
 fn field(f: ShownField) -> Field {
@@ -158,6 +158,7 @@ impl LiveSource for Live {
         hide_kinds: [bool; 3],
         fixed_range: bool,
         buffers: &ParticleBuffers,
+        splat: Option<&SplatView>,
         out: &mut FrameData,
     ) -> Option<Result<DeviceFrame, String>> {
         if !self.device_fill {
@@ -170,7 +171,20 @@ impl LiveSource for Live {
             capacity: buffers.capacity,
         };
         let hidden = (0..3).fold(0u8, |m, k| m | (u8::from(hide_kinds[k]) << k));
-        let r = self.solver.fill_gl(&gl, shown(f), hidden, fixed_range)?;
+        let splat = splat.map(|v| GlSplat {
+            buffer: v.buffer,
+            width: v.width,
+            height: v.height,
+            view: v.view,
+            ray: v.ray,
+            radius: v.radius,
+            first: v.first,
+            count: v.count,
+            hidden: v.hidden,
+        });
+        let r = self
+            .solver
+            .fill_gl(&gl, shown(f), hidden, fixed_range, splat.as_ref())?;
         match r {
             Ok(g) => {
                 self.frame_meta(out);
@@ -178,6 +192,7 @@ impl LiveSource for Live {
                     count: g.count,
                     kinds: g.kinds,
                     range: g.range,
+                    splat: g.splat,
                 }))
             }
             Err(e) => {
@@ -361,10 +376,12 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
             image
                 .save_png(path)
                 .with_context(|| format!("writing {}", path.display()))?;
-            let from = if on_device {
-                "vertex buffers filled on the GPU"
-            } else {
-                "a host copy"
+            let from = match (on_device, renderer.drew_splat()) {
+                (true, true) => {
+                    "vertex buffers filled on the GPU, spheres from the GPU's visibility splat"
+                }
+                (true, false) => "vertex buffers filled on the GPU",
+                _ => "a host copy",
             };
             println!(
                 "wrote {} (t = {:.4}, drawn from {from})",

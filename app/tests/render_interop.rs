@@ -2,8 +2,9 @@
 //! `Solver::fill_gl`): the frame drawn from vertex buffers filled on the GPU and the frame
 //! drawn from a host copy (`--host-copy`) of the same state are the same image, and drawing
 //! a frame reads back 8 bytes (the colour range) or none with a fixed `--range`, where the
-//! host copy reads back every particle. Needs a CUDA GPU whose driver also gives EGL
-//! (ignored elsewhere; `MESHFREE_BIN` names the binary).
+//! host copy reads back every particle; the spheres of the GPU's visibility splat (from a
+//! view's second frame on) are the sprites' image. Needs a CUDA GPU whose driver also gives
+//! EGL (ignored elsewhere; `MESHFREE_BIN` names the binary).
 #![cfg(feature = "viewer")]
 
 use std::path::Path;
@@ -24,6 +25,18 @@ fn render(args: &[&str]) -> String {
         String::from_utf8_lossy(&out.stderr)
     );
     String::from_utf8(out.stdout).unwrap()
+}
+
+/// The share of pixels of `a` and `b` that differ and the largest channel difference, after
+/// asserting that `a` is not (almost) empty.
+fn compare(a: &Image, b: &Image, what: &str) -> (f64, u8) {
+    let lit = a
+        .rgba
+        .chunks_exact(4)
+        .filter(|p| p[..3] != a.rgba[..3])
+        .count();
+    assert!(lit > 1000, "{what}: the image is (almost) empty");
+    difference(a, b)
 }
 
 /// The share of pixels that differ, and the largest channel difference.
@@ -74,7 +87,7 @@ fn same_image(dir: &Path, scene: &str, at: &str, field: &str, extra: &[&str]) {
         Image::load_png(&dev).unwrap(),
         Image::load_png(&host).unwrap(),
     );
-    let (share, most) = difference(&a, &b);
+    let (share, most) = compare(&a, &b, scene);
     println!(
         "{scene} at t = {at}, {field}: {:.4} % of the pixels differ, by {most} at most",
         100.0 * share
@@ -86,12 +99,6 @@ fn same_image(dir: &Path, scene: &str, at: &str, field: &str, extra: &[&str]) {
         "{scene}: {:.4} % of the pixels differ",
         100.0 * share
     );
-    let lit = a
-        .rgba
-        .chunks_exact(4)
-        .filter(|p| p[..3] != a.rgba[..3])
-        .count();
-    assert!(lit > 1000, "{scene}: the image is (almost) empty");
 }
 
 #[test]
@@ -147,4 +154,50 @@ fn drawing_reads_back_nothing_per_particle() {
     assert_eq!(host["path"], "host copy", "{host}");
     let n = host["particles"].as_f64().unwrap();
     assert_eq!(host["d2h_bytes_per_frame_drawing"], 33.0 * n, "{host}");
+}
+
+#[test]
+#[ignore = "needs a CUDA GPU with EGL: run with --include-ignored there (MESHFREE_BIN names the binary)"]
+fn the_splat_frame_and_the_sprites_frame_are_the_same_image() {
+    // Two frames of one view: the first drawn as sprites, the second from the visibility
+    // splat that the first asked of the second's fill; the host copy draws sprites only.
+    let dir = tempfile::tempdir().unwrap();
+    let shots = |how: &str, extra: &[&str]| {
+        let stem = dir.path().join(how);
+        let said = render(
+            &[
+                &[
+                    "dam-break-3d",
+                    "--backend",
+                    "cuda",
+                    "--spacing",
+                    "0.0156",
+                    "--t-end",
+                    "0.2",
+                    "--frames",
+                    "2",
+                    "--size",
+                    "640x360",
+                    "--out",
+                    stem.to_str().unwrap(),
+                ][..],
+                extra,
+            ]
+            .concat(),
+        );
+        let last = Image::load_png(dir.path().join(format!("{how}_0001.png"))).unwrap();
+        (said, last)
+    };
+    let (said, splat) = shots("dev", &[]);
+    let second = said.lines().find(|l| l.contains("_0001.png")).unwrap_or("");
+    assert!(second.contains("visibility splat"), "{said}");
+    let (said, sprites) = shots("host", &["--host-copy"]);
+    assert!(said.contains("drawn from a host copy"), "{said}");
+    let (share, most) = compare(&splat, &sprites, "the splat's frame");
+    println!(
+        "splat against sprites: {:.4} % of the pixels differ, by {most} at most",
+        100.0 * share
+    );
+    // The same spheres: a pixel at a sphere's rim may go either way by float rounding.
+    assert!(share < 1e-4, "{:.4} % of the pixels differ", 100.0 * share);
 }

@@ -153,6 +153,36 @@ pub struct GlFill {
     pub count: usize,
     pub kinds: [usize; 3],
     pub range: Option<(f32, f32)>,
+    /// Whether the splat asked for was written.
+    pub splat: bool,
+}
+
+/// A visibility splat asked of `Solver::fill_gl` with the fill (the viewer's `SplatView`):
+/// of the particles `first .. first + count` of the filled buffers whose kind is not
+/// `hidden` (bit k: kind k), the nearest sphere of `radius` [L] at each pixel of a `width` x
+/// `height` perspective view, written to the OpenGL buffer `buffer`: `width * height`
+/// quadruples of `f32` (the sphere's world centre and shown value), then as many kind bytes
+/// (255 where no sphere is), pixel (X, Y) at Y width + X. `view`: the world-to-view rows
+/// (3 x 4); a pixel centre (X + 1/2, Y + 1/2) looks along (X' ray[0] + ray[1], Y' ray[2] +
+/// ray[3], -1) in view space (X', Y' the centre's coordinates).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GlSplat {
+    pub buffer: u32,
+    pub width: u32,
+    pub height: u32,
+    pub view: [f32; 12],
+    pub ray: [f32; 4],
+    pub radius: f32,
+    pub first: usize,
+    pub count: usize,
+    pub hidden: u8,
+}
+
+impl GlSplat {
+    /// Bytes of `buffer`.
+    pub fn bytes(&self) -> usize {
+        self.width as usize * self.height as usize * 17
+    }
 }
 
 /// Fields kernel-interpolated at one point (`Solver::sample_points`): eqs. (1)-(4) with
@@ -323,14 +353,16 @@ pub trait Solver: Send {
     /// positions, quantity `shown` and kinds of the fluid, then of the solids, then of the
     /// other kinds, each in storage order, as `snapshot` gives them), and
     /// reduces the colour range on the device unless `fixed_range` (then nothing comes back
-    /// to the host); `hidden`'s bit k keeps kind k out of the range. `None`: this backend
-    /// has no device memory to fill from (the viewer uploads a `snapshot`); `Err`: what failed.
+    /// to the host); `hidden`'s bit k keeps kind k out of the range; with `splat`, also the
+    /// spheres' visibility (`GlSplat`). `None`: this backend has no device memory to fill
+    /// from (the viewer uploads a `snapshot`); `Err`: what failed.
     fn fill_gl(
         &mut self,
         _gl: &GlBuffers,
         _shown: Shown,
         _hidden: u8,
         _fixed_range: bool,
+        _splat: Option<&GlSplat>,
     ) -> Option<Result<GlFill, String>> {
         None
     }

@@ -33,6 +33,27 @@ impl ParticleBuffers {
     pub const KIND_BYTES: usize = 1;
 }
 
+/// A visibility splat asked of [`LiveSource::fill_buffers`] (`splat.rs`): of the particles
+/// `first .. first + count` of the filled buffers whose kind is not `hidden` (bit k: kind k),
+/// the nearest sphere of `radius` at each pixel of a `width` x `height` perspective view,
+/// written to the OpenGL buffer `buffer`: `width * height` quadruples of `f32` (the sphere's
+/// world centre and value), then as many kind bytes (255 where no sphere is), the pixel
+/// (X, Y) at Y width + X. `view`: the world-to-view matrix's rows (3 x 4); the pixel centre at
+/// window position (X', Y') looks along (X' ray[0] + ray[1], Y' ray[2] + ray[3], -1) in view
+/// space. A pixel's sphere is the nearest one whose ray-cast hits it (the sprites' test).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SplatView {
+    pub buffer: u32,
+    pub width: u32,
+    pub height: u32,
+    pub view: [f32; 12],
+    pub ray: [f32; 4],
+    pub radius: f32,
+    pub first: usize,
+    pub count: usize,
+    pub hidden: u8,
+}
+
 /// What a source's [`LiveSource::fill_buffers`] wrote.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct DeviceFrame {
@@ -44,6 +65,8 @@ pub struct DeviceFrame {
     /// The least and greatest value of the particles that set the colour range (finite,
     /// neither boundary nor hidden), where the source reduced it and any particle set it.
     pub range: Option<(f32, f32)>,
+    /// Whether it also wrote the splat asked for.
+    pub splat: bool,
 }
 
 /// Puts one frame's particles into `renderer`: filled by the source on the GPU where
@@ -65,8 +88,11 @@ pub(crate) fn prepare(
     if device {
         let bufs = renderer.particle_buffers(gl, source.status().particles);
         let fixed = range.is_some() || field == Field::Kind;
-        if let Some(r) = source.fill_buffers(field, hide_kinds, fixed, &bufs, frame) {
+        let want = renderer.splat_wanted();
+        if let Some(r) = source.fill_buffers(field, hide_kinds, fixed, &bufs, want.as_ref(), frame)
+        {
             let d = r.map_err(ViewerError::Source)?;
+            renderer.set_splatted(true, want.filter(|_| d.splat));
             if d.kinds.iter().sum::<usize>() != d.count {
                 return Err(ViewerError::Source(format!(
                     "the fill's kinds {:?} do not sum to its {} particles",
@@ -82,6 +108,7 @@ pub(crate) fn prepare(
         }
     }
     source.frame(field, frame);
+    renderer.set_splatted(false, None);
     renderer.upload(gl, frame)?;
     Ok((range, false))
 }

@@ -32,6 +32,8 @@ pub struct HeadlessRenderer {
     /// buffers on the GPU) and colour range, for `redraw`.
     source_frame: FrameData,
     source_range: Option<(f32, f32)>,
+    /// Whether the last draw took its spheres from the source's visibility splat.
+    splat: bool,
     // Declared last so they drop after the GL objects are deleted in `Drop`.
     _context: PossiblyCurrentContext,
     _display: Display,
@@ -107,7 +109,8 @@ impl HeadlessRenderer {
                             gl.get_parameter_string(glow::VERSION)
                         )
                     };
-                    let renderer = Renderer::new(&gl)?;
+                    let tex_buffer = crate::splat::tex_buffer_fn(|s| display.get_proc_address(s));
+                    let renderer = Renderer::new(&gl, tex_buffer)?;
                     return Ok(HeadlessRenderer {
                         renderer,
                         fbo: None,
@@ -115,6 +118,7 @@ impl HeadlessRenderer {
                         gl_renderer,
                         source_frame: FrameData::default(),
                         source_range: None,
+                        splat: false,
                         _context: context,
                         _display: display,
                     });
@@ -260,7 +264,7 @@ impl HeadlessRenderer {
             gl.bind_framebuffer(glow::FRAMEBUFFER, Some(fbo));
             gl.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
         }
-        self.renderer.draw(gl, &self.source_frame, &opts);
+        self.splat = self.renderer.draw(gl, &self.source_frame, &opts).splat;
         let img = if read {
             Some(Image::read_gl(gl, Some(fbo), glow::COLOR_ATTACHMENT0, w, h))
         } else {
@@ -281,6 +285,12 @@ impl HeadlessRenderer {
 }
 
 impl HeadlessRenderer {
+    /// Whether the last frame drawn took its spheres from the source's visibility splat
+    /// (made with the fill for the view drawn before: from the second frame of a view on).
+    pub fn drew_splat(&self) -> bool {
+        self.splat
+    }
+
     /// The mean GPU time of each pass (the particles, the surface's passes) over the
     /// frames drawn since the last call, as far as their timer queries have been read;
     /// the measuring starts again. Empty where the context has no timer queries.

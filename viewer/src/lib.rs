@@ -101,13 +101,14 @@ mod outline;
 mod panel;
 mod renderer;
 mod shaders;
+mod splat;
 mod sprites;
 mod surface;
 mod window;
 
 pub use camera::{Camera, OrbitCamera, OrthoCamera};
 pub use colormap::colormap;
-pub use device_fill::{DeviceFrame, ParticleBuffers};
+pub use device_fill::{DeviceFrame, ParticleBuffers, SplatView};
 pub use error::ViewerError;
 pub use gpu_timers::PassTime;
 pub use headless::{render_headless, HeadlessRenderer};
@@ -271,14 +272,17 @@ pub trait LiveSource {
     /// `buffers` on the GPU (e.g. CUDA-OpenGL interop: nothing per particle through the
     /// host), and `out`'s dimension, domain and radius (its vectors stay as they are);
     /// reduces the colour range unless `fixed_range` (`hide_kinds[k]` keeps kind k out of
-    /// it). Called in place of [`LiveSource::frame`], the renderer's GL context current.
-    /// `None` (the default): this source cannot, the viewer calls `frame` and uploads.
+    /// it). With `splat`, the spheres' visibility too, where the source can
+    /// ([`SplatView`]; [`DeviceFrame::splat`] says whether it did). Called in place of
+    /// [`LiveSource::frame`], the renderer's GL context current. `None` (the default): this
+    /// source cannot, the viewer calls `frame` and uploads.
     fn fill_buffers(
         &mut self,
         _field: Field,
         _hide_kinds: [bool; 3],
         _fixed_range: bool,
         _buffers: &ParticleBuffers,
+        _splat: Option<&SplatView>,
         _out: &mut FrameData,
     ) -> Option<Result<DeviceFrame, String>> {
         None

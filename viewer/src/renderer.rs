@@ -11,9 +11,10 @@ use crate::gpu_timers::{GpuTimers, PassTime};
 use crate::outline::Outlines;
 use crate::panel::{self, Action};
 use crate::shaders::{compile, ParticleUniforms, SphereFs, SpriteProgram};
+use crate::splat::{Splat, TexBufferFn};
 use crate::sprites::{front_to_back_reversed, SpriteView, Sprites};
 use crate::surface::{Surface, SurfaceView};
-use crate::{Camera, Field, FrameData, ParticleBuffers, RenderOptions, ViewerError};
+use crate::{Camera, Field, FrameData, ParticleBuffers, RenderOptions, SplatView, ViewerError};
 
 const OVERLAY_VS: &str = r#"#version 330 core
 layout(location = 0) in vec2 a_pos;
@@ -51,6 +52,8 @@ pub(crate) struct DrawInfo {
     pub range: (f32, f32),
     /// The panel's clickable rows: x, y, width, height in pixels from the top left.
     pub panel_rows: Vec<([f32; 4], Action)>,
+    /// Whether the spheres came from the source's visibility splat (`splat.rs`).
+    pub splat: bool,
 }
 
 pub(crate) struct Renderer {
@@ -60,6 +63,8 @@ pub(crate) struct Renderer {
     font_tex: glow::Texture,
     font_w: u32,
     sprites: Sprites,
+    /// The spheres from the source's visibility splat, where it made one for this view.
+    splat: Splat,
     /// The particles in the buffers of each kind class, in their order there: fluid,
     /// solid, every other kind ([`crate::ParticleBuffers`]).
     counts: [usize; 3],
@@ -181,7 +186,10 @@ fn span(c: [usize; 3], hidden: i32) -> (usize, usize) {
 }
 
 impl Renderer {
-    pub(crate) fn new(gl: &glow::Context) -> Result<Renderer, ViewerError> {
+    pub(crate) fn new(
+        gl: &glow::Context,
+        tex_buffer: Option<TexBufferFn>,
+    ) -> Result<Renderer, ViewerError> {
         unsafe {
             let particle_prog = SpriteProgram::new(gl, SphereFs::Shaded)?;
             let overlay_prog = compile(gl, OVERLAY_VS, OVERLAY_FS)?;
@@ -209,6 +217,7 @@ impl Renderer {
                 font_tex,
                 font_w: fw,
                 sprites: Sprites::new(gl)?,
+                splat: Splat::new(gl, tex_buffer)?,
                 counts: [0; 3],
                 ordered: Default::default(),
                 overlay_vao,
@@ -233,6 +242,7 @@ impl Renderer {
             gl.delete_vertex_array(self.overlay_vao);
         }
         self.sprites.destroy(gl);
+        self.splat.destroy(gl);
         self.surface.destroy(gl);
         self.outlines.destroy(gl);
         self.timers.destroy(gl);
@@ -277,6 +287,19 @@ impl Renderer {
     /// (`device_fill.rs`); `set_count` then says how many the next draw takes.
     pub(crate) fn particle_buffers(&mut self, gl: &glow::Context, n: usize) -> ParticleBuffers {
         self.sprites.buffers(gl, n)
+    }
+
+    /// The splat to ask of the next fill (`splat.rs`): the view last drawn, where a splat
+    /// may stand for its sprites.
+    pub(crate) fn splat_wanted(&self) -> Option<SplatView> {
+        self.splat.want
+    }
+
+    /// Whether the last frame's particles were filled on the device (else uploaded), and
+    /// the splat that fill wrote.
+    pub(crate) fn set_splatted(&mut self, device: bool, done: Option<SplatView>) {
+        self.splat.device = device;
+        self.splat.done = done;
     }
 
     /// How many particles of each kind class (fluid, solid, the rest) the buffers hold, in
@@ -354,6 +377,7 @@ impl Renderer {
             quads_only: opts.quads_only,
         };
         let bg = opts.background;
+        let mut drew_splat = false;
 
         unsafe {
             let target = gl.get_parameter_framebuffer(glow::DRAW_FRAMEBUFFER_BINDING);
@@ -367,22 +391,35 @@ impl Renderer {
 
             // Particles.
             gl.viewport(0, 0, sw as i32, h as i32);
+            let splat = self.splat.view_for(gl, &uniforms, &sprites);
             if count > 0 {
+                // The splat's part of the screen, else the sprites.
+                let rect = if splat.is_some() && splat == self.splat.done {
+                    self.splat.rect(&uniforms, sprites.bounds)
+                } else {
+                    None
+                };
                 self.timers.pass(gl, "particles");
                 gl.enable(glow::DEPTH_TEST);
                 gl.depth_func(glow::LESS);
                 gl.disable(glow::BLEND);
                 gl.disable(glow::CULL_FACE);
-                self.sprites.draw(
-                    gl,
-                    &self.particle_prog,
-                    &uniforms,
-                    &sprites,
-                    self.cmap_tex,
-                    &[],
-                );
+                drew_splat = rect.is_some();
+                if let Some(rect) = rect {
+                    self.splat.draw(gl, &uniforms, self.cmap_tex, rect);
+                } else {
+                    self.sprites.draw(
+                        gl,
+                        &self.particle_prog,
+                        &uniforms,
+                        &sprites,
+                        self.cmap_tex,
+                        &[],
+                    );
+                }
                 self.timers.end(gl);
             }
+            self.splat.want = splat;
             // Outlines, then the surface over them: the water lets them through.
             if frame.dim == 3 && opts.outlines && !frame.outlines.is_empty() {
                 self.outlines.draw(
@@ -459,6 +496,7 @@ impl Renderer {
             camera,
             range,
             panel_rows,
+            splat: drew_splat,
         }
     }
 

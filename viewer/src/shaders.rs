@@ -15,6 +15,9 @@ pub(crate) const OUTLINE_VS: &str = include_str!("shaders/outline.vert");
 pub(crate) const OUTLINE_FS: &str = include_str!("shaders/outline.frag");
 
 const SPHERE: &str = include_str!("shaders/sphere.glsl");
+/// A sphere's colour and shading level: in the sprites' vertex shader and the splat's
+/// resolve (`with_colour`).
+const COLOUR: &str = include_str!("shaders/colour.glsl");
 
 /// The fragment shaders built on `sphere.glsl`.
 #[derive(Debug, Clone, Copy)]
@@ -27,6 +30,8 @@ pub(crate) enum SphereFs {
     SurfaceThickness,
     /// The surface's shading (a full-screen pass; it uses `window_depth`).
     SurfaceShade,
+    /// The visibility splat's resolve (a full-screen pass, `splat.rs`).
+    Splat,
 }
 
 /// The full source of a particle fragment shader: version, the sphere ray-cast, the body
@@ -40,8 +45,22 @@ pub(crate) fn sphere_fs(which: SphereFs) -> String {
         SphereFs::SurfaceDepth => include_str!("shaders/surface_depth.frag"),
         SphereFs::SurfaceThickness => include_str!("shaders/surface_thickness.frag"),
         SphereFs::SurfaceShade => include_str!("shaders/surface_shade.frag"),
+        SphereFs::Splat => include_str!("shaders/splat.frag"),
     };
-    format!("#version 330 core\n#extension GL_ARB_conservative_depth : enable\n{SPHERE}\n{body}")
+    let colour = if matches!(which, SphereFs::Splat) {
+        COLOUR
+    } else {
+        ""
+    };
+    format!(
+        "#version 330 core\n#extension GL_ARB_conservative_depth : enable\n{SPHERE}\n{colour}\n{body}"
+    )
+}
+
+/// `src` (a vertex shader) with `colour.glsl` after its first line (the `#version`).
+fn with_colour(src: &str) -> String {
+    let (version, rest) = src.split_once('\n').unwrap_or((src, ""));
+    format!("{version}\n{COLOUR}\n{rest}")
 }
 
 /// `src` with `#define`s of `defines` after its first line (the `#version`).
@@ -70,7 +89,7 @@ impl SpriteProgram {
         let build = |defines: &[&str]| {
             compile(
                 gl,
-                &with_defines(PARTICLE_VS, defines),
+                &with_defines(&with_colour(PARTICLE_VS), defines),
                 &with_defines(&fs, defines),
             )
         };

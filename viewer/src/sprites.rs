@@ -198,21 +198,7 @@ impl Sprites {
         if count == 0 {
             return;
         }
-        // A pixel centre's ray (`sphere.glsl`'s u_ray): its NDC x = 2 X / w - 1 ...
-        let (p00, p11) = (u.proj.x_axis.x, u.proj.y_axis.y);
-        let (ox, oy) = if u.ortho {
-            // ... is P00 x + P30 (a box) ...
-            (u.proj.w_axis.x, u.proj.w_axis.y)
-        } else {
-            // ... or P00 x / -z (a symmetric frustum: camera.rs).
-            (0.0, 0.0)
-        };
-        let ray = [
-            2.0 / (w as f32 * p00),
-            (-1.0 - ox) / p00,
-            2.0 / (h as f32 * p11),
-            (-1.0 - oy) / p11,
-        ];
+        let ray = pixel_ray(u, v.size);
         // The guard band: half the widest point, within the largest viewport.
         let room = (self.max_viewport.0 - w).min(self.max_viewport.1 - h) / 2;
         let guard = ((0.5 * self.point_max).ceil() as i32).min(room);
@@ -289,6 +275,27 @@ impl Sprites {
             end = at;
         }
     }
+}
+
+/// A pixel centre's ray in a view of `size` pixels (`sphere.glsl`'s u_ray): the pixel at
+/// window position (X, Y) looks through (X ray[0] + ray[1], Y ray[2] + ray[3]) at view depth
+/// -1 (perspective), or is that view x and y (orthographic).
+pub(crate) fn pixel_ray(u: &ParticleUniforms, size: (u32, u32)) -> [f32; 4] {
+    // Its NDC x = 2 X / w - 1 ...
+    let (p00, p11) = (u.proj.x_axis.x, u.proj.y_axis.y);
+    let (ox, oy) = if u.ortho {
+        // ... is P00 x + P30 (a box) ...
+        (u.proj.w_axis.x, u.proj.w_axis.y)
+    } else {
+        // ... or P00 x / -z (a symmetric frustum: camera.rs).
+        (0.0, 0.0)
+    };
+    [
+        2.0 / (size.0 as f32 * p00),
+        (-1.0 - ox) / p00,
+        2.0 / (size.1 as f32 * p11),
+        (-1.0 - oy) / p11,
+    ]
 }
 
 /// An upper bound on the point size (pixels, `particle.vert`'s `size`) of the sprite of any

@@ -276,7 +276,8 @@ impl<'a> App<'a> {
                 gl.get_parameter_string(glow::RENDERER)
             );
         }
-        let renderer = Renderer::new(&gl)?;
+        let tex_buffer = crate::splat::tex_buffer_fn(|s| display.get_proc_address(s));
+        let renderer = Renderer::new(&gl, tex_buffer)?;
         window.request_redraw();
         Ok(Gfx {
             renderer,

@@ -17,9 +17,7 @@ layout(location = 2) in float a_kind;
 uniform mat4 u_view;
 uniform mat4 u_proj;
 uniform float u_radius;
-uniform vec2 u_range;
 uniform int u_hidden;
-uniform int u_grey_boundary;
 uniform int u_ortho;
 // Pixels per world unit: at any depth (orthographic), at unit depth (perspective).
 uniform float u_px_scale;
@@ -28,7 +26,6 @@ uniform int u_split;
 // on each side (points whose centre lies off screen still draw; a scissor keeps the view).
 uniform float u_point_max;
 uniform vec2 u_clip_scale;
-uniform sampler2D u_cmap;
 // Flat (one value per sprite; a point's vertex is its only one): the fewer a sprite's
 // outputs, the faster the pass (the graphics pipeline's attributes per primitive).
 flat out vec3 v_center;
@@ -129,17 +126,9 @@ void main() {
 #endif
     v_center = c;
     v_pos = p;
-    // A sphere a few pixels across cannot show its shading: the lattice's spheres would
-    // alias into Moire bands. Below 4 pixels of radius the shading fades to the sphere's
-    // mean (particle.frag); orthographic views (2D) keep it.
+    // The colour and shading level (colour.glsl).
     float rpx = u_radius * u_px_scale / (u_ortho != 0 ? 1.0 : max(-c.z, 1e-6));
-    v_color.a = u_ortho != 0 ? 1.0 : smoothstep(1.0, 4.0, rpx);
-    float span = u_range.y - u_range.x;
-    float x = span > 0.0 ? (a_value - u_range.x) / span : 0.0;
-    if (isnan(x)) x = 0.0;
-    float t = clamp(x, 0.0, 1.0);
-    v_color.rgb = textureLod(u_cmap, vec2((t * 255.0 + 0.5) / 256.0, 0.5), 0.0).rgb;
-    if (k == 2 && u_grey_boundary != 0) v_color.rgb = vec3(0.55, 0.55, 0.58);
+    v_color = vec4(sphere_colour(a_value, k), shading_lod(rpx, u_ortho != 0));
     gl_Position = u_proj * vec4(p, 1.0);
     gl_Position.xy *= u_clip_scale;
 }

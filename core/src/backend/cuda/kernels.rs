@@ -111,6 +111,8 @@ pub enum Family {
     ExchangeRestride,
     ViewMark,
     ViewFill,
+    ViewSplat,
+    ViewPixels,
 }
 
 /// What the table says of a family.
@@ -148,7 +150,7 @@ const WALL_FORCE_PARAMS: &str =
 
 impl Family {
     /// Every family, in the order of the discriminants.
-    pub const ALL: [Family; 35] = [
+    pub const ALL: [Family; 37] = [
         Family::GridHist,
         Family::ScanLocal,
         Family::ScanTop,
@@ -184,6 +186,8 @@ impl Family {
         Family::ExchangeRestride,
         Family::ViewMark,
         Family::ViewFill,
+        Family::ViewSplat,
+        Family::ViewPixels,
     ];
 
     /// The table.
@@ -449,6 +453,20 @@ impl Family {
                  float* out_pos, float* out_val, unsigned char* out_kind, unsigned* range, \
                  const unsigned* f_local, const unsigned* f_bsum, const unsigned* s_local, \
                  const unsigned* s_bsum, unsigned n_fluid, unsigned n_solid",
+            ),
+            Family::ViewSplat => (
+                "view",
+                "sph_view_splat",
+                One,
+                "unsigned first, unsigned n, const float* pos, const unsigned char* kind, \
+                 unsigned hidden, const float* cam, unsigned width, unsigned height, unsigned long long* key",
+            ),
+            Family::ViewPixels => (
+                "view",
+                "sph_view_pixels",
+                One,
+                "unsigned pixels, const unsigned long long* key, const float* pos, \
+                 const float* val, const unsigned char* kind, float* out4, unsigned char* out_kind",
             ),
         };
         Spec {

@@ -13,6 +13,7 @@ use super::buffers::{self, Buffers, KindScans, TlBuffers};
 use super::kernels::{Family, Kernel, Kernels, Scheme};
 use crate::consts::{MF_BLOCK, MF_LANES_MAX, MF_SAMPLE_FLOATS, MF_SCAN_BLOCK, MF_SCAN_CELLS};
 use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
+use crate::solver::GlSplat;
 
 // SAFETY: SphParams is the bindgen image of the C struct in `cuda/sph_params.h` (repr(C),
 // plain integers and floats, no pointers); kernels take it by value. `tests/cuda_parity.rs`
@@ -1308,4 +1309,61 @@ pub fn view_fill(
     // counts the kinds of the storage (`b.kinds`, checked by the caller), so every slot
     // written is below n.
     unsafe { l.launch(cfg(b.n)) }.map(|_| ())
+}
+
+/// The viewer's visibility splat (`cuda/view.cu`) over the filled buffers `filled`
+/// (positions, values, kinds: device addresses of `view_fill`'s output): `key` zeroed,
+/// `Family::ViewSplat` over the particles `sp.first .. sp.first + sp.count`, then
+/// `Family::ViewPixels` into the mapped buffer `out` (`sp.bytes()` bytes: the pixels'
+/// quadruples, then their kinds). `cam` holds 17 floats, `key` at least width x height words.
+pub fn view_splat(
+    k: &Kernels,
+    s: &Arc<CudaStream>,
+    sp: &GlSplat,
+    filled: [sys::CUdeviceptr; 3],
+    out: sys::CUdeviceptr,
+    cam: &mut CudaSlice<f32>,
+    key: &mut CudaSlice<u64>,
+) -> Result<(), DriverError> {
+    let pixels = sp.width as usize * sp.height as usize;
+    let mut c = [0.0f32; 17];
+    c[..12].copy_from_slice(&sp.view);
+    c[12..16].copy_from_slice(&sp.ray);
+    c[16] = sp.radius;
+    s.memcpy_htod(&c, &mut *cam)?;
+    s.memset_zeros(&mut key.slice_mut(..pixels))?;
+    let (first, count, hidden) = (sp.first as u32, sp.count as u32, u32::from(sp.hidden));
+    let (w, h) = (sp.width, sp.height);
+    if count > 0 {
+        let ks = k.get(Family::ViewSplat);
+        let mut l = s.launch_builder(&ks.f);
+        l.arg(&first)
+            .arg(&count)
+            .arg(&filled[0])
+            .arg(&filled[2])
+            .arg(&hidden)
+            .arg(&*cam)
+            .arg(&w)
+            .arg(&h)
+            .arg(&mut *key);
+        // SAFETY: the arguments of `Family::ViewSplat`: pos and kind are filled buffers of
+        // at least first + count particles (the caller's check), cam 17 floats, key at least
+        // width x height words (every pixel written lies in the view).
+        ks.check(unsafe { l.launch(cfg(sp.count)) }.map(|_| ()));
+    }
+    let kp = k.get(Family::ViewPixels);
+    let out_kind = out + 16 * pixels as u64;
+    let n = pixels as u32;
+    let mut l = s.launch_builder(&kp.f);
+    l.arg(&n)
+        .arg(&*key)
+        .arg(&filled[0])
+        .arg(&filled[1])
+        .arg(&filled[2])
+        .arg(&out)
+        .arg(&out_kind);
+    // SAFETY: the arguments of `Family::ViewPixels`: key holds the pixels' words, whose
+    // particles index the filled buffers (the splat's), and out holds 17 bytes a pixel
+    // (the caller's check): 16 from its start, then one from out_kind.
+    unsafe { l.launch(cfg(pixels)) }.map(|_| ())
 }

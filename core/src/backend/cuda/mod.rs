@@ -31,7 +31,8 @@ use crate::frame::{Fields, FrameData, PendingFrame, Ready};
 use crate::params::{needs_density_gradient, SphParams, MF_DENSITY_CONTINUITY};
 use crate::particle::Particle;
 use crate::solver::{
-    BackendInfo, Diagnostics, Fault, GlBuffers, GlFill, PointSample, Setup, Shown, Snapshot, Solver,
+    BackendInfo, Diagnostics, Fault, GlBuffers, GlFill, GlSplat, PointSample, Setup, Shown,
+    Snapshot, Solver,
 };
 use crate::state::State;
 
@@ -696,6 +697,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
         shown: Shown,
         hidden: u8,
         fixed_range: bool,
+        splat: Option<&GlSplat>,
     ) -> Option<Result<GlFill, String>> {
         if !self.gl_view.as_ref().is_some_and(|v| v.serves(gl)) {
             self.gl_view = None;
@@ -719,6 +721,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
                 shown,
                 hidden,
                 fixed_range,
+                splat,
             ) {
                 Ok((fill, read)) => {
                     self.d2h += read;

@@ -3,8 +3,10 @@
 //! filled by `cuda/view.cu` straight from the solver's arrays in the viewer's kind order
 //! (fluid, solids, the rest; scans of the kinds' marks rank each particle), and unmapped;
 //! no particle crosses PCIe. The colour range is reduced on the device and comes back as 8
-//! bytes, or not at all where the range is fixed. Twin: the host-copy path,
-//! `Solver::snapshot` and the viewer's upload; test: `app/tests/render_interop.rs`.
+//! bytes, or not at all where the range is fixed. Where the viewer asks (`GlSplat`), the
+//! same mapping also takes its splat buffer, and after the fill the visibility splat writes
+//! each pixel's nearest sphere into it. Twin: the host-copy path, `Solver::snapshot` and the
+//! viewer's upload (and its sprites' pass for the splat); test: `app/tests/render_interop.rs`.
 
 use cudarc::driver::{sys, CudaContext, CudaSlice, CudaStream, DriverError};
 
@@ -13,7 +15,7 @@ use super::kernels::Kernels;
 use super::launch;
 use crate::consts::{MF_SHOWN_DENSITY, MF_SHOWN_KIND, MF_SHOWN_PRESSURE, MF_SHOWN_SPEED};
 use crate::params::SphParams;
-use crate::solver::{GlBuffers, GlFill, Shown};
+use crate::solver::{GlBuffers, GlFill, GlSplat, Shown};
 use std::sync::Arc;
 
 /// Bytes per particle of the position, value and kind buffers (`GlBuffers`).
@@ -28,6 +30,11 @@ pub struct GlView {
     /// The range's two words (`cuda/view.cu`).
     range: CudaSlice<u32>,
     order: KindScans,
+    /// The splat's buffer as registered (name, bytes, resource), its camera (17 floats) and
+    /// its per-pixel keys (grown to the largest view).
+    splat: Option<(u32, usize, sys::CUgraphicsResource)>,
+    cam: CudaSlice<f32>,
+    key: Option<CudaSlice<u64>>,
 }
 
 // SAFETY: the resource handles are plain driver handles, used only through `&mut self` (so
@@ -68,12 +75,16 @@ impl GlView {
         }
         let range = s.alloc_zeros::<u32>(2)?;
         let order = KindScans::new(s, target.capacity)?;
+        let cam = s.alloc_zeros::<f32>(17)?;
         Ok(GlView {
             ctx,
             target,
             res,
             range,
             order,
+            splat: None,
+            cam,
+            key: None,
         })
     }
 
@@ -82,8 +93,34 @@ impl GlView {
         self.target == *target
     }
 
-    /// Map, fill and unmap: the particles of `b` into the buffers; returns what was written
-    /// and the bytes read back (8 with the range, else 0).
+    /// Registers the splat's buffer (again where its name or size changed) and makes room
+    /// for its keys.
+    fn prepare_splat(&mut self, s: &Arc<CudaStream>, sp: &GlSplat) -> Result<(), String> {
+        if self
+            .splat
+            .is_none_or(|(name, bytes, _)| name != sp.buffer || bytes != sp.bytes())
+        {
+            if let Some((_, _, r)) = self.splat.take() {
+                let _ = launch::gl_unregister(&self.ctx, r);
+            }
+            let r = launch::gl_register(&self.ctx, sp.buffer)
+                .map_err(|e| format!("registering the splat buffer: {e:?}"))?;
+            self.splat = Some((sp.buffer, sp.bytes(), r));
+        }
+        let pixels = sp.width as usize * sp.height as usize;
+        if self.key.as_ref().is_none_or(|k| k.len() < pixels) {
+            self.key = None;
+            self.key = Some(
+                s.alloc_zeros::<u64>(pixels)
+                    .map_err(|e| format!("allocating the splat's keys: {e:?}"))?,
+            );
+        }
+        Ok(())
+    }
+
+    /// Map, fill and unmap: the particles of `b` into the buffers (and, with `splat`, their
+    /// visibility into its buffer); returns what was written and the bytes read back (8
+    /// with the range, else 0).
     #[allow(clippy::too_many_arguments)]
     pub fn fill(
         &mut self,
@@ -94,6 +131,7 @@ impl GlView {
         shown: Shown,
         hidden: u8,
         fixed_range: bool,
+        splat: Option<&GlSplat>,
     ) -> Result<(GlFill, u64), String> {
         let n = b.n;
         if n > self.target.capacity || n > self.order.cap {
@@ -107,15 +145,34 @@ impl GlView {
                 "the particles' kinds are not counted for the {n} held (a subdomain's exchange)"
             ));
         }
-        let mapped = launch::gl_map(s, &mut self.res).map_err(|e| format!("mapping: {e:?}"))?;
+        let splat = match splat {
+            Some(sp) if sp.first + sp.count <= n && sp.width > 0 && sp.height > 0 => {
+                self.prepare_splat(s, sp)?;
+                Some(sp)
+            }
+            _ => None,
+        };
+        let mut res = self.res.to_vec();
+        if let (Some(_), Some((_, _, r))) = (splat, self.splat) {
+            res.push(r);
+        }
+        let mapped = launch::gl_map(s, &mut res).map_err(|e| format!("mapping: {e:?}"))?;
         let mut out = [0; 3];
         let mut short = None;
-        for (i, &(ptr, size)) in mapped.iter().enumerate() {
+        for (i, &(ptr, size)) in mapped.iter().take(3).enumerate() {
             out[i] = ptr;
             if size < n * BYTES[i] {
                 short = Some(format!(
                     "vertex buffer {i} has {size} bytes, {} needed",
                     n * BYTES[i]
+                ));
+            }
+        }
+        if let (Some(sp), Some(&(_, size))) = (splat, mapped.get(3)) {
+            if size < sp.bytes() {
+                short = Some(format!(
+                    "the splat buffer has {size} bytes, {} needed",
+                    sp.bytes()
                 ));
             }
         }
@@ -135,15 +192,24 @@ impl GlView {
             )
             .map_err(|e| format!("the fill kernel: {e:?}")),
         };
-        let unmapped = launch::gl_unmap(s, &mut self.res).map_err(|e| format!("unmapping: {e:?}"));
+        let r = match (r, splat, mapped.get(3), self.key.as_mut()) {
+            (Ok(()), Some(sp), Some(&(ptr, _)), Some(key)) => {
+                launch::view_splat(k, s, sp, out, ptr, &mut self.cam, key)
+                    .map_err(|e| format!("the splat kernels: {e:?}"))
+            }
+            (r, ..) => r,
+        };
+        let unmapped = launch::gl_unmap(s, &mut res).map_err(|e| format!("unmapping: {e:?}"));
         r?;
         unmapped?;
+        let splat = splat.is_some();
         if !reduce {
             return Ok((
                 GlFill {
                     count: n,
                     kinds: b.kinds,
                     range: None,
+                    splat,
                 },
                 0,
             ));
@@ -157,6 +223,7 @@ impl GlView {
                 count: n,
                 kinds: b.kinds,
                 range,
+                splat,
             },
             8,
         ))
@@ -165,7 +232,8 @@ impl GlView {
 
 impl Drop for GlView {
     fn drop(&mut self) {
-        for &r in &self.res {
+        let splat = self.splat.map(|(_, _, r)| r);
+        for &r in self.res.iter().chain(splat.iter()) {
             // Nothing to do about a failure here (e.g. the GL context went first).
             let _ = launch::gl_unregister(&self.ctx, r);
         }

@@ -1,0 +1,306 @@
+//! The spheres drawn from a visibility splat that the source runs on its GPU with the fill
+//! ([`SplatView`], [`crate::LiveSource::fill_buffers`]; meshfree's `cuda/view.cu`) instead
+//! of the sprites' pass: the source finds each pixel's nearest sphere and writes its centre,
+//! value and kind into one buffer of this renderer; a full-screen pass (`shaders/splat.frag`)
+//! reads that buffer through two buffer textures (no copy: a copy into 2D textures took
+//! longer than the sprites' pass saved) and ray-casts and lights each pixel's sphere as the
+//! sprites' fragment shader does. The sprites' pass shades every fragment of every sprite
+//! on the few SMs that run graphics on an H100 or H200; the splat runs on all of them.
+//!
+//! The splat is asked for with the next fill and drawn only where the view it was made for
+//! is the view being drawn: a moved camera, a resized view, a change of the shown kinds draw
+//! the sprites once, and the splat again from the next frame. It is asked for only in
+//! perspective, with every sprite at most [`SPLAT_MAX_PX`] across (each sphere's pixels are
+//! one GPU thread's loop) and no sphere reaching the eye's plane, and where the context
+//! gives `glTexBuffer` (core since OpenGL 3.1; glow does not wrap it: [`TexBufferFn`]).
+
+use glam::Vec3;
+use glow::HasContext;
+
+use crate::error::gl_err;
+use crate::shaders::{compile, sphere_fs, ParticleUniforms, SphereFs, FULLSCREEN_VS};
+use crate::sprites::{pixel_ray, widest_sprite_px, SpriteView};
+use crate::{SplatView, ViewerError};
+
+/// The widest sprite [px] that a view may have to be splatted.
+pub(crate) const SPLAT_MAX_PX: f32 = 32.0;
+
+/// Bytes per pixel of the splat's buffer: a centre and value (4 `f32`), then the kind.
+const PIXEL_BYTES: usize = 17;
+
+/// `glTexBuffer(target, internal format, buffer)`, from the context's loader.
+pub(crate) type TexBufferFn = unsafe extern "system" fn(u32, u32, u32);
+
+/// `glTexBuffer` as the context's loader `proc_address` gives it (null: `None`).
+pub(crate) fn tex_buffer_fn(
+    proc_address: impl Fn(&std::ffi::CStr) -> *const std::ffi::c_void,
+) -> Option<TexBufferFn> {
+    let f = proc_address(c"glTexBuffer");
+    // SAFETY: a non-null glTexBuffer of the loader has OpenGL's signature (GLenum target,
+    // GLenum internalformat, GLuint buffer: three 32-bit unsigned integers, no result).
+    (!f.is_null())
+        .then(|| unsafe { std::mem::transmute::<*const std::ffi::c_void, TexBufferFn>(f) })
+}
+
+pub(crate) struct Splat {
+    prog: glow::Program,
+    /// The context's `glTexBuffer` (`None`: no splat).
+    tex_buffer: Option<TexBufferFn>,
+    /// The buffer the source writes (created at the first view asked for).
+    buffer: Option<glow::Buffer>,
+    /// Its buffer textures: the pixels' centre and value (RGBA32F texels from its start)
+    /// and kinds (R8UI texels: byte 16 pixels + p is pixel p's).
+    centres: glow::Texture,
+    kinds: glow::Texture,
+    /// The view size the buffer holds.
+    size: (u32, u32),
+    vao: glow::VertexArray,
+    /// The view asked of the next fill ...
+    pub(crate) want: Option<SplatView>,
+    /// ... and the one the last fill splatted.
+    pub(crate) done: Option<SplatView>,
+    /// Whether the last frame was filled on the device (else uploaded: no splat is asked).
+    pub(crate) device: bool,
+}
+
+impl Splat {
+    pub(crate) fn new(
+        gl: &glow::Context,
+        tex_buffer: Option<TexBufferFn>,
+    ) -> Result<Splat, ViewerError> {
+        unsafe {
+            let prog = compile(gl, FULLSCREEN_VS, &sphere_fs(SphereFs::Splat))?;
+            Ok(Splat {
+                prog,
+                tex_buffer,
+                buffer: None,
+                centres: gl.create_texture().map_err(gl_err)?,
+                kinds: gl.create_texture().map_err(gl_err)?,
+                size: (0, 0),
+                vao: gl.create_vertex_array().map_err(gl_err)?,
+                want: None,
+                done: None,
+                device: false,
+            })
+        }
+    }
+
+    pub(crate) fn destroy(&self, gl: &glow::Context) {
+        unsafe {
+            gl.delete_program(self.prog);
+            if let Some(b) = self.buffer {
+                gl.delete_buffer(b);
+            }
+            gl.delete_texture(self.centres);
+            gl.delete_texture(self.kinds);
+            gl.delete_vertex_array(self.vao);
+        }
+    }
+
+    /// The splat of the sprites `v` drawn with `u`, where it may stand for them (see the
+    /// module's note), its buffer and textures sized for the view; else `None`.
+    pub(crate) fn view_for(
+        &mut self,
+        gl: &glow::Context,
+        u: &ParticleUniforms,
+        v: &SpriteView,
+    ) -> Option<SplatView> {
+        let small =
+            widest_sprite_px(u, v.bounds.0, v.bounds.1).is_some_and(|px| px <= SPLAT_MAX_PX);
+        if self.tex_buffer.is_none()
+            || !self.device
+            || u.ortho
+            || v.quads_only
+            || v.count == 0
+            || !small
+        {
+            return None;
+        }
+        let buffer = self.resize(gl, v.size).ok()?;
+        let m = u.view;
+        let row = |r: usize| [m.x_axis[r], m.y_axis[r], m.z_axis[r], m.w_axis[r]];
+        let mut view = [0.0; 12];
+        for r in 0..3 {
+            view[4 * r..4 * r + 4].copy_from_slice(&row(r));
+        }
+        Some(SplatView {
+            buffer,
+            width: v.size.0,
+            height: v.size.1,
+            view,
+            ray: pixel_ray(u, v.size),
+            radius: u.radius,
+            first: v.first,
+            count: v.count,
+            hidden: (u.hidden & 0xff) as u8,
+        })
+    }
+
+    /// Sizes the buffer for `size` pixels (its textures over it); returns its name.
+    fn resize(&mut self, gl: &glow::Context, size: (u32, u32)) -> Result<u32, ViewerError> {
+        let tex_buffer = self
+            .tex_buffer
+            .ok_or_else(|| gl_err("no glTexBuffer".to_string()))?;
+        unsafe {
+            let b = match self.buffer {
+                Some(b) => b,
+                None => {
+                    let b = gl.create_buffer().map_err(gl_err)?;
+                    self.buffer = Some(b);
+                    self.size = (0, 0);
+                    b
+                }
+            };
+            if self.size != size {
+                let bytes = size.0 as usize * size.1 as usize * PIXEL_BYTES;
+                gl.bind_buffer(glow::TEXTURE_BUFFER, Some(b));
+                gl.buffer_data_size(glow::TEXTURE_BUFFER, bytes as i32, glow::DYNAMIC_COPY);
+                gl.bind_buffer(glow::TEXTURE_BUFFER, None);
+                for (t, format) in [(self.centres, glow::RGBA32F), (self.kinds, glow::R8UI)] {
+                    gl.bind_texture(glow::TEXTURE_BUFFER, Some(t));
+                    // SAFETY: the context's glTexBuffer, its texture and buffer bound.
+                    tex_buffer(glow::TEXTURE_BUFFER, format, b.0.get());
+                }
+                gl.bind_texture(glow::TEXTURE_BUFFER, None);
+                self.size = size;
+                self.done = None;
+            }
+            Ok(b.0.get())
+        }
+    }
+
+    /// The part (x, y, width, height) of the view, in pixels, that the world box `bounds`
+    /// (grown by the spheres' radius) covers on screen under `u`, where the last splat is
+    /// to be drawn; the rest holds no sphere.
+    pub(crate) fn rect(
+        &self,
+        u: &ParticleUniforms,
+        bounds: (Vec3, Vec3),
+    ) -> Option<(i32, i32, i32, i32)> {
+        self.buffer?;
+        self.done?;
+        screen_rect(u, bounds, self.size)
+    }
+
+    /// Draws the spheres of the last splat (`done`, which the caller checked is the view
+    /// drawn) in the part `rect` (`Splat::rect`), with `u` and the colour map `cmap`,
+    /// into the bound framebuffer, whose viewport is the splat's; depth-tested as the sprites
+    /// are.
+    pub(crate) unsafe fn draw(
+        &self,
+        gl: &glow::Context,
+        u: &ParticleUniforms,
+        cmap: glow::Texture,
+        rect: (i32, i32, i32, i32),
+    ) {
+        let Some(sv) = self.done else {
+            return;
+        };
+        gl.enable(glow::SCISSOR_TEST);
+        gl.scissor(rect.0, rect.1, rect.2, rect.3);
+        gl.use_program(Some(self.prog));
+        u.set(gl, self.prog, cmap);
+        let loc = |n: &str| gl.get_uniform_location(self.prog, n);
+        gl.uniform_4_f32_slice(loc("u_ray").as_ref(), &sv.ray);
+        gl.uniform_1_i32(loc("u_px").as_ref(), 1);
+        gl.uniform_1_i32(loc("u_pk").as_ref(), 2);
+        gl.uniform_1_i32(loc("u_width").as_ref(), self.size.0 as i32);
+        gl.uniform_1_i32(
+            loc("u_kinds_at").as_ref(),
+            16 * (self.size.0 * self.size.1) as i32,
+        );
+        gl.active_texture(glow::TEXTURE1);
+        gl.bind_texture(glow::TEXTURE_BUFFER, Some(self.centres));
+        gl.active_texture(glow::TEXTURE2);
+        gl.bind_texture(glow::TEXTURE_BUFFER, Some(self.kinds));
+        gl.active_texture(glow::TEXTURE0);
+        gl.bind_vertex_array(Some(self.vao));
+        gl.draw_arrays(glow::TRIANGLES, 0, 3);
+        gl.bind_vertex_array(None);
+        gl.disable(glow::SCISSOR_TEST);
+        for unit in [glow::TEXTURE2, glow::TEXTURE1] {
+            gl.active_texture(unit);
+            gl.bind_texture(glow::TEXTURE_BUFFER, None);
+        }
+        gl.active_texture(glow::TEXTURE0);
+    }
+}
+
+/// The pixels (x, y, width, height) of a view of `size` that hold the projection of the
+/// world box `bounds` grown by `u.radius` (its eight corners' bounding rectangle, widened by
+/// a pixel; the whole view where the box reaches the eye's plane), or `None` where it lies
+/// off screen.
+fn screen_rect(
+    u: &ParticleUniforms,
+    bounds: (Vec3, Vec3),
+    size: (u32, u32),
+) -> Option<(i32, i32, i32, i32)> {
+    let r = Vec3::splat(u.radius);
+    let (lo, hi) = (bounds.0 - r, bounds.1 + r);
+    let m = u.proj * u.view;
+    let (mut x0, mut y0) = (f32::INFINITY, f32::INFINITY);
+    let (mut x1, mut y1) = (f32::NEG_INFINITY, f32::NEG_INFINITY);
+    for i in 0..8 {
+        let c = Vec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        );
+        let p = m * c.extend(1.0);
+        if p.w.is_nan() || p.w <= 0.0 {
+            return Some((0, 0, size.0 as i32, size.1 as i32));
+        }
+        let sx = (p.x / p.w * 0.5 + 0.5) * size.0 as f32;
+        let sy = (p.y / p.w * 0.5 + 0.5) * size.1 as f32;
+        (x0, y0, x1, y1) = (x0.min(sx), y0.min(sy), x1.max(sx), y1.max(sy));
+    }
+    let xa = (x0.floor() as i32 - 1).max(0);
+    let ya = (y0.floor() as i32 - 1).max(0);
+    let xb = (x1.ceil() as i32 + 1).min(size.0 as i32);
+    let yb = (y1.ceil() as i32 + 1).min(size.1 as i32);
+    (xb > xa && yb > ya).then_some((xa, ya, xb - xa, yb - ya))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Mat4;
+
+    fn uniforms(eye: Vec3) -> ParticleUniforms {
+        ParticleUniforms {
+            view: Mat4::look_at_rh(eye, Vec3::ZERO, Vec3::Y),
+            proj: Mat4::perspective_rh_gl(40f32.to_radians(), 16.0 / 9.0, 0.01, 100.0),
+            radius: 0.01,
+            range: (0.0, 1.0),
+            hidden: 0,
+            grey_boundary: true,
+            ortho: false,
+            px_scale: 1.0,
+        }
+    }
+
+    #[test]
+    fn the_rect_holds_the_box_on_screen_and_is_the_view_where_it_reaches_the_eye() {
+        let size = (640, 360);
+        let b = (Vec3::splat(-0.1), Vec3::splat(0.1));
+        // In front, centred: a rectangle about the view's centre, inside it.
+        let (x, y, w, h) = screen_rect(&uniforms(Vec3::new(0.0, 0.0, 3.0)), b, size).unwrap();
+        assert!(
+            x > 0 && y > 0 && x + w < 640 && y + h < 360,
+            "{x} {y} {w} {h}"
+        );
+        assert!((x + w / 2 - 320).abs() <= 2 && (y + h / 2 - 180).abs() <= 2);
+        // The box's half-width 0.11 at distance ~2.9: about 0.11 / 2.9 / tan(20 deg) of
+        // half the height (180 px), some 19 px.
+        assert!((30..60).contains(&h), "{h}");
+        // The eye inside the box: the whole view.
+        let all = screen_rect(&uniforms(Vec3::new(0.0, 0.0, 0.05)), b, size).unwrap();
+        assert_eq!(all, (0, 0, 640, 360));
+        // Off screen (behind the eye is caught above; here far to the side): nothing.
+        let side = (Vec3::new(50.0, -0.1, -0.1), Vec3::new(50.2, 0.1, 0.1));
+        assert_eq!(
+            screen_rect(&uniforms(Vec3::new(0.0, 0.0, 3.0)), side, size),
+            None
+        );
+    }
+}
