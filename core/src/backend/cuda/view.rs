@@ -30,9 +30,9 @@ pub struct GlView {
     /// The range's two words (`cuda/view.cu`).
     range: CudaSlice<u32>,
     order: KindScans,
-    /// The splat's buffer as registered (name, bytes, resource), its camera (17 floats) and
+    /// The splat's buffer as registered (name, view size, resource), its camera (17 floats) and
     /// its per-pixel keys (grown to the largest view).
-    splat: Option<(u32, usize, sys::CUgraphicsResource)>,
+    splat: Option<(u32, (u32, u32), sys::CUgraphicsResource)>,
     cam: CudaSlice<f32>,
     key: Option<CudaSlice<u64>>,
 }
@@ -93,19 +93,20 @@ impl GlView {
         self.target == *target
     }
 
-    /// Registers the splat's buffer (again where its name or size changed) and makes room
-    /// for its keys.
+    /// Registers the splat's buffer (again where its name or view size changed: the
+    /// renderer gives it new storage for each size) and makes room for its keys.
     fn prepare_splat(&mut self, s: &Arc<CudaStream>, sp: &GlSplat) -> Result<(), String> {
+        let size = (sp.width, sp.height);
         if self
             .splat
-            .is_none_or(|(name, bytes, _)| name != sp.buffer || bytes != sp.bytes())
+            .is_none_or(|(name, had, _)| name != sp.buffer || had != size)
         {
             if let Some((_, _, r)) = self.splat.take() {
                 let _ = launch::gl_unregister(&self.ctx, r);
             }
             let r = launch::gl_register(&self.ctx, sp.buffer)
                 .map_err(|e| format!("registering the splat buffer: {e:?}"))?;
-            self.splat = Some((sp.buffer, sp.bytes(), r));
+            self.splat = Some((sp.buffer, size, r));
         }
         let pixels = sp.width as usize * sp.height as usize;
         if self.key.as_ref().is_none_or(|k| k.len() < pixels) {
