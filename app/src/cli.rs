@@ -333,8 +333,10 @@ pub struct RenderArgs {
     pub paper_exact: bool,
     /// With --frames: solver steps between frames instead of even times, and a timing line
     /// (frames per second, drawing and solver ms, solver slow-down from drawing, the
-    /// static-buffer drawing ceiling, device-to-host bytes per frame) and its JSON
-    /// (`timing-json: {...}`).
+    /// static-buffer drawing ceiling: the same spheres drawn again as sprites from the
+    /// vertex buffers, device-to-host bytes per frame) and its JSON (`timing-json: {...}`).
+    /// With the CUDA backend the spheres come from the GPU's visibility splat from a view's
+    /// second frame on (sprites at most 32 pixels across, in perspective).
     #[arg(long, value_name = "K", requires = "frames")]
     pub steps_per_frame: Option<u32>,
     /// 3D: draw the fluid as a screen-space surface (smoothed depth, Fresnel, absorption)

@@ -448,8 +448,12 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
                     ms: p.ms,
                 })
                 .collect();
-            // The ceiling: the same sprites drawn again from the buffers as they are.
-            let o = opts(&live);
+            // The ceiling: the same sprites drawn again from the buffers as they are (the
+            // sprites' raster, also where the frames came from the GPU's visibility splat).
+            let o = RenderOptions {
+                sprites_only: true,
+                ..opts(&live)
+            };
             let t0 = std::time::Instant::now();
             for _ in 0..n {
                 renderer.redraw(&o, false)?;

@@ -322,6 +322,10 @@ pub struct RenderOptions {
     /// Draw every sprite as a 4-vertex quad instead of one point (`sprites.rs`): the
     /// reference the points are tested against.
     pub quads_only: bool,
+    /// Draw the spheres as sprites even where the source's visibility splat of this view
+    /// is at hand (`splat.rs`): the sprites' raster, which `render --frames` times as the
+    /// ceiling its drawing is compared with.
+    pub sprites_only: bool,
 }
 
 impl Default for RenderOptions {
@@ -341,6 +345,7 @@ impl Default for RenderOptions {
             outlines: true,
             panel: None,
             quads_only: false,
+            sprites_only: false,
         }
     }
 }

@@ -391,7 +391,11 @@ impl Renderer {
 
             // Particles.
             gl.viewport(0, 0, sw as i32, h as i32);
-            let splat = self.splat.view_for(gl, &uniforms, &sprites);
+            let splat = if opts.sprites_only {
+                None
+            } else {
+                self.splat.view_for(gl, &uniforms, &sprites)
+            };
             if count > 0 {
                 // The splat's part of the screen, else the sprites.
                 let rect = if splat.is_some() && splat == self.splat.done {
