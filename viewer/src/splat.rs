@@ -46,6 +46,11 @@ pub(crate) struct Splat {
     prog: glow::Program,
     /// The context's `glTexBuffer` (`None`: no splat).
     tex_buffer: Option<TexBufferFn>,
+    /// The most texels a buffer texture may address (`GL_MAX_TEXTURE_BUFFER_SIZE`): the
+    /// kinds' texture addresses every byte of the buffer, so a view of more than a
+    /// seventeenth of it in pixels (about 7.9 M where it is 2^27: 4K and up) keeps the
+    /// sprites.
+    max_texels: usize,
     /// The buffer the source writes (created at the first view asked for).
     buffer: Option<glow::Buffer>,
     /// Its buffer textures: the pixels' centre and value (RGBA32F texels from its start)
@@ -70,9 +75,11 @@ impl Splat {
     ) -> Result<Splat, ViewerError> {
         unsafe {
             let prog = compile(gl, FULLSCREEN_VS, &sphere_fs(SphereFs::Splat))?;
+            let max_texels = gl.get_parameter_i32(glow::MAX_TEXTURE_BUFFER_SIZE).max(0) as usize;
             Ok(Splat {
                 prog,
                 tex_buffer,
+                max_texels,
                 buffer: None,
                 centres: gl.create_texture().map_err(gl_err)?,
                 kinds: gl.create_texture().map_err(gl_err)?,
@@ -107,7 +114,9 @@ impl Splat {
     ) -> Option<SplatView> {
         let small =
             widest_sprite_px(u, v.bounds.0, v.bounds.1).is_some_and(|px| px <= SPLAT_MAX_PX);
+        let bytes = v.size.0 as usize * v.size.1 as usize * PIXEL_BYTES;
         if self.tex_buffer.is_none()
+            || bytes > self.max_texels
             || !self.device
             || u.ortho
             || v.quads_only
