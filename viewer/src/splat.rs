@@ -48,8 +48,7 @@ pub(crate) struct Splat {
     tex_buffer: Option<TexBufferFn>,
     /// The most texels a buffer texture may address (`GL_MAX_TEXTURE_BUFFER_SIZE`): the
     /// kinds' texture addresses every byte of the buffer, so a view of more than a
-    /// seventeenth of it in pixels (about 7.9 M where it is 2^27: 4K and up) keeps the
-    /// sprites.
+    /// seventeenth of it in pixels (7.9 M where it is 2^27) keeps the sprites.
     max_texels: usize,
     /// The buffer the source writes (created at the first view asked for).
     buffer: Option<glow::Buffer>,
