@@ -18,16 +18,22 @@ pub(crate) struct Outlines {
     edges: Vec<f32>,
 }
 
-/// The 12 edges of a box, as (from, to) pairs of corners.
-pub(crate) fn edges(o: &Outline) -> [[Vec3; 2]; 12] {
-    let (lo, hi) = (Vec3::from(o.min), Vec3::from(o.max));
-    let corner = |i: usize| {
+/// The 8 corners of the box `lo`..`hi`: corner i takes hi's x where bit 0 of i is set, its
+/// y for bit 1, its z for bit 2 (so corners that differ in one bit share an edge).
+pub(crate) fn box_corners(lo: Vec3, hi: Vec3) -> [Vec3; 8] {
+    std::array::from_fn(|i| {
         Vec3::new(
             if i & 1 == 0 { lo.x } else { hi.x },
             if i & 2 == 0 { lo.y } else { hi.y },
             if i & 4 == 0 { lo.z } else { hi.z },
         )
-    };
+    })
+}
+
+/// The 12 edges of a box, as (from, to) pairs of corners.
+pub(crate) fn edges(o: &Outline) -> [[Vec3; 2]; 12] {
+    let c = box_corners(Vec3::from(o.min), Vec3::from(o.max));
+    let corner = |i: usize| c[i];
     // Corners that differ in one bit share an edge.
     let mut out = [[Vec3::ZERO; 2]; 12];
     let mut n = 0;

@@ -18,6 +18,7 @@ use glam::Vec3;
 use glow::HasContext;
 
 use crate::error::gl_err;
+use crate::outline::box_corners;
 use crate::shaders::{compile, sphere_fs, ParticleUniforms, SphereFs, FULLSCREEN_VS};
 use crate::sprites::{pixel_ray, widest_sprite_px, SpriteView};
 use crate::{SplatView, ViewerError};
@@ -248,12 +249,7 @@ fn screen_rect(
     let m = u.proj * u.view;
     let (mut x0, mut y0) = (f32::INFINITY, f32::INFINITY);
     let (mut x1, mut y1) = (f32::NEG_INFINITY, f32::NEG_INFINITY);
-    for i in 0..8 {
-        let c = Vec3::new(
-            if i & 1 == 0 { lo.x } else { hi.x },
-            if i & 2 == 0 { lo.y } else { hi.y },
-            if i & 4 == 0 { lo.z } else { hi.z },
-        );
+    for c in box_corners(lo, hi) {
         let p = m * c.extend(1.0);
         if p.w.is_nan() || p.w <= 0.0 {
             return Some((0, 0, size.0 as i32, size.1 as i32));

@@ -26,6 +26,7 @@ use glam::{Mat4, Vec3};
 use glow::HasContext;
 
 use crate::error::gl_err;
+use crate::outline::box_corners;
 use crate::shaders::{ParticleUniforms, SpriteProgram};
 use crate::{ParticleBuffers, ViewerError};
 
@@ -317,12 +318,7 @@ pub(crate) fn widest_sprite_px(u: &ParticleUniforms, lo: Vec3, hi: Vec3) -> Opti
     let (lo, hi) = (lo - Vec3::splat(r), hi + Vec3::splat(r));
     let mut depth = f32::INFINITY;
     let mut slope = 0.0f32;
-    for i in 0..8 {
-        let c = Vec3::new(
-            if i & 1 == 0 { lo.x } else { hi.x },
-            if i & 2 == 0 { lo.y } else { hi.y },
-            if i & 4 == 0 { lo.z } else { hi.z },
-        );
+    for c in box_corners(lo, hi) {
         let v = u.view.transform_point3(c);
         let d = -v.z;
         if d.is_nan() || d <= 0.0 {
