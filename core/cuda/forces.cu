@@ -10,7 +10,7 @@
 
 template <int DIM, bool SOLIDS, bool EXTRAS, int L>
 __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
-                            const float* __restrict__ pos, const float* __restrict__ vel,
+                            const unsigned char* __restrict__ stamp, const float* __restrict__ pos, const float* __restrict__ vel,
                             const float* __restrict__ rho, const float* __restrict__ pr,
                             const unsigned char* __restrict__ kind,
                             const unsigned* __restrict__ group, const float* __restrict__ stress,
@@ -24,9 +24,11 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
     const unsigned char ki = i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY;
     ForceSum<DIM, SOLIDS, EXTRAS> f;
     f.begin(p, i, n, ki, lane, vel, rho, pr, group, stress);
-    // A particle with rates and no forces (a dynamic wall) only records its candidates.
+    // A particle with rates and no forces (a dynamic wall) only records its candidates; a
+    // wall at rest among walls at rest none (its rates are 0: the rates pass skips it too).
     const PairBits<DIM> pb{L == 1 ? pair_a : nullptr, pair_b, n};
-    const bool record = pb.a != nullptr && i < n && has_rates(p, ki);
+    const bool record = pb.a != nullptr && i < n && has_rates(p, ki) &&
+                        !(ki == MF_KIND_BOUNDARY && among_walls_at_rest<DIM>(p, stamp, vload<DIM>(pos, i)));
     neighbour_loop<DIM, L, MF_PAIRS_RECORD>(p, cell_start, pos, i, f.on || record, lane,
                                             [&](unsigned j, Vec<DIM> r, float r2, float pw) {
         if (j == i) return;
@@ -40,11 +42,11 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
 // bounded to 4 blocks of 256 per SM (64 registers), the solid ones to 3.
 #define MF_FORCES_ENTRY(name, DIM, SOLIDS, EXTRAS, L)                                                                        \
     extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 3 : MF_FLUID_BLOCKS)                                         \
-        name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel,      \
-             const float* rho, const float* pr, const unsigned char* kind,                    \
+        name(const SphParams p, unsigned n, const unsigned* cell_start, const unsigned char* stamp, const float* pos, \
+             const float* vel, const float* rho, const float* pr, const unsigned char* kind,                    \
              const unsigned* group, const float* stress, const float* art, const unsigned* id,      \
              const float* surf, float* acc, unsigned* red, unsigned* pair_a, unsigned* pair_b) {                      \
-        forces_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, pos, vel, rho, pr, kind, group, stress, art, id, surf, acc, red, \
+        forces_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, stamp, pos, vel, rho, pr, kind, group, stress, art, id, surf, acc, red, \
                                             pair_a, pair_b);                                                    \
     }
 #define MF_FORCES_LANES(L) MF_SCHEMES(MF_FORCES_ENTRY, sph_forces, L)

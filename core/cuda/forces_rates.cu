@@ -12,7 +12,7 @@
 
 template <int DIM, bool SOLIDS, bool EXTRAS, int L>
 __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned* __restrict__ cell_start,
-                                  const float* __restrict__ pos, const float* __restrict__ vel,
+                                  const unsigned char* __restrict__ stamp, const float* __restrict__ pos, const float* __restrict__ vel,
                                   const float* __restrict__ rho, const float* __restrict__ pr,
                                   const unsigned char* __restrict__ kind,
                                   const unsigned* __restrict__ group, const float* __restrict__ stress,
@@ -30,8 +30,10 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
     RateSum<DIM, SOLIDS, EXTRAS> r;
     f.begin(p, i, n, ki, lane, vel, rho, pr, group, stress);
     r.begin(p, i, n, ki, vel, rho, group, grad_rho);
-    // Every particle with forces has rates (dynamic walls have rates only).
-    neighbour_loop<DIM, L>(p, cell_start, pos, i, r.on, lane,
+    // Every particle with forces has rates (dynamic walls have rates only); a wall at rest
+    // among walls at rest has rates 0 and no walk.
+    const bool on = r.on && !(ki == MF_KIND_BOUNDARY && among_walls_at_rest<DIM>(p, stamp, vload<DIM>(pos, i)));
+    neighbour_loop<DIM, L>(p, cell_start, pos, i, on, lane,
                               [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
         if (j == i) return;
         const Neighbour<DIM> nb = neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, kind);
@@ -47,12 +49,12 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
 // separate kernels (fluid-only 4 blocks of 256 per SM, with solids 1).
 #define MF_FORCES_RATES_ENTRY(name, DIM, SOLIDS, EXTRAS, L)                                                                 \
     extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 1 : MF_FLUID_BLOCKS)                                        \
-        name(const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* vel,      \
-             const float* rho, const float* pr, const unsigned char* kind,                    \
+        name(const SphParams p, unsigned n, const unsigned* cell_start, const unsigned char* stamp, const float* pos, \
+             const float* vel, const float* rho, const float* pr, const unsigned char* kind,                    \
              const unsigned* group, const float* stress, const float* art, const unsigned* id,      \
              const float* surf, float* acc, unsigned* red,            \
              const float* grad_rho, float* drho, float* xsph, float* rate) {                                     \
-        forces_rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, pos, vel, rho, pr, kind, group, stress, art, id, surf, acc, \
+        forces_rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, stamp, pos, vel, rho, pr, kind, group, stress, art, id, surf, acc, \
                                           red, grad_rho, drho, xsph, rate);                                      \
     }
 #define MF_FORCES_RATES_LANES(L) MF_SCHEMES(MF_FORCES_RATES_ENTRY, sph_forces_rates, L)

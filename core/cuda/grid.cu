@@ -107,13 +107,20 @@ __device__ __forceinline__ unsigned cell_start_of(const unsigned* __restrict__ l
 // from its first lane (__match_any_sync, which would also join runs that are apart,
 // measured slower than one atomic per particle on the H100, docs/reference/performance.md).
 // It also clears the step size's maxima `red` for the step's forces pass (a kick or a
-// drift-kick that took the last step's dt from them left them: integrate.cu).
+// drift-kick that took the last step's dt from them left them: integrate.cu), and advances
+// (where not null) the build's epoch (1 ... 255, never the 0 of a cell never stamped) with which 5. stamps
+// the cells that hold a moving particle (`among_walls_at_rest` in device/grid.cuh).
 extern "C" __global__ void __launch_bounds__(MF_BLOCK)
 sph_grid_scatter(unsigned n, const unsigned* __restrict__ cell, const unsigned* __restrict__ local,
                  const unsigned* __restrict__ bsum, unsigned* __restrict__ count, unsigned* __restrict__ order,
-                 unsigned* __restrict__ red) {
+                 unsigned* __restrict__ red, unsigned char* __restrict__ epoch) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i == 0) red[0] = red[1] = red[2] = 0u;
+    if (i == 0) {
+        red[0] = red[1] = red[2] = 0u;
+        // An epoch reused 255 builds later may find a stale stamp: a cell read as moving,
+        // which costs a wall's skip, never a rate.
+        if (epoch) epoch[0] = (unsigned char)(epoch[0] % 255u + 1u);
+    }
     const bool valid = i < n;  // every lane takes part in the warp's exchanges
     const unsigned k = valid ? cell[i] : 0xffffffffu;
     const int lane = threadIdx.x & 31;
@@ -139,10 +146,14 @@ sph_grid_scatter(unsigned n, const unsigned* __restrict__ cell, const unsigned* 
 // eos != 0 (continuity density without artificial stress, where the density pass has
 // nothing else to do): the equation of state eq. (9) is applied here, from the density
 // the particle carries, and the velocity's w slot set (vel_w): the density pass is skipped.
+// Around each moving particle (not a wall at rest, or driven) the cells of its x row within
+// reach are stamped with the build's epoch (stamp: n_cells cells, then the epoch that 4.
+// advanced: `stamp_moving` in device/grid.cuh; null: none), which lets the neighbour passes
+// skip the walls at rest among walls at rest (`among_walls_at_rest`).
 template <int DIM>
 __device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned n_cells, unsigned eos,
                                      const unsigned* __restrict__ order, const unsigned* __restrict__ local, const unsigned* __restrict__ bsum,
-                                     unsigned* __restrict__ cell_start,
+                                     unsigned* __restrict__ cell_start, unsigned char* __restrict__ stamp,
                                      const unsigned* __restrict__ id, const unsigned char* __restrict__ kind,
                                      const unsigned* __restrict__ group,
                                      const float* __restrict__ pos, const float* __restrict__ vel,
@@ -167,7 +178,8 @@ __device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned n_c
     id2[k] = key;
     const unsigned char ki = kind[o];
     kind2[k] = ki;
-    group2[k] = group[o];
+    const unsigned g = group[o];
+    group2[k] = g;
     if constexpr (DIM == 2) {
         reinterpret_cast<float2*>(pos2)[k] = reinterpret_cast<const float2*>(pos)[o];
     } else {
@@ -189,6 +201,10 @@ __device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned n_c
         if (eos) v.w = vel_w(ki, r);
     }
     reinterpret_cast<float4*>(vel2)[k] = v;
+    // (v's first DIM floats are the velocity: vel_load in device/packing.cuh.)
+    const bool at_rest = ki == MF_KIND_BOUNDARY && !is_driven(p, g) && v.x == 0.0f && v.y == 0.0f &&
+                         (DIM == 2 || v.z == 0.0f);
+    if (stamp && !at_rest) stamp_moving<DIM>(p, stamp, cc, stamp[p.n_cells]);
     if (stress) {
 #pragma unroll
         for (int q = 0; q < Sym<DIM>::N; ++q) stress2[q * n + k] = stress[q * n + o];
@@ -196,9 +212,9 @@ __device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned n_c
 }
 MF_ENTRY2(sph_grid_gather,
           (const SphParams p, unsigned n, unsigned n_cells, unsigned eos, const unsigned* order,
-           const unsigned* local, const unsigned* bsum, unsigned* cell_start, const unsigned* id,
-           const unsigned char* kind, const unsigned* group, const float* pos, const float* vel, const float* rho,
+           const unsigned* local, const unsigned* bsum, unsigned* cell_start, unsigned char* stamp,
+           const unsigned* id, const unsigned char* kind, const unsigned* group, const float* pos, const float* vel, const float* rho,
            const float* pr, const float* stress, const float* rho_dev, unsigned* id2, unsigned char* kind2,
            unsigned* group2, float* pos2, float* vel2, float* rho2, float* pr2, float* stress2, float* rho_dev2),
-          (p, n, n_cells, eos, order, local, bsum, cell_start, id, kind, group, pos, vel, rho, pr, stress, rho_dev,
+          (p, n, n_cells, eos, order, local, bsum, cell_start, stamp, id, kind, group, pos, vel, rho, pr, stress, rho_dev,
            id2, kind2, group2, pos2, vel2, rho2, pr2, stress2, rho_dev2))

@@ -13,7 +13,7 @@
 // the step size the kick took).
 template <int DIM, bool SOLIDS, bool EXTRAS, int L>
 __device__ void rates_impl(const SphParams& p, unsigned n, const float* __restrict__ dt_dev,
-                           const unsigned* __restrict__ cell_start,
+                           const unsigned* __restrict__ cell_start, const unsigned char* __restrict__ stamp,
                            const float* __restrict__ pos, const float* __restrict__ vel,
                            const float* __restrict__ rho,
                            const unsigned char* __restrict__ kind, const unsigned* __restrict__ group,
@@ -31,7 +31,9 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const float* __restri
     // candidates accepted at these positions, x^n: the leapfrog's midpoint shifts each
     // accepted pair after (`neighbour`), replayed or tested, so the set is x^n's either way.
     const PairBits<DIM> pb{const_cast<unsigned*>(pair_a), const_cast<unsigned*>(pair_b), n};
-    neighbour_loop<DIM, L, MF_PAIRS_REPLAY>(p, cell_start, pos, i, r.on, lane,
+    // A wall at rest among walls at rest: rates 0, no walk (the forces pass recorded none).
+    const bool on = r.on && !(r.ki == MF_KIND_BOUNDARY && among_walls_at_rest<DIM>(p, stamp, vload<DIM>(pos, i)));
+    neighbour_loop<DIM, L, MF_PAIRS_REPLAY>(p, cell_start, pos, i, on, lane,
                               [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
         if (j == i) return;
         r.add(p, neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, kind, r.vi, half_dt), group);
@@ -44,11 +46,12 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const float* __restri
 // per SM (64 registers; unbounded they take 78-79 in 3D: 3 blocks).
 #define MF_RATES_ENTRY(name, DIM, SOLIDS, EXTRAS, L)                                                                   \
     extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 1 : MF_FLUID_BLOCKS)                                   \
-        name(const SphParams p, unsigned n, const float* dt_dev, const unsigned* cell_start, const float* pos,       \
-             const float* vel, const float* rho, const unsigned char* kind, const unsigned* group,                 \
+        name(const SphParams p, unsigned n, const float* dt_dev, const unsigned* cell_start,                   \
+             const unsigned char* stamp, const float* pos, const float* vel, const float* rho,                   \
+             const unsigned char* kind, const unsigned* group,                                                   \
              const float* stress, const float* grad_rho, float* drho, float* xsph, float* rate,                  \
              const unsigned* pair_a, const unsigned* pair_b) {                                                   \
-        rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, dt_dev, cell_start, pos, vel, rho, kind, group, stress, grad_rho,  \
+        rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, dt_dev, cell_start, stamp, pos, vel, rho, kind, group, stress, grad_rho,  \
                                            drho, xsph, rate, pair_a, pair_b);                                    \
     }
 #define MF_RATES_LANES(L) MF_SCHEMES(MF_RATES_ENTRY, sph_rates, L)

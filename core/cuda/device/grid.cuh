@@ -143,3 +143,62 @@ __device__ __forceinline__ void row_ranges(const SphParams& p, const unsigned* _
         range(cell_start[c], cell_start[c + 1]);
     }
 }
+
+// The cells of the walls at rest among walls at rest. The grid build (`sph_grid_gather`)
+// stamps, for every moving particle (any but a wall at rest that is not driven), the cells
+// within MF_CELL_REACH of its cell along x with the build's epoch (stamp[n_cells], 1 ... 255,
+// advanced by `sph_grid_scatter`): stamp_moving. A particle's candidates (`rows`) lie within
+// MF_CELL_REACH cells of its own on every axis, so where none of the (2 MF_CELL_REACH + 1)^(DIM-1)
+// cells of its own x column in the rows around it carries the epoch, every candidate is a wall
+// at rest: among_walls_at_rest. A dynamic wall at rest there has d rho/dt = 0 exactly (each
+// pair's term m_j / rho_j v_ij . grad_i W_ij of eq. (8) has v_ij = 0, and a wall has no other
+// rate, `RateSum`), so the neighbour passes skip it and write its zero rates (the CPU sums the
+// zeros: the same result). A non-driven wall's velocity does not change within a step (the
+// kick leaves it), so the stamps hold from the build to the rates pass. An epoch met again
+// 255 builds later may find a stale stamp: a cell read as moving, which costs a skip, never a
+// rate.
+template <int DIM>
+__device__ __forceinline__ void stamp_moving(const SphParams& p, unsigned char* __restrict__ stamp, const int cc[3],
+                                             unsigned char epoch) {
+    const int nx = p.grid_dims[0];
+    const unsigned row = cell_index(p, cc) - (unsigned)cc[0];
+#pragma unroll
+    for (int d = -MF_CELL_REACH; d <= MF_CELL_REACH; ++d) {
+        int x = cc[0] + d;
+        if (x < 0 || x >= nx) {
+            if (!p.periodic[0]) continue;
+            x = ((x % nx) + nx) % nx;
+        }
+        stamp[row + (unsigned)x] = epoch;
+    }
+}
+// One cell coordinate on axis a, c + d, wrapped on a periodic axis; outside a closed axis,
+// own (the particle's, whose own cell the test reads anyway: no branch around the loads).
+__device__ __forceinline__ int stamp_axis(const SphParams& p, int a, int c, int d, int own) {
+    const int n = p.grid_dims[a];
+    int v = c + d;
+    if (p.periodic[a]) return v < 0 ? v + n : (v >= n ? v - n : v);
+    return v < 0 || v >= n ? own : v;
+}
+template <int DIM>
+__device__ __forceinline__ bool among_walls_at_rest(const SphParams& p, const unsigned char* __restrict__ stamp,
+                                                    Vec<DIM> xi) {
+    if (stamp == nullptr) return false;
+    const unsigned char epoch = stamp[p.n_cells];
+    int ci[3];
+    cell_coords<DIM>(p, xi, ci);
+    const int rz = DIM == 3 ? MF_CELL_REACH : 0;
+    // Every load's address first, then the loads, independent of each other (a chain of
+    // dependent cache misses per wall cost more than the skip saved).
+    unsigned moving = 0;
+#pragma unroll
+    for (int dz = -rz; dz <= rz; ++dz) {
+        const int cz = DIM == 3 ? stamp_axis(p, 2, ci[2], dz, ci[2]) : 0;
+#pragma unroll
+        for (int dy = -MF_CELL_REACH; dy <= MF_CELL_REACH; ++dy) {
+            const int c[3] = {ci[0], stamp_axis(p, 1, ci[1], dy, ci[1]), cz};
+            moving |= (unsigned)(__ldg(&stamp[cell_index(p, c)]) == epoch);
+        }
+    }
+    return moving == 0;
+}

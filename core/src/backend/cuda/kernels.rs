@@ -131,7 +131,8 @@ pub struct Spec {
 macro_rules! forces_params {
     ($($more:literal)?) => {
         concat!(
-            "const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, \
+            "const SphParams p, unsigned n, const unsigned* cell_start, \
+             const unsigned char* stamp, const float* pos, \
              const float* vel, const float* rho, const float* pr, const unsigned char* kind, \
              const unsigned* group, const float* stress, const float* art, const unsigned* id, \
              const float* surf, float* acc, unsigned* red"
@@ -217,7 +218,7 @@ impl Family {
                 "sph_grid_scatter",
                 One,
                 "unsigned n, const unsigned* cell, const unsigned* local, const unsigned* bsum, \
-                 unsigned* count, unsigned* order, unsigned* red",
+                 unsigned* count, unsigned* order, unsigned* red, unsigned char* epoch",
             ),
             Family::GridGather => (
                 "grid",
@@ -225,7 +226,8 @@ impl Family {
                 Dims,
                 "const SphParams p, unsigned n, unsigned n_cells, unsigned eos, \
                  const unsigned* order, const unsigned* local, const unsigned* bsum, \
-                 unsigned* cell_start, const unsigned* id, const unsigned char* kind, \
+                 unsigned* cell_start, unsigned char* stamp, const unsigned* id, \
+                 const unsigned char* kind, \
                  const unsigned* group, const float* pos, const float* vel, const float* rho, \
                  const float* pr, const float* stress, const float* rho_dev, unsigned* id2, \
                  unsigned char* kind2, unsigned* group2, float* pos2, float* vel2, float* rho2, \
@@ -258,7 +260,7 @@ impl Family {
                 "sph_rates",
                 Schemes,
                 "const SphParams p, unsigned n, const float* dt_dev, const unsigned* cell_start, \
-                 const float* pos, \
+                 const unsigned char* stamp, const float* pos, \
                  const float* vel, const float* rho, const unsigned char* kind, \
                  const unsigned* group, const float* stress, const float* grad_rho, \
                  float* drho, float* xsph, float* rate, const unsigned* pair_a, \

@@ -99,6 +99,12 @@ fn scan(
     });
 }
 
+/// The last grid build's stamps of the cells near moving particles, where it wrote them
+/// (`Buffers::stamped`), for the neighbour passes' skip of walls at rest among walls at rest.
+fn stamps(stamp: &Option<CudaSlice<u8>>, stamped: bool) -> Option<&CudaSlice<u8>> {
+    stamp.as_ref().filter(|_| stamped)
+}
+
 /// Neighbour grid: hist (unless the last drift did it), scan (2 kernels), scatter, then the
 /// sort by id within cells fused with the reorder (gather), which also writes the cell
 /// ranges; then the two persistent buffer sets are swapped.
@@ -135,21 +141,28 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     // count holds n_cells + 1 entries, local n_cells + 1 and bsum n_blocks >= nb (16-byte
     // aligned allocations).
     scan(k, s, n_scan, &b.count, &mut local, &mut b.bsum);
+    // The walls at rest among walls at rest are stamped (and skipped) in 3D at one lane
+    // (`Buffers::stamped`).
+    b.stamped = b.stamp.is_some() && k.lanes == 1;
+    let mut stamp = b.stamp.as_mut().filter(|_| b.stamped);
+    let mut epoch = stamp.as_mut().map(|st| st.slice_mut(b.n_cells..));
     // SAFETY: the arguments of `Family::GridScatter`; cell and order hold n entries, red 3
-    // (zeroed: the step size's maxima, which no pass holds during a grid build).
+    // (zeroed: the step size's maxima, which no pass holds during a grid build); epoch null
+    // or the last byte of `stamp` (advanced).
     let kc = k.get(Family::GridScatter);
     kc.check(unsafe {
-        s.launch_builder(&kc.f)
-            .arg(&n)
+        let mut l = s.launch_builder(&kc.f);
+        l.arg(&n)
             .arg(&b.cell)
             .arg(&mut local)
             .arg(&b.bsum)
             .arg(&mut b.count)
             .arg(&mut order)
-            .arg(&mut b.red)
-            .launch(cfg(b.n))
-            .map(|_| ())
+            .arg(&mut b.red);
+        opt!(l, epoch.as_mut());
+        l.launch(cfg(b.n)).map(|_| ())
     });
+    drop(epoch);
     b.red_stale = false;
     // Continuity density without artificial stress: the reorder applies the equation of
     // state and the density pass has nothing left to do (`density` skips it).
@@ -158,7 +171,8 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     {
         let (c, a) = (&b.cur, &mut b.alt);
         // SAFETY: the arguments of `Family::GridGather` (the nine persistent arrays of
-        // `cur`, then the same nine of `alt`); cell_start has n_cells + 1 entries; stress
+        // `cur`, then the same nine of `alt`); cell_start has n_cells + 1 entries, stamp
+        // null or n_cells + 1 (its last: the epoch the scatter advanced); stress
         // and rho_dev null in both sets or in neither (both with solids); grid of
         // max(n, n_cells + 1) threads.
         let kg = k.get(Family::GridGather);
@@ -171,6 +185,7 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
             .arg(&mut local)
             .arg(&b.bsum)
             .arg(&mut b.cell_start);
+        opt!(l, stamp.as_deref_mut());
         l.arg(&c.id)
             .arg(&c.kind)
             .arg(&c.group)
@@ -256,18 +271,17 @@ pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     let (kr, lanes) = (k.neighbour(Family::Rates, scheme(p, b)), k.lanes);
     let replay = b.pairs_recorded && lanes == 1;
     let c = &b.cur;
-    // SAFETY: the arguments of `Family::Rates` (every scheme's); dt_dev holds 2 floats (the
+    // SAFETY: the arguments of `Family::Rates` (every scheme's; stamp as for the forces
+    // pass); dt_dev holds 2 floats (the
     // kick wrote this step's dt in its first); drho null without the continuity density;
     // stress and rate null without solids (the fluid-only schemes read neither); grad_rho
     // null unless `needs_density_gradient`; pair_a and pair_b null, or the record of the
     // forces pass at these positions (`Buffers::pairs_recorded`: alt's vel and pos, 4 and
     // vstride words per particle), which the kernel only reads.
     let mut l = s.launch_builder(&kr.f);
-    l.arg(p)
-        .arg(&n)
-        .arg(&b.dt)
-        .arg(&b.cell_start)
-        .arg(&c.pos)
+    l.arg(p).arg(&n).arg(&b.dt).arg(&b.cell_start);
+    opt!(l, stamps(&b.stamp, b.stamped));
+    l.arg(&c.pos)
         .arg(&c.vel)
         .arg(&c.rho)
         .arg(&c.kind)
@@ -310,7 +324,8 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     };
     let (kf, lanes) = (k.neighbour(family, scheme(p, b)), k.lanes);
     let c = &b.cur;
-    // SAFETY: the arguments of `Family::Forces` or, fused, `Family::ForcesRates`: the same
+    // SAFETY: the arguments of `Family::Forces` or, fused, `Family::ForcesRates` (stamp:
+    // null, or n_cells + 1 bytes from the grid build these positions were filed by): the same
     // followed by grad_rho, drho, xsph and rate (every scheme's); stress, art, surf may be
     // null (surf is read only under no_slip, when Buffers holds it: float4 per boundary
     // particle by id - wall_first_id); red holds 3 words; grad_rho, drho and rate may be
@@ -318,13 +333,9 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     // vstride words per particle, which no stage reads between two grid builds (the
     // record of accepted candidates, `Buffers::pairs_recorded`).
     let mut l = s.launch_builder(&kf.f);
-    l.arg(p)
-        .arg(&n)
-        .arg(&b.cell_start)
-        .arg(&c.pos)
-        .arg(&c.vel)
-        .arg(&c.rho)
-        .arg(&c.p);
+    l.arg(p).arg(&n).arg(&b.cell_start);
+    opt!(l, stamps(&b.stamp, b.stamped));
+    l.arg(&c.pos).arg(&c.vel).arg(&c.rho).arg(&c.p);
     l.arg(&c.kind).arg(&c.group);
     opt!(l, &c.stress);
     opt!(l, &b.art);
