@@ -33,7 +33,9 @@ use meshfree_core::params::{
     self, SphParams, MF_DENSITY_CONTINUITY, MF_DENSITY_SUMMATION, MF_DIFFUSION_ANTUONO,
     MF_DIFFUSION_FOURTAKAS, MF_DIFFUSION_MOLTENI, MF_INTEGRATOR_EULER, MF_SOLID_TOTAL_LAGRANGIAN,
 };
-use meshfree_core::params::{MF_INTEGRATOR_LEAPFROG, MF_INTEGRATOR_SYMPLECTIC_EULER};
+use meshfree_core::params::{
+    MF_INTEGRATOR_LEAPFROG, MF_INTEGRATOR_SYMPLECTIC_EULER, MF_KIND_BOUNDARY,
+};
 use meshfree_core::particle::{Kind, Particle};
 use meshfree_core::solver::{PointSample, Setup, Solver};
 use meshfree_core::state::State;
@@ -1644,6 +1646,85 @@ fn replayed_rates_equal_tested_3d() {
         let delta = leapfrog(fluid_only(3, V_3D_DELTA));
         replayed_rates_equal_tested::<D3>("3D V_3D_DELTA fluid only leapfrog", delta, h);
     }
+}
+
+/// The neighbour passes skip a 3D wall at rest whose candidates are all walls at rest
+/// (`among_walls_at_rest` in cuda/device/grid.cuh: its d rho/dt, eq. (8), is 0). From one
+/// state, a step's forces, kick and rates after a grid build at one lane (the cells near
+/// moving particles stamped, the skip on) and after an upload (no stamps: every wall walks
+/// its candidates) give the same rates bit for bit. Part of the side walls above the water
+/// are given a velocity across themselves (not driven: it stays, a wall that moves nothing),
+/// so that their wall neighbours' rates are not zero: the stamps must mark them.
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn walls_at_rest_are_skipped_exactly_3d() {
+    let mut setup = scene(3, V_3D_B);
+    let dx = setup.params.dx;
+    // Fluid below y = 0.8 (+ 0.1 dx of jitter), support 2.6 dx: the side walls' rows at
+    // y = 1.15 are out of its reach, those at 1.05 too (0.3 - 0.01 > 0.26).
+    let top = |q: &Particle| q.kind == Kind::Boundary && q.position[1] > 1.1;
+    let near_side = |q: &Particle| q.position[2] < 0.0;
+    for q in setup.particles.iter_mut() {
+        if top(q) && near_side(q) {
+            q.velocity = [0.0, 0.2, 0.0];
+        }
+    }
+    let mut g = gpu::<D3>(&setup);
+    g.set_lanes(Some(1));
+    g.build_grid();
+    assert!(
+        g.skips_walls_at_rest(),
+        "a grid build at one lane in 3D stamps"
+    );
+    g.density();
+    let start = g.download_state();
+    let step = |g: &mut CudaSolver<D3>| {
+        g.forces();
+        g.time_step();
+        g.kick();
+        g.rates();
+        g.download_state()
+    };
+    let skipped = step(&mut g);
+    g.upload_state(&start);
+    assert!(!g.skips_walls_at_rest(), "an upload drops the stamps");
+    let walked = step(&mut g);
+    assert_eq!(
+        skipped.drho, walked.drho,
+        "d rho/dt with and without the skip"
+    );
+    assert_eq!(
+        flat_v::<D3>(&skipped.xsph),
+        flat_v::<D3>(&walked.xsph),
+        "xsph with and without the skip"
+    );
+    // What the test covers: walls of both sorts above the water.
+    let drho = walked.drho.as_ref().expect("continuity density");
+    let (mut at_rest, mut beside_moving) = (0, 0);
+    for i in 0..walked.id.len() {
+        let wall = walked.kind[i] as u32 == MF_KIND_BOUNDARY;
+        let (y, z) = (walked.pos[i][1], walked.pos[i][2]);
+        if wall && y > 1.0 && z > 2.0 * dx {
+            at_rest += (drho[i] == 0.0) as usize;
+        }
+        if wall && y > 1.0 && y < 1.1 && z < 0.0 && drho[i] != 0.0 {
+            beside_moving += 1;
+        }
+    }
+    assert!(
+        at_rest > 0,
+        "no wall at rest among walls at rest above the water"
+    );
+    assert!(
+        beside_moving > 0,
+        "no wall at rest with a non-zero rate beside the moving walls"
+    );
+    eprintln!(
+        "walls at rest skipped: {at_rest} with rate 0 far from motion, {beside_moving} beside moving walls with a rate; bit for bit"
+    );
 }
 
 #[test]

@@ -101,7 +101,8 @@ pub struct Buffers {
     /// Set by a grid build that stamped `stamp` (`launch::build_grid`: in 3D at one lane per
     /// particle; at several, in the small systems, whose kernels last as long as their
     /// longest warps, the first form of the test made the 3D 10,174-particle block 5 %
-    /// slower): the passes read the stamps only then.
+    /// slower), cleared with `pairs_recorded` by whatever moves or replaces particles: the
+    /// passes read the stamps only while it holds.
     pub stamped: bool,
     // scalars
     /// The forces pass's maxima (max |v|, max |a|, max c as float bits), zero before the
@@ -419,6 +420,7 @@ impl Buffers {
         }
         let cap = need.max(self.cap) + need.max(self.cap) / 8;
         self.pairs_recorded = false;
+        self.stamped = false;
         let held = Held {
             solids: self.cur.stress.is_some(),
             drho: self.drho.is_some(),
@@ -491,6 +493,7 @@ impl Buffers {
         // What a drift, a grid build or a forces pass derived from the old state goes with it.
         self.eos_done = false;
         self.pairs_recorded = false;
+        self.stamped = false;
         if std::mem::take(&mut self.hist_done) {
             s.memset_zeros(&mut self.count)?;
         }

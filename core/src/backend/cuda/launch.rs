@@ -111,6 +111,7 @@ fn stamps(stamp: &Option<CudaSlice<u8>>, stamped: bool) -> Option<&CudaSlice<u8>
 pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     // The reorder writes alt and the cells change: the forces pass's record goes.
     b.pairs_recorded = false;
+    b.stamped = false;
     let n = b.n as u32;
     let nc = b.n_cells as u32;
     // The scan runs over n_cells + 1 counts (the last, 0, closes the last cell's range).
@@ -434,6 +435,7 @@ pub fn drift_kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
 /// but for the kick's accelerations, and marks the cells filed for the next grid build.
 fn drift_with(f: &Kernel, kick: bool, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     b.pairs_recorded = false;
+    b.stamped = false;
     let n = b.n as u32;
     let c = &mut b.cur;
     // SAFETY: the arguments of `Family::Drift` or, with `kick`, `Family::DriftKick` (the
@@ -1047,6 +1049,7 @@ pub fn unpack(
     halos: &[(usize, &CudaSlice<u32>)],
 ) {
     b.pairs_recorded = false;
+    b.stamped = false;
     let n0 = b.n;
     let n1 = n0 + halos.iter().map(|h| h.0).sum::<usize>();
     assert!(n1 <= b.cap, "unpack: {n1} particles, room for {}", b.cap);
@@ -1108,6 +1111,7 @@ pub fn unpack(
 /// other persistent set, which becomes the current one. Sets `b.n`.
 pub fn compact(k: &Kernels, s: &Arc<CudaStream>, b: &mut Buffers, kept: usize) {
     b.pairs_recorded = false;
+    b.stamped = false;
     let x = b.scratch.as_ref().expect("compact follows a select");
     let (n, kept32) = (b.n as u32, kept as u32);
     let (c, a) = (&b.cur, &mut b.alt);

@@ -334,6 +334,13 @@ impl<D: Dim> CudaSolver<D> {
         self.buf.pairs_recorded && self.k.lanes == 1
     }
 
+    /// Whether the neighbour passes skip the walls at rest among walls at rest now (the last
+    /// grid build stamped the cells near moving particles: `Buffers::stamped`). For parity
+    /// tests.
+    pub fn skips_walls_at_rest(&self) -> bool {
+        self.buf.stamped
+    }
+
     /// The step size of the last `time_step` [T] (read back).
     pub fn dt(&mut self) -> f32 {
         launch::settle_step_size(&self.k, &self.dev.stream, &self.params, &mut self.buf);
