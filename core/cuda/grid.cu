@@ -201,10 +201,10 @@ __device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned n_c
         if (eos) v.w = vel_w(ki, r);
     }
     reinterpret_cast<float4*>(vel2)[k] = v;
-    // (v's first DIM floats are the velocity: vel_load in device/packing.cuh.)
-    const bool at_rest = ki == MF_KIND_BOUNDARY && !is_driven(p, g) && v.x == 0.0f && v.y == 0.0f &&
-                         (DIM == 2 || v.z == 0.0f);
-    if (stamp && !at_rest) stamp_moving<DIM>(p, stamp, cc, stamp[p.n_cells]);
+    if constexpr (DIM == 3) {  // the stamps are 3D only (`Buffers::stamp`)
+        const bool at_rest = ki == MF_KIND_BOUNDARY && !is_driven(p, g) && v.x == 0.0f && v.y == 0.0f && v.z == 0.0f;
+        if (stamp && !at_rest) stamp_moving<DIM>(p, stamp, cc, stamp[p.n_cells]);
+    }
     if (stress) {
 #pragma unroll
         for (int q = 0; q < Sym<DIM>::N; ++q) stress2[q * n + k] = stress[q * n + o];
