@@ -1704,13 +1704,13 @@ fn walls_at_rest_are_skipped_exactly_3d() {
     // What the test covers: walls of both sorts above the water.
     let drho = walked.drho.as_ref().expect("continuity density");
     let (mut at_rest, mut beside_moving) = (0, 0);
-    for i in 0..walked.id.len() {
-        let wall = walked.kind[i] as u32 == MF_KIND_BOUNDARY;
-        let (y, z) = (walked.pos[i][1], walked.pos[i][2]);
+    for ((&k, x), &d) in walked.kind.iter().zip(&walked.pos).zip(drho) {
+        let wall = k as u32 == MF_KIND_BOUNDARY;
+        let (y, z) = (x[1], x[2]);
         if wall && y > 1.0 && z > 2.0 * dx {
-            at_rest += (drho[i] == 0.0) as usize;
+            at_rest += (d == 0.0) as usize;
         }
-        if wall && y > 1.0 && y < 1.1 && z < 0.0 && drho[i] != 0.0 {
+        if wall && y > 1.0 && y < 1.1 && z < 0.0 && d != 0.0 {
             beside_moving += 1;
         }
     }

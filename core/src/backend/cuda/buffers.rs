@@ -100,7 +100,7 @@ pub struct Buffers {
     pub stamp: Option<CudaSlice<u8>>,
     /// Set by a grid build that stamped `stamp` (`launch::build_grid`: in 3D at one lane per
     /// particle; at several, in the small systems, whose kernels last as long as their
-    /// longest warps, the first form of the test made the 3D 10,174-particle block 5 %
+    /// longest warps, earlier forms of the test made the 3D 10,174-particle block 5-13 %
     /// slower), cleared with `pairs_recorded` by whatever moves or replaces particles: the
     /// passes read the stamps only while it holds.
     pub stamped: bool,

@@ -163,7 +163,6 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
         opt!(l, epoch.as_mut());
         l.launch(cfg(b.n)).map(|_| ())
     });
-    drop(epoch);
     b.red_stale = false;
     // Continuity density without artificial stress: the reorder applies the equation of
     // state and the density pass has nothing left to do (`density` skips it).
@@ -186,7 +185,7 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
             .arg(&mut local)
             .arg(&b.bsum)
             .arg(&mut b.cell_start);
-        opt!(l, stamp.as_deref_mut());
+        opt!(l, stamp);
         l.arg(&c.id)
             .arg(&c.kind)
             .arg(&c.group)
