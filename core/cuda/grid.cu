@@ -108,8 +108,8 @@ __device__ __forceinline__ unsigned cell_start_of(const unsigned* __restrict__ l
 // measured slower than one atomic per particle on the H100, docs/reference/performance.md).
 // It also clears the step size's maxima `red` for the step's forces pass (a kick or a
 // drift-kick that took the last step's dt from them left them: integrate.cu), and advances
-// (where not null) the build's epoch (1 ... 255, never the 0 of a cell never stamped) with which 5. stamps
-// the cells that hold a moving particle (`among_walls_at_rest` in device/grid.cuh).
+// (where not null) the build's epoch (1 ... 255, never the 0 of a cell never stamped) with
+// which 5. stamps the cells near moving particles (`stamp_moving` in device/grid.cuh).
 extern "C" __global__ void __launch_bounds__(MF_BLOCK)
 sph_grid_scatter(unsigned n, const unsigned* __restrict__ cell, const unsigned* __restrict__ local,
                  const unsigned* __restrict__ bsum, unsigned* __restrict__ count, unsigned* __restrict__ order,
