@@ -272,12 +272,12 @@ pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     let replay = b.pairs_recorded && lanes == 1;
     let c = &b.cur;
     // SAFETY: the arguments of `Family::Rates` (every scheme's; stamp as for the forces
-    // pass); dt_dev holds 2 floats (the
-    // kick wrote this step's dt in its first); drho null without the continuity density;
-    // stress and rate null without solids (the fluid-only schemes read neither); grad_rho
-    // null unless `needs_density_gradient`; pair_a and pair_b null, or the record of the
-    // forces pass at these positions (`Buffers::pairs_recorded`: alt's vel and pos, 4 and
-    // vstride words per particle), which the kernel only reads.
+    // pass); dt_dev holds 2 floats (the kick wrote this step's dt in its first); drho null
+    // without the continuity density; stress and rate null without solids (the fluid-only
+    // schemes read neither); grad_rho null unless `needs_density_gradient`; pair_a and
+    // pair_b null, or the record of the forces pass at these positions
+    // (`Buffers::pairs_recorded`: alt's vel and pos, 4 and vstride words per particle),
+    // which the kernel only reads.
     let mut l = s.launch_builder(&kr.f);
     l.arg(p).arg(&n).arg(&b.dt).arg(&b.cell_start);
     opt!(l, stamps(&b.stamp, b.stamped));
