@@ -25,15 +25,16 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
     ForceSum<DIM, SOLIDS, EXTRAS> f;
     f.begin(p, i, n, ki, lane, vel, rho, pr, group, stress);
     // A particle with rates and no forces (a dynamic wall) only records its candidates; a
-    // wall at rest among walls at rest none (its rates are 0: the rates pass skips it too).
+    // wall at rest only those in the rows with a moving particle, none among walls at rest
+    // alone (its rates are 0: the rates pass walks the same rows, `walked_rows`).
     const PairBits<DIM> pb{L == 1 ? pair_a : nullptr, pair_b, n};
-    const bool record = pb.a != nullptr && i < n && has_rates(p, ki) &&
-                        !(ki == MF_KIND_BOUNDARY && among_walls_at_rest<DIM>(p, stamp, vload<DIM>(pos, i)));
+    const unsigned walk = i < n ? walked_rows<DIM>(p, stamp, ki, vload<DIM>(pos, i)) : 0u;
+    const bool record = pb.a != nullptr && i < n && has_rates(p, ki) && walk != 0u;
     neighbour_loop<DIM, L, MF_PAIRS_RECORD>(p, cell_start, pos, i, f.on || record, lane,
                                             [&](unsigned j, Vec<DIM> r, float r2, float pw) {
         if (j == i) return;
         f.add(p, i, n, neighbour<DIM, SOLIDS>(p, j, r, r2, pw, vel, kind), pr, group, stress, art, id, surf);
-    }, pb, f.on);
+    }, pb, f.on, walk);
     f.template finish<L>(p, i, n, lane, acc_out, red, sh, i < n && owns_slot<DIM>(p, pos, i));
 }
 

@@ -31,15 +31,16 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
     f.begin(p, i, n, ki, lane, vel, rho, pr, group, stress);
     r.begin(p, i, n, ki, vel, rho, group, grad_rho);
     // Every particle with forces has rates (dynamic walls have rates only); a wall at rest
-    // among walls at rest has rates 0 and no walk.
-    const bool on = r.on && !(ki == MF_KIND_BOUNDARY && among_walls_at_rest<DIM>(p, stamp, vload<DIM>(pos, i)));
-    neighbour_loop<DIM, L>(p, cell_start, pos, i, on, lane,
+    // walks the rows with a moving particle only, none among walls at rest alone (its rates
+    // are 0 there: `walked_rows`).
+    const unsigned walk = r.on ? walked_rows<DIM>(p, stamp, ki, vload<DIM>(pos, i)) : 0u;
+    neighbour_loop<DIM, L>(p, cell_start, pos, i, r.on && walk != 0u, lane,
                               [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
         if (j == i) return;
         const Neighbour<DIM> nb = neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, kind);
         if (f.on) f.add(p, i, n, nb, pr, group, stress, art, id, surf);
         r.add(p, nb, group);
-    });
+    }, PairBits<DIM>{}, true, walk);
     f.template finish<L>(p, i, n, lane, acc_out, red, sh, i < n && owns_slot<DIM>(p, pos, i));
     r.template finish<L>(p, i, n, lane, stress, drho_out, xsph_out, rate_out);
 }

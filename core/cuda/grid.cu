@@ -146,10 +146,11 @@ sph_grid_scatter(unsigned n, const unsigned* __restrict__ cell, const unsigned* 
 // eos != 0 (continuity density without artificial stress, where the density pass has
 // nothing else to do): the equation of state eq. (9) is applied here, from the density
 // the particle carries, and the velocity's w slot set (vel_w): the density pass is skipped.
-// Around each moving particle (not a wall at rest, or driven) the cells of its x row within
-// reach are stamped with the build's epoch (stamp: n_cells cells, then the epoch that 4.
+// Around each moving particle (not a wall at rest: `wall_at_rest`) the cells of its x row
+// within reach, and around a moving wall those of every row within reach, are stamped with
+// the build's epoch (stamp: n_cells cells, then the epoch that 4.
 // advanced: `stamp_moving` in device/grid.cuh; null: none), which lets the neighbour passes
-// skip the walls at rest among walls at rest (`among_walls_at_rest`).
+// skip the rows of walls at rest around a wall at rest (`walked_rows`).
 template <int DIM>
 __device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned n_cells, unsigned eos,
                                      const unsigned* __restrict__ order, const unsigned* __restrict__ local, const unsigned* __restrict__ bsum,
@@ -202,8 +203,12 @@ __device__ void sph_grid_gather_body(const SphParams p, unsigned n, unsigned n_c
     }
     reinterpret_cast<float4*>(vel2)[k] = v;
     if constexpr (DIM == 3) {  // the stamps are 3D only (`Buffers::stamp`)
-        const bool at_rest = ki == MF_KIND_BOUNDARY && !is_driven(p, g) && v.x == 0.0f && v.y == 0.0f && v.z == 0.0f;
-        if (stamp && !at_rest) stamp_moving<DIM>(p, stamp, cc, stamp[p.n_cells]);
+        Vec<DIM> vv;
+        vv.c[0] = v.x;
+        vv.c[1] = v.y;
+        vv.c[2] = v.z;
+        if (stamp && !wall_at_rest<DIM>(p, ki, g, vv))
+            stamp_moving<DIM>(p, stamp, cc, stamp[p.n_cells], ki == MF_KIND_BOUNDARY);
     }
     if (stress) {
 #pragma unroll

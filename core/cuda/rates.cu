@@ -31,13 +31,14 @@ __device__ void rates_impl(const SphParams& p, unsigned n, const float* __restri
     // candidates accepted at these positions, x^n: the leapfrog's midpoint shifts each
     // accepted pair after (`neighbour`), replayed or tested, so the set is x^n's either way.
     const PairBits<DIM> pb{const_cast<unsigned*>(pair_a), const_cast<unsigned*>(pair_b), n};
-    // A wall at rest among walls at rest: rates 0, no walk (the forces pass recorded none).
-    const bool on = r.on && !(r.ki == MF_KIND_BOUNDARY && among_walls_at_rest<DIM>(p, stamp, vload<DIM>(pos, i)));
-    neighbour_loop<DIM, L, MF_PAIRS_REPLAY>(p, cell_start, pos, i, on, lane,
+    // A wall at rest: the rows with a moving particle only, the rows the forces pass
+    // recorded; among walls at rest alone rates 0 and no walk (`walked_rows`).
+    const unsigned walk = r.on ? walked_rows<DIM>(p, stamp, r.ki, vload<DIM>(pos, i)) : 0u;
+    neighbour_loop<DIM, L, MF_PAIRS_REPLAY>(p, cell_start, pos, i, r.on && walk != 0u, lane,
                               [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
         if (j == i) return;
         r.add(p, neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, kind, r.vi, half_dt), group);
-    }, pb);
+    }, pb, true, walk);
     r.template finish<L>(p, i, n, lane, stress, drho_out, xsph_out, rate_out);
 }
 

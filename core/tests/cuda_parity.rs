@@ -1648,13 +1648,15 @@ fn replayed_rates_equal_tested_3d() {
     }
 }
 
-/// The neighbour passes skip a 3D wall at rest whose candidates are all walls at rest
-/// (`among_walls_at_rest` in cuda/device/grid.cuh: its d rho/dt, eq. (8), is 0). From one
-/// state, a step's forces, kick and rates after a grid build at one lane (the cells near
+/// In 3D the neighbour passes walk, for a dynamic wall, only the candidate rows that hold a
+/// moving particle, and none where all its candidates are walls at rest (`walked_rows` in
+/// cuda/device/grid.cuh: a pair of walls at rest adds 0 to eq. (8)'s d rho/dt). From one
+/// state, a step's forces, kick and rates after a grid build at one lane (the rows near
 /// moving particles stamped, the skip on) and after an upload (no stamps: every wall walks
-/// its candidates) give the same rates bit for bit. Part of the side walls above the water
-/// are given a velocity across themselves (not driven: it stays, a wall that moves nothing),
-/// so that their wall neighbours' rates are not zero: the stamps must mark them.
+/// all its candidates) give the same rates. Part of the side walls above the water are given
+/// a velocity across themselves (not driven: it stays, a wall that moves nothing), so that
+/// they and their wall neighbours have rates that are not zero: a moving wall must walk the
+/// rows of walls at rest around it, its neighbours the rows that hold it.
 #[test]
 #[cfg_attr(
     not(meshfree_require_cuda),
@@ -1703,8 +1705,14 @@ fn walls_at_rest_are_skipped_exactly_3d() {
     );
     // What the test covers: walls of both sorts above the water.
     let drho = walked.drho.as_ref().expect("continuity density");
-    let (mut at_rest, mut beside_moving) = (0, 0);
-    for ((&k, x), &d) in walked.kind.iter().zip(&walked.pos).zip(drho) {
+    let (mut at_rest, mut beside_moving, mut moving) = (0, 0, 0);
+    for (((&k, x), v), &d) in walked
+        .kind
+        .iter()
+        .zip(&walked.pos)
+        .zip(&walked.vel)
+        .zip(drho)
+    {
         let wall = k as u32 == MF_KIND_BOUNDARY;
         let (y, z) = (x[1], x[2]);
         if wall && y > 1.0 && z > 2.0 * dx {
@@ -1712,6 +1720,9 @@ fn walls_at_rest_are_skipped_exactly_3d() {
         }
         if wall && y > 1.0 && y < 1.1 && z < 0.0 && d != 0.0 {
             beside_moving += 1;
+        }
+        if wall && v[1] != 0.0 && d != 0.0 {
+            moving += 1;
         }
     }
     assert!(
@@ -1722,8 +1733,9 @@ fn walls_at_rest_are_skipped_exactly_3d() {
         beside_moving > 0,
         "no wall at rest with a non-zero rate beside the moving walls"
     );
+    assert!(moving > 0, "no moving wall with a non-zero rate");
     eprintln!(
-        "walls at rest skipped: {at_rest} with rate 0 far from motion, {beside_moving} beside moving walls with a rate; bit for bit"
+        "walls at rest skipped: {at_rest} with rate 0 far from motion, {beside_moving} beside moving walls and {moving} moving walls with a rate, as when walking every row"
     );
 }
 

@@ -65,9 +65,11 @@ __device__ __forceinline__ float slab_gap2(const SphParams& p, int a, int c, flo
 // x axis) that the support's cross-section at that row reaches. Twin of `rows` in
 // src/backend/cpu/grid.rs: the same neighbours in the same order (the candidates may differ
 // by a cell beyond the support, see the row bounds below). `plane_rows` visits the rows of one
-// z offset dz (ci: the cell of xi, from cell_coords).
+// z offset dz (ci: the cell of xi, from cell_coords) whose bit dy + MF_CELL_REACH in live is
+// set (`walked_rows`).
 template <int DIM, class R>
-__device__ __forceinline__ void plane_rows(const SphParams& p, Vec<DIM> xi, const int ci[3], int dz, R&& row) {
+__device__ __forceinline__ void plane_rows(const SphParams& p, Vec<DIM> xi, const int ci[3], int dz, R&& row,
+                                           unsigned live = ~0u) {
     const int reach = MF_CELL_REACH;
     const int nx = p.grid_dims[0];
     const float r2max = p.support2;
@@ -80,6 +82,7 @@ __device__ __forceinline__ void plane_rows(const SphParams& p, Vec<DIM> xi, cons
     if constexpr (DIM == 3) gz = slab_gap2(p, 2, ci[2] + dz, xi.c[2]);
     const float inv_cx = 1.0f / p.cell_size[0];
     for (int dy = -reach; dy <= reach; ++dy) {
+        if (!((live >> (dy + reach)) & 1u)) continue;
         int cy = ci[1] + dy;
         if (cy < 0 || cy >= p.grid_dims[1]) {
             if (!p.periodic[1]) continue;
@@ -144,32 +147,49 @@ __device__ __forceinline__ void row_ranges(const SphParams& p, const unsigned* _
     }
 }
 
-// The cells of the walls at rest among walls at rest. The grid build (`sph_grid_gather`)
-// stamps, for every moving particle (any but a wall at rest that is not driven), the cells
-// within MF_CELL_REACH of its cell along x with the build's epoch (stamp[n_cells], 1 ... 255,
-// advanced by `sph_grid_scatter`): stamp_moving. A particle's candidates (`rows`) lie within
-// MF_CELL_REACH cells of its own on every axis, so where none of the (2 MF_CELL_REACH + 1)^(DIM-1)
-// cells of its own x column in the rows around it carries the epoch, every candidate is a wall
-// at rest: among_walls_at_rest. A dynamic wall at rest there has d rho/dt = 0 exactly (each
-// pair's term m_j / rho_j v_ij . grad_i W_ij of eq. (8) has v_ij = 0, and a wall has no other
-// rate, `RateSum`), so the neighbour passes skip it and write its zero rates (the CPU sums the
-// zeros: the same result). A non-driven wall's velocity does not change within a step (the
-// kick leaves it), so the stamps hold from the build to the rates pass. An epoch met again
-// 255 builds later may find a stale stamp: a cell read as moving, which costs a skip, never a
-// rate.
+// The rows of walls at rest. The grid build (`sph_grid_gather`) stamps, for every moving
+// particle (any but a wall at rest, `wall_at_rest`), the cells within MF_CELL_REACH of its
+// cell along x with the build's epoch (stamp[n_cells], 1 ... 255, advanced by
+// `sph_grid_scatter`), and for a moving wall (around) those of every row within reach:
+// stamp_moving. A particle's candidates (`rows`) lie within MF_CELL_REACH cells of its own on
+// every axis, so the cell of its own x column in a row around it carries the epoch where that
+// row holds a moving candidate, and in every row where it is itself a moving wall
+// (moving_rows). A dynamic wall walks only those rows (walked_rows): each pair's term
+// m_j / rho_j v_ij . grad_i W_ij of eq. (8) between two walls at rest has v_ij = 0, and a wall
+// has no other rate (`RateSum`), so the rows of walls at rest alone add 0 to its sum, and a
+// wall with none walks nothing and writes 0 (the CPU sums the zeros: the same rates). A
+// non-driven wall's velocity does not change within a step (the kick leaves it), so the
+// stamps hold from the build to the rates pass, and the forces pass records the candidates of
+// the rows the rates pass replays. An epoch met again 255 builds later may find a stale
+// stamp: a row read as moving, which costs a walk, never a rate.
 template <int DIM>
 __device__ __forceinline__ void stamp_moving(const SphParams& p, unsigned char* __restrict__ stamp, const int cc[3],
-                                             unsigned char epoch) {
+                                             unsigned char epoch, bool around) {
     const int nx = p.grid_dims[0];
-    const unsigned row = cell_index(p, cc) - (unsigned)cc[0];
-#pragma unroll
-    for (int d = -MF_CELL_REACH; d <= MF_CELL_REACH; ++d) {
-        int x = cc[0] + d;
-        if (x < 0 || x >= nx) {
-            if (!p.periodic[0]) continue;
-            x = ((x % nx) + nx) % nx;
+    const int r = around ? MF_CELL_REACH : 0;
+    for (int dz = -r; dz <= r; ++dz) {
+        int cz = cc[2] + dz;
+        if (cz < 0 || cz >= p.grid_dims[2]) {
+            if (!p.periodic[2]) continue;
+            cz = (cz + p.grid_dims[2]) % p.grid_dims[2];
         }
-        stamp[row + (unsigned)x] = epoch;
+        for (int dy = -r; dy <= r; ++dy) {
+            int cy = cc[1] + dy;
+            if (cy < 0 || cy >= p.grid_dims[1]) {
+                if (!p.periodic[1]) continue;
+                cy = (cy + p.grid_dims[1]) % p.grid_dims[1];
+            }
+            const unsigned row = (unsigned)nx * ((unsigned)cy + (unsigned)p.grid_dims[1] * (unsigned)cz);
+#pragma unroll
+            for (int d = -MF_CELL_REACH; d <= MF_CELL_REACH; ++d) {
+                int x = cc[0] + d;
+                if (x < 0 || x >= nx) {
+                    if (!p.periodic[0]) continue;
+                    x = ((x % nx) + nx) % nx;
+                }
+                stamp[row + (unsigned)x] = epoch;
+            }
+        }
     }
 }
 // One cell coordinate on axis a, c + d (|d| <= MF_CELL_REACH), wrapped on a periodic axis
@@ -183,28 +203,40 @@ __device__ __forceinline__ int stamp_axis(const SphParams& p, int a, int c, int 
     if (p.periodic[a]) return min(max(v < 0 ? v + n : (v >= n ? v - n : v), 0), n - 1);
     return v < 0 || v >= n ? own : v;
 }
+// Bit (dz + R) (2 R + 1) + (dy + R) (R = MF_CELL_REACH) set where the candidate row of xi
+// at that (z, y) offset (`rows`) holds a moving particle: the cell of that row in xi's x
+// column carries the epoch. Every bit without stamps (2D, or a build that did not stamp).
 template <int DIM>
-__device__ __forceinline__ bool among_walls_at_rest(const SphParams& p, const unsigned char* __restrict__ stamp,
-                                                    Vec<DIM> xi) {
+__device__ __forceinline__ unsigned moving_rows(const SphParams& p, const unsigned char* __restrict__ stamp,
+                                                Vec<DIM> xi) {
     if constexpr (DIM == 2) {
-        return false;  // 3D only (`Buffers::stamp`): no code in the 2D kernels
+        return ~0u;  // 3D only (`Buffers::stamp`): no code in the 2D kernels
     } else {
-        if (stamp == nullptr) return false;
+        if (stamp == nullptr) return ~0u;
         const unsigned char epoch = stamp[p.n_cells];
         int ci[3];
         cell_coords<DIM>(p, xi, ci);
         // Every load's address first, then the loads, independent of each other (a chain of
         // dependent cache misses per wall cost more than the skip saved).
         unsigned moving = 0;
+        int bit = 0;
 #pragma unroll
         for (int dz = -MF_CELL_REACH; dz <= MF_CELL_REACH; ++dz) {
             const int cz = stamp_axis(p, 2, ci[2], dz, ci[2]);
 #pragma unroll
-            for (int dy = -MF_CELL_REACH; dy <= MF_CELL_REACH; ++dy) {
+            for (int dy = -MF_CELL_REACH; dy <= MF_CELL_REACH; ++dy, ++bit) {
                 const int c[3] = {ci[0], stamp_axis(p, 1, ci[1], dy, ci[1]), cz};
-                moving |= (unsigned)(__ldg(&stamp[cell_index(p, c)]) == epoch);
+                moving |= (unsigned)(__ldg(&stamp[cell_index(p, c)]) == epoch) << bit;
             }
         }
-        return moving == 0;
+        return moving;
     }
+}
+// The candidate rows that a particle of kind ki at xi walks (bits as moving_rows): a dynamic
+// wall only those with a moving candidate (every one if it moves itself), any other particle
+// every row (see stamp_moving).
+template <int DIM>
+__device__ __forceinline__ unsigned walked_rows(const SphParams& p, const unsigned char* __restrict__ stamp,
+                                                unsigned char ki, Vec<DIM> xi) {
+    return ki == MF_KIND_BOUNDARY ? moving_rows<DIM>(p, stamp, xi) : ~0u;
 }

@@ -219,11 +219,13 @@ template <int DIM> struct PairBits {
 // L = 1: the same results bit for bit. MODE (PairBits): MF_PAIRS_RECORD writes each chunk's
 // accepted candidates into pb (i: the particle's slot), MF_PAIRS_REPLAY takes them from pb
 // instead of testing (where pb.a is set); sum = false: record only, no pair sums (a
-// particle the rates pass sums and the forces pass does not, a dynamic wall).
+// particle the rates pass sums and the forces pass does not, a dynamic wall); walk: the
+// rows taken (`walked_rows`), the same in the pass that records and the one that replays.
 template <int DIM, int B, bool PERIODIC, int MODE, class F>
 __device__ __forceinline__ void queued_neighbours(const SphParams& p, const unsigned* __restrict__ cell_start,
                                                   const float* __restrict__ pos, Vec<DIM> xi, uint2* q,
-                                                  unsigned* po, const PairBits<DIM>& pb, unsigned i, bool sum, F&& f) {
+                                                  unsigned* po, const PairBits<DIM>& pb, unsigned i, bool sum,
+                                                  unsigned walk, F&& f) {
     static_assert(32 % B == 0, "batches must tile the 32-candidate chunks");
     const unsigned t = threadIdx.x;
     const bool record = MODE == MF_PAIRS_RECORD && pb.a != nullptr;
@@ -270,7 +272,7 @@ __device__ __forceinline__ void queued_neighbours(const SphParams& p, const unsi
                         ++seen;
                     }
                 });
-            });
+            }, walk >> ((dz + rz) * (2 * MF_CELL_REACH + 1)));
             const int ne = min(seen - skip, MF_QUEUE);
             // The accepted neighbours of the queued entries, in order: every entry holds one
             // at least, so the next entry is read as the last bit of one is taken (a loop
@@ -296,11 +298,13 @@ __device__ __forceinline__ void queued_neighbours(const SphParams& p, const unsi
 // has a periodic axis: tested once here, not per candidate. on: whether this lane takes
 // particle i's candidates; sum: whether it calls f for its neighbours (false: it only
 // records them, MODE and pb as for queued_neighbours: one lane only, and nothing is recorded
-// or replayed without the queue, MF_QUEUE 0).
+// or replayed without the queue, MF_QUEUE 0); walk: the candidate rows walked
+// (`walked_rows`; every one but at one lane with the stamps).
 template <int DIM, int L, int MODE = MF_PAIRS_NONE, class F>
 __device__ __forceinline__ void neighbour_loop(const SphParams& p, const unsigned* __restrict__ cell_start,
                                                const float* __restrict__ pos, unsigned i, bool on, int lane,
-                                               F&& f, const PairBits<DIM>& pb = PairBits<DIM>{}, bool sum = true) {
+                                               F&& f, const PairBits<DIM>& pb = PairBits<DIM>{}, bool sum = true,
+                                               unsigned walk = ~0u) {
 #if MF_QUEUE > 0
     if constexpr (L == 1) {
         __shared__ uint2 q[MF_QUEUE * MF_BLOCK];
@@ -308,9 +312,9 @@ __device__ __forceinline__ void neighbour_loop(const SphParams& p, const unsigne
         constexpr int QB = DIM == 2 ? MF_QUEUE_BATCH_2D : MF_QUEUE_BATCH_3D;
         if (!on) return;
         if (p.periodic[0] || p.periodic[1] || p.periodic[2])
-            queued_neighbours<DIM, QB, true, MODE>(p, cell_start, pos, vload<DIM>(pos, i), q, po, pb, i, sum, f);
+            queued_neighbours<DIM, QB, true, MODE>(p, cell_start, pos, vload<DIM>(pos, i), q, po, pb, i, sum, walk, f);
         else
-            queued_neighbours<DIM, QB, false, MODE>(p, cell_start, pos, vload<DIM>(pos, i), q, po, pb, i, sum, f);
+            queued_neighbours<DIM, QB, false, MODE>(p, cell_start, pos, vload<DIM>(pos, i), q, po, pb, i, sum, walk, f);
         return;
     }
 #endif

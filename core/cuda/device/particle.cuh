@@ -5,6 +5,7 @@
 // tests/cuda_parity.rs.
 #pragma once
 #include "sph_params.h"
+#include "vectors.cuh"
 
 // Tait eq. (9) for fluid and dynamic wall particles; P = c_s^2 (rho - rho0_s) for solids
 // (Gray & Monaghan 2001), from the departure rho_dev = rho - rho0_s [M/L^3] (the solids'
@@ -42,6 +43,15 @@ __device__ __forceinline__ float rest_density(const SphParams& p, unsigned char 
 // forces (twin: `driven_velocity` in cpu/integrate.rs).
 __device__ __forceinline__ bool is_driven(const SphParams& p, unsigned group) {
     return p.driven != 0 && group == (unsigned)p.driven_group;
+}
+// A wall at rest: a wall particle of group g that is not driven, at velocity v = 0 [L/T].
+// Two of them add nothing to each other's d rho/dt, eq. (8) (`stamp_moving`, `walked_rows`).
+template <int DIM>
+__device__ __forceinline__ bool wall_at_rest(const SphParams& p, unsigned char k, unsigned g, Vec<DIM> v) {
+    bool still = k == MF_KIND_BOUNDARY && !is_driven(p, g);
+#pragma unroll
+    for (int a = 0; a < DIM; ++a) still = still && v.c[a] == 0.0f;
+    return still;
 }
 
 // Whether this solver owns a particle at coordinate c [L] of the slab's axis: always in one
