@@ -82,7 +82,7 @@ __device__ __forceinline__ void plane_rows(const SphParams& p, Vec<DIM> xi, cons
     if constexpr (DIM == 3) gz = slab_gap2(p, 2, ci[2] + dz, xi.c[2]);
     const float inv_cx = 1.0f / p.cell_size[0];
     for (int dy = -reach; dy <= reach; ++dy) {
-        if (!((live >> (dy + reach)) & 1u)) continue;
+        if (DIM == 3 && !((live >> (dy + reach)) & 1u)) continue;  // 2D walks every row
         int cy = ci[1] + dy;
         if (cy < 0 || cy >= p.grid_dims[1]) {
             if (!p.periodic[1]) continue;
