@@ -94,9 +94,10 @@ pub struct Buffers {
     pub bsum: CudaSlice<u32>,
     pub cell_start: CudaSlice<u32>,
     /// Per cell, the epoch of the last grid build that found a moving particle within reach
-    /// along x (not a wall at rest, or driven), then that epoch (n_cells + 1 bytes,
-    /// `stamp_moving` in `cuda/device/grid.cuh`): the neighbour passes skip the walls at rest
-    /// among walls at rest. Only in 3D (`Buffers::new`).
+    /// along x (not a wall at rest, or driven; a moving wall within reach on every axis),
+    /// then that epoch (n_cells + 1 bytes, `stamp_moving` in `cuda/device/grid.cuh`): the
+    /// neighbour passes skip a wall's candidate rows of walls at rest. Only in 3D
+    /// (`Buffers::new`).
     pub stamp: Option<CudaSlice<u8>>,
     /// Set by a grid build that stamped `stamp` (`launch::build_grid`: in 3D at one lane per
     /// particle; at several, in the small systems, whose kernels last as long as their

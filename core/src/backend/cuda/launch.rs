@@ -100,7 +100,7 @@ fn scan(
 }
 
 /// The last grid build's stamps of the cells near moving particles, where it wrote them
-/// (`Buffers::stamped`), for the neighbour passes' skip of walls at rest among walls at rest.
+/// (`Buffers::stamped`), for the neighbour passes' skip of a wall's rows of walls at rest.
 fn stamps(stamp: &Option<CudaSlice<u8>>, stamped: bool) -> Option<&CudaSlice<u8>> {
     stamp.as_ref().filter(|_| stamped)
 }
@@ -142,8 +142,8 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     // count holds n_cells + 1 entries, local n_cells + 1 and bsum n_blocks >= nb (16-byte
     // aligned allocations).
     scan(k, s, n_scan, &b.count, &mut local, &mut b.bsum);
-    // The walls at rest among walls at rest are stamped (and skipped) in 3D at one lane
-    // (`Buffers::stamped`).
+    // The cells near moving particles are stamped (and a wall's rows of walls at rest
+    // skipped) in 3D at one lane (`Buffers::stamped`).
     b.stamped = b.stamp.is_some() && k.lanes == 1;
     let mut stamp = b.stamp.as_mut().filter(|_| b.stamped);
     let mut epoch = stamp.as_mut().map(|st| st.slice_mut(b.n_cells..));

@@ -334,9 +334,9 @@ impl<D: Dim> CudaSolver<D> {
         self.buf.pairs_recorded && self.k.lanes == 1
     }
 
-    /// Whether the neighbour passes skip the walls at rest among walls at rest now (the last
-    /// grid build stamped the cells near moving particles: `Buffers::stamped`). For parity
-    /// tests.
+    /// Whether the neighbour passes skip, for a dynamic wall, the candidate rows of walls at
+    /// rest alone now (the last grid build stamped the cells near moving particles:
+    /// `Buffers::stamped`). For parity tests.
     pub fn skips_walls_at_rest(&self) -> bool {
         self.buf.stamped
     }
