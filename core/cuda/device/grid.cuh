@@ -66,7 +66,8 @@ __device__ __forceinline__ float slab_gap2(const SphParams& p, int a, int c, flo
 // src/backend/cpu/grid.rs: the same neighbours in the same order (the candidates may differ
 // by a cell beyond the support, see the row bounds below). `plane_rows` visits the rows of one
 // z offset dz (ci: the cell of xi, from cell_coords) whose bit dy + MF_CELL_REACH in live is
-// set (`walked_rows`).
+// set (`walked_rows`), in 3D taken from the set bits (against a counted loop with a test of
+// the bit per row: the 3D passes 0.6-1.4 % shorter, H200, every particle; 2D walks every row).
 template <int DIM, class R>
 __device__ __forceinline__ void plane_rows(const SphParams& p, Vec<DIM> xi, const int ci[3], int dz, R&& row,
                                            unsigned live = ~0u) {
@@ -81,15 +82,14 @@ __device__ __forceinline__ void plane_rows(const SphParams& p, Vec<DIM> xi, cons
     float gz = 0.0f;
     if constexpr (DIM == 3) gz = slab_gap2(p, 2, ci[2] + dz, xi.c[2]);
     const float inv_cx = 1.0f / p.cell_size[0];
-    for (int dy = -reach; dy <= reach; ++dy) {
-        if (DIM == 3 && !((live >> (dy + reach)) & 1u)) continue;  // 2D walks every row
+    auto one_row = [&](int dy) {
         int cy = ci[1] + dy;
         if (cy < 0 || cy >= p.grid_dims[1]) {
-            if (!p.periodic[1]) continue;
+            if (!p.periodic[1]) return;
             cy = (cy + p.grid_dims[1]) % p.grid_dims[1];
         }
         const float d2 = __fadd_rn(gz, slab_gap2(p, 1, ci[1] + dy, xi.c[1]));
-        if (d2 > r2max * (1.0f + MF_PRUNE_SLACK)) continue;
+        if (d2 > r2max * (1.0f + MF_PRUNE_SLACK)) return;
         // Half-width of the support's cross-section at this row, then the x cells it spans.
         // The root and the cell quotient are the fast ones (rsqrt, a product by the
         // reciprocal: IEEE's root and two divisions took about a third of the row's
@@ -105,8 +105,13 @@ __device__ __forceinline__ void plane_rows(const SphParams& p, Vec<DIM> xi, cons
             x0 = max(x0, 0);
             x1 = min(x1, nx - 1);
         }
-        if (x0 > x1) continue;
+        if (x0 > x1) return;
         row((unsigned)(nx * (cy + p.grid_dims[1] * cz)), x0, x1);
+    };
+    if constexpr (DIM == 3) {
+        for (unsigned m = live & ((1u << (2 * reach + 1)) - 1u); m != 0u; m &= m - 1u) one_row(__ffs(m) - 1 - reach);
+    } else {
+        for (int dy = -reach; dy <= reach; ++dy) one_row(dy);
     }
 }
 template <int DIM, class R> __device__ __forceinline__ void rows(const SphParams& p, Vec<DIM> xi, R&& row) {
