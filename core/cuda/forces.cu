@@ -28,9 +28,8 @@ __device__ void forces_impl(const SphParams& p, unsigned n, const unsigned* __re
     // wall at rest only those in the rows with a moving particle, none among walls at rest
     // alone (its rates are 0: the rates pass walks the same rows, `walked_rows`).
     const PairBits<DIM> pb{L == 1 ? pair_a : nullptr, pair_b, n};
-    const bool rates = i < n && has_rates(p, ki);  // no stamps read for walls without rates
-    const unsigned walk = rates ? walked_rows<DIM>(p, stamp, ki, vload<DIM>(pos, i)) : ~0u;
-    const bool record = pb.a != nullptr && rates && walk != 0u;
+    const unsigned walk = i < n ? walked_rows<DIM>(p, stamp, ki, vload<DIM>(pos, i)) : 0u;
+    const bool record = pb.a != nullptr && i < n && has_rates(p, ki) && walk != 0u;
     neighbour_loop<DIM, L, MF_PAIRS_RECORD>(p, cell_start, pos, i, f.on || record, lane,
                                             [&](unsigned j, Vec<DIM> r, float r2, float pw) {
         if (j == i) return;
