@@ -14,11 +14,9 @@
 //! one GPU thread's loop) and no sphere reaching the eye's plane, and where the context
 //! gives `glTexBuffer` (core since OpenGL 3.1; glow does not wrap it: [`TexBufferFn`]).
 
-use glam::Vec3;
 use glow::HasContext;
 
 use crate::error::gl_err;
-use crate::outline::box_corners;
 use crate::shaders::{compile, sphere_fs, ParticleUniforms, SphereFs, FULLSCREEN_VS};
 use crate::sprites::{pixel_ray, widest_sprite_px, SpriteView};
 use crate::{SplatView, ViewerError};
@@ -178,39 +176,26 @@ impl Splat {
         }
     }
 
-    /// The part (x, y, width, height) of the view, in pixels, that the world box `bounds`
-    /// (grown by the spheres' radius) covers on screen under `u`, where the last splat is
-    /// to be drawn; the rest holds no sphere.
-    pub(crate) fn rect(
-        &self,
-        u: &ParticleUniforms,
-        bounds: (Vec3, Vec3),
-    ) -> Option<(i32, i32, i32, i32)> {
-        self.buffer?;
-        self.done?;
-        screen_rect(u, bounds, self.size)
-    }
-
     /// Draws the spheres of the last splat (`done`, which the caller checked is the view
-    /// drawn) in the part `rect` (`Splat::rect`), with `u` and the colour map `cmap`,
-    /// into the bound framebuffer, whose viewport is the splat's; depth-tested as the sprites
-    /// are.
+    /// drawn) with `u` and the colour map `cmap` into every pixel of the bound framebuffer's
+    /// viewport, which is the splat's, and `background` with the far depth where no sphere
+    /// is: the view needs no clear before it (the caller leaves the depth test on and makes
+    /// it pass always).
     pub(crate) unsafe fn draw(
         &self,
         gl: &glow::Context,
         u: &ParticleUniforms,
         cmap: glow::Texture,
-        rect: (i32, i32, i32, i32),
+        background: [f32; 3],
     ) {
         let Some(sv) = self.done else {
             return;
         };
-        gl.enable(glow::SCISSOR_TEST);
-        gl.scissor(rect.0, rect.1, rect.2, rect.3);
         gl.use_program(Some(self.prog));
         u.set(gl, self.prog, cmap);
         let loc = |n: &str| gl.get_uniform_location(self.prog, n);
         gl.uniform_4_f32_slice(loc("u_ray").as_ref(), &sv.ray);
+        gl.uniform_3_f32_slice(loc("u_background").as_ref(), &background);
         gl.uniform_1_i32(loc("u_px").as_ref(), 1);
         gl.uniform_1_i32(loc("u_pk").as_ref(), 2);
         gl.uniform_1_i32(loc("u_width").as_ref(), self.size.0 as i32);
@@ -226,85 +211,10 @@ impl Splat {
         gl.bind_vertex_array(Some(self.vao));
         gl.draw_arrays(glow::TRIANGLES, 0, 3);
         gl.bind_vertex_array(None);
-        gl.disable(glow::SCISSOR_TEST);
         for unit in [glow::TEXTURE2, glow::TEXTURE1] {
             gl.active_texture(unit);
             gl.bind_texture(glow::TEXTURE_BUFFER, None);
         }
         gl.active_texture(glow::TEXTURE0);
-    }
-}
-
-/// The pixels (x, y, width, height) of a view of `size` that hold the projection of the
-/// world box `bounds` grown by `u.radius` (its eight corners' bounding rectangle, widened by
-/// a pixel; the whole view where the box reaches the eye's plane), or `None` where it lies
-/// off screen.
-fn screen_rect(
-    u: &ParticleUniforms,
-    bounds: (Vec3, Vec3),
-    size: (u32, u32),
-) -> Option<(i32, i32, i32, i32)> {
-    let r = Vec3::splat(u.radius);
-    let (lo, hi) = (bounds.0 - r, bounds.1 + r);
-    let m = u.proj * u.view;
-    let (mut x0, mut y0) = (f32::INFINITY, f32::INFINITY);
-    let (mut x1, mut y1) = (f32::NEG_INFINITY, f32::NEG_INFINITY);
-    for c in box_corners(lo, hi) {
-        let p = m * c.extend(1.0);
-        if p.w.is_nan() || p.w <= 0.0 {
-            return Some((0, 0, size.0 as i32, size.1 as i32));
-        }
-        let sx = (p.x / p.w * 0.5 + 0.5) * size.0 as f32;
-        let sy = (p.y / p.w * 0.5 + 0.5) * size.1 as f32;
-        (x0, y0, x1, y1) = (x0.min(sx), y0.min(sy), x1.max(sx), y1.max(sy));
-    }
-    let xa = (x0.floor() as i32 - 1).max(0);
-    let ya = (y0.floor() as i32 - 1).max(0);
-    let xb = (x1.ceil() as i32 + 1).min(size.0 as i32);
-    let yb = (y1.ceil() as i32 + 1).min(size.1 as i32);
-    (xb > xa && yb > ya).then_some((xa, ya, xb - xa, yb - ya))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use glam::Mat4;
-
-    fn uniforms(eye: Vec3) -> ParticleUniforms {
-        ParticleUniforms {
-            view: Mat4::look_at_rh(eye, Vec3::ZERO, Vec3::Y),
-            proj: Mat4::perspective_rh_gl(40f32.to_radians(), 16.0 / 9.0, 0.01, 100.0),
-            radius: 0.01,
-            range: (0.0, 1.0),
-            hidden: 0,
-            grey_boundary: true,
-            ortho: false,
-            px_scale: 1.0,
-        }
-    }
-
-    #[test]
-    fn the_rect_holds_the_box_on_screen_and_is_the_view_where_it_reaches_the_eye() {
-        let size = (640, 360);
-        let b = (Vec3::splat(-0.1), Vec3::splat(0.1));
-        // In front, centred: a rectangle about the view's centre, inside it.
-        let (x, y, w, h) = screen_rect(&uniforms(Vec3::new(0.0, 0.0, 3.0)), b, size).unwrap();
-        assert!(
-            x > 0 && y > 0 && x + w < 640 && y + h < 360,
-            "{x} {y} {w} {h}"
-        );
-        assert!((x + w / 2 - 320).abs() <= 2 && (y + h / 2 - 180).abs() <= 2);
-        // The box's half-width 0.11 at distance ~2.9: about 0.11 / 2.9 / tan(20 deg) of
-        // half the height (180 px), some 19 px.
-        assert!((30..60).contains(&h), "{h}");
-        // The eye inside the box: the whole view.
-        let all = screen_rect(&uniforms(Vec3::new(0.0, 0.0, 0.05)), b, size).unwrap();
-        assert_eq!(all, (0, 0, 640, 360));
-        // Off screen (behind the eye is caught above; here far to the side): nothing.
-        let side = (Vec3::new(50.0, -0.1, -0.1), Vec3::new(50.2, 0.1, 0.1));
-        assert_eq!(
-            screen_rect(&uniforms(Vec3::new(0.0, 0.0, 3.0)), side, size),
-            None
-        );
     }
 }
