@@ -42,40 +42,76 @@ __device__ __forceinline__ unsigned block_inclusive_scan(unsigned v, unsigned* s
     return x + (w > 0 ? sh[w - 1] : 0u);
 }
 
-// 2. Exclusive scan of the counts within blocks of MF_SCAN_CELLS cells (MF_SCAN_ITEMS
-// consecutive cells per thread, one 16-byte load and store), written to `local` (relative
-// to the block: start(c) = local[c] + bsum[c / MF_SCAN_CELLS] after 3.); block totals to
-// bsum. Run over n_cells + 1 entries (count[n_cells] = 0), so that start(n_cells) = n
-// closes the last cell's range.
+// 2. Exclusive scan of the counts within blocks of MF_SCAN_BLOCK threads, ITEMS consecutive
+// cells per thread (16-byte loads and stores), written to `local` (relative to the block);
+// returns the block's total to its last thread. Run over n_cells + 1 entries (count[n_cells]
+// = 0), so that start(n_cells) = n closes the last cell's range.
+template <unsigned ITEMS>
+__device__ __forceinline__ unsigned scan_local_block(unsigned n_cells, const unsigned* __restrict__ count,
+                                                     unsigned* __restrict__ local) {
+    constexpr unsigned Q = ITEMS / 4;  // 16-byte words per thread
+    __shared__ unsigned sh[MF_SCAN_BLOCK / 32];
+    const unsigned c = blockIdx.x * MF_SCAN_BLOCK * ITEMS + threadIdx.x * ITEMS;
+    const bool whole = c + ITEMS <= n_cells;
+    unsigned v[ITEMS];
+    if (whole) {
+#pragma unroll
+        for (unsigned q = 0; q < Q; ++q) {
+            const uint4 w = reinterpret_cast<const uint4*>(count)[c / 4 + q];
+            v[4 * q] = w.x;
+            v[4 * q + 1] = w.y;
+            v[4 * q + 2] = w.z;
+            v[4 * q + 3] = w.w;
+        }
+    } else {
+#pragma unroll
+        for (unsigned k = 0; k < ITEMS; ++k) v[k] = c + k < n_cells ? count[c + k] : 0u;
+    }
+    unsigned t = 0;
+#pragma unroll
+    for (unsigned k = 0; k < ITEMS; ++k) t += v[k];
+    const unsigned incl = block_inclusive_scan(t, sh);
+    unsigned e = incl - t;
+#pragma unroll
+    for (unsigned k = 0; k < ITEMS; ++k) {
+        const unsigned x = v[k];
+        v[k] = e;
+        e += x;
+    }
+    if (whole) {
+#pragma unroll
+        for (unsigned q = 0; q < Q; ++q)
+            reinterpret_cast<uint4*>(local)[c / 4 + q] = make_uint4(v[4 * q], v[4 * q + 1], v[4 * q + 2], v[4 * q + 3]);
+    } else {
+#pragma unroll
+        for (unsigned k = 0; k < ITEMS; ++k)
+            if (c + k < n_cells) local[c + k] = v[k];
+    }
+    return incl;
+}
+
+// Blocks of MF_SCAN_CELLS cells (start(c) = local[c] + bsum[c / MF_SCAN_CELLS] after 3.);
+// the blocks' totals to bsum, or, where one block holds every cell, its offset 0, so that 3.
+// is not needed.
 extern "C" __global__ void __launch_bounds__(MF_SCAN_BLOCK)
 sph_scan_local(unsigned n_cells, const unsigned* __restrict__ count, unsigned* __restrict__ local,
                unsigned* __restrict__ bsum) {
-    __shared__ unsigned sh[MF_SCAN_BLOCK / 32];
-    const unsigned c = blockIdx.x * MF_SCAN_CELLS + threadIdx.x * MF_SCAN_ITEMS;
-    const bool whole = c + MF_SCAN_ITEMS <= n_cells;
-    uint4 v = make_uint4(0u, 0u, 0u, 0u);
-    if (whole) {
-        v = reinterpret_cast<const uint4*>(count)[c / MF_SCAN_ITEMS];
-    } else if (c < n_cells) {
-        v.x = count[c];
-        if (c + 1 < n_cells) v.y = count[c + 1];
-        if (c + 2 < n_cells) v.z = count[c + 2];
-    }
-    const unsigned t = v.x + v.y + v.z + v.w;
-    const unsigned incl = block_inclusive_scan(t, sh);
-    const unsigned e = incl - t;
-    const uint4 out = make_uint4(e, e + v.x, e + v.x + v.y, e + v.x + v.y + v.z);
-    if (whole) {
-        reinterpret_cast<uint4*>(local)[c / MF_SCAN_ITEMS] = out;
-    } else if (c < n_cells) {
-        local[c] = out.x;
-        if (c + 1 < n_cells) local[c + 1] = out.y;
-        if (c + 2 < n_cells) local[c + 2] = out.z;
-    }
-    if (threadIdx.x == MF_SCAN_BLOCK - 1) bsum[blockIdx.x] = incl;
+    const unsigned incl = scan_local_block<MF_SCAN_ITEMS>(n_cells, count, local);
+    if (threadIdx.x == MF_SCAN_BLOCK - 1) bsum[blockIdx.x] = gridDim.x == 1 ? 0u : incl;
 }
 
-// 3. Exclusive scan of the block totals, in place (one block, chunk by chunk).
+// The same in one block of twice the cells, for MF_SCAN_CELLS < n_cells <= 2 MF_SCAN_CELLS:
+// the scan is complete in `local` and both blocks' offsets in bsum are 0 (a small grid's
+// build without 3., one kernel shorter).
+extern "C" __global__ void __launch_bounds__(MF_SCAN_BLOCK)
+sph_scan_one(unsigned n_cells, const unsigned* __restrict__ count, unsigned* __restrict__ local,
+             unsigned* __restrict__ bsum) {
+    scan_local_block<2 * MF_SCAN_ITEMS>(n_cells, count, local);
+    if (threadIdx.x < 2) bsum[threadIdx.x] = 0u;
+}
+
+// 3. Exclusive scan of the block totals, in place (one block, chunk by chunk), where the
+// cells fill more than two blocks of MF_SCAN_CELLS.
 extern "C" __global__ void __launch_bounds__(MF_SCAN_BLOCK)
 sph_scan_top(unsigned n_blocks, unsigned* __restrict__ bsum) {
     __shared__ unsigned sh[MF_SCAN_BLOCK / 32];

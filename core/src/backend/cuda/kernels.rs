@@ -78,6 +78,7 @@ pub enum Shape {
 pub enum Family {
     GridHist,
     ScanLocal,
+    ScanOne,
     ScanTop,
     GridScatter,
     GridGather,
@@ -151,9 +152,10 @@ const WALL_FORCE_PARAMS: &str =
 
 impl Family {
     /// Every family, in the order of the discriminants.
-    pub const ALL: [Family; 37] = [
+    pub const ALL: [Family; 38] = [
         Family::GridHist,
         Family::ScanLocal,
+        Family::ScanOne,
         Family::ScanTop,
         Family::GridScatter,
         Family::GridGather,
@@ -204,6 +206,12 @@ impl Family {
             Family::ScanLocal => (
                 "grid",
                 "sph_scan_local",
+                One,
+                "unsigned n_cells, const unsigned* count, unsigned* local, unsigned* bsum",
+            ),
+            Family::ScanOne => (
+                "grid",
+                "sph_scan_one",
                 One,
                 "unsigned n_cells, const unsigned* count, unsigned* local, unsigned* bsum",
             ),

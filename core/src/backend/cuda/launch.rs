@@ -56,8 +56,10 @@ unsafe impl Send for StepGraph {}
 
 /// The two-pass exclusive scan of `n_scan` words of `input` into `local` (per block) and
 /// `bsum` (the blocks' totals, then their offsets): `Family::ScanLocal` over
-/// ceil(n_scan / MF_SCAN_CELLS) blocks, then `Family::ScanTop` in one. The caller's buffers
-/// hold n_scan entries (`local`, 16-byte aligned as `input`) and that many blocks (`bsum`).
+/// ceil(n_scan / MF_SCAN_CELLS) blocks, then `Family::ScanTop` in one; where that is one
+/// or two blocks, `Family::ScanLocal` or `Family::ScanOne` alone, in one block, writes the
+/// offsets (0): a small grid's build is a kernel shorter. The caller's buffers hold n_scan
+/// entries (`local`, 16-byte aligned as `input`) and that many blocks (`bsum`).
 fn scan(
     k: &Kernels,
     s: &Arc<CudaStream>,
@@ -67,9 +69,13 @@ fn scan(
     bsum: &mut CudaSlice<u32>,
 ) {
     let nb = n_scan.div_ceil(MF_SCAN_CELLS);
-    // SAFETY: the arguments of `Family::ScanLocal`, over n_scan entries; grid of nb blocks
-    // of MF_SCAN_BLOCK; input and local hold n_scan entries, bsum nb (the caller's word).
-    let ks = k.get(Family::ScanLocal);
+    // SAFETY: the arguments of `Family::ScanLocal` (or `ScanOne`, the same), over n_scan
+    // entries; grid of nb blocks (ScanOne: one, for nb = 2) of MF_SCAN_BLOCK; input and
+    // local hold n_scan entries, bsum nb (the caller's word).
+    let (ks, blocks) = match nb {
+        2 => (k.get(Family::ScanOne), 1),
+        _ => (k.get(Family::ScanLocal), nb),
+    };
     ks.check(unsafe {
         s.launch_builder(&ks.f)
             .arg(&n_scan)
@@ -77,12 +83,15 @@ fn scan(
             .arg(local)
             .arg(&mut *bsum)
             .launch(LaunchConfig {
-                grid_dim: (nb, 1, 1),
+                grid_dim: (blocks, 1, 1),
                 block_dim: (MF_SCAN_BLOCK, 1, 1),
                 shared_mem_bytes: 0,
             })
             .map(|_| ())
     });
+    if nb <= 2 {
+        return;
+    }
     // SAFETY: the arguments of `Family::ScanTop` over nb block totals; one block of
     // MF_SCAN_BLOCK.
     let kt = k.get(Family::ScanTop);
@@ -105,7 +114,7 @@ fn stamps(stamp: &Option<CudaSlice<u8>>, stamped: bool) -> Option<&CudaSlice<u8>
     stamp.as_ref().filter(|_| stamped)
 }
 
-/// Neighbour grid: hist (unless the last drift did it), scan (2 kernels), scatter, then the
+/// Neighbour grid: hist (unless the last drift did it), scan (1 or 2 kernels), scatter, then the
 /// sort by id within cells fused with the reorder (gather), which also writes the cell
 /// ranges; then the two persistent buffer sets are swapped.
 pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
