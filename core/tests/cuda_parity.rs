@@ -1892,19 +1892,23 @@ fn diagnostics_after_200_steps_2d_wall_density_floor() {
     long_run_on::<D2>("V_2D_SYMPLECTIC_LAMINAR wall density floor", setup, 200);
 }
 
-/// `scene(dim, v)` in a domain reaching `y_max` [L] up, so that the grid has several blocks
-/// of the GPU's cell scan (4096 cells each; the other scenes have one): the scan of the
-/// block totals (`sph_scan_top`) and cell ranges that cross blocks.
-fn with_tall_domain(mut setup: Setup, y_max: f32) -> Setup {
+/// `scene(dim, v)` in a domain reaching `y_max` [L] up, so that its grid has `cells` cells
+/// (asserted): more than 3 x 4096, several blocks of the GPU's cell scan (4096 cells each;
+/// the other scenes have one), for the scan of the block totals (`sph_scan_top`) and cell
+/// ranges that cross blocks; 4097 to 8192, the one block of twice the cells that
+/// `sph_scan_one` scans alone.
+fn with_tall_domain(mut setup: Setup, y_max: f32, cells: std::ops::RangeInclusive<usize>) -> Setup {
     setup.params.domain_max[1] = y_max;
     params::derive(&mut setup.params);
     assert!(
-        setup.params.n_cells > 3 * 4096,
-        "only {} cells",
+        cells.contains(&(setup.params.n_cells as usize)),
+        "{} cells, not in {cells:?}",
         setup.params.n_cells
     );
     setup
 }
+const MANY_SCAN_BLOCKS: std::ops::RangeInclusive<usize> = 3 * 4096 + 1..=usize::MAX;
+const TWO_SCAN_BLOCKS: std::ops::RangeInclusive<usize> = 4097..=8192;
 #[test]
 #[cfg_attr(
     not(meshfree_require_cuda),
@@ -1913,7 +1917,7 @@ fn with_tall_domain(mut setup: Setup, y_max: f32) -> Setup {
 fn stages_2d_lean_many_scan_blocks() {
     stages_on::<D2>(
         "V_2D_LEAN, tall domain",
-        with_tall_domain(scene(2, V_2D_LEAN), 60.0),
+        with_tall_domain(scene(2, V_2D_LEAN), 60.0, MANY_SCAN_BLOCKS),
     );
 }
 #[test]
@@ -1924,7 +1928,7 @@ fn stages_2d_lean_many_scan_blocks() {
 fn stages_3d_lean_many_scan_blocks() {
     stages_on::<D3>(
         "V_3D_LEAN, tall domain",
-        with_tall_domain(scene(3, V_3D_LEAN), 30.0),
+        with_tall_domain(scene(3, V_3D_LEAN), 30.0, MANY_SCAN_BLOCKS),
     );
 }
 #[test]
@@ -1933,8 +1937,28 @@ fn stages_3d_lean_many_scan_blocks() {
     ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
 )]
 fn diagnostics_after_200_steps_3d_many_scan_blocks() {
-    let setup = with_tall_domain(scene_with(3, V_3D_LEAN, 0.05), 30.0);
+    let setup = with_tall_domain(scene_with(3, V_3D_LEAN, 0.05), 30.0, MANY_SCAN_BLOCKS);
     long_run_on::<D3>("V_3D_LEAN, tall domain", setup, 200);
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_2d_lean_two_scan_blocks() {
+    stages_on::<D2>(
+        "V_2D_LEAN, two scan blocks",
+        with_tall_domain(scene(2, V_2D_LEAN), 30.0, TWO_SCAN_BLOCKS),
+    );
+}
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn diagnostics_after_200_steps_3d_two_scan_blocks() {
+    let setup = with_tall_domain(scene_with(3, V_3D_LEAN, 0.05), 6.0, TWO_SCAN_BLOCKS);
+    long_run_on::<D3>("V_3D_LEAN, two scan blocks", setup, 200);
 }
 
 /// Every field of a frame (sorted by id) as `particles()` read it back (mass aside: frames
