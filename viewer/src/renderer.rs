@@ -410,13 +410,13 @@ impl Renderer {
             if count > 0 {
                 self.timers.pass(gl, "particles");
                 gl.enable(glow::DEPTH_TEST);
-                gl.depth_func(glow::LESS);
+                // The resolve writes every pixel of the view: what was there is no part of
+                // the test.
+                gl.depth_func(if resolve { glow::ALWAYS } else { glow::LESS });
                 gl.disable(glow::BLEND);
                 gl.disable(glow::CULL_FACE);
                 drew_splat = resolve;
                 if resolve {
-                    // Every pixel of the view written: what was there is no part of the test.
-                    gl.depth_func(glow::ALWAYS);
                     self.splat.draw(gl, &uniforms, self.cmap_tex, bg);
                 } else {
                     self.sprites.draw(
