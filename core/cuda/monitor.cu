@@ -8,7 +8,7 @@
 // law the wall feels F = - sum_i m_i a_i(from wall) [M L T^-2] (per unit depth in 2D).
 // The launcher first rebuilds the grid from the current positions and, unless that build
 // applied it, refreshes the equation of state (sph_monitor_eos), as the next step's build
-// and density pass will (src/backend/cuda/launch.rs `wall_forces`).
+// and density pass will (src/backend/cuda/launch/reduce.rs `wall_forces`).
 // Twin: src/backend/cpu/monitor.rs; parity test: tests/cuda_parity.rs.
 #include "forces.cuh"
 #include "device/entries.cuh"

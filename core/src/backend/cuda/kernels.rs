@@ -2,7 +2,7 @@
 //! module that holds it, how its entries are named (per dimension, per lane count and, for
 //! forces and rates, per scheme: the entry macros of `cuda/device/entries.cuh`), and the C
 //! parameter list every entry of the family shares. Loading (`Kernels::load`), selection
-//! (`Kernels::neighbour`) and the SAFETY comments of `launch.rs` all go by it; a test checks
+//! (`Kernels::neighbour`) and the SAFETY comments of `launch/` all go by it; a test checks
 //! it against the PTX (every entry present, nothing more, each parameter of the right kind).
 
 use cudarc::driver::{CudaFunction, DriverError};
@@ -123,7 +123,7 @@ pub struct Spec {
     /// The entry names' stem.
     pub stem: &'static str,
     pub shape: Shape,
-    /// The C parameter list of every entry; `launch.rs` pushes the arguments in this order.
+    /// The C parameter list of every entry; `launch/` pushes the arguments in this order.
     pub signature: &'static str,
 }
 
@@ -648,7 +648,7 @@ mod tests {
     }
 
     /// Every entry the table names is in its module's PTX with the table's parameters (so the
-    /// SAFETY comments of launch.rs, which go by the table, hold argument for argument: count,
+    /// SAFETY comments of launch/, which go by the table, hold argument for argument: count,
     /// pointer or not, and SphParams by value at Rust's size); and every entry of the PTX is
     /// in the table.
     #[test]

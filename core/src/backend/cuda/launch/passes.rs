@@ -1,0 +1,157 @@
+//! The neighbour passes (`cuda/density.cu`, `forces.cu`, `rates.cu`, `forces_rates.cu`): the
+//! summation density, the density gradients, the rates and the forces, alone or fused.
+
+use std::sync::Arc;
+
+use cudarc::driver::{CudaStream, PushKernelArg};
+
+use super::{cfg, grid::stamps, integrate::clear_red, scheme, NULL};
+use crate::backend::cuda::buffers::Buffers;
+use crate::backend::cuda::kernels::{Family, Kernels};
+use crate::params::SphParams;
+
+pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    if b.n == 0 || std::mem::take(&mut b.eos_done) {
+        return;
+    }
+    let n = b.n as u32;
+    let (kd, lanes) = (k.neighbour(Family::Density, scheme(p, b)), k.lanes);
+    let c = &mut b.cur;
+    // SAFETY: the arguments of `Family::Density` (kernels.rs); vel is written only in its w
+    // slots; rho_dev null without solids, else n entries; art null without artificial stress
+    // (then stress is not read), else both hold n_sym planes of n.
+    let mut l = s.launch_builder(&kd.f);
+    l.arg(p)
+        .arg(&n)
+        .arg(&b.cell_start)
+        .arg(&c.pos)
+        .arg(&mut c.vel)
+        .arg(&c.kind)
+        .arg(&mut c.rho)
+        .arg(&mut c.p);
+    opt!(l, &mut c.rho_dev);
+    opt!(l, &c.stress);
+    opt!(l, &mut b.art);
+    kd.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
+}
+
+/// The renormalised density gradients for the density diffusion in Antuono et al.'s form
+/// (`Buffers::grad_rho`, held only where `needs_density_gradient`), before a rates pass.
+fn grad_rho(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    let Some(g) = &mut b.grad_rho else {
+        return;
+    };
+    let n = b.n as u32;
+    let c = &b.cur;
+    // SAFETY: the arguments of `Family::GradRho`; grad holds D floats per particle.
+    let kg = k.get(Family::GradRho);
+    kg.check(unsafe {
+        s.launch_builder(&kg.f)
+            .arg(p)
+            .arg(&n)
+            .arg(&b.cell_start)
+            .arg(&c.pos)
+            .arg(&c.vel)
+            .arg(&c.rho)
+            .arg(&c.kind)
+            .arg(&c.group)
+            .arg(g)
+            .launch(cfg(b.n))
+            .map(|_| ())
+    });
+}
+
+/// d rho/dt, XSPH and the Jaumann stress rate from the current velocities.
+pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    if b.n == 0 {
+        return;
+    }
+    grad_rho(k, s, p, b);
+    let n = b.n as u32;
+    let (kr, lanes) = (k.neighbour(Family::Rates, scheme(p, b)), k.lanes);
+    let replay = b.pairs_recorded && lanes == 1;
+    let c = &b.cur;
+    // SAFETY: the arguments of `Family::Rates` (every scheme's; stamp as for the forces
+    // pass); dt_dev holds 2 floats (the kick wrote this step's dt in its first); drho null
+    // without the continuity density; stress and rate null without solids (the fluid-only
+    // schemes read neither); grad_rho null unless `needs_density_gradient`; pair_a and
+    // pair_b null, or the record of the forces pass at these positions
+    // (`Buffers::pairs_recorded`: alt's vel and pos, 4 and vstride words per particle),
+    // which the kernel only reads.
+    let mut l = s.launch_builder(&kr.f);
+    l.arg(p).arg(&n).arg(&b.dt).arg(&b.cell_start);
+    opt!(l, stamps(&b.stamp, b.stamped));
+    l.arg(&c.pos)
+        .arg(&c.vel)
+        .arg(&c.rho)
+        .arg(&c.kind)
+        .arg(&c.group);
+    opt!(l, &c.stress);
+    opt!(l, &b.grad_rho);
+    opt!(l, &mut b.drho);
+    l.arg(&mut b.xsph);
+    opt!(l, &mut b.stress_rate);
+    opt!(l, replay.then_some(&b.alt.vel));
+    opt!(l, replay.then_some(&b.alt.pos));
+    kr.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
+}
+
+pub fn forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    launch_forces(k, s, p, b, false);
+}
+
+/// `forces` and `rates` of one state in one neighbour pass (the forward Euler's order).
+pub fn forces_rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    launch_forces(k, s, p, b, true);
+}
+
+/// The forces pass, alone or fused with the rates (`fused`): one argument list, to which the
+/// fused kernel appends the rates' outputs. The entry is the scene's `Scheme` (same
+/// signatures).
+fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers, fused: bool) {
+    clear_red(k, s, p, b);
+    if b.n == 0 {
+        return;
+    }
+    if fused {
+        grad_rho(k, s, p, b);
+    }
+    let n = b.n as u32;
+    let family = if fused {
+        Family::ForcesRates
+    } else {
+        Family::Forces
+    };
+    let (kf, lanes) = (k.neighbour(family, scheme(p, b)), k.lanes);
+    let c = &b.cur;
+    // SAFETY: the arguments of `Family::Forces` or, fused, `Family::ForcesRates` (stamp:
+    // null, or n_cells + 1 bytes from the grid build these positions were filed by): the same
+    // followed by grad_rho, drho, xsph and rate (every scheme's); stress, art, surf may be
+    // null (surf is read only under no_slip, when Buffers holds it: float4 per boundary
+    // particle by id - wall_first_id); red holds 3 words; grad_rho, drho and rate may be
+    // null, as for the rates kernel; unfused, pair_a and pair_b: alt's vel and pos, 4 and
+    // vstride words per particle, which no stage reads between two grid builds (the
+    // record of accepted candidates, `Buffers::pairs_recorded`).
+    let mut l = s.launch_builder(&kf.f);
+    l.arg(p).arg(&n).arg(&b.cell_start);
+    opt!(l, stamps(&b.stamp, b.stamped));
+    l.arg(&c.pos).arg(&c.vel).arg(&c.rho).arg(&c.p);
+    l.arg(&c.kind).arg(&c.group);
+    opt!(l, &c.stress);
+    opt!(l, &b.art);
+    l.arg(&c.id);
+    opt!(l, &b.wall_surface);
+    l.arg(&mut b.acc).arg(&mut b.red);
+    if fused {
+        opt!(l, &b.grad_rho);
+        opt!(l, &mut b.drho);
+        l.arg(&mut b.xsph);
+        opt!(l, &mut b.stress_rate);
+    } else {
+        l.arg(&mut b.alt.vel).arg(&mut b.alt.pos);
+    }
+    kf.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
+    // At one lane the forces kernel records the accepted candidates of every particle with
+    // rates, for a rates pass before anything moves the particles or writes alt.
+    b.pairs_recorded |= !fused && lanes == 1;
+}
