@@ -25,7 +25,7 @@
 //!   `cuda/` (nested folders included) reruns the build. The PTX text of each module is
 //!   kept beside its fatbin for the kernel table's test (`src/backend/cuda/kernels.rs`).
 //! * Test cfgs: `MESHFREE_REQUIRE_CUDA=1` sets `meshfree_require_cuda`, under which the GPU
-//!   tests (`tests/cuda_parity.rs`) are not `#[ignore]`d and fail without a usable GPU;
+//!   tests (`tests/cuda_parity/`) are not `#[ignore]`d and fail without a usable GPU;
 //!   `MESHFREE_REQUIRE_LIBCLANG=1` sets `meshfree_require_libclang`, and bindings made by
 //!   bindgen set `meshfree_bindgen`: `tests/bindings.rs` is ignored under neither.
 

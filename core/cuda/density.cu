@@ -1,7 +1,7 @@
 // Density by summation eq. (8), the equations of state eq. (9), and the artificial stress
 // of solids (Gray, Monaghan & Swift 2001), fused: one kernel per stage.
 // Twin: src/backend/cpu/density.rs (+ update_artificial_stress in stress.rs);
-// parity test: tests/cuda_parity.rs.
+// parity test: tests/cuda_parity/.
 #include "device/entries.cuh"
 #include "device/kernel.cuh"
 #include "device/neighbours.cuh"

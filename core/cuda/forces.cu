@@ -3,7 +3,7 @@
 // order). At one lane per particle it also records the accepted candidates of every particle
 // with rates for the rates pass at the same positions (PairBits in device/neighbours.cuh;
 // pair_a, pair_b: null for none). Twin: src/backend/cpu/forces.rs (+ extremes in reduce.rs);
-// parity test: tests/cuda_parity.rs.
+// parity test: tests/cuda_parity/.
 #include "forces.cuh"
 #include "device/entries.cuh"
 #include "device/neighbours.cuh"

@@ -2,7 +2,7 @@
 // cohesion (Akinci et al. 2013), gravity, as a per-particle sum (`ForceSum`) that the forces
 // kernel (forces.cu) and the fused forces-and-rates kernel (forces_rates.cu) run in their
 // neighbour loops. Twin: src/backend/cpu/forces.rs (+ extremes in reduce.rs);
-// parity test: tests/cuda_parity.rs.
+// parity test: tests/cuda_parity/.
 #pragma once
 #include "device/neighbours.cuh"
 #include "device/packing.cuh"

@@ -4,7 +4,7 @@
 // each summed over the neighbours in the same order as by the separate kernels (forces.cu,
 // rates.cu), so the results are theirs; every candidate, its velocity and kind are loaded
 // once instead of twice. Twin: src/backend/cpu/forces.rs and rates.rs (the trait's default
-// runs them one after the other); parity test: tests/cuda_parity.rs.
+// runs them one after the other); parity test: tests/cuda_parity/.
 #include "forces.cuh"
 #include "rates.cuh"
 #include "device/entries.cuh"

@@ -1,6 +1,6 @@
 // Neighbour grid: cell index, deterministic counting sort by (cell, id) fused with the
 // reorder.
-// Twin: src/backend/cpu/grid.rs; parity test: tests/cuda_parity.rs.
+// Twin: src/backend/cpu/grid.rs; parity test: tests/cuda_parity/.
 #include "device/entries.cuh"
 #include "device/grid.cuh"
 #include "device/packing.cuh"

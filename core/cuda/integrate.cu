@@ -5,7 +5,7 @@
 // from the forces pass's maxima themselves where `red` is given (step_size_of in
 // device/step_size.cuh; they write it to dt_dev and leave red for the next grid build's
 // scatter to clear), which saves the step-size kernel's launch.
-// Twin: src/backend/cpu/integrate.rs; parity test: tests/cuda_parity.rs.
+// Twin: src/backend/cpu/integrate.rs; parity test: tests/cuda_parity/.
 #include "device/entries.cuh"
 #include "device/grid.cuh"
 #include "device/packing.cuh"

@@ -9,7 +9,7 @@
 // The launcher first rebuilds the grid from the current positions and, unless that build
 // applied it, refreshes the equation of state (sph_monitor_eos), as the next step's build
 // and density pass will (src/backend/cuda/launch/reduce.rs `wall_forces`).
-// Twin: src/backend/cpu/monitor.rs; parity test: tests/cuda_parity.rs.
+// Twin: src/backend/cpu/monitor.rs; parity test: tests/cuda_parity/.
 #include "forces.cuh"
 #include "device/entries.cuh"
 #include "device/neighbours.cuh"

@@ -1,6 +1,6 @@
 // Probes: pressure, velocity, density and the fluid's colour kernel-interpolated at points
 // (Solver::sample_points), eqs. (1)-(4) with Shepard normalisation (PointSum in
-// device/probes.cuh). Twin: src/backend/cpu/probes.rs; parity test: tests/cuda_parity.rs.
+// device/probes.cuh). Twin: src/backend/cpu/probes.rs; parity test: tests/cuda_parity/.
 #include "device/entries.cuh"
 #include "device/neighbours.cuh"
 #include "device/packing.cuh"

@@ -2,7 +2,7 @@
 // the Jaumann stress rate; at one lane per particle from the accepted candidates that the
 // forces pass recorded at the same positions, where pair_a and pair_b hold them (PairBits in
 // device/neighbours.cuh; null: every candidate tested). Twin: src/backend/cpu/rates.rs;
-// parity test: tests/cuda_parity.rs.
+// parity test: tests/cuda_parity/.
 #include "rates.cuh"
 #include "device/entries.cuh"
 #include "device/neighbours.cuh"

@@ -5,7 +5,7 @@
 // rotation rates eqs. (13)-(14) and the Jaumann rate eq. (12), as a per-particle sum
 // (`RateSum`) that the rates kernel (rates.cu) and the fused forces-and-rates kernel
 // (forces_rates.cu) run in their neighbour loops.
-// Twin: src/backend/cpu/rates.rs; parity test: tests/cuda_parity.rs.
+// Twin: src/backend/cpu/rates.rs; parity test: tests/cuda_parity/.
 #pragma once
 #include "sph_consts.h"
 #include "device/neighbours.cuh"

@@ -1,6 +1,6 @@
 // Reductions: the step size on the device (eq. (19) with force and viscous limits),
 // diagnostics, the health check, and the SphParams layout probe.
-// Twin: src/backend/cpu/reduce.rs; parity test: tests/cuda_parity.rs.
+// Twin: src/backend/cpu/reduce.rs; parity test: tests/cuda_parity/.
 #include "device/entries.cuh"
 #include "device/packing.cuh"
 #include "device/particle.cuh"

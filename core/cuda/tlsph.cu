@@ -7,7 +7,7 @@
 // the host built (src/tlsph/mod.rs `Reference`), so the sums run in the CPU's order; no atomics
 // (each solid adds to its own slot). dt is read on the device (written by sph_step_size).
 // Twin: src/backend/cpu/tlsph.rs (material law and reference set-up: src/tlsph/mod.rs); parity
-// test: tests/cuda_parity.rs.
+// test: tests/cuda_parity/.
 //
 // Layout (src/backend/cuda/buffers.rs `TlBuffers`): x0 and disp as float2 (2D) / float4 (3D,
 // w = 0) per solid; grad (H = F - I) row-major, DIM * DIM floats per solid; corr (C, the

@@ -419,7 +419,7 @@ pub trait Solver: Send {
     /// order (`[[monitors]]`): the force stage's wall pair terms, F = - sum_i m_i a_i(from
     /// the group's walls), eqs. (7), (9), (10), (16), (17) and the laminar viscosity, at the
     /// current positions and densities (`crate::monitor`, whose `wall_force` on a particle
-    /// read-back is the reference: `tests/monitor.rs`, `tests/cuda_parity.rs`). Each backend
+    /// read-back is the reference: `tests/monitor.rs`, `tests/cuda_parity/`). Each backend
     /// sums on its own state, leaving the run as it would be without the sample.
     fn wall_forces(&mut self, groups: &[u32]) -> Vec<[f64; 3]>;
     /// A decomposed solver's exchange so far (`crate::exchange::Decomposed`); None for one

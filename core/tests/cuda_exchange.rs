@@ -297,7 +297,7 @@ fn single_steps_of_one_cuda_domain_equal_its_graphs() {
 }
 
 /// The decomposed GPU run against the decomposed CPU run (another cut, too), within the
-/// tolerances of the parity tests' long runs (`long_run_on` in tests/cuda_parity.rs).
+/// tolerances of the parity tests' long runs (`long_run_on` in tests/cuda_parity/compare.rs).
 fn cpu_and_gpu_decomposed_agree(name: &str, setup: &Setup, gates: &[u32], steps: u64) {
     let (_, mut c) = run(BackendChoice::Cpu, setup, gates, 3, steps);
     let (_, mut g) = run(BackendChoice::Cuda, setup, gates, 2, steps);

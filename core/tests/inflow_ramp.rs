@@ -1,5 +1,5 @@
 //! The inflow band's ramped start (`[inflow] ramp`, `inflow_ramp`; CPU; the GPU's twin in
-//! `cuda_parity.rs`): the generator starts the fluid at rest, the band's velocity and a
+//! `cuda_parity/`): the generator starts the fluid at rest, the band's velocity and a
 //! uniform acceleration of everything else bring the whole channel to the inflow velocity
 //! along r(t) = (1 - cos(pi t / T_r)) / 2 without a pressure gradient, and the scene check
 //! rejects the ramp where the kick does not come first.

@@ -1,6 +1,6 @@
 // The neighbour grid: cell coordinates and index, a particle filed in its cell (hist_one),
 // the minimum-image separation, and the candidate rows of cells around a position (rows,
-// row_ranges). Twin: src/backend/cpu/grid.rs; parity test: tests/cuda_parity.rs.
+// row_ranges). Twin: src/backend/cpu/grid.rs; parity test: tests/cuda_parity/.
 #pragma once
 #include "sph_consts.h"
 #include "sph_params.h"

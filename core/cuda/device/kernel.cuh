@@ -1,5 +1,5 @@
 // Smoothing kernels, eqs. (1)-(4): W and (dW/dr) / r. Twin: src/kernel.rs; parity test:
-// tests/cuda_parity.rs.
+// tests/cuda_parity/.
 #pragma once
 #include "sph_params.h"
 #include "vectors.cuh"

@@ -2,7 +2,7 @@
 // (batch_accept), split over L lanes (for_each_neighbor_split) or, at one lane, queued per
 // plane of rows (queued_neighbours); and the `Neighbour` record the pair sums of forces and
 // rates take. Twin: Grid::for_each_neighbor in src/backend/cpu/grid.rs (same neighbours, same
-// order); parity test: tests/cuda_parity.rs.
+// order); parity test: tests/cuda_parity/.
 #pragma once
 #include "sph_consts.h"
 #include "sph_params.h"

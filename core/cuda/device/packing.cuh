@@ -1,7 +1,7 @@
 // How particle data is laid out on the device: vectors as float2 (2D) / float4 (3D),
 // velocities as float4 with the mass and density in their spare slots, symmetric tensors as
 // planes of components. Twin: src/backend/cuda/buffers.rs (`flat_v`, `flat_vel`, `flat_s`);
-// parity test: tests/cuda_parity.rs.
+// parity test: tests/cuda_parity/.
 #pragma once
 #include "sph_params.h"
 #include "vectors.cuh"

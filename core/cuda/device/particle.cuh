@@ -2,7 +2,7 @@
 // state), sound speed, rest density, and whether it is driven. Twins: `pressure` in
 // src/backend/cpu/density.rs, SphParams::sound_speed / rest_density in src/params/mod.rs,
 // `driven_velocity` in src/backend/cpu/integrate.rs, `SphParams::owns`; parity test:
-// tests/cuda_parity.rs.
+// tests/cuda_parity/.
 #pragma once
 #include "sph_params.h"
 #include "vectors.cuh"

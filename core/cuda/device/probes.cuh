@@ -1,7 +1,7 @@
 // The per-point sums of the probes (sph_sample_points in probes.cu): kernel interpolation,
 // eqs. (1)-(4), with Shepard normalisation, f(x) = sum_j f_j W V_j / sum_j W V_j,
 // V_j = m_j / rho_j [L^d]. Twin: PointSum in src/backend/cpu/probes.rs; parity test:
-// tests/cuda_parity.rs.
+// tests/cuda_parity/.
 #pragma once
 #include "sph_consts.h"
 #include "sph_params.h"

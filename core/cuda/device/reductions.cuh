@@ -1,6 +1,6 @@
 // Sums and maxima over the lanes of a particle, a warp and a block: the split neighbour
 // loops' partial sums, the step size's maxima, the diagnostics' sums. Twin: the rayon
-// reductions of src/backend/cpu/reduce.rs; parity test: tests/cuda_parity.rs.
+// reductions of src/backend/cpu/reduce.rs; parity test: tests/cuda_parity/.
 #pragma once
 
 // Sum over the L lanes of a particle (all 32 lanes of the warp must call).

@@ -1,6 +1,6 @@
 // Vectors and tensors for DIM = 2/3 (`Vec`, `Mat`) and the fast division and norm of the
 // pair sums. Twin: src/dim.rs (glam's Vec2 / Vec3A, Mat2 / Mat3A); parity test:
-// tests/cuda_parity.rs.
+// tests/cuda_parity/.
 #pragma once
 
 template <int DIM> struct Vec { float c[DIM]; };

@@ -1,4 +1,4 @@
-//! Twin: `cuda/device/pairs.cuh`; parity test `tests/cuda_parity.rs`.
+//! Twin: `cuda/device/pairs.cuh`; parity test `tests/cuda_parity/`.
 //! The pair predicates that the CPU stages (density, forces, rates) and the force monitors
 //! share: whether a neighbour enters a particle's sums (`couples`), whether two kinds meet at
 //! all (`meets`), and whether two particles count as one body (`same_body`).

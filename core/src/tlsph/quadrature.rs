@@ -23,7 +23,7 @@
 //! (`Reference::quad`).
 //!
 //! Where the fits are poor the weights are not: a sphere 5 particles across with jittered
-//! positions (`tests/cuda_parity.rs`, the clamped block) gave omega / V0 from -3.9 to 7.4, an
+//! positions (`tests/cuda_parity/`, the clamped block) gave omega / V0 from -3.9 to 7.4, an
 //! energy that is no longer positive, and blew up. A quadrature with a weight below half the
 //! particle's volume or above one and a half (an energy not positive with a margin, a wave
 //! speed more than 1.22 times the one the time step allows for) is not used: its body (the

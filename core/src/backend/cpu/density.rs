@@ -1,4 +1,4 @@
-//! Density and pressure. Twin: `cuda/density.cu`; parity test `tests/cuda_parity.rs`.
+//! Density and pressure. Twin: `cuda/density.cu`; parity test `tests/cuda_parity/`.
 
 use rayon::prelude::*;
 

@@ -1,5 +1,5 @@
 //! Accelerations: eqs. (7), (10), (16), (17), laminar viscosity, artificial stress,
-//! fluid cohesion (Akinci et al. 2013), gravity. Twin: `cuda/forces.cu`; parity test `tests/cuda_parity.rs`.
+//! fluid cohesion (Akinci et al. 2013), gravity. Twin: `cuda/forces.cu`; parity test `tests/cuda_parity/`.
 
 use rayon::prelude::*;
 

@@ -1,6 +1,6 @@
 //! Neighbour search: a cell grid built by sorting particles by (cell, id), then reordering
 //! the storage so that a cell's particles are contiguous. Twin: `cuda/grid.cu`; parity test
-//! `tests/cuda_parity.rs`. Cells are at least support / `MF_CELL_REACH` wide; neighbours
+//! `tests/cuda_parity/`. Cells are at least support / `MF_CELL_REACH` wide; neighbours
 //! are visited row by row in a fixed order (`rows`: z, then y offsets, then x cells), and
 //! within a cell in storage order, on both backends, so that sums run in the same order.
 

@@ -1,5 +1,5 @@
 //! Time integration: kick and drift, eqs. (18)-(19). Twin: `cuda/integrate.cu`; parity test
-//! `tests/cuda_parity.rs`.
+//! `tests/cuda_parity/`.
 
 use rayon::prelude::*;
 

@@ -1,7 +1,7 @@
 //! Force monitors on the solver's own state: the force the fluid and solids exert on the
 //! wall particles of one scene group (`Solver::wall_forces`; `crate::monitor` for the
 //! read-back path and the statistics). Twin: `cuda/monitor.cu`; parity test
-//! `tests/cuda_parity.rs`.
+//! `tests/cuda_parity/`.
 //!
 //! For every wall particle j of the group and every fluid or solid neighbour i, the force
 //! stage's own pair term (`ForceSum::add`) of j on i, alone: Lennard-Jones eq. (17); with

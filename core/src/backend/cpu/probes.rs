@@ -1,6 +1,6 @@
 //! Probes: fields kernel-interpolated at points, for `Solver::sample_points`. Twin:
 //! `cuda/probes.cu` (the per-point sum `PointSum` in `cuda/device/probes.cuh`); parity test
-//! `tests/cuda_parity.rs`.
+//! `tests/cuda_parity/`.
 //!
 //! Eqs. (1)-(4) with Shepard normalisation: f(x) = sum_j f_j W(x - x_j) V_j / sum_j
 //! W(x - x_j) V_j, V_j = m_j / rho_j [L^d], over the particles within the support of x,

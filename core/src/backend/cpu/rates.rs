@@ -4,7 +4,7 @@
 //! the Jaumann stress rate of solids, eqs. (12)-(15). Taken after the kick
 //! in the symplectic integrator, so that density and stress see the new velocity (without
 //! that, the elastic and acoustic modes grow like forward Euler on an oscillator).
-//! Twin: `cuda/rates.cu`; parity test `tests/cuda_parity.rs`.
+//! Twin: `cuda/rates.cu`; parity test `tests/cuda_parity/`.
 
 use rayon::prelude::*;
 

@@ -1,5 +1,5 @@
 //! Reductions: the step size (eq. (19) with the force and viscous limits), diagnostics and
-//! the health check. Twin: `cuda/reduce.cu`; parity test `tests/cuda_parity.rs`.
+//! the health check. Twin: `cuda/reduce.cu`; parity test `tests/cuda_parity/`.
 // Index loops over tensor and vector components read like the equations they implement.
 #![allow(clippy::needless_range_loop)]
 

@@ -1,5 +1,5 @@
 //! The optional artificial stress of elastic solids (Gray, Monaghan & Swift 2001), taken
-//! in the density stage. Twin: `cuda/density.cu`; parity test `tests/cuda_parity.rs`.
+//! in the density stage. Twin: `cuda/density.cu`; parity test `tests/cuda_parity/`.
 // Index loops over tensor and vector components read like the equations they implement.
 #![allow(clippy::needless_range_loop)]
 

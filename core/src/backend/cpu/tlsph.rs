@@ -1,7 +1,7 @@
 //! The total-Lagrangian solid's stages (`crate::tlsph`): the slot map after each grid
 //! build, the stress from the deformation gradient (`Solver::solid_stress`), the internal
 //! force with the hourglass control (`Solver::solid_forces`) and the displacement's drift.
-//! Twin: `cuda/tlsph.cu`; parity test `tests/cuda_parity.rs`.
+//! Twin: `cuda/tlsph.cu`; parity test `tests/cuda_parity/`.
 
 use rayon::prelude::*;
 

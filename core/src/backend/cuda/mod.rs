@@ -1,5 +1,5 @@
 //! The CUDA backend: the stages of `Solver` as kernels in `cuda/*.cu`, the whole state on
-//! the GPU. Twin of `src/backend/cpu/`; parity test `tests/cuda_parity.rs`.
+//! the GPU. Twin of `src/backend/cpu/`; parity test `tests/cuda_parity/`.
 //!
 //! Per step nothing is read back: the step size is reduced, computed and consumed on the
 //! device, and the simulated time is accumulated there in double precision. The host reads

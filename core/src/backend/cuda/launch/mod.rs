@@ -14,7 +14,7 @@ use crate::consts::MF_BLOCK;
 use crate::params::SphParams;
 
 // SAFETY: SphParams is the bindgen image of the C struct in `cuda/sph_params.h` (repr(C),
-// plain integers and floats, no pointers); kernels take it by value. `tests/cuda_parity.rs`
+// plain integers and floats, no pointers); kernels take it by value. `tests/cuda_parity/`
 // checks that nvcc's sizeof and offsets equal Rust's.
 unsafe impl DeviceRepr for SphParams {}
 
