@@ -376,14 +376,16 @@ fn cuda_modules(out: &Path) {
     let targets = Targets::choose(&nvcc);
     // Extra nvcc flags for experiments (e.g. `-DMF_NO_QUEUE` for an A/B measurement).
     let extra = env::var("MESHFREE_NVCC_FLAGS").unwrap_or_default();
+    // Every file under cuda/ (a module includes the shared headers), for the reuse test below.
+    let tree = cuda_tree_digest();
+    let reused = std::sync::atomic::AtomicUsize::new(0);
     let compile = |src: &PathBuf| -> (String, PathBuf, PathBuf) {
         let stem = src.file_stem().unwrap().to_string_lossy().into_owned();
         let dst = out.join(format!("{stem}.fatbin"));
+        let text = out.join(format!("{stem}.ptx"));
         // nvcc's intermediate files, of which the PTX is kept (the kernel table's test reads
         // it: the fatbin's copy is compressed).
         let keep = out.join("nvcc").join(&stem);
-        let _ = fs::remove_dir_all(&keep);
-        fs::create_dir_all(&keep).expect("create nvcc's keep folder");
         let mut cmd = Command::new(&nvcc);
         // -ftz=true: denormal floats flush to zero, so that a reciprocal, reciprocal root or
         // division in the pair sums is one instruction, not a range test and rescale around it
@@ -411,6 +413,18 @@ fn cuda_modules(out: &Path) {
         .arg("-o")
         .arg(&dst);
         let shown = format!("{cmd:?}");
+        // The build script reruns whenever HEAD moves (`commit`): a module whose sources
+        // under cuda/, nvcc release and command are those of its last compile keeps its
+        // fatbin and PTX instead of minutes of nvcc.
+        let key = format!("{tree:016x} {version} {shown}");
+        let stamp = out.join(format!("{stem}.key"));
+        if dst.exists() && text.exists() && fs::read_to_string(&stamp).is_ok_and(|k| k == key) {
+            reused.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            return (stem, dst, text);
+        }
+        let _ = fs::remove_file(&stamp);
+        let _ = fs::remove_dir_all(&keep);
+        fs::create_dir_all(&keep).expect("create nvcc's keep folder");
         let result = cmd
             .output()
             .unwrap_or_else(|e| panic!("could not start nvcc: {shown}: {e}"));
@@ -428,10 +442,10 @@ fn cuda_modules(out: &Path) {
                 keep.display()
             )
         });
-        let text = out.join(format!("{stem}.ptx"));
         fs::rename(&ptx, &text).expect("move the kept PTX");
         // The rest (preprocessed sources, one cubin per target) is large and unused.
         let _ = fs::remove_dir_all(&keep);
+        fs::write(&stamp, &key).expect("write the module's compile key");
         (stem, dst, text)
     };
     // The modules on `NUM_JOBS` threads (cargo's -j), each nvcc on every core: the machine
@@ -499,11 +513,43 @@ fn cuda_modules(out: &Path) {
     if !sources.is_empty() {
         println!("cargo:rustc-cfg=meshfree_ptx");
     }
-    println!(
-        "cargo:warning=nvcc {} compiled {} CUDA modules for {} in {:.0} s",
-        nvcc.display(),
-        sources.len(),
-        targets.describe(),
-        started.elapsed().as_secs_f64()
-    );
+    let reused = reused.into_inner();
+    if reused < sources.len() {
+        println!(
+            "cargo:warning=nvcc {} compiled {} CUDA modules for {} in {:.0} s ({reused} unchanged)",
+            nvcc.display(),
+            sources.len() - reused,
+            targets.describe(),
+            started.elapsed().as_secs_f64()
+        );
+    }
+}
+
+/// FNV-1a over the paths and bytes of every file under cuda/, in path order.
+fn cuda_tree_digest() -> u64 {
+    fn walk(dir: &Path, files: &mut Vec<PathBuf>) {
+        for e in fs::read_dir(dir).into_iter().flatten().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                walk(&p, files);
+            } else {
+                files.push(p);
+            }
+        }
+    }
+    let mut files = Vec::new();
+    walk(Path::new("cuda"), &mut files);
+    files.sort();
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for p in files {
+        let bytes = p.to_string_lossy().into_owned().into_bytes();
+        for b in bytes
+            .iter()
+            .chain(&[0])
+            .chain(&fs::read(&p).unwrap_or_default())
+        {
+            h = (h ^ *b as u64).wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+    h
 }
