@@ -1,4 +1,4 @@
-//! The solver state a restart needs (`Solver::save`, `Solver::restore`), in storage order
+//! The solver state a restart needs (`Persist::save`, `Persist::restore`), in storage order
 //! and in a form that neither the backend nor the dimension's vector types shape: vectors
 //! as three components (z = 0 in 2D), symmetric tensors as six. The file around it (its
 //! version, checksum and the run's own state) is the app's (`meshfree run --resume`).
@@ -21,7 +21,7 @@ use crate::dim::Dim;
 use crate::exchange::Slab;
 use crate::state::{SolidState, State};
 
-/// One rank's share of a decomposed solver's state (`Solver::save_pieces`): the slab it
+/// One rank's share of a decomposed solver's state (`Persist::save_pieces`): the slab it
 /// owns and its particles (all of them in that slab: between steps a rank holds its owned
 /// particles alone), with the clock, step count and step size, which every rank shares.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -71,7 +71,7 @@ struct Layout<'a> {
     solids: bool,
 }
 
-/// The solver state of one step boundary (`Solver::save`).
+/// The solver state of one step boundary (`Persist::save`).
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SolverCheckpoint {
     /// 2 or 3.

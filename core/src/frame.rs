@@ -1,7 +1,7 @@
 //! Output frames: the particle fields an output carries (`Field`, chosen by the scene's
 //! `[output] fields`), copied from a solver in storage order with the ids (`FrameData`).
 //!
-//! `Solver::capture` starts the copy and returns at once with a `PendingFrame`; whoever
+//! `Readback::capture` starts the copy and returns at once with a `PendingFrame`; whoever
 //! writes the frame (the run's writer thread) calls `PendingFrame::wait`, so the solver
 //! can step on while the copy finishes. The CPU backend copies at once; the CUDA backend
 //! copies on the device into staging buffers and downloads them on a second stream into

@@ -1,9 +1,9 @@
 //! Force monitors (`[[monitors]]` in a scene): the force the fluid and solids exert on one
 //! wall object, its drag and lift coefficients, and the Strouhal number of the lift.
 //!
-//! A run samples the force with `Solver::wall_forces`, on the solver's own state (the CPU
+//! A run samples the force with `Readback::wall_forces`, on the solver's own state (the CPU
 //! backend: `src/backend/cpu/monitor.rs`; the CUDA backend: `cuda/monitor.cu`, summed on the
-//! device). `wall_force` here is the same sum from a particle read-back (`Solver::particles`,
+//! device). `wall_force` here is the same sum from a particle read-back (`Readback::particles`,
 //! either backend), the CPU and parity tests' reference: for every wall
 //! particle j of the object and every fluid or solid neighbour i, the acceleration that j
 //! contributes to i in the CPU force stage's own pair sum (`ForceSum` in
@@ -21,7 +21,7 @@ use crate::state::State;
 
 /// The force [M L T^-2] that fluid and solid particles exert on the boundary particles of
 /// scene group `group`, as three numbers (z = 0 in 2D), from `particles` (any order).
-/// `surface`: the solver's `Setup::wall_surface` (`Solver::wall_surface`; empty unless
+/// `surface`: the solver's `Setup::wall_surface` (`Readback::wall_surface`; empty unless
 /// `no_slip`).
 pub fn wall_force(
     p: &SphParams,

@@ -1,5 +1,5 @@
 //! Probes and free-surface gauges (`[[probes]]`, `[[gauges]]`): the host's part. The
-//! fields at a point are interpolated by the backends (`Solver::sample_points`, on the
+//! fields at a point are interpolated by the backends (`Readback::sample_points`, on the
 //! device on the GPU); a gauge is a line of such points whose colour (the fluid's kernel
 //! sum sum_j W m_j / rho_j, eqs. (1)-(4), 1 inside the fluid and 1/2 at its free surface)
 //! locates the surface here, as DualSPHysics' GaugeSWL does. `app/src/probes.rs` samples

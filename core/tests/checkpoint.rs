@@ -1,4 +1,4 @@
-//! Restarts (`Solver::save`, `Solver::restore`, `meshfree_core::checkpoint`): a solver
+//! Restarts (`Persist::save`, `Persist::restore`, `meshfree_core::checkpoint`): a solver
 //! restored from a checkpoint into a fresh solver of the same scene steps on exactly as the
 //! saved one did, bit for bit on the same backend (its diagnostics too), with elastic bodies under both solid
 //! formulations and a gate opened before the save; a checkpoint of another scene is refused

@@ -10,6 +10,8 @@ mod common;
 use meshfree_core::backend::{self, BackendChoice};
 use meshfree_core::exchange::{balanced, halo_width, longest_axis, Slab};
 use meshfree_core::particle::Particle;
+use meshfree_core::solver::Persist;
+use meshfree_core::solver::Readback;
 
 use common::edited_scene as scene;
 use meshfree_core::solver::{Setup, Solver};

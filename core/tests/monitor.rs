@@ -12,6 +12,7 @@ use meshfree_core::monitor::{
 };
 use meshfree_core::particle::Kind;
 use meshfree_core::scene::Scene;
+use meshfree_core::solver::Readback;
 use meshfree_core::solver::Solver;
 use meshfree_core::step::Stepper;
 

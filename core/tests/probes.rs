@@ -1,4 +1,4 @@
-//! Probes and gauges on the CPU backend (`Solver::sample_points`, `probe::surface`): the
+//! Probes and gauges on the CPU backend (`Readback::sample_points`, `probe::surface`): the
 //! built-in still tanks, whose hydrostatic start has p = rho0 g d at depth d below the
 //! block's top (`scene/generate.rs`), and whose free surface is that top.
 
@@ -8,6 +8,7 @@ use meshfree_core::kernel;
 use meshfree_core::particle::Kind;
 use meshfree_core::probe::{line_points, surface};
 use meshfree_core::scene::Scene;
+use meshfree_core::solver::Readback;
 use meshfree_core::solver::{PointSample, Solver};
 
 /// [L/T^2] the tanks' gravity; [M L^-d] their fluid's rest density.

@@ -9,6 +9,7 @@
 use meshfree_core::backend::cpu::CpuSolver;
 use meshfree_core::dim::D2;
 use meshfree_core::scene::Scene;
+use meshfree_core::solver::Readback;
 use meshfree_core::solver::Solver;
 use meshfree_lab::validate::plate;
 use std::collections::HashMap;

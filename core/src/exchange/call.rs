@@ -9,7 +9,9 @@ use crate::checkpoint::{Piece, SolverCheckpoint};
 use crate::exchange::{ExchangeStats, Rank, Slab, Subdomain, Transport};
 use crate::frame::{FrameData, PendingFrame};
 use crate::particle::Particle;
-use crate::solver::{BackendInfo, Diagnostics, Fault, PointSample, Shown, Snapshot, Solver};
+use crate::solver::{
+    BackendInfo, Diagnostics, Fault, Persist, PointSample, Readback, Shown, Snapshot, Solver, Stage,
+};
 
 /// One thing every rank does at once (the ranks meet in the transport's collective calls
 /// where the work needs the others: the halo of a grid build, the step size).
@@ -17,17 +19,8 @@ use crate::solver::{BackendInfo, Diagnostics, Fault, PointSample, Shown, Snapsho
 pub enum Call {
     /// `Solver::info`.
     Info,
-    BuildGrid,
-    Density,
-    SolidStress,
-    Forces,
-    SolidForces,
-    Rates,
-    ForcesAndRates,
-    TimeStep,
-    Kick,
-    Drift,
-    DriftKick,
+    /// Run a stage of `Solver` (`Stage::run`; a rank adds its exchange to three of them).
+    Stage(Stage),
     Step,
     Advance(u64),
     Time,
@@ -137,48 +130,8 @@ impl<S: Subdomain, T: Transport<S::Halo>> Rank<S, T> {
         let reply = match call {
             Call::Stop => Reply::Done,
             Call::Info => Reply::Info(self.info()),
-            Call::BuildGrid => {
-                self.build_grid();
-                Reply::Done
-            }
-            Call::Density => {
-                self.density();
-                Reply::Done
-            }
-            Call::SolidStress => {
-                self.solid_stress();
-                Reply::Done
-            }
-            Call::Forces => {
-                self.forces();
-                Reply::Done
-            }
-            Call::SolidForces => {
-                self.solid_forces();
-                Reply::Done
-            }
-            Call::Rates => {
-                self.rates();
-                Reply::Done
-            }
-            Call::ForcesAndRates => {
-                self.forces_and_rates();
-                Reply::Done
-            }
-            Call::TimeStep => {
-                self.time_step();
-                Reply::Done
-            }
-            Call::Kick => {
-                self.kick();
-                Reply::Done
-            }
-            Call::Drift => {
-                self.drift();
-                Reply::Done
-            }
-            Call::DriftKick => {
-                self.drift_kick();
+            Call::Stage(stage) => {
+                stage.run(self);
                 Reply::Done
             }
             Call::Step => {

@@ -13,7 +13,8 @@ use crate::frame::{Fields, FrameData, PendingFrame};
 use crate::params::SphParams;
 use crate::particle::Particle;
 use crate::solver::{
-    BackendInfo, Diagnostics, ExchangeCost, Fault, PointSample, Setup, Shown, Snapshot, Solver,
+    forward_stages, stage_list, BackendInfo, Diagnostics, ExchangeCost, Fault, Persist,
+    PointSample, Readback, Setup, Shown, Snapshot, Solver, Stage,
 };
 
 /// The subdomains of one scene, one rank each, stepping together (`Group`: threads of this
@@ -171,6 +172,11 @@ impl<G: Group> Decomposed<G> {
         replies
     }
 
+    /// Every rank runs `stage` at once.
+    fn run_stage(&mut self, stage: Stage) {
+        self.call(Call::Stage(stage));
+    }
+
     /// `call` on every rank; rank 0's reply.
     fn first(&mut self, call: Call) -> Reply {
         self.call(call).into_iter().next().expect("a rank")
@@ -284,39 +290,7 @@ impl<G: Group> Solver for Decomposed<G> {
     fn has_solids(&self) -> bool {
         self.status.iter().any(|s| s.has_solids)
     }
-    fn build_grid(&mut self) {
-        self.call(Call::BuildGrid);
-    }
-    fn density(&mut self) {
-        self.call(Call::Density);
-    }
-    fn solid_stress(&mut self) {
-        self.call(Call::SolidStress);
-    }
-    fn forces(&mut self) {
-        self.call(Call::Forces);
-    }
-    fn solid_forces(&mut self) {
-        self.call(Call::SolidForces);
-    }
-    fn rates(&mut self) {
-        self.call(Call::Rates);
-    }
-    fn forces_and_rates(&mut self) {
-        self.call(Call::ForcesAndRates);
-    }
-    fn time_step(&mut self) {
-        self.call(Call::TimeStep);
-    }
-    fn kick(&mut self) {
-        self.call(Call::Kick);
-    }
-    fn drift(&mut self) {
-        self.call(Call::Drift);
-    }
-    fn drift_kick(&mut self) {
-        self.call(Call::DriftKick);
-    }
+    stage_list!(forward_stages);
     /// Every rank steps at once in the trait's order.
     fn step(&mut self) {
         self.call(Call::Step);
@@ -351,6 +325,21 @@ impl<G: Group> Solver for Decomposed<G> {
         .into_iter()
         .collect()
     }
+    fn remove_group(&mut self, group: u32) -> usize {
+        self.gather(
+            Call::RemoveGroup(group),
+            |r| match r {
+                Reply::Removed(n) => Some(n),
+                _ => None,
+            },
+            "a count",
+        )
+        .into_iter()
+        .sum()
+    }
+}
+
+impl<G: Group> Readback for Decomposed<G> {
     /// Counts and sums added and maxima taken over the ranks (the sums in another order
     /// than one domain's: equal to round-off).
     fn diagnostics(&mut self) -> Diagnostics {
@@ -444,6 +433,49 @@ impl<G: Group> Solver for Decomposed<G> {
             out.push(all[k][i]);
         }
     }
+    fn wall_surface(&self) -> &[[f32; 4]] {
+        &self.wall_surface
+    }
+    fn exchange_cost(&self) -> Option<ExchangeCost> {
+        let stats = self.exchange_stats();
+        Some(ExchangeCost {
+            ranks: stats.len(),
+            fills: stats.iter().map(|s| s.fills).max().unwrap_or(0),
+            particles: stats.iter().map(|s| s.received).sum(),
+            bytes: stats.iter().map(|s| s.bytes).sum(),
+            seconds: stats
+                .iter()
+                .map(|s| s.time.as_secs_f64())
+                .fold(0.0, f64::max),
+            transfer_seconds: stats
+                .iter()
+                .map(|s| s.transfer.as_secs_f64())
+                .fold(0.0, f64::max),
+            device_bytes: self.status.iter().map(|s| s.device_bytes as u64).sum(),
+        })
+    }
+    fn wall_forces(&mut self, groups: &[u32]) -> Vec<[f64; 3]> {
+        let all = self.gather(
+            Call::WallForces(groups.to_vec()),
+            |r| match r {
+                Reply::Forces(f) => Some(f),
+                _ => None,
+            },
+            "forces",
+        );
+        let mut sum = vec![[0.0f64; 3]; groups.len()];
+        for part in all {
+            for (s, f) in sum.iter_mut().zip(part) {
+                for a in 0..3 {
+                    s[a] += f[a];
+                }
+            }
+        }
+        sum
+    }
+}
+
+impl<G: Group> Persist for Decomposed<G> {
     /// The ranks' states one after the other.
     fn save(&mut self) -> SolverCheckpoint {
         let parts = self.gather(
@@ -523,58 +555,6 @@ impl<G: Group> Solver for Decomposed<G> {
         Self::restored(done)?;
         self.slabs = slabs;
         Ok(())
-    }
-    fn remove_group(&mut self, group: u32) -> usize {
-        self.gather(
-            Call::RemoveGroup(group),
-            |r| match r {
-                Reply::Removed(n) => Some(n),
-                _ => None,
-            },
-            "a count",
-        )
-        .into_iter()
-        .sum()
-    }
-    fn wall_surface(&self) -> &[[f32; 4]] {
-        &self.wall_surface
-    }
-    fn exchange_cost(&self) -> Option<ExchangeCost> {
-        let stats = self.exchange_stats();
-        Some(ExchangeCost {
-            ranks: stats.len(),
-            fills: stats.iter().map(|s| s.fills).max().unwrap_or(0),
-            particles: stats.iter().map(|s| s.received).sum(),
-            bytes: stats.iter().map(|s| s.bytes).sum(),
-            seconds: stats
-                .iter()
-                .map(|s| s.time.as_secs_f64())
-                .fold(0.0, f64::max),
-            transfer_seconds: stats
-                .iter()
-                .map(|s| s.transfer.as_secs_f64())
-                .fold(0.0, f64::max),
-            device_bytes: self.status.iter().map(|s| s.device_bytes as u64).sum(),
-        })
-    }
-    fn wall_forces(&mut self, groups: &[u32]) -> Vec<[f64; 3]> {
-        let all = self.gather(
-            Call::WallForces(groups.to_vec()),
-            |r| match r {
-                Reply::Forces(f) => Some(f),
-                _ => None,
-            },
-            "forces",
-        );
-        let mut sum = vec![[0.0f64; 3]; groups.len()];
-        for part in all {
-            for (s, f) in sum.iter_mut().zip(part) {
-                for a in 0..3 {
-                    s[a] += f[a];
-                }
-            }
-        }
-        sum
     }
 }
 

@@ -10,7 +10,10 @@ use crate::exchange::{Slab, Subdomain, Transport};
 use crate::frame::{Fields, PendingFrame};
 use crate::params::SphParams;
 use crate::particle::Particle;
-use crate::solver::{BackendInfo, Diagnostics, Fault, PointSample, Shown, Snapshot, Solver};
+use crate::solver::{
+    forward_stages, stage_list, BackendInfo, Diagnostics, Fault, Persist, PointSample, Readback,
+    Shown, Snapshot, Solver, Stage,
+};
 
 /// What the exchange cost one rank so far.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -84,6 +87,33 @@ impl<S: Subdomain, T: Transport<S::Halo>> Rank<S, T> {
         &mut self.sub
     }
 
+    /// Run `stage` on the subdomain. Three stages talk to the other ranks: the grid build
+    /// first fills the halo (the particles within reach of this slab, as they start the
+    /// step); the step size is eq. (19) from the largest speed, acceleration and sound
+    /// speed of all ranks' owned particles (the one-domain step, bit for bit: a maximum
+    /// does not depend on the order); a drift ends by dropping what this slab no longer
+    /// owns. Every other stage is the subdomain's own.
+    fn run_stage(&mut self, stage: Stage) {
+        match stage {
+            Stage::BuildGrid => {
+                self.fill_halo();
+                self.sub.build_grid();
+            }
+            Stage::TimeStep => {
+                let t0 = Instant::now();
+                let mut e = self.sub.extremes();
+                self.transport.max(&mut e);
+                self.sub.set_step(e);
+                self.stats.time += t0.elapsed();
+            }
+            Stage::Drift | Stage::DriftKick => {
+                stage.run(&mut self.sub);
+                self.sub.retain_owned();
+            }
+            _ => stage.run(&mut self.sub),
+        }
+    }
+
     /// Send each rank copies of the particles within the halo width of its slab, and add
     /// what the others sent. Collective: every rank calls it at the same point.
     fn fill_halo(&mut self) {
@@ -120,49 +150,7 @@ impl<S: Subdomain, T: Transport<S::Halo>> Solver for Rank<S, T> {
     fn has_solids(&self) -> bool {
         self.sub.has_solids()
     }
-    /// The halo first: the particles within reach of this slab, as they start the step.
-    fn build_grid(&mut self) {
-        self.fill_halo();
-        self.sub.build_grid();
-    }
-    fn density(&mut self) {
-        self.sub.density();
-    }
-    fn solid_stress(&mut self) {
-        self.sub.solid_stress();
-    }
-    fn forces(&mut self) {
-        self.sub.forces();
-    }
-    fn solid_forces(&mut self) {
-        self.sub.solid_forces();
-    }
-    fn rates(&mut self) {
-        self.sub.rates();
-    }
-    fn forces_and_rates(&mut self) {
-        self.sub.forces_and_rates();
-    }
-    /// eq. (19) from the largest speed, acceleration and sound speed of all ranks' owned
-    /// particles: the one-domain step, bit for bit (a maximum does not depend on the order).
-    fn time_step(&mut self) {
-        let t0 = Instant::now();
-        let mut e = self.sub.extremes();
-        self.transport.max(&mut e);
-        self.sub.set_step(e);
-        self.stats.time += t0.elapsed();
-    }
-    fn kick(&mut self) {
-        self.sub.kick();
-    }
-    fn drift(&mut self) {
-        self.sub.drift();
-        self.sub.retain_owned();
-    }
-    fn drift_kick(&mut self) {
-        self.sub.drift_kick();
-        self.sub.retain_owned();
-    }
+    stage_list!(forward_stages);
     fn time(&mut self) -> f64 {
         self.sub.time()
     }
@@ -172,6 +160,12 @@ impl<S: Subdomain, T: Transport<S::Halo>> Solver for Rank<S, T> {
     fn check(&mut self) -> Result<(), Fault> {
         self.sub.check()
     }
+    fn remove_group(&mut self, group: u32) -> usize {
+        self.sub.remove_group(group)
+    }
+}
+
+impl<S: Subdomain, T: Transport<S::Halo>> Readback for Rank<S, T> {
     fn diagnostics(&mut self) -> Diagnostics {
         self.sub.diagnostics()
     }
@@ -197,15 +191,6 @@ impl<S: Subdomain, T: Transport<S::Halo>> Solver for Rank<S, T> {
         self.sub.sample_points(points, include_walls, out);
         self.sub.retain_owned();
     }
-    fn save(&mut self) -> SolverCheckpoint {
-        self.sub.save()
-    }
-    fn restore(&mut self, saved: &SolverCheckpoint) -> Result<(), String> {
-        self.sub.replace(saved)
-    }
-    fn remove_group(&mut self, group: u32) -> usize {
-        self.sub.remove_group(group)
-    }
     fn wall_surface(&self) -> &[[f32; 4]] {
         self.sub.wall_surface()
     }
@@ -216,5 +201,14 @@ impl<S: Subdomain, T: Transport<S::Halo>> Solver for Rank<S, T> {
         let f = self.sub.wall_forces(groups);
         self.sub.retain_owned();
         f
+    }
+}
+
+impl<S: Subdomain, T: Transport<S::Halo>> Persist for Rank<S, T> {
+    fn save(&mut self) -> SolverCheckpoint {
+        self.sub.save()
+    }
+    fn restore(&mut self, saved: &SolverCheckpoint) -> Result<(), String> {
+        self.sub.replace(saved)
     }
 }

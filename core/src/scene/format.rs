@@ -110,7 +110,7 @@ impl ProbeField {
 }
 
 /// Points where fields are kernel-interpolated with Shepard normalisation every `interval`
-/// (`Solver::sample_points`), written to `probes.csv`, one row per point and sample.
+/// (`Readback::sample_points`), written to `probes.csv`, one row per point and sample.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Probe {

@@ -3,6 +3,8 @@
 //! inputs (`cmp_*`, `stages_on`), and long runs through captured graphs (`long_run_on`).
 
 use super::*;
+use meshfree_core::solver::Persist;
+use meshfree_core::solver::Readback;
 
 /// The GPU solver for `setup`; without a usable GPU the test fails (it was asked to run).
 pub(crate) fn gpu<D: Dim>(setup: &Setup) -> CudaSolver<D> {

@@ -3,6 +3,7 @@
 //! check's first fault.
 
 use super::*;
+use meshfree_core::solver::Readback;
 
 #[test]
 #[cfg_attr(
@@ -100,7 +101,7 @@ fn same_particles(what: &str, frame: &[Particle], read: &[Particle]) {
     }
 }
 
-/// Output frames (`Solver::capture`): the device-side copy taken at a step is what
+/// Output frames (`Readback::capture`): the device-side copy taken at a step is what
 /// `particles()` reads back at that step, although the solver stepped on before the frame
 /// was downloaded; two frames in flight at once; a frame dropped unread gives its staging
 /// set back; and the CPU backend's capture likewise.

@@ -7,9 +7,9 @@
 //! GPU's fused `forces_and_rates` pass against the CPU's two stages). Then diagnostics after 200 steps; the fused pass against the GPU's two separate
 //! passes, bit for bit; and the `SphParams` layout as nvcc sees it. Morris's no-slip walls
 //! (`no_slip`) run in five stage scenes, a long run and the fused-pass check. Probes
-//! (`Solver::sample_points`, `cuda/probes.cu`) sample the same values as the CPU's at points
+//! (`Readback::sample_points`, `cuda/probes.cu`) sample the same values as the CPU's at points
 //! over the domain, and sampling leaves the GPU's stepping unchanged, bit for bit. The force
-//! monitors' device sums (`Solver::wall_forces`, `cuda/monitor.cu`) against the read-back
+//! monitors' device sums (`Readback::wall_forces`, `cuda/monitor.cu`) against the read-back
 //! path (`monitor::wall_force`) on wall objects in flow, with and without bodies.
 //! Total-Lagrangian bodies (`cuda/tlsph.cu`): the stage scenes with `solid_stress`,
 //! `solid_forces` and the displacements compared too (2D and 3D, both integrators), and runs

@@ -1,9 +1,10 @@
-//! The force monitors' device sums (`Solver::wall_forces`, `cuda/monitor.cu`) against the
+//! The force monitors' device sums (`Readback::wall_forces`, `cuda/monitor.cu`) against the
 //! read-back path (`monitor::wall_force`) on wall objects in flow, with and without bodies.
 
 use super::*;
+use meshfree_core::solver::Readback;
 
-// ---- force monitors (`Solver::wall_forces`, cuda/monitor.cu) ----
+// ---- force monitors (`Readback::wall_forces`, cuda/monitor.cu) ----
 
 /// `setup` in a mean flow: `u` [L/T] added to every fluid particle's velocity (periodic x).
 fn in_flow(mut setup: Setup, u: [f32; 3]) -> Setup {

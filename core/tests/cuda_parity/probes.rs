@@ -1,7 +1,8 @@
-//! Probes (`Solver::sample_points`, `cuda/probes.cu`) against the CPU's at points over the
+//! Probes (`Readback::sample_points`, `cuda/probes.cu`) against the CPU's at points over the
 //! domain, and sampling that leaves the GPU's stepping unchanged, bit for bit.
 
 use super::*;
+use meshfree_core::solver::Readback;
 
 /// A lattice of points over the parity scene's domain, offset from the cells' corners: in
 /// the fluid, in the body, among the walls and above the fluid out of every particle's reach.
@@ -105,7 +106,7 @@ fn cmp_samples(what: &str, p: &SphParams, c: &[PointSample], g: &[PointSample], 
     eprintln!("  {what}: {} points, {dry} with no particle near", c.len());
 }
 
-/// Probes (`Solver::sample_points`: `cuda/probes.cu` against `cpu/probes.rs`) on a parity
+/// Probes (`Readback::sample_points`: `cuda/probes.cu` against `cpu/probes.rs`) on a parity
 /// scene, with and without the walls: at the start (no grid built yet on either), after
 /// the CPU's state moved by steps is uploaded (the GPU's grid then stale, as the CPU's after
 /// its drift), and after both stepped on (the GPU by graphs) from that one state.

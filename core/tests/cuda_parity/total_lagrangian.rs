@@ -3,6 +3,7 @@
 //! removed halfway.
 
 use super::*;
+use meshfree_core::solver::Readback;
 
 /// `setup` with total-Lagrangian bodies (`[solid] formulation = "total-lagrangian"`,
 /// `cuda/tlsph.cu`, twin `src/backend/cpu/tlsph.rs`) and the hourglass control at `alpha`;

@@ -33,7 +33,9 @@ use crate::dim::Dim;
 use crate::frame::{Fields, FrameData, PendingFrame, Ready};
 use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
 use crate::particle::{Kind, Particle};
-use crate::solver::{BackendInfo, Diagnostics, Fault, PointSample, Setup, Solver};
+use crate::solver::{
+    BackendInfo, Diagnostics, Fault, Persist, PointSample, Readback, Setup, Solver,
+};
 use crate::state::State;
 
 /// The whole state in host memory, worked on by rayon.
@@ -195,6 +197,19 @@ impl<D: Dim> Solver for CpuSolver<D> {
         let (id, kind) = (self.state.id[i], self.state.particle(i).kind);
         Err(fault(self.steps, self.time, id, kind, code, value))
     }
+    fn remove_group(&mut self, group: u32) -> usize {
+        let before = self.state.len();
+        let g = self.state.group.clone();
+        self.state.retain(|i| g[i] != group);
+        if let Some(tl) = self.tl.as_mut() {
+            tl.map_slots(&self.state);
+        }
+        self.grid_stale = true;
+        before - self.state.len()
+    }
+}
+
+impl<D: Dim> Readback for CpuSolver<D> {
     fn diagnostics(&mut self) -> Diagnostics {
         let mut d = reduce::diagnostics(&self.params, &self.state);
         d.step = self.steps;
@@ -246,6 +261,9 @@ impl<D: Dim> Solver for CpuSolver<D> {
             .map(|&g| wall_force(&self.params, &self.state, &self.grid, &self.wall_surface, g))
             .collect()
     }
+}
+
+impl<D: Dim> Persist for CpuSolver<D> {
     fn save(&mut self) -> SolverCheckpoint {
         let disp = self.tl.as_ref().map_or(&[][..], |t| &t.disp[..]);
         SolverCheckpoint::of_state(&self.state, self.time, self.steps, self.dt, disp)
@@ -265,16 +283,6 @@ impl<D: Dim> Solver for CpuSolver<D> {
         self.dt = saved.dt;
         self.dt_prev = saved.dt;
         Ok(())
-    }
-    fn remove_group(&mut self, group: u32) -> usize {
-        let before = self.state.len();
-        let g = self.state.group.clone();
-        self.state.retain(|i| g[i] != group);
-        if let Some(tl) = self.tl.as_mut() {
-            tl.map_slots(&self.state);
-        }
-        self.grid_stale = true;
-        before - self.state.len()
     }
 }
 

@@ -1,5 +1,5 @@
 //! Force monitors on the solver's own state: the force the fluid and solids exert on the
-//! wall particles of one scene group (`Solver::wall_forces`; `crate::monitor` for the
+//! wall particles of one scene group (`Readback::wall_forces`; `crate::monitor` for the
 //! read-back path and the statistics). Twin: `cuda/monitor.cu`; parity test
 //! `tests/cuda_parity/`.
 //!

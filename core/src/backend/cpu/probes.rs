@@ -1,4 +1,4 @@
-//! Probes: fields kernel-interpolated at points, for `Solver::sample_points`. Twin:
+//! Probes: fields kernel-interpolated at points, for `Readback::sample_points`. Twin:
 //! `cuda/probes.cu` (the per-point sum `PointSum` in `cuda/device/probes.cuh`); parity test
 //! `tests/cuda_parity/`.
 //!

@@ -1,4 +1,4 @@
-//! Output frames off the stepping path (`Solver::capture`, `crate::frame`).
+//! Output frames off the stepping path (`Readback::capture`, `crate::frame`).
 //!
 //! At an output the solver's stream copies the chosen fields of the current arrays into a
 //! staging set on the device (device-to-device, well under a millisecond for millions of

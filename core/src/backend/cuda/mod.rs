@@ -31,8 +31,8 @@ use crate::frame::{Fields, FrameData, PendingFrame, Ready};
 use crate::params::{needs_density_gradient, SphParams, MF_DENSITY_CONTINUITY};
 use crate::particle::Particle;
 use crate::solver::{
-    BackendInfo, Diagnostics, Fault, GlBuffers, GlFill, GlSplat, PointSample, Setup, Shown,
-    Snapshot, Solver,
+    BackendInfo, Diagnostics, Fault, GlBuffers, GlFill, GlSplat, Persist, PointSample, Readback,
+    Setup, Shown, Snapshot, Solver,
 };
 use crate::state::State;
 
@@ -104,7 +104,7 @@ pub struct CudaSolver<D: Dim> {
     host_vel: Vec<f32>,
     /// The viewer's vertex buffers, registered at the first `fill_gl`.
     gl_view: Option<GlView>,
-    /// Bytes read back from the device so far (`Solver::device_to_host_bytes`).
+    /// Bytes read back from the device so far (`Readback::device_to_host_bytes`).
     d2h: u64,
     /// The clock [T] and the key of a queued check's fault (`Buffers::time`) as last read
     /// back, while nothing has changed them since (a step, `set_clock`, a queued check).
@@ -589,6 +589,41 @@ impl<D: Dim> Solver for CudaSolver<D> {
         let v = [f(r[5]), f(r[6]), f(r[7])];
         Err(self.fault_of(key, (step, time), r[0], kind, x, v, f(r[8])))
     }
+    fn remove_group(&mut self, group: u32) -> usize {
+        let mut st = self.download_state();
+        let before = st.len();
+        let g = st.group.clone();
+        st.retain(|i| g[i] != group);
+        let removed = before - st.len();
+        if removed > 0 {
+            let time = self.time();
+            let dt = self.dt();
+            let n = st.len();
+            let buf = Buffers::new(
+                &self.dev.stream,
+                &st,
+                self.buf.n_cells,
+                &self.wall_surface,
+                needs_density_gradient(&self.params),
+            )
+            .unwrap_or_else(|e| panic!("{}", oom(n, e)));
+            self.buf = buf;
+            self.set_clock(time, dt);
+            // The removed solids keep slot NONE; the rest are mapped onto the new storage.
+            if let Some(t) = self.tl.as_mut() {
+                if let Err(e) = t.clear_slots(&self.dev.stream) {
+                    self.sync_err("clearing the total-Lagrangian slot map", e)
+                }
+            }
+            self.tl_map_slots();
+            self.graph = None;
+            self.grid_current = false;
+        }
+        removed
+    }
+}
+
+impl<D: Dim> Readback for CudaSolver<D> {
     fn diagnostics(&mut self) -> Diagnostics {
         let s = &self.dev.stream;
         let r = launch::diagnostics(&self.k, s, &self.params, &mut self.buf).and_then(|_| {
@@ -826,6 +861,9 @@ impl<D: Dim> Solver for CudaSolver<D> {
         self.tl_map_slots();
         f
     }
+}
+
+impl<D: Dim> Persist for CudaSolver<D> {
     fn save(&mut self) -> SolverCheckpoint {
         let state = self.download_state();
         let disp = self.tl_displacement().unwrap_or_default();
@@ -857,38 +895,6 @@ impl<D: Dim> Solver for CudaSolver<D> {
         self.steps = saved.steps;
         self.graph = None;
         Ok(())
-    }
-    fn remove_group(&mut self, group: u32) -> usize {
-        let mut st = self.download_state();
-        let before = st.len();
-        let g = st.group.clone();
-        st.retain(|i| g[i] != group);
-        let removed = before - st.len();
-        if removed > 0 {
-            let time = self.time();
-            let dt = self.dt();
-            let n = st.len();
-            let buf = Buffers::new(
-                &self.dev.stream,
-                &st,
-                self.buf.n_cells,
-                &self.wall_surface,
-                needs_density_gradient(&self.params),
-            )
-            .unwrap_or_else(|e| panic!("{}", oom(n, e)));
-            self.buf = buf;
-            self.set_clock(time, dt);
-            // The removed solids keep slot NONE; the rest are mapped onto the new storage.
-            if let Some(t) = self.tl.as_mut() {
-                if let Err(e) = t.clear_slots(&self.dev.stream) {
-                    self.sync_err("clearing the total-Lagrangian slot map", e)
-                }
-            }
-            self.tl_map_slots();
-            self.graph = None;
-            self.grid_current = false;
-        }
-        removed
     }
 }
 

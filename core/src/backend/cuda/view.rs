@@ -5,7 +5,7 @@
 //! no particle crosses PCIe. The colour range is reduced on the device and comes back as 8
 //! bytes, or not at all where the range is fixed. Where the viewer asks (`GlSplat`), the
 //! same mapping also takes its splat buffer, and after the fill the visibility splat writes
-//! each pixel's nearest sphere into it. Twin: the host-copy path, `Solver::snapshot` and the
+//! each pixel's nearest sphere into it. Twin: the host-copy path, `Readback::snapshot` and the
 //! viewer's upload (and its sprites' pass for the splat); test: `app/tests/render_interop.rs`.
 
 use cudarc::driver::{sys, CudaContext, CudaSlice, CudaStream, DriverError};

@@ -16,7 +16,7 @@ use crate::params::SphParams;
 /// kB per group) and the final pass's work.
 const WALL_FORCE_BLOCKS: usize = 1024;
 
-/// The force [M L T^-2] on the wall particles of each of `groups` (`Solver::wall_forces`),
+/// The force [M L T^-2] on the wall particles of each of `groups` (`Readback::wall_forces`),
 /// in their order: the grid rebuilt from the current positions (`build_grid`: the drift
 /// moved the particles since the last build, and at t = 0 there was none) and the equation
 /// of state of the current density unless that build applied it (`sph_monitor_eos`), as
@@ -259,7 +259,7 @@ pub fn queue_check(
 
 /// The probes' sums at the points `points` (float4 each) into `out` (`MF_SAMPLE_FLOATS`
 /// per point), from the grid of the last build, which must list the particles at their
-/// current positions (`Solver::sample_points`).
+/// current positions (`Readback::sample_points`).
 pub fn sample_points(
     k: &Kernels,
     s: &Arc<CudaStream>,
