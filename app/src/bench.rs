@@ -47,10 +47,10 @@ pub struct BenchOptions {
     /// The time integrator of every run (default the leapfrog).
     #[serde(default)]
     pub integrator: IntegratorChoice,
-    /// Step in this many subdomains (`backend::create_decomposed`); None: one domain.
+    /// Step in this many subdomains (`backend::Layout::Threads`); None: one domain.
     #[serde(default)]
     pub decompose: Option<usize>,
-    /// Step on this many GPUs, a subdomain each (`backend::create_multi_gpu`).
+    /// Step on this many GPUs, a subdomain each (`backend::Layout::Gpus`).
     #[serde(default)]
     pub gpus: Option<usize>,
 }
@@ -289,11 +289,22 @@ fn make<D: Dim>(
     gpus: Option<usize>,
 ) -> Result<(Box<dyn Solver>, usize), BackendError> {
     if let Some(g) = gpus {
-        return Ok((meshfree_core::backend::create_multi_gpu(setup, g)?, 0));
+        return Ok((
+            meshfree_core::backend::create(
+                BackendChoice::Cuda,
+                meshfree_core::backend::Layout::Gpus(g),
+                setup,
+            )?,
+            0,
+        ));
     }
     if let Some(n) = decompose {
         return Ok((
-            meshfree_core::backend::create_decomposed(choice, setup, n)?,
+            meshfree_core::backend::create(
+                choice,
+                meshfree_core::backend::Layout::Threads(n),
+                setup,
+            )?,
             0,
         ));
     }

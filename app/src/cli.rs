@@ -697,8 +697,7 @@ fn bench(a: BenchArgs) -> anyhow::Result<()> {
     };
     if !a.sizes.is_empty() {
         o.sizes = a.sizes.iter().map(|&x| x as usize).collect();
-    } else if a.backend == BackendChoice::Cpu
-        || meshfree_core::backend::cuda_solver_available().is_err()
+    } else if a.backend == BackendChoice::Cpu || meshfree_core::backend::cuda::available().is_err()
     {
         o.sizes = vec![3_000, 30_000, 300_000];
     }

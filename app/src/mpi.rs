@@ -271,7 +271,7 @@ fn join(mut setup: Setup, backend: BackendChoice) -> Result<Option<Box<dyn Solve
     let cuda = match backend {
         BackendChoice::Cpu => false,
         BackendChoice::Cuda => true,
-        BackendChoice::Auto => meshfree_core::backend::cuda_solver_available().is_ok(),
+        BackendChoice::Auto => meshfree_core::backend::cuda::available().is_ok(),
     };
     // Every rank must take the same backend: a process without a GPU refuses `auto`'s CUDA
     // decision of the others.

@@ -84,7 +84,7 @@ pub struct RunOptions {
     /// axis, one thread each, halos exchanged every step), on `backend`; the particles come
     /// out as in one domain. None: one domain.
     pub decompose: Option<usize>,
-    /// One subdomain on each of this many GPUs, through NCCL (`backend::create_multi_gpu`);
+    /// One subdomain on each of this many GPUs, through NCCL (`backend::Layout::Gpus`);
     /// None: `decompose` or one domain.
     pub gpus: Option<usize>,
     /// This process is rank 0 of an MPI run (`crate::mpi`, `run --mpi`): one subdomain per
@@ -197,9 +197,9 @@ fn create_solver(
     }
     let _ = scene;
     Ok(match (options.gpus, options.decompose) {
-        (Some(g), _) => backend::create_multi_gpu(setup, g)?,
-        (None, Some(n)) => backend::create_decomposed(options.backend, setup, n)?,
-        (None, None) => backend::create(options.backend, setup)?,
+        (Some(g), _) => backend::create(BackendChoice::Cuda, backend::Layout::Gpus(g), setup)?,
+        (None, Some(n)) => backend::create(options.backend, backend::Layout::Threads(n), setup)?,
+        (None, None) => backend::create(options.backend, backend::Layout::One, setup)?,
     })
 }
 

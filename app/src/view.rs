@@ -7,7 +7,7 @@ use std::path::Path;
 use anyhow::Context;
 use meshfree::cli::{RenderArgs, ShownField, ViewArgs};
 use meshfree::output::{write_vtu, RunStatus, RunSummary, Timing};
-use meshfree_core::backend::create;
+use meshfree_core::backend::{create, Layout};
 use meshfree_core::frame;
 use meshfree_core::scene::format::{OutputFormat, Wall};
 use meshfree_core::scene::{Counts, Overrides, Scene};
@@ -71,7 +71,7 @@ fn wall_outlines(scene: &Scene) -> Vec<(Outline, Option<f64>)> {
 impl Live {
     fn new(scene: Scene, backend: meshfree_core::backend::BackendChoice) -> anyhow::Result<Live> {
         let setup = scene.setup()?;
-        let solver = create(backend, setup)?;
+        let solver = create(backend, Layout::One, setup)?;
         let info = solver.info();
         eprintln!(
             "{}: {} particles on {} ({})",

@@ -238,7 +238,8 @@ fn exercise(bytes: &[u8]) -> Result<&'static str, String> {
     if setup.particles.is_empty() {
         return Ok("accepted (no particles)");
     }
-    let mut solver = backend::create(BackendChoice::Cpu, setup).map_err(|e| e.to_string())?;
+    let mut solver = backend::create(BackendChoice::Cpu, backend::Layout::One, setup)
+        .map_err(|e| e.to_string())?;
     let mut stepper = Stepper::new(scene.gates()).with_end(scene.file.time.end);
     let t_end = scene.file.time.end;
     let mut taken = 0;

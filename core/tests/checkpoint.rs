@@ -29,7 +29,7 @@ fn impinging(formulation: &str) -> (Setup, u32) {
 
 /// A solver for `setup` on `backend`, its gate opened.
 fn started(choice: BackendChoice, setup: &Setup, gate: u32) -> Box<dyn Solver> {
-    let mut s = backend::create(choice, setup.clone()).unwrap_or_else(|e| {
+    let mut s = backend::create(choice, backend::Layout::One, setup.clone()).unwrap_or_else(|e| {
         panic!("this test needs the {choice:?} backend: {e}");
     });
     assert!(s.remove_group(gate) > 0, "the gate removed nothing");
@@ -121,7 +121,7 @@ fn a_checkpoint_of_another_scene_is_refused_with_the_reason() {
     let saved = a.save();
 
     // The gate still standing: more particles in the scene than in the checkpoint.
-    let mut b = backend::create(BackendChoice::Cpu, setup.clone()).unwrap();
+    let mut b = backend::create(BackendChoice::Cpu, backend::Layout::One, setup.clone()).unwrap();
     let e = b.restore(&saved).unwrap_err();
     assert!(e.contains("particles"), "{e}");
     assert_eq!(b.steps(), 0, "a refused restore changed the solver");

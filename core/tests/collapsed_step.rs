@@ -53,7 +53,12 @@ remove_at = 0.0
 #[test]
 fn a_collapsed_step_is_a_fault_without_an_end_time() {
     let scene = Scene::from_toml(SCENE, "collapse").unwrap();
-    let mut solver = backend::create(BackendChoice::Cpu, scene.setup().unwrap()).unwrap();
+    let mut solver = backend::create(
+        BackendChoice::Cpu,
+        backend::Layout::One,
+        scene.setup().unwrap(),
+    )
+    .unwrap();
     let mut stepper = Stepper::new(scene.gates());
     let fault = stepper
         .advance_to(solver.as_mut(), 1.0)

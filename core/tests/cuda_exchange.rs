@@ -45,9 +45,13 @@ fn run(
     steps: u64,
 ) -> (Vec<Particle>, Box<dyn Solver>) {
     let mut s = if n == 0 {
-        need_gpu(backend::create(choice, setup.clone()))
+        need_gpu(backend::create(choice, backend::Layout::One, setup.clone()))
     } else {
-        need_gpu(backend::create_decomposed(choice, setup.clone(), n))
+        need_gpu(backend::create(
+            choice,
+            backend::Layout::Threads(n),
+            setup.clone(),
+        ))
     };
     for &g in gates {
         s.remove_group(g);
@@ -263,10 +267,10 @@ fn wall_forces_probes_and_a_restore_work_across_cuda_subdomains() {
     many.advance(10);
     same(&one.particles(), &many.particles()).unwrap();
     let saved = many.save();
-    let mut two = need_gpu(backend::create_decomposed(
+    let mut two = need_gpu(backend::create(
         BackendChoice::Cuda,
+        backend::Layout::Threads(2),
         setup.clone(),
-        2,
     ));
     two.restore(&saved).unwrap();
     one.advance(10);
@@ -286,7 +290,11 @@ fn single_steps_of_one_cuda_domain_equal_its_graphs() {
     let sc = dam_break_2d();
     let setup = sc.setup().unwrap();
     let (graphs, _) = run(BackendChoice::Cuda, &setup, &gates_of(&sc), 0, 40);
-    let mut s = need_gpu(backend::create(BackendChoice::Cuda, setup.clone()));
+    let mut s = need_gpu(backend::create(
+        BackendChoice::Cuda,
+        backend::Layout::One,
+        setup.clone(),
+    ));
     for g in gates_of(&sc) {
         s.remove_group(g);
     }

@@ -20,9 +20,14 @@ use meshfree_core::solver::{Setup, Solver};
 /// decomposition), gates opened first; the particles by id and the solver.
 fn run(setup: &Setup, gates: &[u32], n: usize, steps: u64) -> (Vec<Particle>, Box<dyn Solver>) {
     let mut s = if n == 0 {
-        backend::create(BackendChoice::Cpu, setup.clone()).unwrap()
+        backend::create(BackendChoice::Cpu, backend::Layout::One, setup.clone()).unwrap()
     } else {
-        backend::create_decomposed(BackendChoice::Cpu, setup.clone(), n).unwrap()
+        backend::create(
+            BackendChoice::Cpu,
+            backend::Layout::Threads(n),
+            setup.clone(),
+        )
+        .unwrap()
     };
     for &g in gates {
         s.remove_group(g);
@@ -203,7 +208,12 @@ fn wall_forces_probes_and_a_restore_work_across_subdomains() {
     many.advance(10);
     same(&one.particles(), &many.particles()).unwrap();
     let saved = many.save();
-    let mut two = backend::create_decomposed(BackendChoice::Cpu, setup.clone(), 2).unwrap();
+    let mut two = backend::create(
+        BackendChoice::Cpu,
+        backend::Layout::Threads(2),
+        setup.clone(),
+    )
+    .unwrap();
     two.restore(&saved).unwrap();
     one.advance(10);
     two.advance(10);
@@ -254,9 +264,13 @@ fn total_lagrangian_bodies_are_refused_with_the_reason() {
             ("[solid]\n", "[solid]\nformulation = \"total-lagrangian\"\n"),
         ],
     );
-    let e = backend::create_decomposed(BackendChoice::Cpu, sc.setup().unwrap(), 2)
-        .err()
-        .expect("refused");
+    let e = backend::create(
+        BackendChoice::Cpu,
+        backend::Layout::Threads(2),
+        sc.setup().unwrap(),
+    )
+    .err()
+    .expect("refused");
     assert!(e.to_string().contains("total-Lagrangian"), "{e}");
 }
 
@@ -269,7 +283,7 @@ fn moving_the_cuts_keeps_the_run_exact_and_balances_the_load() {
     let gates: Vec<u32> = sc.gates().iter().map(|g| g.0).collect();
     let mut setup = sc.setup().unwrap();
     setup.params.own_solids = 0;
-    let mut one = backend::create(BackendChoice::Cpu, setup.clone()).unwrap();
+    let mut one = backend::create(BackendChoice::Cpu, backend::Layout::One, setup.clone()).unwrap();
     let mut many =
         Decomposed::new(setup, 3, |s| Ok::<_, Refused>(CpuSolver::<D2>::new(s))).unwrap();
     for &g in &gates {
@@ -340,8 +354,13 @@ fn pieces_saved_per_rank_restore_each_rank_or_gather_into_another_count() {
     );
     // Into another count (one domain, 2 subdomains): the pieces gathered, equally exact.
     let pieces = many.save_pieces().unwrap();
-    let mut one = backend::create(BackendChoice::Cpu, setup.clone()).unwrap();
-    let mut two = backend::create_decomposed(BackendChoice::Cpu, setup.clone(), 2).unwrap();
+    let mut one = backend::create(BackendChoice::Cpu, backend::Layout::One, setup.clone()).unwrap();
+    let mut two = backend::create(
+        BackendChoice::Cpu,
+        backend::Layout::Threads(2),
+        setup.clone(),
+    )
+    .unwrap();
     for &g in &gates {
         one.remove_group(g);
         two.remove_group(g);

@@ -1,4 +1,4 @@
-//! Several GPUs (`backend::create_multi_gpu`, `run --gpus N`; `backend/cuda/nccl.rs`): one
+//! Several GPUs (`backend::Layout::Gpus`, `run --gpus N`; `backend/cuda/nccl.rs`): one
 //! subdomain on each GPU, halos sent through NCCL, equals the one-GPU run bit for bit in
 //! every particle, on a 2D dam break (walls, a gate), a 3D dam break and a periodic
 //! channel cut along its periodic axis with an inflow band. Needs a machine with 2 GPUs
@@ -18,9 +18,13 @@ use meshfree_core::solver::{Setup, Solver};
 /// `setup` on one GPU (`gpus` = 0) or on `gpus` GPUs, gates opened, `steps` steps.
 fn run(setup: &Setup, gates: &[u32], gpus: usize, steps: u64) -> Box<dyn Solver> {
     let mut s = if gpus == 0 {
-        backend::create(BackendChoice::Cuda, setup.clone())
+        backend::create(BackendChoice::Cuda, backend::Layout::One, setup.clone())
     } else {
-        backend::create_multi_gpu(setup.clone(), gpus)
+        backend::create(
+            BackendChoice::Cuda,
+            backend::Layout::Gpus(gpus),
+            setup.clone(),
+        )
     }
     .unwrap_or_else(|e| panic!("this test needs {gpus} GPUs and NCCL: {e}"));
     for &g in gates {

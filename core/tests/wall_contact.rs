@@ -50,7 +50,12 @@ max = [0.5, 0.3]
 "#
     );
     let scene = Scene::from_toml(&text, "test:block-on-floor").unwrap();
-    let mut s = backend::create(BackendChoice::Cpu, scene.setup().unwrap()).unwrap();
+    let mut s = backend::create(
+        BackendChoice::Cpu,
+        backend::Layout::One,
+        scene.setup().unwrap(),
+    )
+    .unwrap();
     (Stepper::new(scene.gates()))
         .advance_to(s.as_mut(), 0.01)
         .unwrap();

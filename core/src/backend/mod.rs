@@ -2,6 +2,10 @@
 pub mod cpu;
 #[cfg(feature = "cuda")]
 pub mod cuda;
+/// The `cuda` feature off: the same entry points, each saying so (`stub.rs`).
+#[cfg(not(feature = "cuda"))]
+#[path = "stub.rs"]
+pub mod cuda;
 pub mod pair;
 
 use crate::dim::{D2, D3};
@@ -56,34 +60,51 @@ impl From<crate::exchange::Refused> for BackendError {
     }
 }
 
-/// Build the solver for `setup` on `choice`, in the scene's dimension.
-pub fn create(choice: BackendChoice, setup: Setup) -> Result<Box<dyn Solver>, BackendError> {
-    match choice {
-        BackendChoice::Cpu => Ok(cpu_solver(setup)),
-        BackendChoice::Cuda => cuda_solver(setup),
-        // CUDA where a driver, a device and PTX answer; otherwise the CPU (`Solver::info`
-        // says which was taken).
-        BackendChoice::Auto => cuda_solver(setup.clone()).or_else(|_| Ok(cpu_solver(setup))),
-    }
+/// Where a solver's particles live: one domain, or slabs of the scene stepped together
+/// (`crate::exchange::Decomposed`: slabs along the longest axis, one rank each), which give
+/// one domain's results (bit for bit in every particle; the diagnostics' sums to
+/// round-off). A run in several processes (`meshfree run --mpi`) is the app's: its ranks
+/// talk through MPI (`app/src/mpi.rs`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Layout {
+    /// One domain.
+    #[default]
+    One,
+    /// This many subdomains in this process, one thread each, every one a solver of the
+    /// chosen backend (`run --decompose N`); on CUDA all on device 0, their halos on the
+    /// device.
+    Threads(usize),
+    /// One subdomain on each of this many GPUs of this machine, talking through NCCL (`run
+    /// --gpus N`): CUDA whatever the choice.
+    Gpus(usize),
 }
 
-/// `n` subdomains of the scene stepped together in this process
-/// (`crate::exchange::Decomposed`: slabs along the longest axis, one thread each), each a
-/// solver of `choice`; the same results as `create`'s one domain (bit for bit in every
-/// particle; the diagnostics' sums to round-off).
-pub fn create_decomposed(
+/// Build the solver for `setup` on `choice`, laid out as `layout`, in the scene's
+/// dimension. `Auto` takes CUDA where a driver, a device and PTX answer, otherwise the CPU
+/// (`Solver::info` says which was taken).
+pub fn create(
     choice: BackendChoice,
+    layout: Layout,
     mut setup: Setup,
-    n: usize,
 ) -> Result<Box<dyn Solver>, BackendError> {
-    setup.params.own_solids = setup.has_solids() as i32;
-    match choice {
-        BackendChoice::Cpu => cpu_decomposed(setup, n),
-        BackendChoice::Cuda => cuda_decomposed(setup, n),
-        BackendChoice::Auto => match cuda_solver_available() {
-            Ok(()) => cuda_decomposed(setup, n),
+    if layout != Layout::One {
+        // Every subdomain holds the solids' arrays where the scene has solids: its halo may
+        // bring some (`SphParams::own_solids`).
+        setup.params.own_solids = setup.has_solids() as i32;
+    }
+    match (layout, choice) {
+        (Layout::One, BackendChoice::Cpu) => Ok(cpu_solver(setup)),
+        (Layout::One, BackendChoice::Cuda) => cuda::create(setup),
+        (Layout::One, BackendChoice::Auto) => {
+            cuda::create(setup.clone()).or_else(|_| Ok(cpu_solver(setup)))
+        }
+        (Layout::Threads(n), BackendChoice::Cpu) => cpu_decomposed(setup, n),
+        (Layout::Threads(n), BackendChoice::Cuda) => cuda::decomposed(setup, n),
+        (Layout::Threads(n), BackendChoice::Auto) => match cuda::available() {
+            Ok(_) => cuda::decomposed(setup, n),
             Err(_) => cpu_decomposed(setup, n),
         },
+        (Layout::Gpus(n), _) => cuda::multi_gpu(setup, n),
     }
 }
 
@@ -98,81 +119,6 @@ fn cpu_decomposed(setup: Setup, n: usize) -> Result<Box<dyn Solver>, BackendErro
             Ok::<_, BackendError>(cpu::CpuSolver::<D3>::new(s))
         })?)
     })
-}
-
-/// The CUDA solvers of `n` subdomains, all on device 0, their halos on the device
-/// (`cuda::CudaHalo`); each takes the lanes of the whole scene's particle count, so that the
-/// subdomains sum in the one domain's order (`CudaSolver::new_subdomain`).
-fn cuda_decomposed(setup: Setup, n: usize) -> Result<Box<dyn Solver>, BackendError> {
-    #[cfg(feature = "cuda")]
-    {
-        use crate::exchange::Decomposed;
-        let whole = setup.particles.len();
-        Ok(if setup.params.dim == 2 {
-            Box::new(Decomposed::new(setup, n, |s| {
-                cuda::CudaSolver::<D2>::new_subdomain(s, whole, 0)
-            })?)
-        } else {
-            Box::new(Decomposed::new(setup, n, |s| {
-                cuda::CudaSolver::<D3>::new_subdomain(s, whole, 0)
-            })?)
-        })
-    }
-    #[cfg(not(feature = "cuda"))]
-    {
-        let _ = (setup, n);
-        Err(BackendError::CudaUnavailable(
-            "this build has the `cuda` feature off".into(),
-        ))
-    }
-}
-
-/// One subdomain of the scene on each of `n` GPUs of this machine, talking through NCCL
-/// (`run --gpus N`; `cuda::nccl`): the particles of one domain, bit for bit, as
-/// `create_decomposed`.
-pub fn create_multi_gpu(mut setup: Setup, n: usize) -> Result<Box<dyn Solver>, BackendError> {
-    setup.params.own_solids = setup.has_solids() as i32;
-    #[cfg(feature = "nccl")]
-    {
-        cuda::nccl::multi_gpu(setup, n)
-    }
-    #[cfg(not(feature = "nccl"))]
-    {
-        let _ = (setup, n);
-        Err(BackendError::CudaUnavailable(
-            "this build has the `nccl` feature off".into(),
-        ))
-    }
-}
-
-/// The CUDA solver in the scene's dimension, or why there is none.
-pub fn cuda_solver(setup: Setup) -> Result<Box<dyn Solver>, BackendError> {
-    #[cfg(feature = "cuda")]
-    {
-        cuda::create(setup)
-    }
-    #[cfg(not(feature = "cuda"))]
-    {
-        let _ = setup;
-        Err(BackendError::CudaUnavailable(
-            "this build has the `cuda` feature off".into(),
-        ))
-    }
-}
-
-/// Whether the CUDA backend can start here (a driver, a device and PTX), without building a
-/// solver; the error says why not.
-pub fn cuda_solver_available() -> Result<(), BackendError> {
-    #[cfg(feature = "cuda")]
-    {
-        cuda::available().map(|_| ())
-    }
-    #[cfg(not(feature = "cuda"))]
-    {
-        Err(BackendError::CudaUnavailable(
-            "this build has the `cuda` feature off".into(),
-        ))
-    }
 }
 
 /// The CPU solver in the scene's dimension.

@@ -135,7 +135,7 @@ pub fn measure(
     let particles = setup.particles.len();
     let dx = setup.params.dx;
     let params = setup.params;
-    let mut solver = backend::create(backend, setup)?;
+    let mut solver = backend::create(backend, backend::Layout::One, setup)?;
     // The clock starts after the solver is built, as for the validate cases (`Sim`): the
     // first CUDA solver of a process waits for the driver to compile the PTX (28 s on a fresh
     // H100 machine, whose compute cache is empty), which is no cost of the run's scheme.

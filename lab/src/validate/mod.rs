@@ -335,7 +335,7 @@ impl Sim {
         if let Some(c) = ctx.courant {
             setup.params.courant = c as f32;
         }
-        let solver = backend::create(ctx.backend, setup)?;
+        let solver = backend::create(ctx.backend, backend::Layout::One, setup)?;
         Ok(Sim {
             solver,
             stepper: Stepper::new(gates),

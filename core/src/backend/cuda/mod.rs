@@ -906,3 +906,35 @@ pub fn create(setup: Setup) -> Result<Box<dyn Solver>, BackendError> {
         Ok(Box::new(CudaSolver::<crate::dim::D3>::new(setup)?))
     }
 }
+
+/// The CUDA solvers of `n` subdomains (`backend::Layout::Threads`), all on device 0, their
+/// halos on the device (`CudaHalo`); each takes the lanes of the whole scene's particle
+/// count, so that the subdomains sum in the one domain's order
+/// (`CudaSolver::new_subdomain`).
+pub fn decomposed(setup: Setup, n: usize) -> Result<Box<dyn Solver>, BackendError> {
+    use crate::exchange::Decomposed;
+    let whole = setup.particles.len();
+    Ok(if setup.params.dim == 2 {
+        Box::new(Decomposed::new(setup, n, |s| {
+            CudaSolver::<crate::dim::D2>::new_subdomain(s, whole, 0)
+        })?)
+    } else {
+        Box::new(Decomposed::new(setup, n, |s| {
+            CudaSolver::<crate::dim::D3>::new_subdomain(s, whole, 0)
+        })?)
+    })
+}
+
+/// One subdomain on each of `n` GPUs through NCCL (`backend::Layout::Gpus`; `nccl`).
+#[cfg(feature = "nccl")]
+pub fn multi_gpu(setup: Setup, n: usize) -> Result<Box<dyn Solver>, BackendError> {
+    nccl::multi_gpu(setup, n)
+}
+
+/// Never: this build has the `nccl` feature off.
+#[cfg(not(feature = "nccl"))]
+pub fn multi_gpu(_: Setup, _: usize) -> Result<Box<dyn Solver>, BackendError> {
+    Err(BackendError::CudaUnavailable(
+        "this build has the `nccl` feature off".into(),
+    ))
+}

@@ -49,7 +49,7 @@ impl Words for CudaHalo {
 }
 
 /// `n` subdomains of `setup`, rank k on GPU k, talking through NCCL (`run --gpus N`):
-/// the particles of one domain, bit for bit, as `backend::create_decomposed` on one GPU.
+/// the particles of one domain, bit for bit, as `backend::Layout::Threads` on one GPU.
 pub fn multi_gpu(setup: Setup, n: usize) -> Result<Box<dyn Solver>, BackendError> {
     available()?;
     if setup.params.dim == 2 {
