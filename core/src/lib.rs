@@ -13,6 +13,7 @@ pub mod frame;
 pub mod kernel;
 pub mod monitor;
 pub mod named;
+pub mod pairs;
 pub mod params;
 pub mod particle;
 pub mod probe;

@@ -10,9 +10,6 @@ use crate::scene::format::Gauge;
 /// The colour at the free surface [-]: half the kernel's support lies in the fluid.
 pub const SURFACE_COLOUR: f32 = 0.5;
 
-/// The most points a gauge's line may have (`Gauge::step`; the scene's validation).
-pub const MAX_GAUGE_POINTS: usize = 100_000;
-
 /// Where a gauge's line meets the free surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Surface {

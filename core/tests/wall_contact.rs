@@ -1,5 +1,5 @@
 //! `[solid] wall_contact`: a body and the walls meet (default), or skip each other, both
-//! ways (`wall_contact`, `meets` in backend/pair.rs).
+//! ways (`wall_contact`, `meets` in src/pairs.rs).
 
 use meshfree_core::backend::{self, BackendChoice};
 use meshfree_core::particle::{Kind, Particle};

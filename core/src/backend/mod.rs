@@ -6,7 +6,6 @@ pub mod cuda;
 #[cfg(not(feature = "cuda"))]
 #[path = "stub.rs"]
 pub mod cuda;
-pub mod pair;
 
 use crate::dim::{D2, D3};
 use crate::solver::{Setup, Solver};

@@ -187,3 +187,20 @@ impl<S: Subdomain, T: Transport<S::Halo>> Rank<S, T> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A decomposed run sends a stage to its ranks as data (serialised between processes):
+    /// every stage survives the trip.
+    #[test]
+    fn every_stage_is_a_call_that_travels() {
+        for &stage in Stage::ALL {
+            let call = Call::Stage(stage);
+            let text = serde_json::to_string(&call).expect("serialise");
+            let back: Call = serde_json::from_str(&text).expect("deserialise");
+            assert!(matches!(back, Call::Stage(s) if s == stage));
+        }
+    }
+}

@@ -133,6 +133,9 @@ fn all_probe_fields() -> Vec<ProbeField> {
     ProbeField::ALL.to_vec()
 }
 
+/// The most points a gauge's line may have (`Gauge::step`; the scene's validation).
+pub const MAX_GAUGE_POINTS: usize = 100_000;
+
 /// A free-surface gauge (DualSPHysics' GaugeSWL): the last point along the line `start` ->
 /// `end` where the fluid's colour sum_j W m_j / rho_j is at least 1/2, every `interval`,
 /// written to `gauges.csv`.

@@ -6,7 +6,6 @@
 
 use super::format::*;
 use super::SceneError;
-use crate::probe::MAX_GAUGE_POINTS;
 use crate::scheme::*;
 
 type R = Result<(), SceneError>;

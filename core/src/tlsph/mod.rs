@@ -30,9 +30,9 @@ pub mod quadrature;
 
 use std::collections::HashMap;
 
-use crate::backend::pair::same_body;
 use crate::dim::Dim;
 use crate::kernel;
+use crate::pairs::same_body;
 use crate::params::{SphParams, MF_KIND_SOLID, MF_SOLID_TOTAL_LAGRANGIAN};
 use crate::particle::{Kind, Particle};
 pub use gradient::Corr;

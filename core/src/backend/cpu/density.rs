@@ -3,9 +3,9 @@
 use rayon::prelude::*;
 
 use super::grid::Grid;
-use crate::backend::pair::{couples, meets};
 use crate::dim::Dim;
 use crate::kernel;
+use crate::pairs::{couples, meets};
 use crate::params::{
     SphParams, MF_DENSITY_SUMMATION, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID,
 };

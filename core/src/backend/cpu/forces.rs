@@ -4,9 +4,9 @@
 use rayon::prelude::*;
 
 use super::grid::Grid;
-use crate::backend::pair::{couples, meets, same_body};
 use crate::dim::Dim;
 use crate::kernel;
+use crate::pairs::{couples, meets, same_body};
 use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID, MF_NO_SLIP_MORRIS};
 use crate::state::State;
 use crate::tlsph::total_lagrangian;

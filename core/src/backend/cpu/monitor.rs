@@ -14,8 +14,8 @@
 use super::density::pressure;
 use super::forces::ForceSum;
 use super::grid::Grid;
-use crate::backend::pair::couples;
 use crate::dim::Dim;
+use crate::pairs::couples;
 use crate::params::{SphParams, MF_KIND_BOUNDARY};
 use crate::state::State;
 

@@ -9,10 +9,10 @@
 use rayon::prelude::*;
 
 use super::grid::Grid;
-use crate::backend::pair::{couples, meets, same_body};
 use crate::consts::{MF_MOMENT_DET_MIN, MF_SHIFT_ANTI_CLUMP, MF_SHIFT_SURFACE_MARGIN};
 use crate::dim::Dim;
 use crate::kernel;
+use crate::pairs::{couples, meets, same_body};
 use crate::params::{
     needs_density_gradient, SphParams, MF_DIFFUSION_FOURTAKAS, MF_INTEGRATOR_LEAPFROG,
     MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID,
