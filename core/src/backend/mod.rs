@@ -7,6 +7,9 @@ pub mod cuda;
 #[path = "stub.rs"]
 pub mod cuda;
 
+mod error;
+pub use error::{fault, BackendError};
+
 use crate::dim::{D2, D3};
 use crate::solver::{Setup, Solver};
 
@@ -37,26 +40,6 @@ impl crate::named::Named for BackendChoice {
             "NVIDIA GPU; an error where none is usable",
         ),
     ];
-}
-
-/// Why a solver could not be built.
-#[derive(Debug, thiserror::Error)]
-pub enum BackendError {
-    #[error("the CUDA backend is unavailable: {0}")]
-    CudaUnavailable(String),
-    #[error("CUDA error: {0}")]
-    Cuda(String),
-    #[error("cannot decompose this scene: {0}")]
-    Decomposition(String),
-    /// The ranks of a run in several processes could not start together (`run --mpi`).
-    #[error("starting the ranks: {0}")]
-    Launch(String),
-}
-
-impl From<crate::exchange::Refused> for BackendError {
-    fn from(r: crate::exchange::Refused) -> Self {
-        BackendError::Decomposition(r.0)
-    }
 }
 
 /// Where a solver's particles live: one domain, or slabs of the scene stepped together

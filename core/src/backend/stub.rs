@@ -1,7 +1,7 @@
 //! `backend::cuda` in a build with the `cuda` feature off: the entry points `backend::create`
 //! calls, each answering that this build has no CUDA backend.
 
-use crate::backend::BackendError;
+use crate::backend::error::BackendError;
 use crate::solver::{Setup, Solver};
 
 fn off() -> BackendError {

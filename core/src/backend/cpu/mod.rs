@@ -24,15 +24,12 @@ pub use reduce::step_size;
 pub use stress::{artificial_stress, jacobi_eigen};
 pub use tlsph::TlBodies;
 
+use crate::backend::fault;
 use crate::checkpoint::SolverCheckpoint;
-use crate::consts::{
-    MF_DENSITY_SANE_HIGH, MF_DENSITY_SANE_LOW, MF_FAULT_DENSITY_RANGE, MF_FAULT_ESCAPED,
-    MF_FAULT_NON_FINITE_DENSITY, MF_FAULT_NON_FINITE_POSITION, MF_FAULT_NON_FINITE_VELOCITY,
-};
 use crate::dim::Dim;
 use crate::frame::{Fields, FrameData, PendingFrame, Ready};
 use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
-use crate::particle::{Kind, Particle};
+use crate::particle::Particle;
 use crate::solver::{
     BackendInfo, Diagnostics, Fault, Persist, PointSample, Readback, Setup, Solver,
 };
@@ -283,33 +280,5 @@ impl<D: Dim> Persist for CpuSolver<D> {
         self.dt = saved.dt;
         self.dt_prev = saved.dt;
         Ok(())
-    }
-}
-
-/// The `Fault` for the particle `id` of kind `kind` with fault class `code` (`MF_FAULT_*`
-/// in `cuda/sph_consts.h`); shared by both backends so that they report blow-ups alike.
-pub fn fault(step: u64, time: f64, id: u32, kind: Kind, code: u32, value: f32) -> Fault {
-    let (quantity, reason) = match code {
-        MF_FAULT_NON_FINITE_POSITION => ("position", "not finite".to_string()),
-        MF_FAULT_NON_FINITE_VELOCITY => ("velocity", "not finite".to_string()),
-        MF_FAULT_NON_FINITE_DENSITY => ("density", "not finite".to_string()),
-        MF_FAULT_DENSITY_RANGE => (
-            "density",
-            format!(
-                "outside [{}, {}] x the reference density",
-                MF_DENSITY_SANE_LOW as f32, MF_DENSITY_SANE_HIGH as f32
-            ),
-        ),
-        MF_FAULT_ESCAPED => ("position", "outside the domain".to_string()),
-        _ => ("unknown", format!("fault code {code}")),
-    };
-    Fault {
-        step,
-        time,
-        particle: id,
-        kind: kind.name().into(),
-        quantity: quantity.into(),
-        value: value as f64,
-        reason,
     }
 }

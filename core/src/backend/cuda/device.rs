@@ -8,7 +8,7 @@ use std::sync::Arc;
 use cudarc::driver::{sys, CudaContext, CudaFunction, CudaModule, CudaStream};
 use cudarc::nvrtc::Ptx;
 
-use crate::backend::BackendError;
+use crate::backend::error::BackendError;
 
 mod built {
     include!(concat!(env!("OUT_DIR"), "/modules.rs"));

@@ -8,7 +8,7 @@
 use cudarc::driver::{CudaFunction, DriverError};
 
 use super::device::Device;
-use crate::backend::BackendError;
+use crate::backend::error::BackendError;
 use crate::consts::MF_LANES_MAX;
 use crate::params::{lean_scheme, SphParams};
 

@@ -19,8 +19,8 @@ use std::marker::PhantomData;
 
 use cudarc::driver::{sys, CudaSlice};
 
-use crate::backend::cpu::fault;
-use crate::backend::BackendError;
+use crate::backend::error::BackendError;
+use crate::backend::fault;
 use crate::checkpoint::SolverCheckpoint;
 use crate::consts::{
     MF_FAULT_ESCAPED, MF_FAULT_NON_FINITE_POSITION, MF_FAULT_NON_FINITE_VELOCITY,

@@ -16,7 +16,7 @@ use std::sync::Arc;
 use cudarc::driver::{CudaSlice, CudaStream};
 use cudarc::nccl::{Comm, ReduceOp};
 
-use crate::backend::BackendError;
+use crate::backend::error::BackendError;
 use crate::dim::{Dim, D2, D3};
 use crate::exchange::{Decomposed, Transport};
 use crate::solver::{Setup, Solver};
