@@ -147,6 +147,7 @@ fn resting_diffusion(form: DiffusionForm) -> f32 {
     s.revalidate().unwrap();
     let mut c = CpuSolver::<D2>::new(s.setup().unwrap());
     c.build_grid();
+    c.density_gradient();
     c.rates();
     let st = c.state();
     let drho = st.drho.as_ref().expect("continuity density");

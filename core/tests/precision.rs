@@ -49,6 +49,7 @@ fn a_stiff_solids_density_departure_sums_steps_below_rhos_resolution() {
     let mut exact = vec![0.0f64; n];
     let steps = 2000;
     for _ in 0..steps {
+        c.density_gradient();
         c.rates();
         c.time_step();
         let s = c.state();

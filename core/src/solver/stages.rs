@@ -36,6 +36,11 @@ macro_rules! stage_list {
             /// particles of one total-Lagrangian body). Nothing under the Jaumann rate (the
             /// default does nothing).
             SolidForces: fn solid_forces(&mut self) {}
+            /// The renormalised density gradients that the rates stage's density diffusion
+            /// reads (Antuono et al. 2010's form: the fluid's under `density_diffusion_form =
+            /// "antuono"`, each body's under `[solid] density_diffusion`), from the current
+            /// positions and densities; nothing unless `params::needs_density_gradient`.
+            DensityGradient: fn density_gradient(&mut self);
             /// Rates from the current velocities: d rho/dt (continuity, with the density
             /// diffusion of Molteni & Colagrossi 2009 where `density_diffusion` > 0), the
             /// XSPH velocity of eq. (18), and, with solids, the velocity gradient eq. (15),
@@ -140,6 +145,7 @@ pub trait Solver: Readback + Persist + Send {
         self.density();
         self.solid_stress();
         if self.params().integrator as u32 == MF_INTEGRATOR_EULER {
+            self.density_gradient();
             self.forces_and_rates();
             self.solid_forces();
             self.time_step();
@@ -149,6 +155,7 @@ pub trait Solver: Readback + Persist + Send {
             self.solid_forces();
             self.time_step();
             self.kick();
+            self.density_gradient();
             self.rates();
             self.drift();
         }
@@ -309,6 +316,7 @@ mod tests {
                 "build_grid",
                 "density",
                 "solid_stress",
+                "density_gradient",
                 "forces_and_rates",
                 "solid_forces",
                 "time_step",
@@ -325,6 +333,7 @@ mod tests {
                 "solid_forces",
                 "time_step",
                 "kick",
+                "density_gradient",
                 "rates",
                 "drift"
             ]

@@ -351,6 +351,8 @@ pub(crate) fn stages_on<D: Dim>(what: &str, setup: Setup) {
         if euler {
             // The CPU runs rates then forces (the trait's default); the GPU one fused pass
             // (cuda/forces_rates.cu).
+            c.density_gradient();
+            g.density_gradient();
             c.forces_and_rates();
             g.forces_and_rates();
             cmp_forces_and_rates(&c, &mut g, &ids);
@@ -376,6 +378,8 @@ pub(crate) fn stages_on<D: Dim>(what: &str, setup: Setup) {
             c.kick();
             g.kick();
             cmp_kick(&c, &mut g, &ids);
+            c.density_gradient();
+            g.density_gradient();
             c.rates();
             g.rates();
             cmp_rates(&c, &mut g, &ids);

@@ -11,6 +11,7 @@ fn fused_equals_two_passes<D: Dim>(what: &str, setup: Setup) {
     let mut g = gpu::<D>(&setup);
     g.build_grid();
     g.density();
+    g.density_gradient();
     let start = g.download_state();
     for lanes in [8, 4, 2, 1] {
         g.set_lanes(Some(lanes));
@@ -94,6 +95,7 @@ fn replayed_rates_equal_tested<D: Dim>(what: &str, mut setup: Setup, h_over_dx: 
     g.set_lanes(Some(1));
     g.build_grid();
     g.density();
+    g.density_gradient();
     let start = g.download_state();
     g.forces();
     assert!(
@@ -215,6 +217,7 @@ fn walls_at_rest_are_skipped_exactly_3d() {
         g.forces();
         g.time_step();
         g.kick();
+        g.density_gradient();
         g.rates();
         g.download_state()
     };

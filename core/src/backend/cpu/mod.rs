@@ -28,7 +28,7 @@ use crate::backend::fault;
 use crate::checkpoint::SolverCheckpoint;
 use crate::dim::Dim;
 use crate::frame::{Fields, FrameData, PendingFrame, Ready};
-use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
+use crate::params::{needs_density_gradient, SphParams, MF_DENSITY_CONTINUITY};
 use crate::particle::Particle;
 use crate::solver::{
     BackendInfo, Diagnostics, Fault, Persist, PointSample, Readback, Setup, Solver,
@@ -45,6 +45,10 @@ pub struct CpuSolver<D: Dim> {
     grid_stale: bool,
     /// `Setup::wall_surface` (empty unless `no_slip`).
     wall_surface: Vec<[f32; 4]>,
+    /// The density gradient stage's output in storage order (`rates::density_gradient`),
+    /// which the rates stage reads; None until that stage ran since the last sort, or where
+    /// the scheme needs none.
+    grad_rho: Option<Vec<D::V>>,
     /// The total-Lagrangian bodies (`crate::tlsph`); `None` under the Jaumann rate or
     /// without solids.
     tl: Option<TlBodies<D>>,
@@ -81,6 +85,7 @@ impl<D: Dim> CpuSolver<D> {
             state,
             grid: Grid::default(),
             grid_stale: true,
+            grad_rho: None,
             wall_surface: setup.wall_surface,
             time: 0.0,
             steps: 0,
@@ -107,6 +112,7 @@ impl<D: Dim> CpuSolver<D> {
     /// Sort the storage by (cell, id), and map the total-Lagrangian solid space onto it.
     fn sort(&mut self) {
         self.grid.build(&self.params, &mut self.state);
+        self.grad_rho = None;
         if let Some(tl) = self.tl.as_mut() {
             tl.map_slots(&self.state);
         }
@@ -141,8 +147,19 @@ impl<D: Dim> Solver for CpuSolver<D> {
     fn density(&mut self) {
         density::density(&self.params, &self.grid, &mut self.state);
     }
+    fn density_gradient(&mut self) {
+        self.grad_rho = rates::density_gradient(&self.params, &self.grid, &self.state);
+    }
+    /// Panics where the scheme needs the density gradient and its stage did not run since
+    /// the storage was last sorted (the trait's order runs it first).
     fn rates(&mut self) {
-        rates::rates(&self.params, self.dt, &self.grid, &mut self.state);
+        let grad_rho = needs_density_gradient(&self.params).then(|| {
+            self.grad_rho
+                .as_deref()
+                .filter(|g| g.len() == self.state.len())
+                .expect("the density gradient stage runs before the rates (Solver::step)")
+        });
+        rates::rates(&self.params, self.dt, &self.grid, grad_rho, &mut self.state);
     }
     fn solid_stress(&mut self) {
         if let Some(tl) = self.tl.as_mut() {

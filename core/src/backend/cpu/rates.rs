@@ -81,7 +81,7 @@ struct Rates<V, M> {
 /// fluid (`density_diffusion_form` = Antuono), V_j = m_j / rho_j, exact for a linear density; zero for
 /// other particles and where the moment is singular. None unless `needs_density_gradient`.
 /// Twin: `sph_grad_rho` in cuda/rates.cu. [M L^-d L^-1]
-fn density_gradient<D: Dim>(p: &SphParams, grid: &Grid, s: &State<D>) -> Option<Vec<D::V>> {
+pub fn density_gradient<D: Dim>(p: &SphParams, grid: &Grid, s: &State<D>) -> Option<Vec<D::V>> {
     if !needs_density_gradient(p) {
         return None;
     }
@@ -127,8 +127,14 @@ fn density_gradient<D: Dim>(p: &SphParams, grid: &Grid, s: &State<D>) -> Option<
 /// d rho/dt, XSPH and the stress rate second order in dt; a pair in the kernel's core stays
 /// at x^n (`midpoint_pair` says why). The neighbours are those at x_i - x_j; a pair that the
 /// half drift carries across the support's edge adds W ~ 0.
-pub fn rates<D: Dim>(p: &SphParams, dt: f32, grid: &Grid, s: &mut State<D>) {
-    let grad_rho = density_gradient(p, grid, s);
+/// `grad_rho`: the density gradient stage's (`density_gradient`), where the scheme needs it.
+pub fn rates<D: Dim>(
+    p: &SphParams,
+    dt: f32,
+    grid: &Grid,
+    grad_rho: Option<&[D::V]>,
+    s: &mut State<D>,
+) {
     let half_dt = if p.integrator == MF_INTEGRATOR_LEAPFROG as i32 {
         0.5 * dt
     } else {

@@ -36,9 +36,10 @@ pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers)
 }
 
 /// The renormalised density gradients for the density diffusion in Antuono et al.'s form
-/// (`Buffers::grad_rho`, held only where `needs_density_gradient`), before a rates pass.
-fn grad_rho(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
-    let Some(g) = &mut b.grad_rho else {
+/// (`Buffers::grad_rho`, held only where `needs_density_gradient`), which the rates pass
+/// (alone or fused with the forces) reads: the density gradient stage.
+pub fn grad_rho(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    let Some(g) = b.grad_rho.as_mut().filter(|_| b.n > 0) else {
         return;
     };
     let n = b.n as u32;
@@ -66,7 +67,6 @@ pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     if b.n == 0 {
         return;
     }
-    grad_rho(k, s, p, b);
     let n = b.n as u32;
     let (kr, lanes) = (k.neighbour(Family::Rates, scheme(p, b)), k.lanes);
     let replay = b.pairs_recorded && lanes == 1;
@@ -112,9 +112,6 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     clear_red(k, s, p, b);
     if b.n == 0 {
         return;
-    }
-    if fused {
-        grad_rho(k, s, p, b);
     }
     let n = b.n as u32;
     let family = if fused {
