@@ -1,4 +1,4 @@
-//! The `meshfree` binary: see `meshfree --help` and `src/cli.rs`.
+//! The `meshfree` binary: see `meshfree --help` and `src/cli/` (one file per command).
 use std::process::ExitCode;
 
 use clap::Parser;

@@ -1,0 +1,120 @@
+//! `meshfree scenes` (the built-in scenes' counts, or the scene reference) and `meshfree
+//! check` (validate a scene and count its particles).
+
+use serde::Serialize;
+
+use meshfree_core::scene::{self, Counts, Scene};
+
+#[derive(Debug, clap::Args)]
+pub struct ScenesArgs {
+    /// Print JSON (an array of objects) instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Print the scene reference instead (Markdown: every key with its type, default and
+    /// the reason for it, its value under --paper-exact, its check and the parameter
+    /// field it sets), as committed in docs/reference/scene.md.
+    #[arg(long, conflicts_with = "json")]
+    pub reference: bool,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct CheckArgs {
+    /// A scene file path or a built-in scene name.
+    pub scene: String,
+}
+
+/// One row of `meshfree scenes`.
+#[derive(Debug, Serialize)]
+pub struct SceneRow {
+    pub name: String,
+    pub dimension: u32,
+    pub description: String,
+    #[serde(flatten)]
+    pub counts: Counts,
+}
+
+/// Every built-in scene, generated.
+pub fn scene_rows() -> anyhow::Result<Vec<SceneRow>> {
+    scene::builtin_names()
+        .into_iter()
+        .map(|name| {
+            let s = Scene::builtin(name)?;
+            let setup = s.setup()?;
+            Ok(SceneRow {
+                name: name.to_string(),
+                dimension: s.file.dimension,
+                description: s.file.description.clone(),
+                counts: Counts::of(&setup.particles),
+            })
+        })
+        .collect()
+}
+
+/// `meshfree check` counts the particles exactly (by generating them) up to this estimate,
+/// and prints the estimate above it, so that it answers within a second for any scene.
+const CHECK_GENERATES_UP_TO: f64 = 2e6;
+
+pub(super) fn scenes(a: ScenesArgs) -> anyhow::Result<()> {
+    if a.reference {
+        print!("{}", meshfree_core::scheme::reference::markdown());
+        return Ok(());
+    }
+    let rows = scene_rows()?;
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&rows)?);
+    } else {
+        println!(
+            "{:<16} {:>3} {:>8} {:>8} {:>9} {:>8}  description",
+            "name", "dim", "fluid", "solid", "boundary", "total"
+        );
+        for r in rows {
+            println!(
+                "{:<16} {:>3} {:>8} {:>8} {:>9} {:>8}  {}",
+                r.name,
+                r.dimension,
+                r.counts.fluid,
+                r.counts.solid,
+                r.counts.boundary,
+                r.counts.total,
+                r.description
+            );
+        }
+    }
+    Ok(())
+}
+
+pub(super) fn check(a: CheckArgs) -> anyhow::Result<()> {
+    let s = Scene::load(&a.scene)?;
+    let e = s.check_size(None)?;
+    let p = s.params();
+    if e.particles > CHECK_GENERATES_UP_TO {
+        // Generating would take minutes and gigabytes: the estimate says enough.
+        println!(
+            "{}: ok: {} ({}D), up to {:.3e} particles (estimated, about {:.1} GB to \
+             start); h = {}, {} neighbour cells",
+            s.origin(),
+            s.name(),
+            s.file.dimension,
+            e.particles,
+            e.host_bytes() / 1e9,
+            p.h,
+            p.n_cells
+        );
+        return Ok(());
+    }
+    let setup = s.setup()?;
+    let c = Counts::of(&setup.particles);
+    println!(
+        "{}: ok: {} ({}D), {} particles: {} fluid, {} solid, {} boundary; h = {}, {} neighbour cells",
+        s.origin(),
+        s.name(),
+        s.file.dimension,
+        c.total,
+        c.fluid,
+        c.solid,
+        c.boundary,
+        setup.params.h,
+        setup.params.n_cells
+    );
+    Ok(())
+}
