@@ -383,7 +383,7 @@ fn timed<D: Dim>(
         0.0
     };
     if let Some(f) = fault.or(s.check().err()) {
-        eprintln!("bench {scene} {dim}D {total}: {f}");
+        crate::errln!("bench {scene} {dim}D {total}: {f}");
     }
     let info = s.info();
     let gpus = match (o.gpus, info.backend.as_str()) {
@@ -432,7 +432,7 @@ pub fn bench(o: &BenchOptions, out_dir: Option<&Path>) -> Result<Vec<BenchRow>, 
             } else {
                 run_one::<D3>(o, dim, n)?
             };
-            print_row(&r);
+            let _ = print_row(&r); // the table is also in bench.csv: a closed stdout stops no bench
             rows.push(r);
         }
     }
@@ -481,7 +481,7 @@ pub fn scaling(o: &BenchOptions, out_dir: &Path) -> anyhow::Result<Vec<ScalingRo
         } else {
             run_one::<D3>(&oo, dim, n)?
         };
-        print_row(&r);
+        let _ = print_row(&r); // the table is also in bench.csv: a closed stdout stops no bench
         timed_rows.push(r.clone());
         Ok(r)
     };
@@ -500,13 +500,13 @@ pub fn scaling(o: &BenchOptions, out_dir: &Path) -> anyhow::Result<Vec<ScalingRo
                     } else {
                         base.ms_per_step / (g as f64 * r.ms_per_step)
                     };
-                    println!(
+                    crate::outln!(
                         "{kind} scaling {dim}D: {} particles on {g} GPU(s): {:.3} ms/step, \
                          efficiency {:.1} %",
                         r.particles,
                         r.ms_per_step,
                         100.0 * efficiency
-                    );
+                    )?;
                     rows.push(ScalingRow {
                         kind: kind.into(),
                         dim,
@@ -547,14 +547,14 @@ pub fn bench_scenes(
         } else {
             timed::<D3>(o, setup, scene.gates(), scene.name())?
         };
-        print_row(&r);
+        let _ = print_row(&r); // the table is also in bench.csv: a closed stdout stops no bench
         rows.push(r);
     }
     write_rows(&rows, out_dir);
     Ok(rows)
 }
 
-fn print_row(r: &BenchRow) {
+fn print_row(r: &BenchRow) -> Result<(), crate::term::StdoutError> {
     let mut what = if r.scene.is_empty() {
         String::new()
     } else {
@@ -571,7 +571,7 @@ fn print_row(r: &BenchRow) {
             r.halo_bytes_per_step
         );
     }
-    println!(
+    crate::outln!(
         "{what}{}D {:>9} particles ({:>9} fluid): {:>9.4} ms/step, {:.3e} particle-steps/s, {:.4e} \
          simulated s per s, {:.1} neighbours, {:.0} B/particle ({:.0} B/fluid particle) [{} {}; {}, \
          {}, {} density, diffusion {}, {}]",
@@ -591,7 +591,7 @@ fn print_row(r: &BenchRow) {
         r.density,
         r.diffusion,
         r.viscosity
-    );
+    )
 }
 
 /// `bench.csv` and `bench.json` of `rows` into `out_dir`, where given.

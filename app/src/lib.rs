@@ -17,3 +17,4 @@ pub mod probes;
 pub mod resume;
 pub mod run;
 pub mod run_error;
+pub mod term;

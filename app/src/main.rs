@@ -18,8 +18,11 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
-            ExitCode::from(meshfree::cli::exit_code(&e))
+            let code = meshfree::cli::exit_code(&e);
+            if code != 0 {
+                meshfree::errln!("error: {e:#}");
+            }
+            ExitCode::from(code)
         }
     }
 }

@@ -203,7 +203,7 @@ pub fn run_scenes(o: &PaperBenchOptions, out_dir: &Path) -> Result<PaperBench, P
             Ok(s) => s,
             Err(SceneError::UnknownBuiltin { .. }) => {
                 let reason = format!("no built-in scene `{name}` in this build");
-                eprintln!("bench paper: skipping {name}: {reason}");
+                crate::errln!("bench paper: skipping {name}: {reason}");
                 out.skipped.push((name, reason));
                 continue;
             }
@@ -239,7 +239,7 @@ pub fn run_scenes(o: &PaperBenchOptions, out_dir: &Path) -> Result<PaperBench, P
             Err(e) => return Err(e.into()),
         };
         let row = measured_row(&name, end, &summary, fault);
-        print_row(&row);
+        let _ = print_row(&row); // also in paper-bench.json: a closed stdout stops no bench
         out.backend = row.backend.clone();
         out.device = row.device.clone();
         out.rows.push(row);
@@ -296,9 +296,9 @@ pub fn measured_row(
     }
 }
 
-fn print_row(r: &PaperBenchRow) {
+fn print_row(r: &PaperBenchRow) -> Result<(), crate::term::StdoutError> {
     let p = paper_row(&r.scene).expect("a Table 1 scene");
-    println!(
+    crate::outln!(
         "{:<22} {:>7} particles (paper {:>6}): {:>7} steps to t = {:<8.4} {:>9.2} s ({:.3} ms/step{}); \
          paper GPU {:>5.0} s, serial {:>5.0} s [{} {}]{}",
         r.scene,
@@ -321,7 +321,7 @@ fn print_row(r: &PaperBenchRow) {
             Some(f) => format!(" FAILED: {f}"),
             None => String::new(),
         }
-    );
+    )
 }
 
 /// One row of the merged table.

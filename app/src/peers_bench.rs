@@ -89,7 +89,7 @@ pub fn run_peers(
     progress: Progress,
 ) -> anyhow::Result<PeersBench> {
     let mut rows = Vec::new();
-    println!(
+    crate::outln!(
         "{:<14} {:>11} {:>6} {:>7} {:>8} {:>9} {:>8} {:>8} {:>8} {:>6}",
         "scene",
         "particles",
@@ -101,7 +101,7 @@ pub fn run_peers(
         "whole",
         "GPUSPH",
         "ratio"
-    );
+    )?;
     for peer in GPUSPH_H100 {
         if !only.is_empty() && !only.iter().any(|s| s == peer.scene) {
             continue;
@@ -132,7 +132,7 @@ pub fn run_peers(
             backend: s.backend.clone(),
             device: s.device.clone(),
         };
-        println!(
+        crate::outln!(
             "{:<14} {:>11} {:>6} {:>7} {:>7.2}s {:>8.2}s {:>7.2}s {:>7.2}s {:>7.1}s {:>6.2}",
             row.scene,
             row.particles,
@@ -144,7 +144,7 @@ pub fn run_peers(
             row.whole_s,
             row.gpusph_whole_s,
             row.ratio
-        );
+        )?;
         rows.push(row);
     }
     let report = PeersBench {
@@ -155,6 +155,6 @@ pub fn run_peers(
     std::fs::create_dir_all(out)?;
     let path: PathBuf = out.join("peers-bench.json");
     std::fs::write(&path, serde_json::to_string_pretty(&report)? + "\n")?;
-    println!("wrote {}", path.display());
+    crate::outln!("wrote {}", path.display())?;
     Ok(report)
 }

@@ -132,13 +132,21 @@ impl Probes {
                     _ => header += &format!(",{}", c.name()),
                 }
             }
-            Some(Csv::open(dir.join("probes.csv"), &header, append)?)
+            Some(Csv::open(
+                dir.join(crate::output::files::PROBES),
+                &header,
+                append,
+            )?)
         };
         let gauges_csv = if f.gauges.is_empty() {
             None
         } else {
             let header = format!("time,step,gauge,{},distance", axes[..dim].join(","));
-            Some(Csv::open(dir.join("gauges.csv"), &header, append)?)
+            Some(Csv::open(
+                dir.join(crate::output::files::GAUGES),
+                &header,
+                append,
+            )?)
         };
         let mut probes: Vec<ActiveProbe> = f
             .probes
@@ -180,6 +188,19 @@ impl Probes {
             points: Vec::new(),
             samples: Vec::new(),
         })
+    }
+
+    /// The files they write into the run's directory.
+    pub fn file_names(&self) -> Vec<String> {
+        let csv = [&self.probes_csv, &self.gauges_csv].into_iter().flatten();
+        csv.map(|c| {
+            c.path
+                .file_name()
+                .unwrap_or_default()
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect()
     }
 
     /// The probes' part of a checkpoint (every row so far flushed).

@@ -73,7 +73,7 @@ impl Live {
         let setup = scene.setup()?;
         let solver = create(backend, Layout::One, setup)?;
         let info = solver.info();
-        eprintln!(
+        meshfree::errln!(
             "{}: {} particles on {} ({})",
             scene.name(),
             solver.len(),
@@ -196,7 +196,7 @@ impl LiveSource for Live {
                 }))
             }
             Err(e) => {
-                eprintln!("drawing from host copies of the particles: {e}");
+                meshfree::errln!("drawing from host copies of the particles: {e}");
                 self.device_fill = false;
                 None
             }
@@ -290,6 +290,8 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
         status: RunStatus::Completed,
         fault: None,
         interrupted_by: None,
+        error: None,
+        files: Vec::new(),
         fault_frame: None,
         monitors: Vec::new(),
         bodies: Vec::new(),
@@ -299,12 +301,12 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
     let path = out.join("summary.json");
     std::fs::write(&path, serde_json::to_string_pretty(&summary)?)
         .with_context(|| format!("writing {}", path.display()))?;
-    println!(
+    meshfree::outln!(
         "window closed at t = {:.4}; wrote {} and {}",
         summary.simulated_time,
         vtu.display(),
         path.display()
-    );
+    )?;
     Ok(())
 }
 
@@ -327,7 +329,7 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
     let f = field(a.field);
     let dim = live.solver.params().dim;
     let mut renderer = meshfree_viewer::HeadlessRenderer::new()?;
-    eprintln!("headless OpenGL: {}", renderer.gl_renderer());
+    meshfree::errln!("headless OpenGL: {}", renderer.gl_renderer());
     let device = !a.host_copy;
     // The panel's rates: solver steps and drawn frames per second since the last image.
     let mut pace = (
@@ -383,11 +385,11 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
                 (true, false) => "vertex buffers filled on the GPU",
                 _ => "a host copy",
             };
-            println!(
+            meshfree::outln!(
                 "wrote {} (t = {:.4}, drawn from {from})",
                 path.display(),
                 live.time
-            );
+            )?;
         }
         Ok(on_device)
     };
@@ -399,7 +401,7 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
         let end = scene.file.time.end;
         for &t in &moments {
             if t > end + 1e-12 {
-                println!("skipping t = {t}: past the end time {end}");
+                meshfree::outln!("skipping t = {t}: past the end time {end}")?;
                 continue;
             }
             live.advance_to(t).map_err(anyhow::Error::msg)?;
@@ -478,9 +480,9 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
                 size: a.size,
                 gpu_passes_ms: passes,
             };
-            println!("{}", t.line());
+            meshfree::outln!("{}", t.line())?;
             if let Some(s) = &t.steady {
-                println!(
+                meshfree::outln!(
                     "steady (frames after the first): {:.1} frames/s, solver {:.3} ms/step, \
                      drawing {:.2} ms/frame, slow-down {:.1} % (the solver alone: {:.1} \
                      frames/s); the first frame: solver {:.1} ms, drawing {:.1} ms",
@@ -491,7 +493,7 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
                     s.solver_bound_frames_per_second,
                     t.first_frame_ms.0,
                     t.first_frame_ms.1
-                );
+                )?;
             }
             if !t.gpu_passes_ms.is_empty() {
                 let list: Vec<String> = t
@@ -499,9 +501,9 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
                     .iter()
                     .map(|p| format!("{} {:.2}", p.pass, p.ms))
                     .collect();
-                println!("gpu ms per frame by pass: {}", list.join(", "));
+                meshfree::outln!("gpu ms per frame by pass: {}", list.join(", "))?;
             }
-            println!("timing-json: {}", serde_json::to_string(&t)?);
+            meshfree::outln!("timing-json: {}", serde_json::to_string(&t)?)?;
         }
         (Some(n), None) => {
             let n = n.max(1);
@@ -629,7 +631,7 @@ fn figure_moments(scene: &Scene) -> Vec<f64> {
     }
     let end = scene.file.time.end;
     let m: Vec<f64> = (0..5).map(|k| end * k as f64 / 4.0).collect();
-    eprintln!(
+    meshfree::errln!(
         "{}: no `time.figures` in the scene; rendering at {m:?}",
         scene.name()
     );

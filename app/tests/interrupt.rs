@@ -82,18 +82,72 @@ fn an_earlier_runs_directory_is_refused_unless_overwrite_and_foreign_files_are_k
     assert_eq!(s.status, RunStatus::Completed);
     assert_eq!(summary_json(&out)["status"], "completed");
 
-    // A file a run does not write: --overwrite refuses rather than deleting it.
-    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    // The user's own files beside a run, of the extensions a run writes too: --overwrite
+    // removes exactly the earlier run's files and keeps these (issue #52).
+    let mine = [
+        "notes.txt",
+        "plot.png",
+        "data.csv",
+        "extra.json",
+        "old.bin",
+        "x.vtu",
+    ];
+    for name in mine {
+        std::fs::write(out.join(name), "mine").unwrap();
+    }
+    run::run(&scene, &options).unwrap();
+    for name in mine {
+        assert_eq!(
+            std::fs::read_to_string(out.join(name)).unwrap(),
+            "mine",
+            "{name}"
+        );
+    }
+
+    // A file of a name the run writes that the earlier run's summary does not list (tank-2d
+    // counts no clusters): refused, not replaced, and nothing is removed.
+    std::fs::write(out.join("clusters.csv"), "mine").unwrap();
     let err = run::run(&scene, &options).unwrap_err();
-    assert!(err.to_string().contains("notes.txt"), "{err}");
+    assert!(err.to_string().contains("clusters.csv"), "{err}");
     assert_eq!(
-        std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+        std::fs::read_to_string(out.join("clusters.csv")).unwrap(),
         "mine"
     );
     assert!(
         out.join("summary.json").exists(),
         "nothing is removed when refusing"
     );
+}
+
+#[test]
+fn a_fresh_directory_with_a_file_or_link_of_a_run_files_name_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Scene::builtin("tank-2d").unwrap();
+    let victim = dir.path().join("victim.txt");
+    std::fs::write(&victim, "keep").unwrap();
+    for (k, name) in ["diagnostics.csv", "scene.toml", "summary.json.tmp"]
+        .iter()
+        .enumerate()
+    {
+        let out = dir.path().join(format!("o{k}"));
+        std::fs::create_dir_all(&out).unwrap();
+        std::os::unix::fs::symlink(&victim, out.join(name)).unwrap();
+        let options = RunOptions {
+            out_dir: Some(out.clone()),
+            max_steps: Some(2),
+            progress: Progress::Quiet,
+            overwrite: k == 2,
+            ..Default::default()
+        };
+        let err = run::run(&scene, &options).unwrap_err();
+        assert!(
+            matches!(err, RunError::OutputInUse { .. }) && err.to_string().contains(name),
+            "{name}: {err}"
+        );
+        assert_eq!(std::fs::read_to_string(&victim).unwrap(), "keep", "{name}");
+        let left: Vec<_> = std::fs::read_dir(&out).unwrap().collect();
+        assert_eq!(left.len(), 1, "{name}: the refused run wrote nothing");
+    }
 }
 
 #[test]

@@ -313,7 +313,6 @@ fn run_writes_consistent_output() {
 fn a_failed_write_stops_the_run_and_keeps_earlier_frames() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("w");
-    std::fs::create_dir_all(out.join("particles_00001.vtu.tmp")).unwrap();
     let options = RunOptions {
         out_dir: Some(out.clone()),
         max_steps: Some(40),
@@ -321,7 +320,15 @@ fn a_failed_write_stops_the_run_and_keeps_earlier_frames() {
         progress: Progress::Quiet,
         ..Default::default()
     };
-    let err = run::run(&Scene::builtin("tank-2d").unwrap(), &options).unwrap_err();
+    // Planted once the first frame landed (a fresh run refuses a directory that holds one).
+    let blocked = out.join("particles_00001.vtu.tmp");
+    let mut plant = |f: &run::Frame| {
+        if f.index == 0 {
+            std::fs::create_dir_all(&blocked).unwrap();
+        }
+    };
+    let scene = Scene::builtin("tank-2d").unwrap();
+    let err = run::run_observed(&scene, &options, &mut plant).unwrap_err();
     let run::RunError::Io { path, reason } = &err else {
         panic!("expected an output error, got {err}")
     };
@@ -332,6 +339,17 @@ fn a_failed_write_stops_the_run_and_keeps_earlier_frames() {
     let pvd = std::fs::read_to_string(out.join("particles.pvd")).unwrap();
     assert_eq!(pvd.matches("<DataSet ").count(), 1);
     assert!(!out.join("particles_00002.vtu").exists(), "the run stopped");
+    // The summary says so (issue #52: it stayed `running`).
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(json["status"], "failed");
+    assert!(
+        json["error"]
+            .as_str()
+            .unwrap()
+            .contains("particles_00001.vtu"),
+        "{json}"
+    );
 }
 
 /// A fixed step far beyond the CFL limit blows up: the run stops with the fault, keeps

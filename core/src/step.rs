@@ -235,7 +235,7 @@ impl Stepper {
             let k = left.min(CHECK_EVERY - solver.steps() % CHECK_EVERY);
             solver.advance(k);
             left -= k;
-            if solver.steps() % CHECK_EVERY == 0 {
+            if solver.steps().is_multiple_of(CHECK_EVERY) {
                 solver.queue_check()?;
             }
         }

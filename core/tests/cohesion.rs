@@ -101,7 +101,7 @@ fn run(setup: meshfree_core::solver::Setup, t_end: f64) -> (Box<dyn Solver>, Vec
     let mut rg = Vec::new();
     while s.time() < t_end {
         s.step();
-        if s.steps() % 50 == 0 {
+        if s.steps().is_multiple_of(50) {
             rg.push(gyration(&s.particles()));
         }
     }

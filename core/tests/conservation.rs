@@ -127,7 +127,7 @@ fn spinning_elastic_disc_in_free_fall_keeps_its_shape() {
     });
     while s.time() < 0.3 {
         s.step();
-        if s.steps() % 200 == 0 {
+        if s.steps().is_multiple_of(200) {
             let d = s.diagnostics();
             eprintln!(
                 "step {} t {} dt {} vmax {}",

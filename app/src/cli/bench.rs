@@ -157,19 +157,19 @@ pub(super) fn bench(a: BenchArgs) -> anyhow::Result<()> {
             .map(|s| Scene::load(s))
             .collect::<Result<Vec<_>, _>>()?;
         crate::bench::bench_scenes(&o, &scenes, Some(&a.out))?;
-        println!("wrote {}/bench.csv and bench.json", a.out.display());
+        crate::outln!("wrote {}/bench.csv and bench.json", a.out.display())?;
         return Ok(());
     }
     if a.scaling {
         crate::bench::scaling(&o, &a.out)?;
-        println!(
+        crate::outln!(
             "wrote {}/bench.csv, bench.json and scaling.json",
             a.out.display()
-        );
+        )?;
         return Ok(());
     }
     crate::bench::bench(&o, Some(&a.out))?;
-    println!("wrote {}/bench.csv and bench.json", a.out.display());
+    crate::outln!("wrote {}/bench.csv and bench.json", a.out.display())?;
     Ok(())
 }
 
@@ -193,11 +193,11 @@ fn paper_bench(a: PaperBenchArgs) -> anyhow::Result<()> {
             *slot = Some(b);
         }
         let rows = pb::merge(cpu.as_ref(), gpu.as_ref());
-        print!("{}", pb::text_table(&rows));
+        crate::out!("{}", pb::text_table(&rows))?;
         if let Some(md) = &a.markdown {
             std::fs::write(md, pb::markdown(&rows, cpu.as_ref(), gpu.as_ref()))
                 .with_context(|| format!("writing {}", md.display()))?;
-            println!("wrote {}", md.display());
+            crate::outln!("wrote {}", md.display())?;
         }
         return Ok(());
     }
@@ -222,7 +222,7 @@ fn paper_bench(a: PaperBenchArgs) -> anyhow::Result<()> {
     } else {
         pb::merge(Some(&b), None)
     };
-    print!("{}", pb::text_table(&rows));
-    println!("wrote {}", a.out.join("paper-bench.json").display());
+    crate::out!("{}", pb::text_table(&rows))?;
+    crate::outln!("wrote {}", a.out.join("paper-bench.json").display())?;
     Ok(())
 }

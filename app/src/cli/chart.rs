@@ -30,11 +30,11 @@ pub(super) fn chart(a: ChartArgs) -> anyhow::Result<()> {
         verbose: true,
     })?;
     let failed = points.iter().filter(|p| p.error.is_none()).count();
-    println!(
+    crate::outln!(
         "chart: {} runs ({failed} failed, {} on the Pareto front); charts in {}",
         points.len(),
         points.iter().filter(|p| p.pareto).count(),
         a.out.display()
-    );
+    )?;
     Ok(())
 }

@@ -24,26 +24,37 @@ pub(super) fn compare(a: CompareArgs) -> anyhow::Result<()> {
     let c = crate::compare::compare_files(&a.a, &a.b, a.match_by, a.worst)
         .map_err(anyhow::Error::msg)?;
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&c)?);
+        crate::outln!("{}", serde_json::to_string_pretty(&c)?)?;
         return Ok(());
     }
-    println!(
+    crate::outln!(
         "{} pairs matched by {:?}; {} particles only in A, {} only in B",
-        c.matched, a.match_by, c.only_in_a, c.only_in_b
-    );
-    println!(
+        c.matched,
+        a.match_by,
+        c.only_in_a,
+        c.only_in_b
+    )?;
+    crate::outln!(
         "{:<9} {:>12} {:>12} {:>12} {:>9}",
-        "field", "max |A-B|", "rms", "rel. L2", "worst id"
-    );
+        "field",
+        "max |A-B|",
+        "rms",
+        "rel. L2",
+        "worst id"
+    )?;
     for f in &c.fields {
-        println!(
+        crate::outln!(
             "{:<9} {:>12.4e} {:>12.4e} {:>12.4e} {:>9}",
-            f.field, f.max_abs, f.rms, f.rel_l2, f.worst_id
-        );
+            f.field,
+            f.max_abs,
+            f.rms,
+            f.rel_l2,
+            f.worst_id
+        )?;
     }
-    println!("farthest pairs (id in A, id in B, distance):");
+    crate::outln!("farthest pairs (id in A, id in B, distance):")?;
     for (ia, ib, d) in &c.worst_positions {
-        println!("  {ia:>8} {ib:>8} {d:.4e}");
+        crate::outln!("  {ia:>8} {ib:>8} {d:.4e}")?;
     }
     Ok(())
 }

@@ -53,7 +53,7 @@ pub(super) fn docs(a: DocsArgs) -> anyhow::Result<()> {
     if let Some(path) = &a.peers {
         let b: crate::peers_bench::PeersBench = read_json(path)?;
         docs::splice(&a.performance, "peers", &docs::peers_table(&b))?;
-        eprintln!(
+        crate::errln!(
             "docs: {} <- {} (peers)",
             a.performance.display(),
             path.display()
@@ -66,7 +66,7 @@ pub(super) fn docs(a: DocsArgs) -> anyhow::Result<()> {
             meshfree_lab::validate::Tier::Full => "validate-full",
         };
         docs::splice(&a.accuracy, name, &docs::accuracy_table(&report))?;
-        eprintln!(
+        crate::errln!(
             "docs: {} <- {} ({name})",
             a.accuracy.display(),
             path.display()
@@ -78,7 +78,7 @@ pub(super) fn docs(a: DocsArgs) -> anyhow::Result<()> {
             rows.extend(read_json::<Vec<crate::bench::BenchRow>>(path)?);
         }
         docs::splice(&a.performance, "bench", &docs::performance_table(&rows))?;
-        eprintln!(
+        crate::errln!(
             "docs: {} <- {} bench rows",
             a.performance.display(),
             rows.len()

@@ -132,10 +132,14 @@ pub mod exit {
     pub const INTERRUPTED: u8 = crate::interrupt::EXIT_INTERRUPTED;
 }
 
-/// The exit status for an error `main` returned: the first run or scene error in its chain
-/// decides.
+/// The exit status for an error `main` returned: the first run, scene or standard-output
+/// error in its chain decides. 0 where the reader of standard output went away
+/// (`term::StdoutError::closed`): the output ended there, and nothing is printed.
 pub fn exit_code(e: &anyhow::Error) -> u8 {
     for cause in e.chain() {
+        if let Some(out) = cause.downcast_ref::<crate::term::StdoutError>() {
+            return if out.closed() { 0 } else { exit::IO };
+        }
         if let Some(r) = cause.downcast_ref::<RunError>() {
             return match r {
                 RunError::Scene(_)

@@ -146,7 +146,7 @@ pub(super) fn run(a: RunArgs) -> anyhow::Result<()> {
         }
         Err(e) => return Err(e).with_context(|| what),
     };
-    println!(
+    crate::outln!(
         "{}: {} steps to t = {:.4} on {} ({}), {:.3e} particle-steps/s; output in {}",
         summary.scene,
         summary.steps,
@@ -155,6 +155,6 @@ pub(super) fn run(a: RunArgs) -> anyhow::Result<()> {
         summary.device,
         summary.particle_steps_per_second,
         summary.output_dir
-    );
+    )?;
     Ok(())
 }

@@ -56,19 +56,24 @@ const CHECK_GENERATES_UP_TO: f64 = 2e6;
 
 pub(super) fn scenes(a: ScenesArgs) -> anyhow::Result<()> {
     if a.reference {
-        print!("{}", meshfree_core::scheme::reference::markdown());
+        crate::out!("{}", meshfree_core::scheme::reference::markdown())?;
         return Ok(());
     }
     let rows = scene_rows()?;
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&rows)?);
+        crate::outln!("{}", serde_json::to_string_pretty(&rows)?)?;
     } else {
-        println!(
+        crate::outln!(
             "{:<16} {:>3} {:>8} {:>8} {:>9} {:>8}  description",
-            "name", "dim", "fluid", "solid", "boundary", "total"
-        );
+            "name",
+            "dim",
+            "fluid",
+            "solid",
+            "boundary",
+            "total"
+        )?;
         for r in rows {
-            println!(
+            crate::outln!(
                 "{:<16} {:>3} {:>8} {:>8} {:>9} {:>8}  {}",
                 r.name,
                 r.dimension,
@@ -77,7 +82,7 @@ pub(super) fn scenes(a: ScenesArgs) -> anyhow::Result<()> {
                 r.counts.boundary,
                 r.counts.total,
                 r.description
-            );
+            )?;
         }
     }
     Ok(())
@@ -89,7 +94,7 @@ pub(super) fn check(a: CheckArgs) -> anyhow::Result<()> {
     let p = s.params();
     if e.particles > CHECK_GENERATES_UP_TO {
         // Generating would take minutes and gigabytes: the estimate says enough.
-        println!(
+        crate::outln!(
             "{}: ok: {} ({}D), up to {:.3e} particles (estimated, about {:.1} GB to \
              start); h = {}, {} neighbour cells",
             s.origin(),
@@ -99,12 +104,12 @@ pub(super) fn check(a: CheckArgs) -> anyhow::Result<()> {
             e.host_bytes() / 1e9,
             p.h,
             p.n_cells
-        );
+        )?;
         return Ok(());
     }
     let setup = s.setup()?;
     let c = Counts::of(&setup.particles);
-    println!(
+    crate::outln!(
         "{}: ok: {} ({}D), {} particles: {} fluid, {} solid, {} boundary; h = {}, {} neighbour cells",
         s.origin(),
         s.name(),
@@ -115,6 +120,6 @@ pub(super) fn check(a: CheckArgs) -> anyhow::Result<()> {
         c.boundary,
         setup.params.h,
         setup.params.n_cells
-    );
+    )?;
     Ok(())
 }

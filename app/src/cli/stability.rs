@@ -38,19 +38,19 @@ pub(super) fn stability(a: StabilityArgs) -> anyhow::Result<()> {
     })?;
     for m in &report.maps {
         let n = |k: Class| m.cells.iter().filter(|c| c.class == k).count();
-        println!(
+        crate::outln!(
             "{}: {} stable, {} inaccurate, {} failed",
             m.def.name,
             n(Class::Stable),
             n(Class::Inaccurate),
             n(Class::Failed)
-        );
+        )?;
     }
-    println!(
+    crate::outln!(
         "stability ({:?} tier) in {:.1} s; report in {}",
         report.tier,
         report.wall_seconds,
         a.out.join("report.md").display()
-    );
+    )?;
     Ok(())
 }

@@ -50,14 +50,14 @@ pub(super) fn validate(a: ValidateArgs) -> anyhow::Result<()> {
         integrator: a.integrator,
     })?;
     let failed = report.checks.iter().filter(|c| !c.pass).count();
-    println!(
+    crate::outln!(
         "validate ({:?} tier): {} of {} checks pass in {:.1} s; report in {}",
         report.tier,
         report.checks.len() - failed,
         report.checks.len(),
         report.wall_seconds,
         a.out.join("report.md").display()
-    );
+    )?;
     anyhow::ensure!(failed == 0, "{failed} validation check(s) failed");
     Ok(())
 }

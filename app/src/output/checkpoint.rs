@@ -34,7 +34,9 @@ use serde::{Deserialize, Serialize};
 use meshfree_core::checkpoint::SolverCheckpoint;
 
 mod pieces;
-pub use pieces::{load, piece_name, remove_stale_pieces, PieceFile, PieceList, Saved};
+pub use pieces::{
+    is_piece_name, load, piece_name, remove_stale_pieces, PieceFile, PieceList, Saved,
+};
 
 /// The file name in a run's output directory.
 pub const FILE: &str = "checkpoint.bin";
@@ -166,10 +168,7 @@ fn write_file<R: Serialize>(
             .collect(),
     };
     let json = serde_json::to_vec(&header).map_err(io::Error::other)?;
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".tmp");
-    let tmp = std::path::PathBuf::from(tmp);
-    let file = std::fs::File::create(&tmp)?;
+    let (atomic, file) = super::files::Atomic::create(path)?;
     let mut w = Crc {
         inner: io::BufWriter::with_capacity(1 << 20, file),
         crc: crc32fast::Hasher::new(),
@@ -188,7 +187,7 @@ fn write_file<R: Serialize>(
     file.sync_all()?;
     let bytes = file.metadata()?.len();
     drop(file);
-    std::fs::rename(&tmp, path)?;
+    atomic.commit()?;
     if let Some(dir) = path.parent() {
         // The rename itself made durable (where the platform lets a directory be opened).
         if let Ok(d) = std::fs::File::open(if dir.as_os_str().is_empty() {
@@ -283,7 +282,7 @@ fn read_file<R: DeserializeOwned>(path: &Path) -> Result<Contents<R>, String> {
                 .collect()
         };
         fn group<const N: usize>(v: Vec<f32>, name: &str) -> Result<Vec<[f32; N]>, String> {
-            if v.len() % N != 0 {
+            if !v.len().is_multiple_of(N) {
                 return Err(format!(
                     "array `{name}` holds {} floats, not a multiple of {N}",
                     v.len()

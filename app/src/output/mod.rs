@@ -5,6 +5,7 @@
 pub mod bodies_csv;
 pub mod checkpoint;
 pub mod diagnostics;
+pub mod files;
 pub mod forces_csv;
 pub mod particles_csv;
 pub mod summary;
@@ -18,19 +19,12 @@ pub use particles_csv::{read_particles_csv, write_particles_csv};
 pub use summary::{RunStatus, RunSummary, Timing};
 pub use vtk::{write_vtu, PvdSeries};
 
-/// Write `bytes` to `path` through a temporary file and a rename, so a reader never sees
-/// half a file.
-pub(crate) fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> std::io::Result<()> {
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".tmp");
-    let tmp = std::path::PathBuf::from(tmp);
-    std::fs::write(&tmp, bytes)?;
-    std::fs::rename(&tmp, path)
-}
+pub(crate) use files::write_atomic;
 
 /// Open one of a run's CSV files: created with its `header` line, or, where the run
 /// continues from a checkpoint (`append`), opened at its end (`crate::resume` cut it back
-/// to the checkpoint's length first).
+/// to the checkpoint's length first). A new one is created anew: a file or link already
+/// at its name is refused, never followed (`files::create_new`).
 pub(crate) fn open_csv(
     path: &std::path::Path,
     header: &str,
@@ -41,7 +35,7 @@ pub(crate) fn open_csv(
         let f = std::fs::OpenOptions::new().append(true).open(path)?;
         return Ok(std::io::BufWriter::new(f));
     }
-    let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
+    let mut w = std::io::BufWriter::new(files::create_new(path)?);
     writeln!(w, "{header}")?;
     w.flush()?;
     Ok(w)

@@ -66,6 +66,10 @@ pub struct RunSummary {
     /// frame: `particles_NNNNN` with that number).
     #[serde(default)]
     pub fault_frame: Option<usize>,
+    /// What stopped a failed run other than a blow-up: a file that could not be written, or
+    /// an internal error.
+    #[serde(default)]
+    pub error: Option<String>,
     /// The signal that stopped an interrupted run (`SIGINT`, `SIGTERM`, `SIGHUP`).
     #[serde(default)]
     pub interrupted_by: Option<String>,
@@ -80,6 +84,11 @@ pub struct RunSummary {
     /// run --resume` continues); none where the run wrote none.
     #[serde(default)]
     pub checkpoint_time: Option<f64>,
+    /// The run's files in its directory besides its frames, series and checkpoint (the
+    /// scene copy, the summary, the CSV files): what `--overwrite` removes with those
+    /// (`output::files`).
+    #[serde(default)]
+    pub files: Vec<String>,
     /// The times [T] of the checkpoints this run was resumed from, in order (empty for a
     /// run in one go). The counts and timings cover the whole run, every part of it.
     #[serde(default)]

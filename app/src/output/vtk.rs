@@ -143,9 +143,8 @@ pub fn write_vtu(path: &Path, frame: &FrameData, fields: Fields, zlib: bool) -> 
     xml.push_str("      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n");
     xml.push_str("  <AppendedData encoding=\"raw\">\n   _");
 
-    let tmp = tmp_path(path);
+    let (atomic, file) = super::files::Atomic::create(path)?;
     let written = (|| -> io::Result<u64> {
-        let file = std::fs::File::create(&tmp)?;
         let mut w = io::BufWriter::with_capacity(1 << 22, file);
         w.write_all(xml.as_bytes())?;
         let mut total = xml.len() as u64;
@@ -163,23 +162,9 @@ pub fn write_vtu(path: &Path, frame: &FrameData, fields: Fields, zlib: bool) -> 
         w.flush()?;
         Ok(total + TAIL.len() as u64)
     })();
-    match written {
-        Ok(bytes) => {
-            std::fs::rename(&tmp, path)?;
-            Ok(bytes)
-        }
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(e)
-        }
-    }
-}
-
-/// `path` with `.tmp` appended.
-fn tmp_path(path: &Path) -> PathBuf {
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".tmp");
-    PathBuf::from(tmp)
+    let bytes = written?;
+    atomic.commit()?;
+    Ok(bytes)
 }
 
 /// connectivity, offsets and types of n vertex cells.

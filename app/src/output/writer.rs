@@ -27,11 +27,7 @@ use super::{BodiesCsv, DiagnosticsCsv, PvdSeries};
 use crate::analysis::bodies::{BodySummary, BodyTracker};
 use crate::analysis::clusters;
 
-/// The CSV files the writer appends to.
-const DIAGNOSTICS: &str = "diagnostics.csv";
-const CLUSTERS: &str = "clusters.csv";
-const BODIES: &str = "bodies.csv";
-const VOIDS: &str = "voids.csv";
+use super::files::{self, BODIES, CLUSTERS, DIAGNOSTICS, VOIDS};
 
 /// What an observer sees at each output (on the writer thread, after the files landed).
 pub struct Frame<'a> {
@@ -181,7 +177,7 @@ impl<'o> Writer<'o> {
             Some(BodiesCsv::open(&path, append).map_err(fail(&path))?)
         };
         let mut report = Report::default();
-        let pvd = cfg.dir.join("particles.pvd");
+        let pvd = cfg.dir.join(files::SERIES);
         let pvd = match resume {
             None => PvdSeries::new(pvd),
             Some(w) => {
@@ -210,9 +206,8 @@ impl<'o> Writer<'o> {
         })
     }
 
-    /// The writer's part of a checkpoint (every frame before it written and flushed).
-    fn state(&self) -> Result<WriterState, Failure> {
-        let mut files = Vec::new();
+    /// The CSV files it appends to.
+    pub fn csv_names(&self) -> Vec<&'static str> {
         let mut csv = vec![DIAGNOSTICS];
         if self.clusters.is_some() {
             csv.push(CLUSTERS);
@@ -223,7 +218,13 @@ impl<'o> Writer<'o> {
         if self.bodies_csv.is_some() {
             csv.push(BODIES);
         }
-        for name in csv {
+        csv
+    }
+
+    /// The writer's part of a checkpoint (every frame before it written and flushed).
+    fn state(&self) -> Result<WriterState, Failure> {
+        let mut files = Vec::new();
+        for name in self.csv_names() {
             let path = self.cfg.dir.join(name);
             let len = std::fs::metadata(&path).map_err(fail(&path))?.len();
             files.push((name.to_string(), len));
@@ -271,7 +272,7 @@ impl<'o> Writer<'o> {
         let fields = self.cfg.fields;
         let file = match self.cfg.format {
             OutputFormat::Vtu | OutputFormat::VtuZlib => {
-                let name = format!("particles_{index:05}.vtu");
+                let name = files::frame(index, "vtu");
                 let path = dir.join(&name);
                 let zlib = self.cfg.format == OutputFormat::VtuZlib;
                 self.report.bytes +=
@@ -279,7 +280,7 @@ impl<'o> Writer<'o> {
                 Some(name)
             }
             OutputFormat::Csv => {
-                let path = dir.join(format!("particles_{index:05}.csv"));
+                let path = dir.join(files::frame(index, "csv"));
                 self.report.bytes +=
                     super::write_particles_csv(&path, &data, fields).map_err(fail(&path))?;
                 None

@@ -90,7 +90,13 @@ impl Queue {
     ) -> Result<Report, Failure> {
         self.jobs = None;
         let drained = Instant::now();
-        let written = thread.join().expect("the writer thread panicked");
+        // A panic on the writer thread (a bug) stops the run as a failed write would.
+        let written = thread.join().unwrap_or_else(|_| {
+            Err(Failure {
+                path: PathBuf::from("(output)"),
+                reason: "the output writer failed (an internal error: please report it)".into(),
+            })
+        });
         self.wait_seconds += drained.elapsed().as_secs_f64();
         written
     }
@@ -172,6 +178,12 @@ impl Ctx {
     /// One batch of steps towards the earliest event `next` [T] or the end, within
     /// `--steps`; the gates it opened are reported.
     pub fn batch(&mut self, next: Option<f64>) -> Result<(), RunFailure> {
+        // The binary's fault tests (`tests/binary_faults.rs`) stand in for a bug in the
+        // stepping here; debug builds only.
+        #[cfg(debug_assertions)]
+        if std::env::var_os("MESHFREE_TEST_PANIC_IN_STEP").is_some() {
+            panic!("MESHFREE_TEST_PANIC_IN_STEP: a panic in the stepping");
+        }
         let t = self.solver.time();
         let to = next.unwrap_or(f64::INFINITY).min(self.t_end);
         let budget = self.max_steps.map_or(u64::MAX, |n| n - self.steps_taken());

@@ -70,6 +70,13 @@ impl Events {
         })
     }
 
+    /// The files the monitors and probes write into the run's directory.
+    pub fn file_names(&self) -> Vec<String> {
+        let mut names = self.monitors.file_names();
+        names.extend(self.probes.file_names());
+        names
+    }
+
     fn all(&mut self) -> [&mut dyn Event; 5] {
         [
             &mut self.outputs,

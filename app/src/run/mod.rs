@@ -36,8 +36,8 @@ use meshfree_core::backend::BackendChoice;
 use meshfree_core::scene::format::OutputFormat;
 use meshfree_core::scene::Scene;
 
-use crate::output::writer;
-use crate::output::RunSummary;
+use crate::output::{files, writer};
+use crate::output::{RunStatus, RunSummary};
 use crate::resume::Resume;
 
 mod checkpoints;
@@ -169,36 +169,62 @@ fn drive(
     let mut events = Events::new(&set, progress, resume.as_ref())?;
     set.announce(&lines, resume.as_ref());
     let mut summary = set.summary();
+    summary.files = [files::SCENE, files::SUMMARY]
+        .into_iter()
+        .chain(set.writer.csv_names())
+        .map(String::from)
+        .chain(events.file_names())
+        .collect();
     // A run killed outright (kill -9, power) leaves `running` behind, not an older status.
-    let summary_path = set.out_dir.join("summary.json");
+    let summary_path = set.out_dir.join(files::SUMMARY);
     (summary.write(&summary_path)).map_err(io_err(&summary_path))?;
-    let (writer, out_dir) = (set.writer, set.out_dir);
+    let (writer, out_dir, _lock) = (set.writer, set.out_dir, set._lock);
     let mut ctx = Ctx::new(set.solver, set.stepper, set.clock, lines, options, t_end);
-    let (result, fault_frame, written) = std::thread::scope(|scope| {
+    let (stepped, written) = std::thread::scope(|scope| {
         let (tx, rx) = mpsc::sync_channel::<writer::Job>(1);
         let thread = std::thread::Builder::new()
             .name("meshfree-writer".into())
             .spawn_scoped(scope, move || writer.serve(rx))
             .expect("spawning the writer thread");
         ctx.queue.open(tx);
-        let result = step_through(&mut ctx, &mut events, resume.is_some());
-        // At a blow-up, the failing state is the last frame (its values may be non-finite:
-        // that is what it shows).
-        let fault_frame = match &result {
-            Err(RunFailure::Fault(_)) => events.outputs.fault_frame(&mut ctx),
-            _ => None,
-        };
+        // A panic in the stepping (a bug) must still close the queue, or the writer waits
+        // for ever and the scope never joins (issue #52).
+        let stepped = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            let result = step_through(&mut ctx, &mut events, resume.is_some());
+            // At a blow-up, the failing state is the last frame (its values may be
+            // non-finite: that is what it shows).
+            let fault_frame = match &result {
+                Err(RunFailure::Fault(_)) => events.outputs.fault_frame(&mut ctx),
+                _ => None,
+            };
+            (result, fault_frame)
+        }));
         // Closing the queue lets the writer finish the frames it holds.
         let written = ctx.queue.drain(thread);
-        (result, fault_frame, written)
+        (stepped, written)
     });
+    let (result, fault_frame) = match stepped {
+        Ok(stepped) => stepped,
+        Err(panic) => {
+            // The solver's state is not to be trusted: the summary says what happened, and
+            // the panic goes on (its message is printed already; exit 101).
+            summary.status = RunStatus::Failed;
+            summary.error = Some(format!(
+                "internal error (a bug: please report it): {}",
+                panic_message(&*panic)
+            ));
+            let _ = summary.write(&summary_path);
+            std::panic::resume_unwind(panic);
+        }
+    };
     // The whole run, every part of it where it was resumed.
     ctx.summarise(&mut summary);
     events.summarise(&mut summary);
     let (ending, written) = match (result, written) {
-        // A failed write first: it is why the stepping stopped.
-        (_, Err(f)) => return Err(f.into()),
-        (Err(RunFailure::Io(e)), _) => return Err(e),
+        // A failed write first: it is why the stepping stopped. The summary says so where
+        // it can still be written.
+        (_, Err(f)) => return Err(failed(summary, &summary_path, f.into())),
+        (Err(RunFailure::Io(e)), _) => return Err(failed(summary, &summary_path, e)),
         (Ok(stop), Ok(w)) => (Ending::of(stop), w),
         (Err(RunFailure::Fault(f)), Ok(w)) => (Ending::Failed(f, fault_frame), w),
     };
@@ -207,6 +233,22 @@ fn drive(
     (summary.write(&summary_path)).map_err(io_err(&summary_path))?;
     ctx.lines.finish(&summary);
     ending.into_result(summary, out_dir)
+}
+
+/// `error` after the summary records it (status `failed`, the reason), where the disk
+/// still takes it.
+fn failed(mut summary: RunSummary, path: &Path, error: RunError) -> RunError {
+    summary.status = RunStatus::Failed;
+    summary.error = Some(error.to_string());
+    let _ = summary.write(path);
+    error
+}
+
+/// A panic's message, where it is text.
+fn panic_message(panic: &(dyn std::any::Any + Send)) -> &str {
+    (panic.downcast_ref::<&str>().copied())
+        .or_else(|| panic.downcast_ref::<String>().map(String::as_str))
+        .unwrap_or("(no message)")
 }
 
 /// The run's batches: the events at t = 0 of a fresh run (a resumed one's are on the disk

@@ -66,7 +66,7 @@ impl Lines {
         if let Some(bar) = &self.bar {
             bar.println(text);
         } else if self.plain {
-            eprintln!("{text}");
+            crate::errln!("{text}");
         }
     }
 
@@ -139,7 +139,7 @@ impl Event for ProgressReport {
             while frac * 10.0 >= self.next_tenth as f64 {
                 self.next_tenth += 1;
             }
-            eprintln!(
+            crate::errln!(
                 "  {:>3.0}%  t = {t:.4}  step {steps}  (at last output: max|v| = {:.4}, density error = {:.4})",
                 frac * 100.0,
                 d.max_speed,

@@ -3,6 +3,7 @@
 //! checkpoint where resumed) and its stepper, the writer, the lines that open the run, and
 //! the summary's fields that it owns.
 
+use std::io::Write as _;
 use std::time::Instant;
 
 use meshfree_core::backend;
@@ -20,6 +21,7 @@ use super::progress::Lines;
 use super::{io_err, RunError, RunOptions};
 use crate::analysis::bodies::BodyTracker;
 use crate::analysis::clusters;
+use crate::output::files::{self, DirLock};
 use crate::output::writer::{self, Writer};
 use crate::output::{RunStatus, RunSummary, Timing};
 use crate::resume::Resume;
@@ -44,6 +46,8 @@ pub(super) struct Setup<'o> {
     pub resumed_from: Vec<f64>,
     /// [T] the time of the checkpoint it continues from.
     pub checkpoint_time: Option<f64>,
+    /// The directory's lock, for a fresh run (a resumed one's is the `Resume`'s).
+    pub _lock: Option<DirLock>,
 }
 
 impl<'o> Setup<'o> {
@@ -82,10 +86,6 @@ impl<'o> Setup<'o> {
             .out_dir
             .clone()
             .unwrap_or_else(|| default_out_dir(&scene));
-        match resume {
-            None => prepare_out_dir(&out_dir, options.overwrite)?,
-            Some(r) => crate::resume::rollback(&out_dir, r)?,
-        }
         let mut solver = create_solver(&scene, setup, options)?;
         let info = solver.info();
         let mut stepper = Stepper::new(scene.gates()).with_end(scene.file.time.end);
@@ -128,10 +128,24 @@ impl<'o> Setup<'o> {
             ]));
         }
 
+        // Everything that can refuse the run has been checked: only now is the directory
+        // touched, under its lock (a resume took it before reading the checkpoint).
         std::fs::create_dir_all(&out_dir).map_err(io_err(&out_dir))?;
-        if resume.is_none() {
-            let scene_copy = out_dir.join("scene.toml");
-            std::fs::write(&scene_copy, &scene.text).map_err(io_err(&scene_copy))?;
+        let lock = match resume {
+            Some(_) => None,
+            None => Some(DirLock::take(&out_dir)?),
+        };
+        match resume {
+            None => {
+                let monitors: Vec<String> =
+                    scene.file.monitors.iter().map(|m| m.name.clone()).collect();
+                prepare_out_dir(&out_dir, options.overwrite, &monitors)?;
+                let scene_copy = out_dir.join(files::SCENE);
+                (files::create_new(&scene_copy))
+                    .and_then(|mut f| f.write_all(scene.text.as_bytes()))
+                    .map_err(io_err(&scene_copy))?;
+            }
+            Some(r) => crate::resume::rollback(&out_dir, r)?,
         }
         let writer = Writer::create(
             writer::Config {
@@ -163,6 +177,7 @@ impl<'o> Setup<'o> {
                 v
             }),
             checkpoint_time: resume.map(|r| r.solver.clock().time),
+            _lock: lock,
         })
     }
 
@@ -227,6 +242,8 @@ impl<'o> Setup<'o> {
             status: RunStatus::Running,
             fault: None,
             interrupted_by: None,
+            error: None,
+            files: Vec::new(),
             fault_frame: None,
             monitors: Vec::new(),
             bodies: Vec::new(),

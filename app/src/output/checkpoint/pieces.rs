@@ -65,7 +65,8 @@ pub fn piece_name(steps: u64, rank: usize, ranks: usize) -> String {
     format!("checkpoint-step{steps}-rank{rank}of{ranks}.bin")
 }
 
-fn is_piece_name(name: &str) -> bool {
+/// Whether `name` is a checkpoint piece's (`piece_name`).
+pub fn is_piece_name(name: &str) -> bool {
     name.starts_with("checkpoint-step") && name.ends_with(".bin")
 }
 

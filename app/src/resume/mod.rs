@@ -26,10 +26,13 @@ use meshfree_core::step::StepperState;
 
 use crate::monitors::MonitorsState;
 use crate::output::checkpoint::{self, Saved};
+use crate::output::files::{self, DirLock};
 use crate::output::writer::{Failure, Job, WriterState};
 use crate::output::{PvdSeries, Timing};
 use crate::probes::ProbesState;
 use crate::run_error::RunError;
+
+mod check;
 
 /// The run's part of a checkpoint.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -70,6 +73,8 @@ pub struct Resume {
     /// The run's scene (`DIR/scene.toml`).
     pub scene: Scene,
     pub dir: PathBuf,
+    /// The directory's lock, taken before the checkpoint was read and held to the run's end.
+    pub lock: DirLock,
 }
 
 /// FNV-1a (64 bits) of `text`, in hex: enough to tell an edited scene file from the one a
@@ -104,12 +109,34 @@ pub fn checkpoint_job(path: PathBuf, solver: Saved, mut run: RunState) -> Job {
     }))
 }
 
-/// Read `dir`'s checkpoint and scene. Err: no checkpoint (with what to do), an unreadable
-/// or damaged one, or a scene file that is not the one it was taken with.
+/// Take `dir`'s lock and read its checkpoint and scene. Err: another run writing there, no
+/// checkpoint (with what to do), an unreadable, damaged or crafted one (`check`), or a
+/// scene file that is not the one it was taken with. Nothing in `dir` is changed.
 pub fn load(dir: &Path) -> Result<Resume, RunError> {
     let path = dir.join(checkpoint::FILE);
-    if !path.is_file() {
-        let why = if dir.join("summary.json").is_file() {
+    let lock = match DirLock::take(dir) {
+        Ok(lock) => Some(lock),
+        // A missing directory: told below as no checkpoint.
+        Err(RunError::Io { .. }) if !dir.is_dir() => None,
+        Err(e) => return Err(e),
+    };
+    // Its own type: a directory, a FIFO (which would block the read) or a link is refused.
+    let kind = std::fs::symlink_metadata(&path).map(|m| m.file_type());
+    if let Some(kind) = kind.as_ref().ok().filter(|k| !k.is_file()) {
+        let what = if kind.is_dir() {
+            "a directory"
+        } else if kind.is_symlink() {
+            "a link"
+        } else {
+            "not a regular file"
+        };
+        return Err(bad(
+            &path,
+            format!("is {what}, not a checkpoint the run wrote"),
+        ));
+    }
+    let Some(lock) = lock.filter(|_| kind.is_ok()) else {
+        let why = if dir.join(files::SUMMARY).is_file() {
             "the run wrote no checkpoint: it was stopped before its first one (set [output] \
              checkpoint_interval to write them during a run; one is written wherever a run \
              stops, not at a blow-up)"
@@ -117,10 +144,10 @@ pub fn load(dir: &Path) -> Result<Resume, RunError> {
             "no run's output is there (pass the --out directory of the run to resume)"
         };
         return Err(bad(&path, why));
-    }
+    };
     let (solver, run): (Saved, RunState) =
         checkpoint::load(&path).map_err(|(at, r)| bad(&at, r))?;
-    let scene_path = dir.join("scene.toml");
+    let scene_path = dir.join(files::SCENE);
     let scene = Scene::from_file(&scene_path)?;
     if digest(&scene.text) != run.scene_digest {
         return Err(bad(
@@ -129,12 +156,15 @@ pub fn load(dir: &Path) -> Result<Resume, RunError> {
              it, or start a new run",
         ));
     }
-    Ok(Resume {
+    let r = Resume {
         solver,
         run,
         scene,
         dir: dir.to_path_buf(),
-    })
+        lock,
+    };
+    check::check(&r).map_err(|why| bad(&path, format!("cannot be this run's: {why}")))?;
+    Ok(r)
 }
 
 /// Bring `dir` back to the checkpoint `r`: every CSV file cut to its length there (Err
@@ -151,7 +181,14 @@ pub fn rollback(dir: &Path, r: &Resume) -> Result<(), RunError> {
         .chain(&run.monitors.files)
         .chain(&run.probes.files);
     for (name, len) in files {
+        // `check` let through only the run's own names; a link planted at one is refused.
         let path = dir.join(name);
+        if !std::fs::symlink_metadata(&path).is_ok_and(|m| m.is_file()) {
+            return Err(bad(
+                &path,
+                "is missing or not a regular file: the output was damaged since the checkpoint",
+            ));
+        }
         let f = std::fs::OpenOptions::new()
             .write(true)
             .open(&path)
@@ -169,6 +206,7 @@ pub fn rollback(dir: &Path, r: &Resume) -> Result<(), RunError> {
         f.set_len(*len).map_err(|e| io(&path, e))?;
     }
     let frames = run.writer.frames;
+    check_frames(dir, r)?;
     for entry in std::fs::read_dir(dir).map_err(|e| io(dir, e))? {
         let entry = entry.map_err(|e| io(dir, e))?;
         let name = entry.file_name().to_string_lossy().into_owned();
@@ -188,9 +226,45 @@ pub fn rollback(dir: &Path, r: &Resume) -> Result<(), RunError> {
             .collect(),
     };
     checkpoint::remove_stale_pieces(dir, &listed).map_err(|e| io(dir, e))?;
-    let series = PvdSeries::with_entries(dir.join("particles.pvd"), run.writer.series.clone());
+    let series = PvdSeries::with_entries(dir.join(files::SERIES), run.writer.series.clone());
     if !run.writer.series.is_empty() {
         series.write().map_err(|e| io(series.path(), e))?;
+    }
+    Ok(())
+}
+
+/// The frames written before the checkpoint are all there, whole: each file present, and
+/// their sizes adding up to the bytes the writer counted (a truncated or removed one would
+/// otherwise be carried into the finished run without a word).
+fn check_frames(dir: &Path, r: &Resume) -> Result<(), RunError> {
+    let ext = match r.run.format {
+        OutputFormat::Vtu | OutputFormat::VtuZlib => "vtu",
+        OutputFormat::Csv => "csv",
+        OutputFormat::None => return Ok(()),
+    };
+    let mut bytes = 0u64;
+    for i in 0..r.run.writer.frames {
+        let path = dir.join(files::frame(i, ext));
+        match std::fs::symlink_metadata(&path) {
+            Ok(m) if m.is_file() => bytes += m.len(),
+            _ => {
+                return Err(bad(
+                    &path,
+                    "is missing or not a regular file, though written before the checkpoint: \
+                     the output was damaged since (restore it, or start a new run)",
+                ))
+            }
+        }
+    }
+    if bytes != r.run.writer.bytes {
+        return Err(bad(
+            dir,
+            format!(
+                "its frames hold {bytes} bytes, not the {} written before the checkpoint: one \
+                 was changed or truncated since (restore it, or start a new run)",
+                r.run.writer.bytes
+            ),
+        ));
     }
     Ok(())
 }

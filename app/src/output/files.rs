@@ -1,0 +1,255 @@
+//! A run's directory and its contract (README, "The output directory"; issue #52).
+//!
+//! Every file a run writes is named here: the fixed names below, a force monitor's
+//! `<name>.csv`, the frames `particles_NNNNN.vtu` (or `.csv`) with their series
+//! `particles.pvd`, the checkpoint `checkpoint.bin` (a decomposed run's pieces
+//! `checkpoint-step*-rank*of*.bin` beside it) and, for an instant, `<any of them>.tmp`
+//! (`Atomic`). Each is created anew (never through a link planted at its name) or renamed
+//! into place. `summary.json` lists under `files` the run's files that are not frames,
+//! series or checkpoint; `--overwrite` removes exactly those and the frames, series,
+//! checkpoint and temporaries of the earlier run, nothing else (`run::out_dir`). A run
+//! or a resume holds the directory's lock (`DirLock`) from before it touches a file to its
+//! end, so a second writer is refused.
+
+use std::fs::File;
+use std::io;
+use std::path::{Path, PathBuf};
+
+use crate::run_error::RunError;
+
+/// The copy of the scene the run was started with (a resume reads it back).
+pub const SCENE: &str = "scene.toml";
+/// The run's summary (`RunSummary`).
+pub const SUMMARY: &str = "summary.json";
+/// The frames' series for ParaView.
+pub const SERIES: &str = "particles.pvd";
+/// The writer's CSV files (`output::writer`).
+pub const DIAGNOSTICS: &str = "diagnostics.csv";
+pub const CLUSTERS: &str = "clusters.csv";
+pub const BODIES: &str = "bodies.csv";
+pub const VOIDS: &str = "voids.csv";
+/// The probes' and gauges' CSV files (`crate::probes`).
+pub const PROBES: &str = "probes.csv";
+pub const GAUGES: &str = "gauges.csv";
+/// Every fixed name a run may write besides the checkpoint.
+pub const FIXED: [&str; 9] = [
+    SCENE,
+    SUMMARY,
+    SERIES,
+    DIAGNOSTICS,
+    CLUSTERS,
+    BODIES,
+    VOIDS,
+    PROBES,
+    GAUGES,
+];
+
+/// The CSV file of the force monitor `name` (`crate::monitors`).
+pub fn monitor_csv(name: &str) -> String {
+    format!("{name}.csv")
+}
+
+/// The particle file of output `index`, with extension `ext` (`vtu`, `csv`).
+pub fn frame(index: usize, ext: &str) -> String {
+    format!("particles_{index:05}.{ext}")
+}
+
+/// The output index of a particle file's name (`frame`'s inverse).
+pub fn frame_index(name: &str) -> Option<usize> {
+    let rest = name.strip_prefix("particles_")?;
+    let (digits, ext) = rest.split_once('.')?;
+    let frame = (ext == "vtu" || ext == "csv")
+        && digits.len() >= 5
+        && digits.bytes().all(|b| b.is_ascii_digit());
+    frame.then(|| digits.parse().ok()).flatten()
+}
+
+/// Whether `name` names a file directly inside the run's directory: not empty, no path
+/// separator, not `.` or `..`, no control character. A checkpoint or a summary names no
+/// other (a crafted one could otherwise reach outside the directory).
+pub fn is_plain(name: &str) -> bool {
+    !name.is_empty()
+        && name != "."
+        && name != ".."
+        && !name.contains(['/', '\\'])
+        && !name.chars().any(char::is_control)
+}
+
+/// Whether `name` is one of a run's files by its pattern alone: the frames, the series, the
+/// summary, the scene copy, the checkpoint and its pieces.
+pub fn by_pattern(name: &str) -> bool {
+    name == SERIES
+        || name == SUMMARY
+        || name == SCENE
+        || name == super::checkpoint::FILE
+        || super::checkpoint::is_piece_name(name)
+        || frame_index(name).is_some()
+}
+
+/// Whether a file of that name could be written by a run of a scene with force monitors
+/// named `monitors`: every fixed name, a monitor's CSV, a pattern's file, and their
+/// temporaries.
+pub fn would_write(name: &str, monitors: &[String]) -> bool {
+    let name = name.strip_suffix(".tmp").unwrap_or(name);
+    FIXED.contains(&name) || by_pattern(name) || monitors.iter().any(|m| monitor_csv(m) == name)
+}
+
+/// `path` with `.tmp` appended: where `Atomic` writes it first.
+pub fn tmp_path(path: &Path) -> PathBuf {
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    PathBuf::from(tmp)
+}
+
+/// Create `path` anew for writing: refused where anything is there already (a planted
+/// link is never followed).
+pub fn create_new(path: &Path) -> io::Result<File> {
+    File::options().write(true).create_new(true).open(path)
+}
+
+/// A file being written in full under `<path>.tmp`, renamed over `path` by `commit`, so a
+/// reader never sees half a file; dropped uncommitted (a failed write), the temporary goes.
+pub struct Atomic {
+    tmp: PathBuf,
+    path: PathBuf,
+    done: bool,
+}
+
+impl Atomic {
+    /// The temporary created anew (a stale one from a killed write removed first).
+    pub fn create(path: &Path) -> io::Result<(Atomic, File)> {
+        let tmp = tmp_path(path);
+        match std::fs::remove_file(&tmp) {
+            Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(e),
+            _ => {}
+        }
+        let file = create_new(&tmp)?;
+        let atomic = Atomic {
+            tmp,
+            path: path.to_path_buf(),
+            done: false,
+        };
+        Ok((atomic, file))
+    }
+
+    /// Rename the temporary over the file (the file's writer closed it first).
+    pub fn commit(mut self) -> io::Result<()> {
+        std::fs::rename(&self.tmp, &self.path)?;
+        self.done = true;
+        Ok(())
+    }
+}
+
+impl Drop for Atomic {
+    fn drop(&mut self) {
+        if !self.done {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+/// Write `bytes` to `path` atomically (`Atomic`).
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    use std::io::Write as _;
+    let (atomic, mut file) = Atomic::create(path)?;
+    file.write_all(bytes)?;
+    drop(file);
+    atomic.commit()
+}
+
+/// The advisory lock (`flock`) on a run's directory, held by a run or a resume until it
+/// ends; released by the system at any exit, `kill -9` included.
+pub struct DirLock {
+    _dir: File,
+}
+
+impl DirLock {
+    /// Take the lock on the directory `dir` (which exists), without waiting: refused
+    /// (`RunError::OutputInUse`, exit 2) where another process holds it.
+    pub fn take(dir: &Path) -> Result<DirLock, RunError> {
+        let io = |e: io::Error| RunError::Io {
+            path: dir.to_path_buf(),
+            reason: e.to_string(),
+        };
+        let file = File::open(dir).map_err(io)?;
+        match file.try_lock() {
+            Ok(()) => Ok(DirLock { _dir: file }),
+            Err(std::fs::TryLockError::WouldBlock) => Err(RunError::OutputInUse {
+                dir: dir.to_path_buf(),
+                reason: "another meshfree run or resume is writing there (it holds the \
+                         directory's lock): wait for it to end, or choose another --out"
+                    .into(),
+            }),
+            Err(std::fs::TryLockError::Error(e)) => Err(io(e)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_and_names() {
+        assert_eq!(frame(7, "vtu"), "particles_00007.vtu");
+        assert_eq!(frame_index("particles_00007.vtu"), Some(7));
+        assert_eq!(frame_index("particles_123456.csv"), Some(123456));
+        for not in [
+            "particles_7.vtu",
+            "particles_00007.png",
+            "particles_0000x.vtu",
+            "x.vtu",
+        ] {
+            assert_eq!(frame_index(not), None, "{not}");
+        }
+        for bad in ["", ".", "..", "../x", "/etc/passwd", "a/b", "a\\b", "a\nb"] {
+            assert!(!is_plain(bad), "{bad:?}");
+        }
+        assert!(is_plain("diagnostics.csv") && is_plain("drag.csv"));
+        let monitors = vec!["drag".to_string()];
+        for ours in [
+            "drag.csv",
+            "diagnostics.csv",
+            "summary.json.tmp",
+            "particles_00001.vtu",
+        ] {
+            assert!(would_write(ours, &monitors), "{ours}");
+        }
+        for theirs in ["notes.csv", "plot.png", "lift.csv", "data.bin"] {
+            assert!(!would_write(theirs, &monitors), "{theirs}");
+        }
+    }
+
+    #[test]
+    fn a_second_lock_is_refused_and_a_dropped_one_released() {
+        let dir = std::env::temp_dir().join(format!("meshfree-lock-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let first = DirLock::take(&dir).expect("the first lock");
+        assert!(matches!(
+            DirLock::take(&dir),
+            Err(RunError::OutputInUse { .. })
+        ));
+        drop(first);
+        assert!(DirLock::take(&dir).is_ok());
+        let _ = std::fs::remove_dir(&dir);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn an_atomic_write_replaces_a_planted_link_without_following_it() {
+        let dir = std::env::temp_dir().join(format!("meshfree-atomic-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let victim = dir.join("victim");
+        std::fs::write(&victim, "keep").unwrap();
+        let path = dir.join(SUMMARY);
+        let _ = std::fs::remove_file(&path);
+        let _ = std::fs::remove_file(tmp_path(&path));
+        std::os::unix::fs::symlink(&victim, &path).unwrap();
+        std::os::unix::fs::symlink(&victim, tmp_path(&path)).unwrap();
+        write_atomic(&path, b"{}").unwrap();
+        assert_eq!(std::fs::read_to_string(&victim).unwrap(), "keep");
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "{}");
+        assert!(!tmp_path(&path).exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
