@@ -158,6 +158,7 @@ fn a_closed_or_full_stdout_is_no_panic() {
             .spawn()
             .unwrap();
         drop(child.stdout.take());
+        let status = wait(&mut child, Duration::from_secs(60), "a closed stdout");
         let mut err = String::new();
         child
             .stderr
@@ -165,7 +166,6 @@ fn a_closed_or_full_stdout_is_no_panic() {
             .unwrap()
             .read_to_string(&mut err)
             .unwrap();
-        let status = wait(&mut child, Duration::from_secs(60), "a closed stdout");
         assert!(status.success(), "{args:?}: {status} {err}");
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
@@ -491,5 +491,43 @@ fn signals_at_random_moments_stop_cleanly_and_resume() {
             "{what}: {}",
             String::from_utf8_lossy(&o.stderr)
         );
+    }
+}
+
+/// A checkpoint that is a directory or a FIFO is named as such (a FIFO is never opened:
+/// reading it would block the resume for ever).
+#[cfg(unix)]
+#[test]
+fn a_checkpoint_that_is_no_file_is_named_as_such() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = dir.path().join("r");
+    short_run(&run);
+    let path = run.join("checkpoint.bin");
+    for (kind, want) in [("directory", "a directory"), ("fifo", "not a regular file")] {
+        std::fs::remove_file(&path)
+            .or_else(|_| std::fs::remove_dir(&path))
+            .unwrap();
+        if kind == "directory" {
+            std::fs::create_dir(&path).unwrap();
+        } else {
+            let c = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
+            // SAFETY: mkfifo(3) on a NUL-terminated path that lives across the call.
+            assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+        }
+        let mut child = meshfree()
+            .args(["run", "--resume", run.to_str().unwrap(), "--quiet"])
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let status = wait(&mut child, Duration::from_secs(30), kind);
+        let mut err = String::new();
+        child
+            .stderr
+            .take()
+            .unwrap()
+            .read_to_string(&mut err)
+            .unwrap();
+        assert_eq!(status.code(), Some(2), "{kind}: {err}");
+        assert!(err.contains(want), "{kind}: {err}");
     }
 }
