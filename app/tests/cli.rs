@@ -260,3 +260,41 @@ fn gpus_without_nccl_or_gpus_say_what_is_missing_and_write_nothing() {
         String::from_utf8_lossy(&o.stderr)
     );
 }
+
+/// A run writes checkpoints by wall time without being asked (`--checkpoint-every`, 10
+/// minutes by default; here a few milliseconds), so one killed outright resumes (#51).
+#[test]
+fn a_killed_run_resumes_from_its_wall_clock_checkpoint() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("k");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_meshfree"))
+        .args(["run", "tank-2d", "--backend", "cpu", "--quiet"])
+        .args(["--checkpoint-every", "0.0002", "--out"])
+        .arg(&out)
+        .spawn()
+        .unwrap();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    while !out.join("checkpoint.bin").exists() {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "no checkpoint by wall time"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(100));
+    child.kill().unwrap(); // SIGKILL
+    child.wait().unwrap();
+    let o = meshfree(&[
+        "run",
+        "--resume",
+        out.to_str().unwrap(),
+        "--steps",
+        "5",
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let from = s["resumed_from"][0].as_f64().unwrap();
+    assert!(from > 0.0, "resumed from t = {from}");
+}

@@ -61,7 +61,8 @@ last frame, a checkpoint and summary.json with status \"interrupted\"; a second 
 quits at once.
 Checkpoints: checkpoint.bin holds the whole state (binary, versioned, checksummed, replaced
 atomically); one is written wherever a run stops (its end, --steps, a signal; not at a
-blow-up) and every [output] checkpoint_interval of simulated time. `run --resume DIR`
+blow-up), every [output] checkpoint_interval of simulated time, and every 10 minutes of
+wall time (--checkpoint-every), so a run killed outright loses at most that. `run --resume DIR`
 continues from it, also after kill -9 or a power cut, with the files of later outputs
 removed first; on the same backend and build the result is bit for bit the uninterrupted
 run's. --t-end extends a finished run; --backend may differ from the run's.

@@ -36,7 +36,8 @@ pub struct RunArgs {
     /// removed); without it such a directory is refused.
     #[arg(long)]
     pub overwrite: bool,
-    /// End time, replacing the scene's `time.end`.
+    /// End time, in the scene's time unit (seconds for SI scenes), replacing the scene's
+    /// `time.end`.
     #[arg(long, value_name = "T")]
     pub t_end: Option<f64>,
     /// The particle files of each output, replacing the scene's `[output] format`: `csv`
@@ -47,7 +48,8 @@ pub struct RunArgs {
     /// Stop after N time steps (even before the end time).
     #[arg(long, value_name = "N")]
     pub steps: Option<u64>,
-    /// Time between outputs, replacing the scene's `time.output_interval`.
+    /// Time between outputs, in the scene's time unit (seconds for SI scenes), replacing
+    /// the scene's `time.output_interval`.
     #[arg(long, value_name = "T")]
     pub output_interval: Option<f64>,
     /// Use only the paper's own equations: summation density, forward Euler at a fixed
@@ -75,6 +77,11 @@ pub struct RunArgs {
     /// `mpi` feature (`cargo build --release --features mpi`, with OpenMPI installed).
     #[arg(long, conflicts_with_all = ["decompose", "gpus"])]
     pub mpi: bool,
+    /// Write a checkpoint every this many minutes of wall time besides those every
+    /// `[output] checkpoint_interval` of simulated time and at every stop, so a run killed
+    /// outright (kill -9, a power cut) loses at most that much work; 0: none by wall time.
+    #[arg(long, value_name = "MINUTES", default_value_t = 10.0)]
+    pub checkpoint_every: f64,
     /// No progress output; only errors (and the final line on stdout).
     #[arg(long, short)]
     pub quiet: bool,
@@ -102,6 +109,11 @@ pub(super) fn run(a: RunArgs) -> anyhow::Result<()> {
         "--mpi needs a build with the `mpi` feature: cargo build --release --features mpi \
          (with an MPI installation, e.g. OpenMPI's libopenmpi-dev)"
     );
+    anyhow::ensure!(
+        a.checkpoint_every.is_finite() && a.checkpoint_every >= 0.0,
+        "--checkpoint-every {}: give the minutes of wall time between checkpoints (0: none)",
+        a.checkpoint_every
+    );
     let options = RunOptions {
         format: a.format,
         backend: a.backend,
@@ -115,6 +127,7 @@ pub(super) fn run(a: RunArgs) -> anyhow::Result<()> {
         decompose: a.decompose.map(|n| n as usize),
         gpus: a.gpus.map(|n| n as usize),
         mpi: a.mpi,
+        checkpoint_wall: (a.checkpoint_every > 0.0).then_some(a.checkpoint_every * 60.0),
         progress: if a.quiet {
             Progress::Quiet
         } else {

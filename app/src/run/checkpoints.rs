@@ -1,5 +1,7 @@
-//! The checkpoints event: every `[output] checkpoint_interval` of simulated time (not at
-//! the end, whose checkpoint the stop writes), a health check and a save of the run
+//! The checkpoints event: every `[output] checkpoint_interval` of simulated time and every
+//! `RunOptions::checkpoint_wall` seconds of wall time (not at the end, whose checkpoint the
+//! stop writes; the wall clock bounds no batch, so the stepping is the same with it or
+//! without), a health check and a save of the run
 //! (`Events::save`): the solver's state (`output::checkpoint::Saved`) and the run's
 //! (`crate::resume::RunState`), written to `checkpoint.bin` on the writer thread after the
 //! frames queued before it.
@@ -24,10 +26,13 @@ pub(super) struct Checkpoints {
     /// backend, scene, end, output interval and format, and where it was resumed from.
     base: RunState,
     path: PathBuf,
+    /// [s] the wall time between checkpoints, if any, and when the last was written.
+    wall: Option<f64>,
+    last: Instant,
 }
 
 impl Checkpoints {
-    pub fn new(set: &Setup, resume: Option<&Resume>) -> Checkpoints {
+    pub fn new(set: &Setup, resume: Option<&Resume>, wall: Option<f64>) -> Checkpoints {
         let every = set.scene.file.output.checkpoint_interval;
         let interval = set.scene.file.time.output_interval;
         Checkpoints {
@@ -50,6 +55,8 @@ impl Checkpoints {
                 resumed_from: set.resumed_from.clone(),
             },
             path: set.out_dir.join(checkpoint::FILE),
+            wall,
+            last: Instant::now(),
         }
     }
 
@@ -79,21 +86,25 @@ impl Event for Checkpoints {
         self.next
     }
 
-    /// At its time, short of the end (the stop writes that one).
+    /// At its time or once the wall time is up, short of the end (the stop writes that
+    /// one).
     fn due(&self, ctx: &mut Ctx) -> bool {
         let t = ctx.solver.time();
-        self.every.is_some()
-            && self.next.is_some_and(|at| reached(t, at))
-            && !reached(t, ctx.t_end())
+        let simulated = self.every.is_some() && self.next.is_some_and(|at| reached(t, at));
+        let wall = (self.wall).is_some_and(|w| self.last.elapsed().as_secs_f64() >= w);
+        (simulated || wall) && !reached(t, ctx.t_end())
     }
 
     fn fire(&mut self, ctx: &mut Ctx) -> Result<(), RunFailure> {
-        let Some(every) = self.every else {
-            return Ok(());
-        };
         ctx.check()?;
         let t = ctx.solver.time();
-        self.next = Some(((t / every + 1e-9).floor() + 1.0) * every);
+        if let Some(every) = self
+            .every
+            .filter(|_| self.next.is_some_and(|at| reached(t, at)))
+        {
+            self.next = Some(((t / every + 1e-9).floor() + 1.0) * every);
+        }
+        self.last = Instant::now();
         ctx.save_due = true;
         Ok(())
     }

@@ -50,11 +50,13 @@ pub(super) struct Events {
 
 impl Events {
     /// The events of the run `set` up: a fresh run's first output and samples at t = 0, a
-    /// resumed one's where its checkpoint left them (their files opened at their ends).
+    /// resumed one's where its checkpoint left them (their files opened at their ends);
+    /// a checkpoint every `wall` seconds of wall time besides (`RunOptions::checkpoint_wall`).
     pub fn new(
         set: &Setup,
         progress: ProgressReport,
         resume: Option<&Resume>,
+        wall: Option<f64>,
     ) -> Result<Events, RunError> {
         let run = resume.map(|r| &r.run);
         let interval = set.scene.file.time.output_interval;
@@ -65,7 +67,7 @@ impl Events {
             },
             monitors: Monitors::create(&set.scene, &set.out_dir, run.map(|r| &r.monitors))?,
             probes: Probes::create(&set.scene, &set.out_dir, run.map(|r| &r.probes))?,
-            checkpoints: Checkpoints::new(set, resume),
+            checkpoints: Checkpoints::new(set, resume, wall),
             progress,
         })
     }

@@ -100,6 +100,10 @@ pub struct RunOptions {
     /// One subdomain on each of this many GPUs, through NCCL (`backend::Layout::Gpus`);
     /// None: `decompose` or one domain.
     pub gpus: Option<usize>,
+    /// [s] of wall time between checkpoints besides those of `[output]
+    /// checkpoint_interval` and the stop's (`run --checkpoint-every`); None: none by wall
+    /// time.
+    pub checkpoint_wall: Option<f64>,
     /// This process is rank 0 of an MPI run (`crate::mpi`, `run --mpi`): one subdomain per
     /// process.
     pub mpi: bool,
@@ -166,7 +170,7 @@ fn drive(
     let set = Setup::new(scene, options, observer, resume.as_ref())?;
     let t_end = set.t_end();
     let (lines, progress) = progress::reporter(options.progress, t_end, options.max_steps);
-    let mut events = Events::new(&set, progress, resume.as_ref())?;
+    let mut events = Events::new(&set, progress, resume.as_ref(), options.checkpoint_wall)?;
     set.announce(&lines, resume.as_ref());
     let mut summary = set.summary();
     summary.files = [files::SCENE, files::SUMMARY]

@@ -358,8 +358,8 @@ pub struct Output {
     #[serde(default)]
     pub voids: bool,
     /// [T] simulated time between checkpoints (`checkpoint.bin`, from which `meshfree run
-    /// --resume` continues). Default none: a checkpoint only where the run stops (its end,
-    /// `--steps`, a signal).
+    /// --resume` continues). Default none: a checkpoint where the run stops (its end,
+    /// `--steps`, a signal) and every 10 minutes of wall time (`run --checkpoint-every`).
     #[serde(default)]
     pub checkpoint_interval: Option<f64>,
 }
