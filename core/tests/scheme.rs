@@ -335,6 +335,18 @@ fn the_committed_reference_is_current() {
     );
 }
 
+/// The README's "What it cannot do yet" is the reference's list, word for word.
+#[test]
+fn the_readme_lists_what_a_scene_cannot_express_yet() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../README.md");
+    let readme = std::fs::read_to_string(path).unwrap();
+    assert!(
+        readme.contains("## What it cannot do yet") && readme.contains(reference::CANNOT_YET),
+        "README.md's \"What it cannot do yet\" differs from core/src/scheme/reference.rs's \
+         CANNOT_YET: copy it there"
+    );
+}
+
 #[test]
 fn total_lagrangian_refuses_the_artificial_stress() {
     let mut s = example();

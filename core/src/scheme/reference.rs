@@ -32,6 +32,28 @@ resolution, run control, what the paper leaves open) stays the scene's.
 `docs/reference/paper-scenes.md` gives the reasons and the parameter study behind them.
 ";
 
+/// What a scene cannot express yet: one list, printed in the scene reference and kept
+/// word for word in the README's section of that name (a test compares them). Shrink it
+/// as the issues named land.
+pub const CANNOT_YET: &str = "\
+- **Geometry from CAD.** Walls are boxes, box containers, cylinders and 2D segments; elastic
+  bodies boxes, discs and spheres; fluid fills boxes (cut by segments in 2D). No STL, OBJ or
+  PLY import, no level set (issue #53).
+- **Motion.** At most one driven object (a wall or an elastic body) per scene, at a constant
+  velocity: no rotation, oscillation or prescribed time series, no second moving object, so
+  no sloshing tank and no flap (issue #54).
+- **Rigid and floating bodies.** Solids are elastic (or driven): no rigid body free in six
+  degrees of freedom, no joints or contacts (issue #54).
+- **Open boundaries.** An inflow band sets the velocity of the fluid in it, but particles are
+  neither created nor removed (a gate is removed once, at its time): no inlet or outlet, so
+  no flow that enters and leaves a non-periodic domain (issue #55).
+- **Wall pressure.** Walls are dynamic boundary particles (or Lennard-Jones forces): the
+  pressure they read peaks several times too high at impacts; no mDBC (issue #56).
+- **Waves.** No piston or flap wave maker and no absorbing beach (issue #57).
+- **One fluid.** One weakly compressible liquid: no second fluid or air phase, no surface
+  tension, no heat.
+";
+
 /// The scene's geometry and objects (`scene/format.rs`), with an example scene that a test
 /// parses.
 pub const STRUCTURE: &str = r#"## Geometry and objects
@@ -157,6 +179,9 @@ interval = 0.01
 pub fn markdown() -> String {
     let mut o = String::new();
     o.push_str(INTRO);
+    o.push('\n');
+    o.push_str("\n## What a scene cannot express yet\n\n");
+    o.push_str(CANNOT_YET);
     o.push('\n');
     o.push_str(STRUCTURE);
     o.push_str("\n## The scheme's tables\n\n");
