@@ -254,7 +254,20 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
         ..Default::default()
     };
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
-    meshfree_viewer::run_window(&mut live, opts)?;
+    meshfree_viewer::run_window(&mut live, opts).map_err(|e| {
+        // Without a display the window's error names a path inside winit; the way on is
+        // the headless renderer (issue #51).
+        let unset = |v| std::env::var_os(v).is_none_or(|s| s.is_empty());
+        let headless = unset("DISPLAY") && unset("WAYLAND_DISPLAY");
+        if headless {
+            anyhow::anyhow!(
+                "no display (neither DISPLAY nor WAYLAND_DISPLAY is set): use `meshfree render` \
+                 for images without one"
+            )
+        } else {
+            e.into()
+        }
+    })?;
     // The window closed: write where the run got to.
     let particles = live.solver.particles();
     let vtu = out.join("final.vtu");

@@ -298,3 +298,22 @@ fn a_killed_run_resumes_from_its_wall_clock_checkpoint() {
     let from = s["resumed_from"][0].as_f64().unwrap();
     assert!(from > 0.0, "resumed from t = {from}");
 }
+
+/// `view` without a display points to `render`, not into winit's sources (#51).
+#[cfg(feature = "viewer")]
+#[test]
+fn view_without_a_display_points_to_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_meshfree"))
+        .args(["view", "tank-2d", "--backend", "cpu"])
+        .current_dir(dir.path())
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(err.contains("meshfree render"), "{err}");
+    assert!(!err.contains(".cargo"), "{err}");
+}

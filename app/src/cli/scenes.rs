@@ -63,8 +63,10 @@ pub(super) fn scenes(a: ScenesArgs) -> anyhow::Result<()> {
     if a.json {
         crate::outln!("{}", serde_json::to_string_pretty(&rows)?)?;
     } else {
+        // The name column as wide as the longest name (vortex-street-re105 is 19).
+        let w = rows.iter().map(|r| r.name.len()).max().unwrap_or(4).max(4);
         crate::outln!(
-            "{:<16} {:>3} {:>8} {:>8} {:>9} {:>8}  description",
+            "{:<w$} {:>3} {:>8} {:>8} {:>9} {:>8}  description",
             "name",
             "dim",
             "fluid",
@@ -74,7 +76,7 @@ pub(super) fn scenes(a: ScenesArgs) -> anyhow::Result<()> {
         )?;
         for r in rows {
             crate::outln!(
-                "{:<16} {:>3} {:>8} {:>8} {:>9} {:>8}  {}",
+                "{:<w$} {:>3} {:>8} {:>8} {:>9} {:>8}  {}",
                 r.name,
                 r.dimension,
                 r.counts.fluid,

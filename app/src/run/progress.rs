@@ -122,6 +122,9 @@ impl Event for ProgressReport {
     /// line at each tenth, with the last output's diagnostics.
     fn fire(&mut self, ctx: &mut Ctx) -> Result<(), RunFailure> {
         let (t, steps, d) = (ctx.solver.time(), ctx.steps_taken(), &ctx.last);
+        // Shown: the run's step count, a resumed run's counted from its start as its last
+        // line counts them (the share of `--steps` counts this part's).
+        let step = ctx.solver.steps();
         let mut frac = t / self.t_end;
         if let Some(n) = self.max_steps {
             frac = frac.max(steps as f64 / n.max(1) as f64);
@@ -129,9 +132,9 @@ impl Event for ProgressReport {
         let frac = frac.clamp(0.0, 1.0);
         if let Some(bar) = &self.bar {
             bar.set_position((frac * 1000.0) as u64);
-            if steps % 10 == 0 {
+            if steps.is_multiple_of(10) {
                 bar.set_message(format!(
-                    "t = {t:.4} step {steps} max|v| = {:.3}",
+                    "t = {t:.4} step {step} max|v| = {:.3}",
                     d.max_speed
                 ));
             }
@@ -140,7 +143,7 @@ impl Event for ProgressReport {
                 self.next_tenth += 1;
             }
             crate::errln!(
-                "  {:>3.0}%  t = {t:.4}  step {steps}  (at last output: max|v| = {:.4}, density error = {:.4})",
+                "  {:>3.0}%  t = {t:.4}  step {step}  (at last output: max|v| = {:.4}, density error = {:.4})",
                 frac * 100.0,
                 d.max_speed,
                 d.density_error
