@@ -350,6 +350,7 @@ fn timed<D: Dim>(
         .iter()
         .filter(|q| q.kind == Kind::Fluid)
         .count();
+    let resident0 = resident_bytes();
     let (mut s, bytes) = make::<D>(o.backend, setup, o.decompose, o.gpus)?;
     // The one stepping path, as a run takes it: batches of CUDA graphs, the clock read
     // once per batch, the health checked every `step::CHECK_EVERY` steps; the gates due at
@@ -360,6 +361,13 @@ fn timed<D: Dim>(
     // (ms per step, simulated time per wall second) of each repeat.
     let mut repeats = Vec::new();
     let cost0 = s.exchange_cost().unwrap_or_default();
+    // On the CPU the solver's memory is the host's: what the process's resident set grew
+    // by over the set-up and the warm-up (its arrays, grid and scratch; the set-up's
+    // particle list was allocated before and is not counted).
+    let bytes = match (bytes, resident0, resident_bytes()) {
+        (0, Some(before), Some(after)) => after.saturating_sub(before) as usize,
+        _ => bytes,
+    };
     for _ in 0..o.repeats.max(1) {
         let sim0 = s.time();
         let t0 = Instant::now();
@@ -635,4 +643,19 @@ fn write_rows(rows: &[BenchRow], out_dir: Option<&Path>) {
             serde_json::to_string_pretty(&rows).unwrap_or_default(),
         );
     }
+}
+
+/// The process's resident memory in bytes (Linux: `/proc/self/statm`), where readable.
+#[cfg(unix)]
+fn resident_bytes() -> Option<u64> {
+    let statm = std::fs::read_to_string("/proc/self/statm").ok()?;
+    let pages: u64 = statm.split_whitespace().nth(1)?.parse().ok()?;
+    // SAFETY: sysconf(3) reads a system constant; no memory is involved.
+    let page = unsafe { libc::sysconf(libc::_SC_PAGESIZE) };
+    Some(pages * u64::try_from(page).ok()?)
+}
+
+#[cfg(not(unix))]
+fn resident_bytes() -> Option<u64> {
+    None
 }
