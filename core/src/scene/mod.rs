@@ -13,6 +13,7 @@ pub mod estimate;
 pub mod format;
 mod generate;
 pub mod paper_exact;
+mod spatial;
 mod validate;
 
 use std::path::{Path, PathBuf};
