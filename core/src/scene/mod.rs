@@ -12,6 +12,7 @@ mod error;
 pub mod estimate;
 pub mod format;
 mod generate;
+pub mod input_limits;
 pub mod paper_exact;
 mod spatial;
 mod validate;
@@ -122,21 +123,20 @@ pub struct Overrides {
 }
 
 impl Scene {
-    /// Read and validate a scene file.
+    /// Read and validate a scene file (at most `input_limits::MAX_BYTES`).
     pub fn from_file(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
         let path = path.as_ref();
         let origin = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
-            origin: origin.clone(),
-            reason: format!("cannot read the file: {e}"),
-        })?;
+        let text = input_limits::read(path, &origin)?;
         let mut scene = Scene::from_toml(&text, &origin)?;
         scene.source = SceneSource::File(path.to_path_buf());
         Ok(scene)
     }
 
-    /// Parse and validate TOML text; `origin` names it in errors.
+    /// Parse and validate TOML text; `origin` names it in errors. Text that would cost far
+    /// more to parse than a scene does is refused first (`input_limits`).
     pub fn from_toml(text: &str, origin: &str) -> Result<Scene, SceneError> {
+        input_limits::check(text, origin)?;
         let de = toml::Deserializer::new(text);
         let file: SceneFile = serde_path_to_error::deserialize(de)
             .map_err(|e| SceneError::from_toml(origin, text, e))?;
