@@ -484,6 +484,22 @@ fn sizes(c: &Ctx, s: &SceneFile) -> R {
             ),
         ));
     }
+    if e.cells > super::estimate::SPARSE_GRID_CELLS
+        && e.cells > super::estimate::MAX_CELLS_PER_PARTICLE * e.particles
+    {
+        return Err(c.err(
+            "domain.max",
+            format!(
+                "the neighbour grid spans the whole domain: {:.3e} cells (about {:.1} GB, \
+                 cleared at every step) for at most {:.3e} particles, over {} cells each: a \
+                 domain closer to where the particles can go, or a larger spacing",
+                e.cells,
+                e.grid_host_bytes() / 1e9,
+                e.particles,
+                super::estimate::MAX_CELLS_PER_PARTICLE
+            ),
+        ));
+    }
     Ok(())
 }
 
