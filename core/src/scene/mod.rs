@@ -122,6 +122,42 @@ pub struct Overrides {
     pub output_interval: Option<f64>,
 }
 
+impl Overrides {
+    /// The command-line flag of each overridden scene key.
+    pub const FLAGS: [(&'static str, &'static str); 2] = [
+        ("time.end", "--t-end"),
+        ("time.output_interval", "--output-interval"),
+    ];
+
+    /// `e`, a refusal of the scene `origin` with these overrides, as the command line's:
+    /// naming the flag of the field it names, else (a check across keys, such as the step
+    /// against the end time) the flag given (the first where both are).
+    fn blame(&self, e: SceneError, origin: &str) -> SceneError {
+        let SceneError::Invalid { field, reason, .. } = &e else {
+            return e;
+        };
+        let given = |key: &str| match key {
+            "time.end" => self.t_end.is_some(),
+            _ => self.output_interval.is_some(),
+        };
+        let own = Self::FLAGS.iter().find(|(k, _)| k == field && given(k));
+        let (key, flag) = match own.or_else(|| Self::FLAGS.iter().find(|(k, _)| given(k))) {
+            Some(kf) => *kf,
+            None => return e,
+        };
+        let reason = if field == key {
+            format!("{reason} (it replaces {key} of {origin})")
+        } else {
+            format!("with this value, {origin}: {field}: {reason}")
+        };
+        SceneError::Invalid {
+            origin: "command line".into(),
+            field: flag.into(),
+            reason,
+        }
+    }
+}
+
 impl Scene {
     /// Read and validate a scene file (at most `input_limits::MAX_BYTES`).
     pub fn from_file(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
@@ -187,7 +223,9 @@ impl Scene {
         validate::validate(&self.file, &self.origin())
     }
 
-    /// A copy with the end time and output interval replaced where given, validated.
+    /// A copy with the end time and output interval replaced where given, validated. A
+    /// refusal is the command line's (`Overrides::FLAGS`): this scene passed before, so the
+    /// flag's value is the cause (`--t-end nan`, not the file's `time.end`).
     pub fn with_overrides(&self, o: &Overrides) -> Result<Scene, SceneError> {
         let mut s = self.clone();
         if let Some(t) = o.t_end {
@@ -196,7 +234,7 @@ impl Scene {
         if let Some(t) = o.output_interval {
             s.file.time.output_interval = t;
         }
-        s.revalidate()?;
+        s.revalidate().map_err(|e| o.blame(e, &self.origin()))?;
         Ok(s)
     }
 
