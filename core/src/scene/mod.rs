@@ -6,7 +6,9 @@
 //! comment each value with its reason. `format.rs`: the serde structs of the geometry and
 //! objects (`SceneFile` itself is `crate::scheme`'s); `validate.rs`: the
 //! checks serde cannot make; `generate.rs`: how shapes become particles and how overlaps are
-//! resolved; `paper_exact.rs`: the map to the paper's own scheme.
+//! resolved (through the spatial indices of `spatial.rs`); `paper_exact.rs`: the map to the
+//! paper's own scheme; `input_limits.rs`: what a file may cost to read; `estimate.rs`: its
+//! size and memory before generation.
 
 mod error;
 pub mod estimate;
