@@ -7,6 +7,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use crate::nearest::NearestIndex;
 use crate::output::read_particles_csv;
 use meshfree_core::particle::Particle;
 
@@ -76,58 +77,13 @@ fn pairs(a: &[Particle], b: &[Particle], by: MatchBy) -> Vec<(usize, usize)> {
                 .collect()
         }
         MatchBy::Position => {
-            // A uniform hash grid over B with about one particle per cell.
-            let lo = (0..3)
-                .map(|k| b.iter().map(|p| p.position[k]).fold(f32::MAX, f32::min))
-                .collect::<Vec<_>>();
-            let hi = (0..3)
-                .map(|k| b.iter().map(|p| p.position[k]).fold(f32::MIN, f32::max))
-                .collect::<Vec<_>>();
-            let extent: Vec<f64> = (0..3).map(|k| (hi[k] - lo[k]) as f64).collect();
-            let dims = extent.iter().filter(|e| **e > 0.0).count().max(1) as i32;
-            let volume: f64 = extent.iter().filter(|e| **e > 0.0).product();
-            let cell = (volume / b.len().max(1) as f64)
-                .powf(1.0 / dims as f64)
-                .max(1e-12);
-            let key = |p: &Particle| -> [i64; 3] {
-                [0, 1, 2].map(|k| ((p.position[k] - lo[k]) as f64 / cell).floor() as i64)
-            };
-            let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
-            for (k, p) in b.iter().enumerate() {
-                grid.entry(key(p)).or_default().push(k);
-            }
+            let index = NearestIndex::new(b.iter().map(|p| p.position.map(f64::from)).collect());
             a.iter()
                 .enumerate()
                 .filter_map(|(i, p)| {
-                    let c = key(p);
-                    let mut best: Option<(f64, usize)> = None;
-                    // Widen the search ring until a candidate is found and the ring is
-                    // farther than the best distance.
-                    for r in 0..64i64 {
-                        for dx in -r..=r {
-                            for dy in -r..=r {
-                                for dz in -r..=r {
-                                    if dx.abs().max(dy.abs()).max(dz.abs()) != r {
-                                        continue;
-                                    }
-                                    for &k in grid
-                                        .get(&[c[0] + dx, c[1] + dy, c[2] + dz])
-                                        .into_iter()
-                                        .flatten()
-                                    {
-                                        let d = distance(p, &b[k]);
-                                        if best.is_none_or(|(bd, _)| d < bd) {
-                                            best = Some((d, k));
-                                        }
-                                    }
-                                }
-                            }
-                        }
-                        if best.is_some_and(|(bd, _)| bd < r as f64 * cell) {
-                            break;
-                        }
-                    }
-                    best.map(|(_, k)| (i, k))
+                    index
+                        .nearest(&p.position.map(f64::from))
+                        .map(|(k, _)| (i, k))
                 })
                 .collect()
         }

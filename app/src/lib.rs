@@ -2,6 +2,7 @@
 //! monitors' and probes' files, analyses of particle sets, benchmarks and comparisons. The solver is
 //! `meshfree_core`; validation, stability maps and charts are `meshfree_lab`.
 pub mod analysis;
+pub mod bad_input;
 pub mod bench;
 pub mod cli;
 pub mod compare;
@@ -10,6 +11,7 @@ pub mod interrupt;
 pub mod monitors;
 #[cfg(feature = "mpi")]
 pub mod mpi;
+pub mod nearest;
 pub mod output;
 pub mod paper_bench;
 pub mod peers_bench;

@@ -74,3 +74,76 @@ fn bad_csv_names_file_line_and_field() {
         "{e}"
     );
 }
+
+/// A fluid particle of id `id` at `x`.
+fn at(id: u32, x: [f32; 3]) -> meshfree_core::particle::Particle {
+    meshfree_core::particle::Particle {
+        id,
+        kind: meshfree_core::particle::Kind::Fluid,
+        group: 0,
+        position: x,
+        velocity: [0.0; 3],
+        density: 1000.0,
+        pressure: 0.0,
+        mass: 1.0,
+        stress: [0.0; 6],
+    }
+}
+
+/// xorshift64*, seeded: the same points on every machine.
+fn points(n: usize, seed: u64, scale: f32) -> Vec<[f32; 3]> {
+    let mut s = seed;
+    let mut r = move || {
+        s ^= s >> 12;
+        s ^= s << 25;
+        s ^= s >> 27;
+        (s.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 40) as f32 / (1u64 << 24) as f32 * scale
+    };
+    (0..n).map(|_| [r(), r(), 0.5 * r()]).collect()
+}
+
+#[test]
+fn position_matching_finds_the_nearest_like_a_search_of_all() {
+    let a: Vec<_> = (points(1500, 7, 1.0).into_iter().enumerate())
+        .map(|(i, x)| at(i as u32, x))
+        .collect();
+    let b: Vec<_> = (points(1000, 11, 1.2).into_iter().enumerate())
+        .map(|(i, x)| at(i as u32, x))
+        .collect();
+    let c = compare(&a, &b, MatchBy::Position, a.len());
+    assert_eq!(c.matched, a.len());
+    let d = |p: &[f32; 3], q: &[f32; 3]| {
+        (0..3)
+            .map(|k| (p[k] as f64 - q[k] as f64).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    for &(ia, _, dist) in &c.worst_positions {
+        let p = &a[ia as usize].position;
+        let best = b.iter().map(|q| d(p, &q.position)).fold(f64::MAX, f64::min);
+        assert_eq!(dist, best, "particle {ia}");
+    }
+}
+
+#[test]
+fn position_matching_is_not_quadratic() {
+    // Issue #52: 2,026 rows against an empty side took 119 s, 500 coincident points 55 s
+    // (a widening search of up to 64 rings of cells per particle). At 20,000 each, a
+    // search per particle that reads all of the other side takes minutes.
+    let a: Vec<_> = (points(20_000, 3, 1.0).into_iter().enumerate())
+        .map(|(i, x)| at(i as u32, x))
+        .collect();
+    let c = compare(&a, &[], MatchBy::Position, 5);
+    assert_eq!((c.matched, c.only_in_a), (0, a.len()));
+    // All of B at one point, far from A: every particle of A finds it.
+    let b: Vec<_> = (0..20_000).map(|i| at(i, [50.0, 50.0, 0.0])).collect();
+    let c = compare(&a, &b, MatchBy::Position, 5);
+    assert_eq!(c.matched, a.len());
+    // And the other way: each of the coincident points finds its nearest in A.
+    let c = compare(&b, &a, MatchBy::Position, 5);
+    assert_eq!(c.matched, b.len());
+    // Positions that are not numbers match nothing.
+    let nan = vec![at(0, [f32::NAN, 0.0, 0.0])];
+    assert_eq!(compare(&nan, &a, MatchBy::Position, 1).matched, 0);
+    assert_eq!(compare(&a[..3], &nan, MatchBy::Position, 1).matched, 0);
+}

@@ -346,7 +346,7 @@ fn bad_override_creates_nothing() {
     let e = run::run(&s, &options).unwrap_err();
     assert!(
         e.to_string()
-            .starts_with("base.toml: time.end: must be a positive number"),
+            .starts_with("command line: --t-end: must be a positive number"),
         "{e}"
     );
     assert!(!out.exists());

@@ -17,6 +17,7 @@ pub mod pairs;
 pub mod params;
 pub mod particle;
 pub mod probe;
+pub mod run_files;
 pub mod scene;
 pub mod scheme;
 pub mod solver;

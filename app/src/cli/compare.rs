@@ -21,8 +21,9 @@ pub struct CompareArgs {
 }
 
 pub(super) fn compare(a: CompareArgs) -> anyhow::Result<()> {
+    // An unreadable or malformed file is bad input (exit 2), as `--help` lists.
     let c = crate::compare::compare_files(&a.a, &a.b, a.match_by, a.worst)
-        .map_err(anyhow::Error::msg)?;
+        .map_err(crate::bad_input::BadInput)?;
     if a.json {
         crate::outln!("{}", serde_json::to_string_pretty(&c)?)?;
         return Ok(());

@@ -153,7 +153,9 @@ pub fn exit_code(e: &anyhow::Error) -> u8 {
                 RunError::Backend(_) => exit::OTHER,
             };
         }
-        if cause.downcast_ref::<SceneError>().is_some() {
+        if cause.downcast_ref::<SceneError>().is_some()
+            || cause.downcast_ref::<crate::bad_input::BadInput>().is_some()
+        {
             return exit::BAD_INPUT;
         }
     }

@@ -1,7 +1,8 @@
 //! How many particles a scene generates and how large its neighbour grid is, from the
 //! scene file alone, in f64 and without allocating: `validate` refuses what the solver
-//! cannot index, and `meshfree check` / `run` compare it with the machine's memory before
-//! generating anything. The particle count is an upper bound: each object's lattice points
+//! cannot index, and `meshfree check` / `run` compare the memory both need with what this
+//! process may have (`memory_limit`: the free memory, the address-space limit and the
+//! cgroup's limit) before generating anything. The particle count is an upper bound: each object's lattice points
 //! (the generator's rules, `generate.rs`), before fluid or solids that another object
 //! covers are left out; `tests/scene_limits.rs` holds it against the built-in scenes.
 
@@ -17,6 +18,23 @@ pub const MAX_CELLS: f64 = i32::MAX as f64;
 /// state's arrays and the set-up's neighbour search (the peak, measured on the 3D scenes
 /// within a factor 1.5).
 pub const HOST_BYTES_PER_PARTICLE: f64 = 400.0;
+/// [bytes] host memory per neighbour-grid cell: the CPU backend's `Grid` (`cell_start` and
+/// `cell_end`, a u32 each, `backend/cpu/grid.rs`), which force monitors also build on the
+/// host under every backend (`monitor.rs`). The grid spans the whole domain, wherever the
+/// particles are.
+pub const HOST_BYTES_PER_CELL: f64 = 8.0;
+/// [bytes] device memory per neighbour-grid cell under the CUDA backend: `count`, the
+/// scan's `local` and `cell_start` (a u32 each) and, in 3D, the 1-byte `stamp`
+/// (`backend/cuda/buffers.rs`). Allocated on the GPU, which refuses what it cannot hold.
+pub const DEVICE_BYTES_PER_CELL: f64 = 13.0;
+/// A grid of more cells than this, and more than `MAX_CELLS_PER_PARTICLE` per particle, is
+/// refused by the validation: it costs `HOST_BYTES_PER_CELL` each (over 0.5 GB here) and
+/// is cleared at every step, for particles that fill a small part of the domain.
+pub const SPARSE_GRID_CELLS: f64 = (1u64 << 26) as f64;
+/// See `SPARSE_GRID_CELLS`. (A domain filled with fluid has about 0.06 cells per particle
+/// in 3D and 0.15 in 2D at h = 1.3 dx; 1,000 is a domain 40 times wider than its fluid on
+/// every axis in 3D, 80 times in 2D.)
+pub const MAX_CELLS_PER_PARTICLE: f64 = 1000.0;
 
 /// A scene's size before generation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -28,9 +46,20 @@ pub struct Estimate {
 }
 
 impl Estimate {
-    /// [bytes] host memory a run needs at its start (`HOST_BYTES_PER_PARTICLE`).
+    /// [bytes] host memory a run needs at its start: its particles
+    /// (`HOST_BYTES_PER_PARTICLE`) and its neighbour grid (`HOST_BYTES_PER_CELL`).
     pub fn host_bytes(&self) -> f64 {
-        self.particles * HOST_BYTES_PER_PARTICLE
+        self.particles * HOST_BYTES_PER_PARTICLE + self.grid_host_bytes()
+    }
+
+    /// [bytes] the neighbour grid's part of `host_bytes`.
+    pub fn grid_host_bytes(&self) -> f64 {
+        self.cells * HOST_BYTES_PER_CELL
+    }
+
+    /// [bytes] the neighbour grid's memory on a GPU (`DEVICE_BYTES_PER_CELL`).
+    pub fn grid_device_bytes(&self) -> f64 {
+        self.cells * DEVICE_BYTES_PER_CELL
     }
 }
 
@@ -101,44 +130,168 @@ pub fn estimate(s: &SceneFile) -> Estimate {
     }
 }
 
-/// [bytes] the memory this machine has available now (Linux: `MemAvailable` of
-/// /proc/meminfo); `None` where it cannot tell.
+/// [bytes] the memory this process may still take, and what limits it: the least of the
+/// machine's available memory (Linux: `MemAvailable` of /proc/meminfo), the room left
+/// under the address-space limit (`ulimit -v`, RLIMIT_AS: the soft limit of
+/// /proc/self/limits less this process's `VmSize`) and the room left under its cgroup's
+/// memory limit (v2 `memory.max` less `memory.current`, v1 `memory.limit_in_bytes` less
+/// `memory.usage_in_bytes`); `None` where none can be read.
+pub fn memory_limit() -> Option<(f64, &'static str)> {
+    let read = |p: &str| std::fs::read_to_string(p).ok();
+    let available = read("/proc/meminfo")
+        .and_then(|t| meminfo_available(&t))
+        .map(|b| (b, "available memory"));
+    let address_space = read("/proc/self/limits")
+        .and_then(|t| address_space_limit(&t))
+        .map(|lim| {
+            let used = read("/proc/self/status")
+                .and_then(|t| vm_size(&t))
+                .unwrap_or(0.0);
+            (
+                (lim - used).max(0.0),
+                "room under the address-space limit (ulimit -v)",
+            )
+        });
+    let cgroup = cgroup_room().map(|b| (b, "room under the cgroup's memory limit"));
+    [available, address_space, cgroup]
+        .into_iter()
+        .flatten()
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+}
+
+/// [bytes] the machine's available memory; `None` where it cannot tell.
 pub fn available_memory() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    meminfo_available(&std::fs::read_to_string("/proc/meminfo").ok()?)
+}
+
+/// [bytes] `MemAvailable` of a /proc/meminfo text.
+pub fn meminfo_available(meminfo: &str) -> Option<f64> {
+    kib_field(meminfo, "MemAvailable:")
+}
+
+/// [bytes] `VmSize` (the address space in use) of a /proc/self/status text.
+pub fn vm_size(status: &str) -> Option<f64> {
+    kib_field(status, "VmSize:")
+}
+
+fn kib_field(text: &str, name: &str) -> Option<f64> {
+    let line = text.lines().find(|l| l.starts_with(name))?;
     let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib * 1024.0)
 }
 
+/// [bytes] the soft address-space limit of a /proc/self/limits text; `None` where
+/// unlimited.
+pub fn address_space_limit(limits: &str) -> Option<f64> {
+    let line = limits
+        .lines()
+        .find(|l| l.starts_with("Max address space"))?;
+    let soft = line["Max address space".len()..]
+        .split_whitespace()
+        .next()?;
+    soft.parse().ok()
+}
+
+/// [bytes] a cgroup limit less its usage, from the texts of its limit file and usage
+/// file; `None` where unlimited (`max`, or v1's 2^63 rounded to pages).
+pub fn cgroup_headroom(limit: &str, usage: Option<&str>) -> Option<f64> {
+    let limit: f64 = limit.trim().parse().ok()?;
+    if limit >= (1u64 << 60) as f64 {
+        return None;
+    }
+    let used: f64 = usage.and_then(|u| u.trim().parse().ok()).unwrap_or(0.0);
+    Some((limit - used).max(0.0))
+}
+
+/// The room under this process's cgroup memory limit (v2, then v1), where one is set.
+fn cgroup_room() -> Option<f64> {
+    let groups = std::fs::read_to_string("/proc/self/cgroup").unwrap_or_default();
+    let path_of = |prefix: &str| {
+        groups
+            .lines()
+            .find_map(|l| l.strip_prefix(prefix))
+            .map(str::to_string)
+    };
+    let mut candidates: Vec<(String, &str, &str)> = Vec::new();
+    if let Some(p) = path_of("0::") {
+        let dir = format!("/sys/fs/cgroup{}", p.trim_end_matches('/'));
+        candidates.push((dir, "memory.max", "memory.current"));
+    }
+    candidates.push(("/sys/fs/cgroup".into(), "memory.max", "memory.current"));
+    let v1 = groups.lines().find_map(|l| {
+        let (_, rest) = l.split_once(':')?;
+        let (controllers, path) = rest.split_once(':')?;
+        controllers
+            .split(',')
+            .any(|c| c == "memory")
+            .then(|| path.to_string())
+    });
+    if let Some(p) = v1 {
+        let dir = format!("/sys/fs/cgroup/memory{}", p.trim_end_matches('/'));
+        candidates.push((dir, "memory.limit_in_bytes", "memory.usage_in_bytes"));
+    }
+    candidates.push((
+        "/sys/fs/cgroup/memory".into(),
+        "memory.limit_in_bytes",
+        "memory.usage_in_bytes",
+    ));
+    candidates.iter().find_map(|(dir, limit, usage)| {
+        let limit = std::fs::read_to_string(format!("{dir}/{limit}")).ok()?;
+        let usage = std::fs::read_to_string(format!("{dir}/{usage}")).ok();
+        cgroup_headroom(&limit, usage.as_deref())
+    })
+}
+
 impl super::Scene {
-    /// The scene's estimate, refused (naming `discretisation.spacing`) where it exceeds
-    /// `max_particles` or needs more memory at the start than the machine has available:
-    /// before anything is generated.
+    /// The scene's estimate, refused where it exceeds `max_particles` (naming
+    /// `discretisation.spacing`) or needs more memory at the start than this process may
+    /// have (`memory_limit`; naming `domain.max` where the neighbour grid needs most of
+    /// it): before anything is generated.
     pub fn check_size(&self, max_particles: Option<u64>) -> Result<Estimate, super::SceneError> {
         let e = estimate(&self.file);
-        let refuse = |reason: String| super::SceneError::Invalid {
+        let refuse = |field: &str, reason: String| super::SceneError::Invalid {
             origin: self.origin(),
-            field: "discretisation.spacing".into(),
+            field: field.into(),
             reason,
         };
         if let Some(max) = max_particles {
             if e.particles > max as f64 {
-                return Err(refuse(format!(
-                    "the objects would hold up to {:.3e} particles at this spacing, more than \
-                     --max-particles {max}",
-                    e.particles
-                )));
+                return Err(refuse(
+                    "discretisation.spacing",
+                    format!(
+                        "the objects would hold up to {:.3e} particles at this spacing, more \
+                         than --max-particles {max}",
+                        e.particles
+                    ),
+                ));
             }
         }
-        if let Some(free) = available_memory() {
-            if e.host_bytes() > free {
-                return Err(refuse(format!(
-                    "up to {:.3e} particles need about {:.1} GB of memory to start, and this \
-                     machine has {:.1} GB available: a coarser spacing, or a larger machine",
+        if let Some((room, what)) = memory_limit() {
+            if e.host_bytes() > room {
+                let need = format!(
+                    "up to {:.3e} particles ({:.2} GB) and a neighbour grid of {:.3e} cells over \
+                     the whole domain ({:.2} GB) need about {:.2} GB of memory to start, and the \
+                     {what} is {:.2} GB",
                     e.particles,
+                    e.particles * HOST_BYTES_PER_PARTICLE / 1e9,
+                    e.cells,
+                    e.grid_host_bytes() / 1e9,
                     e.host_bytes() / 1e9,
-                    free / 1e9
-                )));
+                    room / 1e9
+                );
+                return Err(
+                    if e.grid_host_bytes() > e.particles * HOST_BYTES_PER_PARTICLE {
+                        refuse(
+                            "domain.max",
+                            format!("{need}: a smaller domain, or a larger spacing or h_factor"),
+                        )
+                    } else {
+                        refuse(
+                            "discretisation.spacing",
+                            format!("{need}: a coarser spacing, or a larger machine"),
+                        )
+                    },
+                );
             }
         }
         Ok(e)

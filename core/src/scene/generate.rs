@@ -26,16 +26,16 @@
 //!   support (2h) of one of its fluid particles, at the wall particle's own depth below the
 //!   block's top (`wall_hydrostatic`).
 
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
-
 use rayon::prelude::*;
 
 use super::format::*;
+use super::spatial::{BoxIndex, Grid, Tiles, P3, PARALLEL_FROM};
 use crate::particle::{Kind, Particle};
 use crate::scheme::*;
 
-type P3 = [f64; 3];
+/// [spacings] the tile of `Tiles` and the bin of `BoxIndex`: a few spacings, so that a
+/// one-particle object reads a few dozen candidates.
+const TILE: f64 = 4.0;
 
 /// One object's candidate particles and region test.
 struct Object<'a> {
@@ -71,6 +71,34 @@ enum Region<'a> {
 }
 
 impl Region<'_> {
+    /// A box [lo, hi] over the first `dim` axes (0 past them) holding the region, None
+    /// where it is unbounded: behind a segment, and a cylinder's column in 3D.
+    fn bounds(&self, dim: usize) -> Option<(P3, P3)> {
+        let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+        match self {
+            Region::Box(a, b) => {
+                lo[..dim].copy_from_slice(&a[..dim]);
+                hi[..dim].copy_from_slice(&b[..dim]);
+            }
+            Region::Band { lo: a, hi: b, .. } => {
+                lo[..dim].copy_from_slice(&a[..dim]);
+                hi[..dim].copy_from_slice(&b[..dim]);
+            }
+            Region::Ball { center, radius } => {
+                for k in 0..dim {
+                    (lo[k], hi[k]) = (center[k] - radius, center[k] + radius);
+                }
+            }
+            Region::Column { center, radius } if dim == 2 => {
+                for k in 0..2 {
+                    (lo[k], hi[k]) = (center[k] - radius, center[k] + radius);
+                }
+            }
+            Region::Column { .. } | Region::Behind { .. } => return None,
+        }
+        Some((lo, hi))
+    }
+
     fn contains(&self, p: &P3, dim: usize) -> bool {
         let in_box = |lo: &[f64], hi: &[f64]| (0..dim).all(|a| p[a] > lo[a] && p[a] < hi[a]);
         match self {
@@ -229,196 +257,28 @@ fn segment_points(from: &[f64], to: &[f64], layers: u32, dx: f64) -> Vec<P3> {
     out
 }
 
-/// A hash grid of positions with cell size `cell`, built once and then read from every
-/// thread: per cell a chain of indices through `next` (no allocation per cell), and a bit
-/// per cell of the points' bounding box saying which cells hold any, so that most empty
-/// cells cost no hash lookup.
-struct Grid {
-    cell: f64,
-    /// Per packed cell key (`pack`): the last point of that cell, `NONE` ends a chain.
-    heads: HashMap<u64, u32, BuildHasherDefault<CellHasher>>,
-    points: Vec<P3>,
-    /// Per point: the point before it in the same cell (or in one that shares its packed
-    /// key), `NONE` where none.
-    next: Vec<u32>,
-    /// The occupied cells, where the bounding box has at most `Occupied::MAX_CELLS` cells.
-    occupied: Option<Occupied>,
-}
-
-const NONE: u32 = u32::MAX;
-
-/// Packs a cell's integer coordinates into one key, 21 bits each: cells 2^21 apart on an
-/// axis share a key, which only adds candidates that the distance test then rejects.
-fn pack(k: [i64; 3]) -> u64 {
-    const M: u64 = (1 << 21) - 1;
-    (k[0] as u64 & M) | ((k[1] as u64 & M) << 21) | ((k[2] as u64 & M) << 42)
-}
-
-/// The hash of a packed cell key (the finaliser of MurmurHash3): `HashMap`'s default
-/// SipHash took half of a large scene's set-up.
-#[derive(Default)]
-struct CellHasher(u64);
-
-impl Hasher for CellHasher {
-    fn write(&mut self, bytes: &[u8]) {
-        for b in bytes {
-            self.0 = (self.0 ^ u64::from(*b)).wrapping_mul(0x100_0000_01b3);
-        }
-    }
-    fn write_u64(&mut self, x: u64) {
-        self.0 = x;
-    }
-    fn finish(&self) -> u64 {
-        let mut h = self.0;
-        h ^= h >> 33;
-        h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
-        h ^= h >> 33;
-        h = h.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
-        h ^ (h >> 33)
-    }
-}
-
-/// One bit per cell of the box of cells `lo..lo + size`, x fastest.
-struct Occupied {
-    lo: [i64; 3],
-    size: [i64; 3],
-    bits: Vec<u64>,
-}
-
-impl Occupied {
-    /// At most 2^30 cells (128 MiB); a larger box goes without.
-    const MAX_CELLS: i64 = 1 << 30;
-
-    fn index(&self, k: [i64; 3]) -> Option<usize> {
-        let mut i = 0;
-        for a in (0..3).rev() {
-            let o = k[a] - self.lo[a];
-            if o < 0 || o >= self.size[a] {
-                return None;
-            }
-            i = i * self.size[a] + o;
-        }
-        Some(i as usize)
-    }
-
-    fn has(&self, k: [i64; 3]) -> bool {
-        self.index(k)
-            .is_some_and(|i| self.bits[i / 64] >> (i % 64) & 1 == 1)
-    }
-}
-
-impl Grid {
-    fn key(cell: f64, p: &P3) -> [i64; 3] {
-        [0, 1, 2].map(|a| (p[a] / cell).floor() as i64)
-    }
-
-    fn new(cell: f64, points: Vec<P3>) -> Grid {
-        let keys: Vec<[i64; 3]> = points.par_iter().map(|p| Grid::key(cell, p)).collect();
-        let mut heads: HashMap<u64, u32, _> = HashMap::default();
-        heads.reserve(points.len());
-        let mut next = Vec::with_capacity(points.len());
-        for (i, k) in keys.iter().enumerate() {
-            next.push(heads.insert(pack(*k), i as u32).unwrap_or(NONE));
-        }
-        let occupied = keys.first().and_then(|first| {
-            let (mut lo, mut hi) = (*first, *first);
-            for k in &keys {
-                for a in 0..3 {
-                    lo[a] = lo[a].min(k[a]);
-                    hi[a] = hi[a].max(k[a]);
-                }
-            }
-            let size = [0, 1, 2].map(|a| hi[a] - lo[a] + 1);
-            let cells = size
-                .iter()
-                .try_fold(1i64, |n, &s| n.checked_mul(s))
-                .filter(|&n| n <= Occupied::MAX_CELLS)?;
-            let mut o = Occupied {
-                lo,
-                size,
-                bits: vec![0; (cells as usize).div_ceil(64)],
-            };
-            for k in &keys {
-                let i = o.index(*k).expect("inside the bounding box");
-                o.bits[i / 64] |= 1 << (i % 64);
-            }
-            Some(o)
-        });
-        Grid {
-            cell,
-            heads,
-            points,
-            next,
-            occupied,
-        }
-    }
-
-    /// Whether a point of the grid lies closer than `r` (at most the cell size) to `p`.
-    /// Only the cells that the ball of radius `r` reaches are searched (of the 27 around
-    /// `p`'s own): 8 where `r` is half a cell.
-    fn near(&self, p: &P3, r: f64) -> bool {
-        if self.points.is_empty() {
-            return false;
-        }
-        let k = Grid::key(self.cell, p);
-        let span = |a: usize| {
-            let lo = ((p[a] - r) / self.cell).floor() as i64;
-            let hi = ((p[a] + r) / self.cell).floor() as i64;
-            lo.max(k[a] - 1)..=hi.min(k[a] + 1)
-        };
-        for z in span(2) {
-            for y in span(1) {
-                for x in span(0) {
-                    if self.occupied.as_ref().is_some_and(|o| !o.has([x, y, z])) {
-                        continue;
-                    }
-                    let mut i = self.heads.get(&pack([x, y, z])).copied().unwrap_or(NONE);
-                    while i != NONE {
-                        let q = &self.points[i as usize];
-                        if (0..3).map(|a| (p[a] - q[a]).powi(2)).sum::<f64>() < r * r {
-                            return true;
-                        }
-                        i = self.next[i as usize];
-                    }
-                }
-            }
-        }
-        false
-    }
-}
-
 /// The points of `all` that may lie within `r` of one of `points`: those inside the
 /// bounding box of `points` grown by 2 r (a margin that no rounding can cross).
-fn near_box(all: &[P3], points: &[P3], r: f64) -> Vec<P3> {
+fn near_box(all: &Tiles, points: &[P3], r: f64) -> Vec<P3> {
     let Some(first) = points.first() else {
         return Vec::new();
     };
-    let (lo, hi) = points
-        .par_iter()
-        .fold(
-            || (*first, *first),
-            |(mut lo, mut hi), p| {
-                for a in 0..3 {
-                    lo[a] = lo[a].min(p[a]);
-                    hi[a] = hi[a].max(p[a]);
-                }
-                (lo, hi)
-            },
-        )
-        .reduce(
-            || (*first, *first),
-            |(mut lo, mut hi), (l, h)| {
-                for a in 0..3 {
-                    lo[a] = lo[a].min(l[a]);
-                    hi[a] = hi[a].max(h[a]);
-                }
-                (lo, hi)
-            },
-        );
-    all.par_iter()
-        .filter(|q| (0..3).all(|a| q[a] >= lo[a] - 2.0 * r && q[a] <= hi[a] + 2.0 * r))
-        .copied()
-        .collect()
+    let grow = |(mut lo, mut hi): (P3, P3), p: &P3| {
+        for a in 0..3 {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+        (lo, hi)
+    };
+    let (lo, hi) = if points.len() < PARALLEL_FROM {
+        points.iter().fold((*first, *first), grow)
+    } else {
+        points
+            .par_iter()
+            .fold(|| (*first, *first), grow)
+            .reduce(|| (*first, *first), |acc, (l, h)| grow(grow(acc, &l), &h))
+    };
+    all.within(&lo.map(|x| x - 2.0 * r), &hi.map(|x| x + 2.0 * r))
 }
 
 /// The hydrostatic pressure of eq. (9)'s set-up: p = rho0 g . (x - x_top), with x_top the
@@ -432,11 +292,13 @@ fn hydrostatic_pressure(block: &FluidBlock, g: &P3, rho0: f64, p: &P3, dim: usiz
     rho0 * (here - top)
 }
 
-/// A hydrostatic fluid block and its kept particles (hashed at the kernel support), for
-/// the initial pressure of the dynamic walls that hold it.
-struct Column<'a> {
-    block: &'a FluidBlock,
+/// The hydrostatic fluid blocks and their kept particles (hashed at the kernel support,
+/// each tagged with its block's place in `blocks`), for the initial pressure of the
+/// dynamic walls that hold them.
+struct Columns<'a> {
+    blocks: Vec<&'a FluidBlock>,
     near: Grid,
+    tags: Vec<u32>,
     support: f64,
     g: P3,
     rho0: f64,
@@ -450,11 +312,10 @@ struct Column<'a> {
 /// neighbours' pressure extrapolated along gravity (Adami, Hu & Adams 2012, eq. (27), at
 /// rest); a wall left at p = 0 under a column pulls the fluid onto it at the start (the
 /// column falls until the continuity density of the wall has risen: an acoustic transient).
-fn wall_hydrostatic(columns: &[Column], p: &P3) -> Option<f64> {
-    columns
-        .iter()
-        .find(|c| c.near.near(p, c.support))
-        .map(|c| hydrostatic_pressure(c.block, &c.g, c.rho0, p, c.dim).max(0.0))
+fn wall_hydrostatic(c: &Columns, p: &P3) -> Option<f64> {
+    let first = c.near.min_tag_near(p, c.support, &c.tags)?;
+    let block = c.blocks[first as usize];
+    Some(hydrostatic_pressure(block, &c.g, c.rho0, p, c.dim).max(0.0))
 }
 
 fn vec3(v: Option<&Vec<f64>>) -> P3 {
@@ -564,31 +425,45 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
     // The objects in precedence order, each against the ones before it: a grid of the points
     // kept so far near the object, then its points tested in parallel (each test reads only
     // what earlier objects kept), in their order.
+    // The regions that block others (of walls and solids) are found through their
+    // bounding boxes, the points kept so far through their tiles: the work grows with the
+    // particles, not with particles times objects (issue #52).
     let r = 0.5 * dx;
-    let mut all: Vec<P3> = Vec::new();
+    let blocking: Vec<usize> = (0..objects.len())
+        .filter(|&j| objects[j].kind != Kind::Fluid)
+        .collect();
+    let bounds: Vec<Option<(P3, P3)>> = blocking
+        .iter()
+        .map(|&j| objects[j].region.bounds(dim))
+        .collect();
+    let regions = BoxIndex::new(TILE * dx, dim, &bounds);
+    let mut all = Tiles::new(TILE * dx);
     let mut kept: Vec<Vec<P3>> = vec![Vec::new(); objects.len()];
     for (n, &i) in order.iter().enumerate() {
         let obj = &objects[i];
-        let blockers: Vec<&Region> = order[..n]
-            .iter()
-            .map(|&j| &objects[j])
-            .filter(|other| match obj.kind {
-                Kind::Fluid => other.kind != Kind::Fluid,
-                Kind::Solid => other.kind == Kind::Boundary,
-                Kind::Boundary => false,
-            })
-            .map(|other| &other.region)
-            .collect();
+        // Every object of a kind that blocks this one's precedes it in `order`.
+        let blocks = |other: &Object| match obj.kind {
+            Kind::Fluid => other.kind != Kind::Fluid,
+            Kind::Solid => other.kind == Kind::Boundary,
+            Kind::Boundary => false,
+        };
+        let blocked = |p: &P3| {
+            obj.kind != Kind::Boundary
+                && regions.any(p, |j| {
+                    let other = &objects[blocking[j as usize]];
+                    blocks(other) && other.region.contains(p, dim)
+                })
+        };
         let grid = Grid::new(dx, near_box(&all, &obj.points, r));
-        let mine: Vec<P3> = obj
-            .points
-            .par_iter()
-            .filter(|p| !grid.near(p, r) && !blockers.iter().any(|b| b.contains(p, dim)))
-            .copied()
-            .collect();
+        let keep = |p: &&P3| !grid.near(p, r) && !blocked(p);
+        let mine: Vec<P3> = if obj.points.len() < PARALLEL_FROM {
+            obj.points.iter().filter(keep).copied().collect()
+        } else {
+            obj.points.par_iter().filter(keep).copied().collect()
+        };
         // No object comes after the last.
         if n + 1 < order.len() {
-            all.extend_from_slice(&mine);
+            all.extend(&mine);
         }
         kept[i] = mine;
     }
@@ -601,23 +476,25 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
         .as_ref()
         .is_some_and(|b| b.wall_coupling == WallCoupling::Dynamic && b.hydrostatic_walls);
     let support = 2.0 * s.discretisation.h_factor * dx;
-    let columns: Vec<Column> = if hydrostatic_walls {
-        (0..n_fluid as usize)
-            .filter(|&i| s.fluid_blocks[i].hydrostatic)
-            .map(|i| {
-                let near = Grid::new(support, kept[i].clone());
-                Column {
-                    block: &s.fluid_blocks[i],
-                    near,
-                    support,
-                    g,
-                    rho0: f.density,
-                    dim,
-                }
-            })
-            .collect()
-    } else {
-        Vec::new()
+    let hydrostatic: Vec<usize> = (0..n_fluid as usize)
+        .filter(|&i| hydrostatic_walls && s.fluid_blocks[i].hydrostatic)
+        .collect();
+    let columns = Columns {
+        blocks: hydrostatic.iter().map(|&i| &s.fluid_blocks[i]).collect(),
+        near: Grid::new(
+            support,
+            hydrostatic
+                .iter()
+                .flat_map(|&i| kept[i].iter().copied())
+                .collect(),
+        ),
+        tags: (hydrostatic.iter().enumerate())
+            .flat_map(|(t, &i)| std::iter::repeat_n(t as u32, kept[i].len()))
+            .collect(),
+        support,
+        g,
+        rho0: f.density,
+        dim,
     };
     let tait_b = f.density * f.sound_speed * f.sound_speed / f.gamma;
     let dxd = dx.powi(dim as i32);
@@ -673,7 +550,11 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
                 stress: [0.0; 6],
             }
         };
-        out.par_extend(kept[i].par_iter().enumerate().map(particle));
+        if kept[i].len() < PARALLEL_FROM {
+            out.extend(kept[i].iter().enumerate().map(particle));
+        } else {
+            out.par_extend(kept[i].par_iter().enumerate().map(particle));
+        }
     }
     out
 }

@@ -6,13 +6,17 @@
 //! comment each value with its reason. `format.rs`: the serde structs of the geometry and
 //! objects (`SceneFile` itself is `crate::scheme`'s); `validate.rs`: the
 //! checks serde cannot make; `generate.rs`: how shapes become particles and how overlaps are
-//! resolved; `paper_exact.rs`: the map to the paper's own scheme.
+//! resolved (through the spatial indices of `spatial.rs`); `paper_exact.rs`: the map to the
+//! paper's own scheme; `input_limits.rs`: what a file may cost to read; `estimate.rs`: its
+//! size and memory before generation.
 
 mod error;
 pub mod estimate;
 pub mod format;
 mod generate;
+pub mod input_limits;
 pub mod paper_exact;
+mod spatial;
 mod validate;
 
 use std::path::{Path, PathBuf};
@@ -120,22 +124,57 @@ pub struct Overrides {
     pub output_interval: Option<f64>,
 }
 
+impl Overrides {
+    /// The command-line flag of each overridden scene key.
+    pub const FLAGS: [(&'static str, &'static str); 2] = [
+        ("time.end", "--t-end"),
+        ("time.output_interval", "--output-interval"),
+    ];
+
+    /// `e`, a refusal of the scene `origin` with these overrides, as the command line's:
+    /// naming the flag of the field it names, else (a check across keys, such as the step
+    /// against the end time) the flag given (the first where both are).
+    fn blame(&self, e: SceneError, origin: &str) -> SceneError {
+        let SceneError::Invalid { field, reason, .. } = &e else {
+            return e;
+        };
+        let given = |key: &str| match key {
+            "time.end" => self.t_end.is_some(),
+            _ => self.output_interval.is_some(),
+        };
+        let own = Self::FLAGS.iter().find(|(k, _)| k == field && given(k));
+        let (key, flag) = match own.or_else(|| Self::FLAGS.iter().find(|(k, _)| given(k))) {
+            Some(kf) => *kf,
+            None => return e,
+        };
+        let reason = if field == key {
+            format!("{reason} (it replaces {key} of {origin})")
+        } else {
+            format!("with this value, {origin}: {field}: {reason}")
+        };
+        SceneError::Invalid {
+            origin: "command line".into(),
+            field: flag.into(),
+            reason,
+        }
+    }
+}
+
 impl Scene {
-    /// Read and validate a scene file.
+    /// Read and validate a scene file (at most `input_limits::MAX_BYTES`).
     pub fn from_file(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
         let path = path.as_ref();
         let origin = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
-            origin: origin.clone(),
-            reason: format!("cannot read the file: {e}"),
-        })?;
+        let text = input_limits::read(path, &origin)?;
         let mut scene = Scene::from_toml(&text, &origin)?;
         scene.source = SceneSource::File(path.to_path_buf());
         Ok(scene)
     }
 
-    /// Parse and validate TOML text; `origin` names it in errors.
+    /// Parse and validate TOML text; `origin` names it in errors. Text that would cost far
+    /// more to parse than a scene does is refused first (`input_limits`).
     pub fn from_toml(text: &str, origin: &str) -> Result<Scene, SceneError> {
+        input_limits::check(text, origin)?;
         let de = toml::Deserializer::new(text);
         let file: SceneFile = serde_path_to_error::deserialize(de)
             .map_err(|e| SceneError::from_toml(origin, text, e))?;
@@ -186,7 +225,9 @@ impl Scene {
         validate::validate(&self.file, &self.origin())
     }
 
-    /// A copy with the end time and output interval replaced where given, validated.
+    /// A copy with the end time and output interval replaced where given, validated. A
+    /// refusal is the command line's (`Overrides::FLAGS`): this scene passed before, so the
+    /// flag's value is the cause (`--t-end nan`, not the file's `time.end`).
     pub fn with_overrides(&self, o: &Overrides) -> Result<Scene, SceneError> {
         let mut s = self.clone();
         if let Some(t) = o.t_end {
@@ -195,7 +236,7 @@ impl Scene {
         if let Some(t) = o.output_interval {
             s.file.time.output_interval = t;
         }
-        s.revalidate()?;
+        s.revalidate().map_err(|e| o.blame(e, &self.origin()))?;
         Ok(s)
     }
 

@@ -398,23 +398,18 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
     let mut names = std::collections::HashSet::new();
     for (i, m) in s.monitors.iter().enumerate() {
         let field = format!("monitors[{i}]");
-        let ok = !m.name.is_empty()
-            && m.name
-                .chars()
-                .all(|ch| ch.is_ascii_alphanumeric() || ch == '-' || ch == '_');
-        if !ok {
+        // It names the monitor's file in the output directory (`run_files::monitor_file`).
+        if let Some(why) = crate::run_files::stem_problem(&m.name) {
+            return Err(c.err(format!("{field}.name"), why));
+        }
+        // Unique without case: `Drag.csv` is `drag.csv` on a case-insensitive file system.
+        if !names.insert(m.name.to_ascii_lowercase()) {
             return Err(c.err(
                 format!("{field}.name"),
                 format!(
-                    "must be a non-empty file name of letters, digits, '-' and '_', found {:?}",
+                    "{:?} names an earlier monitor too (compared without case)",
                     m.name
                 ),
-            ));
-        }
-        if !names.insert(m.name.as_str()) {
-            return Err(c.err(
-                format!("{field}.name"),
-                format!("{:?} names an earlier monitor too", m.name),
             ));
         }
         if m.wall >= s.walls.len() {
@@ -486,6 +481,22 @@ fn sizes(c: &Ctx, s: &SceneFile) -> R {
                 e.cells,
                 fmt(d.h_factor * d.spacing),
                 super::estimate::MAX_CELLS
+            ),
+        ));
+    }
+    if e.cells > super::estimate::SPARSE_GRID_CELLS
+        && e.cells > super::estimate::MAX_CELLS_PER_PARTICLE * e.particles
+    {
+        return Err(c.err(
+            "domain.max",
+            format!(
+                "the neighbour grid spans the whole domain: {:.3e} cells (about {:.1} GB, \
+                 cleared at every step) for at most {:.3e} particles, over {} cells each: a \
+                 domain closer to where the particles can go, or a larger spacing",
+                e.cells,
+                e.grid_host_bytes() / 1e9,
+                e.particles,
+                super::estimate::MAX_CELLS_PER_PARTICLE
             ),
         ));
     }

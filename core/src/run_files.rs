@@ -1,0 +1,97 @@
+//! The names of the files a run writes in its output directory, in one place: the app's
+//! writer names its files from here, and scene validation refuses an object whose name
+//! would become one of them (a force monitor writes `<name>.csv` beside them: named
+//! `diagnostics`, its rows and the diagnostics' would interleave in one file; issue #52).
+
+/// The diagnostics, one row per output step.
+pub const DIAGNOSTICS: &str = "diagnostics.csv";
+/// Cluster counts (`[output] clusters`).
+pub const CLUSTERS: &str = "clusters.csv";
+/// The solid bodies' motion.
+pub const BODIES: &str = "bodies.csv";
+/// Void fractions (`[output] voids`).
+pub const VOIDS: &str = "voids.csv";
+/// `[[probes]]` samples, all probes in one file.
+pub const PROBES: &str = "probes.csv";
+/// `[[gauges]]` samples, all gauges in one file.
+pub const GAUGES: &str = "gauges.csv";
+/// The frames' index for ParaView.
+pub const SERIES: &str = "particles.pvd";
+/// The run's summary.
+pub const SUMMARY: &str = "summary.json";
+/// The copy of the scene the run read.
+pub const SCENE: &str = "scene.toml";
+/// The checkpoint.
+pub const CHECKPOINT: &str = "checkpoint.bin";
+
+/// Every file above.
+pub const FILES: [&str; 10] = [
+    DIAGNOSTICS,
+    CLUSTERS,
+    BODIES,
+    VOIDS,
+    PROBES,
+    GAUGES,
+    SERIES,
+    SUMMARY,
+    SCENE,
+    CHECKPOINT,
+];
+
+/// The frames are `particles_NNNNN.vtu` (or `.csv`), NNNNN the frame's number.
+pub const FRAME_PREFIX: &str = "particles_";
+/// A decomposed run's checkpoint pieces are `checkpoint-step<S>-rank<R>of<N>.bin`.
+pub const CHECKPOINT_PIECE_PREFIX: &str = "checkpoint-";
+
+/// [bytes] the longest name an object may give a file (`<name>.csv` stays well within the
+/// 255 bytes every file system takes).
+pub const MAX_STEM: usize = 100;
+
+/// The frame file of number `index` with extension `ext` (`vtu`, `csv`).
+pub fn frame_file(index: u64, ext: &str) -> String {
+    format!("{FRAME_PREFIX}{index:05}.{ext}")
+}
+
+/// The file of force monitor `name`.
+pub fn monitor_file(name: &str) -> String {
+    format!("{name}.csv")
+}
+
+/// Whether `stem` (a file name without its extension) is, or may be, one of the run's own
+/// files: a name of `FILES` without extension, or one starting with a numbered file's
+/// prefix. Compared without case: on a case-insensitive file system (macOS, Windows)
+/// `Diagnostics.csv` is `diagnostics.csv`.
+pub fn is_reserved(stem: &str) -> bool {
+    let s = stem.to_ascii_lowercase();
+    FILES
+        .iter()
+        .any(|f| f.split_once('.').is_some_and(|(base, _)| base == s))
+        || s.starts_with(FRAME_PREFIX)
+        || s.starts_with(CHECKPOINT_PIECE_PREFIX)
+}
+
+/// Why `name` may not be the stem of a file the run writes for an object (a force
+/// monitor), or None where it may: a plain name of 1 to `MAX_STEM` ASCII letters, digits,
+/// '-' and '_' (no path separator, no `..`, no leading dot, no control character), not
+/// one of the run's own files (`is_reserved`).
+pub fn stem_problem(name: &str) -> Option<String> {
+    let plain = !name.is_empty()
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_');
+    if !plain || name.len() > MAX_STEM {
+        return Some(format!(
+            "must be a file name of letters, digits, '-' and '_', 1 to {MAX_STEM} of them (it \
+             names the file <name>.csv in the output directory), found {name:?}"
+        ));
+    }
+    if is_reserved(name) {
+        let files = FILES.join(", ");
+        return Some(format!(
+            "{name:?} would name a file the run writes itself ({files}, \
+             {FRAME_PREFIX}NNNNN.*, {CHECKPOINT_PIECE_PREFIX}*.bin; compared without case): \
+             choose another name"
+        ));
+    }
+    None
+}
