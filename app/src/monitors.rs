@@ -54,7 +54,7 @@ impl Monitors {
         let f = &scene.file;
         let mut list = Vec::new();
         for (k, m) in f.monitors.iter().enumerate() {
-            let path = dir.join(crate::output::files::monitor_csv(&m.name));
+            let path = dir.join(crate::output::files::monitor_file(&m.name));
             let csv = ForcesCsv::open(&path, resume.is_some()).map_err(|e| (path.clone(), e))?;
             list.push(Active {
                 spec: m.clone(),
@@ -78,7 +78,7 @@ impl Monitors {
     /// The files they write into the run's directory.
     pub fn file_names(&self) -> Vec<String> {
         (self.list.iter())
-            .map(|m| crate::output::files::monitor_csv(&m.spec.name))
+            .map(|m| crate::output::files::monitor_file(&m.spec.name))
             .collect()
     }
 

@@ -39,7 +39,7 @@ pub use pieces::{
 };
 
 /// The file name in a run's output directory.
-pub const FILE: &str = "checkpoint.bin";
+pub use meshfree_core::run_files::CHECKPOINT as FILE;
 /// The first 16 bytes.
 pub const MAGIC: &[u8; 16] = b"MESHFREE-CHKPNT\0";
 /// The layout this build writes and reads.

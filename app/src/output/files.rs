@@ -1,6 +1,7 @@
 //! A run's directory and its contract (README, "The output directory"; issue #52).
 //!
-//! Every file a run writes is named here: the fixed names below, a force monitor's
+//! Every file a run writes is named in `meshfree_core::run_files` (whose names scene
+//! validation keeps monitors from taking) and re-exported here: the fixed names, a force monitor's
 //! `<name>.csv`, the frames `particles_NNNNN.vtu` (or `.csv`) with their series
 //! `particles.pvd`, the checkpoint `checkpoint.bin` (a decomposed run's pieces
 //! `checkpoint-step*-rank*of*.bin` beside it) and, for an instant, `<any of them>.tmp`
@@ -17,42 +18,10 @@ use std::path::{Path, PathBuf};
 
 use crate::run_error::RunError;
 
-/// The copy of the scene the run was started with (a resume reads it back).
-pub const SCENE: &str = "scene.toml";
-/// The run's summary (`RunSummary`).
-pub const SUMMARY: &str = "summary.json";
-/// The frames' series for ParaView.
-pub const SERIES: &str = "particles.pvd";
-/// The writer's CSV files (`output::writer`).
-pub const DIAGNOSTICS: &str = "diagnostics.csv";
-pub const CLUSTERS: &str = "clusters.csv";
-pub const BODIES: &str = "bodies.csv";
-pub const VOIDS: &str = "voids.csv";
-/// The probes' and gauges' CSV files (`crate::probes`).
-pub const PROBES: &str = "probes.csv";
-pub const GAUGES: &str = "gauges.csv";
-/// Every fixed name a run may write besides the checkpoint.
-pub const FIXED: [&str; 9] = [
-    SCENE,
-    SUMMARY,
-    SERIES,
-    DIAGNOSTICS,
-    CLUSTERS,
-    BODIES,
-    VOIDS,
-    PROBES,
-    GAUGES,
-];
-
-/// The CSV file of the force monitor `name` (`crate::monitors`).
-pub fn monitor_csv(name: &str) -> String {
-    format!("{name}.csv")
-}
-
-/// The particle file of output `index`, with extension `ext` (`vtu`, `csv`).
-pub fn frame(index: usize, ext: &str) -> String {
-    format!("particles_{index:05}.{ext}")
-}
+pub use meshfree_core::run_files::{
+    frame_file, monitor_file, BODIES, CHECKPOINT, CLUSTERS, DIAGNOSTICS, FILES, GAUGES, PROBES,
+    SCENE, SERIES, SUMMARY, VOIDS,
+};
 
 /// The output index of a particle file's name (`frame`'s inverse).
 pub fn frame_index(name: &str) -> Option<usize> {
@@ -81,7 +50,7 @@ pub fn by_pattern(name: &str) -> bool {
     name == SERIES
         || name == SUMMARY
         || name == SCENE
-        || name == super::checkpoint::FILE
+        || name == CHECKPOINT
         || super::checkpoint::is_piece_name(name)
         || frame_index(name).is_some()
 }
@@ -91,7 +60,7 @@ pub fn by_pattern(name: &str) -> bool {
 /// temporaries.
 pub fn would_write(name: &str, monitors: &[String]) -> bool {
     let name = name.strip_suffix(".tmp").unwrap_or(name);
-    FIXED.contains(&name) || by_pattern(name) || monitors.iter().any(|m| monitor_csv(m) == name)
+    FILES.contains(&name) || by_pattern(name) || monitors.iter().any(|m| monitor_file(m) == name)
 }
 
 /// `path` with `.tmp` appended: where `Atomic` writes it first.
@@ -191,7 +160,7 @@ mod tests {
 
     #[test]
     fn frames_and_names() {
-        assert_eq!(frame(7, "vtu"), "particles_00007.vtu");
+        assert_eq!(frame_file(7, "vtu"), "particles_00007.vtu");
         assert_eq!(frame_index("particles_00007.vtu"), Some(7));
         assert_eq!(frame_index("particles_123456.csv"), Some(123456));
         for not in [

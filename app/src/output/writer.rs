@@ -272,7 +272,7 @@ impl<'o> Writer<'o> {
         let fields = self.cfg.fields;
         let file = match self.cfg.format {
             OutputFormat::Vtu | OutputFormat::VtuZlib => {
-                let name = files::frame(index, "vtu");
+                let name = files::frame_file(index as u64, "vtu");
                 let path = dir.join(&name);
                 let zlib = self.cfg.format == OutputFormat::VtuZlib;
                 self.report.bytes +=
@@ -280,7 +280,7 @@ impl<'o> Writer<'o> {
                 Some(name)
             }
             OutputFormat::Csv => {
-                let path = dir.join(files::frame(index, "csv"));
+                let path = dir.join(files::frame_file(index as u64, "csv"));
                 self.report.bytes +=
                     super::write_particles_csv(&path, &data, fields).map_err(fail(&path))?;
                 None

@@ -70,7 +70,7 @@ pub(super) fn check(r: &Resume) -> Result<(), String> {
         }
     }
     let monitors: Vec<String> = (r.scene.file.monitors.iter())
-        .map(|m| files::monitor_csv(&m.name))
+        .map(|m| files::monitor_file(&m.name))
         .collect();
     let parts = [
         (

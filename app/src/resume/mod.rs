@@ -244,7 +244,7 @@ fn check_frames(dir: &Path, r: &Resume) -> Result<(), RunError> {
     };
     let mut bytes = 0u64;
     for i in 0..r.run.writer.frames {
-        let path = dir.join(files::frame(i, ext));
+        let path = dir.join(files::frame_file(i as u64, ext));
         match std::fs::symlink_metadata(&path) {
             Ok(m) if m.is_file() => bytes += m.len(),
             _ => {

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use meshfree_core::scene::{paper_exact, Scene, SceneSource};
 
 use super::{io_err, RunError};
-use crate::output::{checkpoint, files};
+use crate::output::files;
 
 /// The output directory of a scene when none is given: `out/<file stem>` for a scene file
 /// (a copy of a built-in keeps its `name`, not its directory), `out/<name>` otherwise;
@@ -54,7 +54,7 @@ pub(super) fn prepare_out_dir(
             files::SUMMARY,
             files::SCENE,
             files::SERIES,
-            checkpoint::FILE,
+            files::CHECKPOINT,
         ]
         .contains(n)
     });
