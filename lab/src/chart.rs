@@ -269,7 +269,7 @@ pub fn run(options: &Options) -> anyhow::Result<Vec<Point>> {
                     }
                 };
                 if options.verbose {
-                    eprintln!(
+                    crate::note!(
                         "chart {case} {} {} ({}): {} in {:.2} s",
                         p.variant,
                         p.resolution,

@@ -135,7 +135,7 @@ pub fn run(options: &Options) -> anyhow::Result<Report> {
         let dx = cases::spacing(def.base, quick);
         let (measure, tolerance, t_end) = measure_of(def.base, quick);
         if options.verbose {
-            eprintln!("stability: {} (dx = {dx})", def.name);
+            crate::note!("stability: {} (dx = {dx})", def.name);
         }
         let mut cells = Vec::new();
         for &y in &def.y.values {
@@ -182,7 +182,7 @@ pub fn run(options: &Options) -> anyhow::Result<Report> {
                     },
                 };
                 if options.verbose {
-                    eprintln!(
+                    crate::note!(
                         "  {} = {x}, {} = {y}: {} {:.1} s",
                         def.x.param.label(),
                         def.y.param.label(),

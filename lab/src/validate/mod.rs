@@ -81,7 +81,7 @@ pub struct Ctx<'a> {
 impl Ctx<'_> {
     pub fn log(&self, line: &str) {
         if self.verbose {
-            eprintln!("  {line}");
+            crate::note!("  {line}");
         }
     }
 }
@@ -480,12 +480,12 @@ pub fn run(options: &Options) -> anyhow::Result<Report> {
         }
         if options.tier == Tier::Quick && !case.quick {
             if options.verbose {
-                eprintln!("validate: {} skipped (full tier only)", case.name);
+                crate::note!("validate: {} skipped (full tier only)", case.name);
             }
             continue;
         }
         if options.verbose {
-            eprintln!("validate: {} ({:?} tier)", case.name, options.tier);
+            crate::note!("validate: {} ({:?} tier)", case.name, options.tier);
         }
         let t0 = Instant::now();
         match (case.run)(&ctx) {
@@ -512,7 +512,7 @@ pub fn run(options: &Options) -> anyhow::Result<Report> {
         }
         if options.verbose {
             for c in checks.iter().filter(|c| c.case == case.name) {
-                eprintln!(
+                crate::note!(
                     "  {} {}: error {:.4} vs tolerance {} ({})",
                     if c.comparison == "informational" {
                         "info"

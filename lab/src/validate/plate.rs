@@ -489,7 +489,7 @@ mod tests {
         for f in [SolidFormulation::TotalLagrangian, SolidFormulation::Jaumann] {
             for &ratio in &ratios {
                 let (period, amp, decay, dt, wall) = simulate_tip(&ctx, ratio, 2.5, f).unwrap();
-                eprintln!(
+                crate::note!(
                     "{} H/dx = {ratio}: period {period:.4} s ({:+.1} % of {:.4}), amplitude {amp:.5} m \
                      ({:+.1} % of {:.5}), decay {decay:.3} per cycle, mean dt {dt:.2e}, {wall:.0} s",
                     f.name(),
