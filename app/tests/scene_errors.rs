@@ -700,3 +700,15 @@ fn a_fixed_step_or_a_fluid_sound_speed_that_needs_a_billion_steps_is_refused() {
         "the time step",
     );
 }
+
+/// A wrong type inside a wall (read whole before its shape is known) names the key, not
+/// only the wall (issue #51).
+#[test]
+fn a_wrong_type_inside_a_wall_names_its_key() {
+    let text = format!("{BASE}motion = {{amplitude = 0.1, period = 1.0}}\n");
+    expect_error(
+        &text,
+        "walls[0].motion",
+        "invalid type: map, expected a sequence",
+    );
+}

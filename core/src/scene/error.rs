@@ -113,6 +113,8 @@ impl SceneError {
         } else if reason.is_empty() {
             reason = "not valid TOML here".to_string();
         }
+        // A type error inside a tagged object (a wall, a solid) names the object: find the key.
+        let field = super::tagged_field::narrow(text, &field, &reason).unwrap_or(field);
         SceneError::Parse {
             origin: origin.to_string(),
             field,

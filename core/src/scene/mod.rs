@@ -17,6 +17,7 @@ mod generate;
 pub mod input_limits;
 pub mod paper_exact;
 mod spatial;
+mod tagged_field;
 mod validate;
 
 use std::path::{Path, PathBuf};
