@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use meshfree_core::monitor::{ForceSample, MonitorSummary};
+use meshfree_core::monitor::{BluffBody, ForceSample, MonitorSummary};
 use meshfree_core::scene::{format, Scene};
 use meshfree_core::solver::Solver;
 use meshfree_core::step::reached;
@@ -55,7 +55,9 @@ impl Monitors {
         let mut list = Vec::new();
         for (k, m) in f.monitors.iter().enumerate() {
             let path = dir.join(crate::output::files::monitor_file(&m.name));
-            let csv = ForcesCsv::open(&path, resume.is_some()).map_err(|e| (path.clone(), e))?;
+            let coefficients = m.reference_velocity.is_some();
+            let csv = ForcesCsv::open(&path, resume.is_some(), coefficients)
+                .map_err(|e| (path.clone(), e))?;
             list.push(Active {
                 spec: m.clone(),
                 group: scene.wall_group(m.wall),
@@ -118,13 +120,14 @@ impl Monitors {
         let forces = solver.wall_forces(&groups);
         for (&k, force) in due.iter().zip(forces) {
             let m = &mut self.list[k];
-            let (u, d) = (m.spec.reference_velocity, m.spec.reference_length);
-            let q = 0.5 * self.rho0 * u * u * d.powi(self.dim - 1);
+            // The coefficients' dynamic pressure times area, where the monitor has scales.
+            let q = (m.spec.reference_velocity.zip(m.spec.reference_length))
+                .map(|(u, d)| 0.5 * self.rho0 * u * u * d.powi(self.dim - 1));
             let s = ForceSample {
                 t,
                 force,
-                cd: force[0] / q,
-                cl: force[1] / q,
+                cd: q.map_or(0.0, |q| force[0] / q),
+                cl: q.map_or(0.0, |q| force[1] / q),
             };
             m.csv.write(&s).map_err(|e| (m.path.clone(), e))?;
             m.samples.push(s);
@@ -138,14 +141,14 @@ impl Monitors {
         self.list
             .iter()
             .map(|m| {
-                MonitorSummary::of(
-                    &m.spec.name,
-                    m.spec.wall,
-                    &m.samples,
-                    m.spec.reference_velocity,
-                    m.spec.reference_length,
-                    m.spec.reference_length / self.height,
-                )
+                let body = (m.spec.reference_velocity.zip(m.spec.reference_length)).map(
+                    |(velocity, length)| BluffBody {
+                        velocity,
+                        length,
+                        blockage_ratio: length / self.height,
+                    },
+                );
+                MonitorSummary::of(&m.spec.name, m.spec.wall, &m.samples, body)
             })
             .collect()
     }

@@ -389,3 +389,34 @@ fn blow_up_is_reported() {
         other => panic!("expected a blow-up, got {other:?}"),
     }
 }
+
+/// A monitor without a bluff body's scales (the tank's walls here, a dam-break obstacle in
+/// use) writes the force alone and reports its peak and impulse, no coefficient (#51).
+#[test]
+fn a_monitor_without_scales_reports_peak_and_impulse() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("m");
+    let text = format!(
+        "{}\n[[monitors]]\nname = \"tank\"\nwall = 0\ninterval = 1e-4\n",
+        Scene::builtin("tank-2d").unwrap().text
+    );
+    let scene = Scene::from_toml(&text, "tank with a monitor").unwrap();
+    let options = RunOptions {
+        out_dir: Some(out.clone()),
+        max_steps: Some(20),
+        progress: Progress::Quiet,
+        ..Default::default()
+    };
+    let summary = run::run(&scene, &options).unwrap();
+    let csv = std::fs::read_to_string(out.join("tank.csv")).unwrap();
+    assert_eq!(csv.lines().next(), Some("time,Fx,Fy,Fz"));
+    let m = &summary.monitors[0];
+    assert!(m.coefficients.is_none());
+    // The water's weight rests on the tank: a downward force, so the peak is positive.
+    assert!(m.peak_force > 0.0 && m.impulse[1] < 0.0, "{m}");
+    let json = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(
+        json.contains("\"peak_force\"") && !json.contains("mean_cd"),
+        "{json}"
+    );
+}

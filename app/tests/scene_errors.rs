@@ -471,6 +471,13 @@ fn monitors_are_checked() {
         "monitors[0].reference_length",
         "must be a positive number",
     );
+    // The scales are both or neither (#51): neither is a force record alone.
+    assert!(Scene::from_toml(&m("wall = 0\ninterval = 0.01"), "ok").is_ok());
+    expect_error(
+        &m(&good.replace("reference_length = 0.2", "")),
+        "monitors[0].reference_length",
+        "need both scales",
+    );
     expect_error(
         &m(&format!("{good}\nname = \"a/b\"")),
         "monitors[0].name",

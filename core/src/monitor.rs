@@ -93,9 +93,10 @@ pub struct ForceSample {
     pub t: f64,
     /// [M L T^-2]
     pub force: [f64; 3],
-    /// Drag coefficient Fx / (0.5 rho0 U^2 D^(d-1)).
+    /// Drag coefficient Fx / (0.5 rho0 U^2 D^(d-1)); 0 where the monitor declares no
+    /// reference scales (`BluffBody`).
     pub cd: f64,
-    /// Lift coefficient Fy / (0.5 rho0 U^2 D^(d-1)).
+    /// Lift coefficient Fy / (0.5 rho0 U^2 D^(d-1)); 0 likewise.
     pub cl: f64,
 }
 
@@ -191,13 +192,45 @@ pub fn band_rms(t: &[f64], x: &[f64], f0: f64, rel: f64) -> f64 {
 /// 0.1 % of the rms squared).
 pub const BAND_REL: f64 = 0.5;
 
-/// What a monitor reports at the end of a run (summary.json, end-of-run line).
+/// A bluff body's reference scales (`[[monitors]] reference_velocity`, `reference_length`),
+/// which make a force a coefficient and a frequency a Strouhal number.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BluffBody {
+    /// [L/T] U.
+    pub velocity: f64,
+    /// [L] D.
+    pub length: f64,
+    /// D / H, H the domain's extent along y (the lift axis).
+    pub blockage_ratio: f64,
+}
+
+/// What a monitor reports at the end of a run (summary.json, end-of-run line): the peak
+/// force, its time and the impulse of any force record, and, for a bluff body in a stream
+/// (`BluffBody`), the coefficients and the Strouhal number. A dam-break obstacle's monitor
+/// declares no reference scales and reports no coefficient (issue #51).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MonitorSummary {
     pub name: String,
     /// Index of the wall in `[[walls]]`.
     pub wall: usize,
     pub samples: usize,
+    /// [M L T^-2] (per unit depth in 2D) the largest |F| over the record.
+    #[serde(default)]
+    pub peak_force: f64,
+    /// [T] when it came.
+    #[serde(default)]
+    pub peak_time: f64,
+    /// [M L T^-1] (per unit depth in 2D) the integral of F over the record (trapezoids).
+    #[serde(default)]
+    pub impulse: [f64; 3],
+    /// Where the monitor declares a bluff body's scales.
+    #[serde(flatten, default)]
+    pub coefficients: Option<Coefficients>,
+}
+
+/// A bluff body's coefficients, Cd = Fx / (0.5 rho0 U^2 D^(d-1)) and Cl likewise with Fy.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Coefficients {
     /// [T] the statistics below are over t >= window_start: the second half of the record.
     pub window_start: f64,
     /// f D / U from the lift's dominant frequency (`dominant_frequency`); None when the
@@ -215,16 +248,39 @@ pub struct MonitorSummary {
 }
 
 impl MonitorSummary {
-    /// Statistics over the second half (in time) of `samples`, taken at even intervals
+    /// The peak, its time and the impulse of `samples`; with `body`, the coefficients'
+    /// statistics over the second half (in time) of the record, taken at even intervals
     /// (`band_rms`).
     pub fn of(
         name: &str,
         wall: usize,
         samples: &[ForceSample],
-        reference_velocity: f64,
-        reference_length: f64,
-        blockage_ratio: f64,
+        body: Option<BluffBody>,
     ) -> MonitorSummary {
+        let norm = |f: &[f64; 3]| (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+        let peak = (samples.iter()).max_by(|a, b| norm(&a.force).total_cmp(&norm(&b.force)));
+        let mut impulse = [0.0; 3];
+        for w in samples.windows(2) {
+            for (k, i) in impulse.iter_mut().enumerate() {
+                *i += 0.5 * (w[0].force[k] + w[1].force[k]) * (w[1].t - w[0].t);
+            }
+        }
+        MonitorSummary {
+            name: name.to_string(),
+            wall,
+            samples: samples.len(),
+            peak_force: peak.map_or(0.0, |p| norm(&p.force)),
+            peak_time: peak.map_or(0.0, |p| p.t),
+            impulse,
+            coefficients: body.map(|b| Coefficients::of(samples, b)),
+        }
+    }
+}
+
+impl Coefficients {
+    /// The statistics of `samples` over the second half (in time) of the record, taken at
+    /// even intervals (`band_rms`), as coefficients of `body`'s scales.
+    pub fn of(samples: &[ForceSample], body: BluffBody) -> Coefficients {
         let (first, last) = match (samples.first(), samples.last()) {
             (Some(a), Some(b)) => (a.t, b.t),
             _ => (0.0, 0.0),
@@ -241,40 +297,49 @@ impl MonitorSummary {
             Some(f) => band_rms(&t, &cl, f, BAND_REL),
             None => (win.iter().map(|s| (s.cl - mean_cl).powi(2)).sum::<f64>() / m).sqrt(),
         };
-        let strouhal = frequency.map(|f| f * reference_length / reference_velocity);
-        MonitorSummary {
-            name: name.to_string(),
-            wall,
-            samples: samples.len(),
+        Coefficients {
             window_start,
-            strouhal,
+            strouhal: frequency.map(|f| f * body.length / body.velocity),
             mean_cd,
             mean_cl,
             rms_cl,
-            blockage_ratio,
+            blockage_ratio: body.blockage_ratio,
         }
     }
 }
 
 impl std::fmt::Display for MonitorSummary {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let st = self
-            .strouhal
+        write!(
+            f,
+            "monitor {} (wall {}): {} samples; peak |F| {:.4e} at t = {:.4}, impulse ({:.4e}, {:.4e}, {:.4e})",
+            self.name,
+            self.wall,
+            self.samples,
+            self.peak_force,
+            self.peak_time,
+            self.impulse[0],
+            self.impulse[1],
+            self.impulse[2],
+        )?;
+        match &self.coefficients {
+            Some(c) => write!(f, "; {c}"),
+            None => Ok(()),
+        }
+    }
+}
+
+impl std::fmt::Display for Coefficients {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let st = (self.strouhal)
             .map_or("n/a (too few samples or no oscillation)".to_string(), |s| {
                 format!("{s:.4}")
             });
         write!(
             f,
-            "monitor {} (wall {}): {} samples; over t >= {:.3}: Strouhal {st} (lift DFT peak), \
-             mean Cd {:.4}, rms Cl {:.4}, mean Cl {:.4}, blockage D/H {:.3}",
-            self.name,
-            self.wall,
-            self.samples,
-            self.window_start,
-            self.mean_cd,
-            self.rms_cl,
-            self.mean_cl,
-            self.blockage_ratio
+            "over t >= {:.3}: Strouhal {st} (lift DFT peak), mean Cd {:.4}, rms Cl {:.4}, \
+             mean Cl {:.4}, blockage D/H {:.3}",
+            self.window_start, self.mean_cd, self.rms_cl, self.mean_cl, self.blockage_ratio
         )
     }
 }

@@ -8,7 +8,7 @@ use meshfree_core::backend::cpu::CpuSolver;
 use meshfree_core::backend::cpu_solver;
 use meshfree_core::dim::{Dim, D2};
 use meshfree_core::monitor::{
-    band_rms, dominant_frequency, wall_force, ForceSample, MonitorSummary,
+    band_rms, dominant_frequency, wall_force, BluffBody, Coefficients, ForceSample, MonitorSummary,
 };
 use meshfree_core::particle::Kind;
 use meshfree_core::scene::Scene;
@@ -104,7 +104,13 @@ fn monitor_summary_of_a_synthetic_record() {
             }
         })
         .collect();
-    let s = MonitorSummary::of("forces", 0, &samples, u, d, 0.25);
+    let body = BluffBody {
+        velocity: u,
+        length: d,
+        blockage_ratio: 0.25,
+    };
+    let summary = MonitorSummary::of("forces", 0, &samples, Some(body));
+    let s = summary.coefficients.clone().unwrap();
     let st = s.strouhal.expect("a Strouhal number");
     assert!((st - f0 * d / u).abs() < 0.005 * st, "St {st}");
     assert!((s.window_start - 9.99).abs() < 1e-9);
@@ -114,9 +120,9 @@ fn monitor_summary_of_a_synthetic_record() {
         "rms Cl {}",
         s.rms_cl
     );
-    assert_eq!(s.samples, 1000);
+    assert_eq!(summary.samples, 1000);
     assert_eq!(s.blockage_ratio, 0.25);
-    let line = s.to_string();
+    let line = summary.to_string();
     assert!(
         line.contains("Strouhal 0.18") && line.contains("blockage D/H 0.250"),
         "{line}"
@@ -144,7 +150,12 @@ fn monitor_summary_rms_lift_leaves_the_noise_out() {
             }
         })
         .collect();
-    let s = MonitorSummary::of("forces", 0, &samples, u, d, 0.25);
+    let body = BluffBody {
+        velocity: u,
+        length: d,
+        blockage_ratio: 0.25,
+    };
+    let s = Coefficients::of(&samples, body);
     let st = s.strouhal.expect("a Strouhal number");
     assert!((st - f0 * d / u).abs() < 0.01 * st, "St {st}");
     let want = a / 2f64.sqrt();
@@ -153,7 +164,7 @@ fn monitor_summary_rms_lift_leaves_the_noise_out() {
         .iter()
         .map(|x| ForceSample { cl: 0.1, ..*x })
         .collect();
-    let s = MonitorSummary::of("forces", 0, &flat, u, d, 0.25);
+    let s = Coefficients::of(&flat, body);
     assert!(s.rms_cl < 1e-12, "rms Cl {}", s.rms_cl);
 }
 
@@ -403,4 +414,35 @@ fn cpu_wall_forces_equal_the_read_back_path() {
         &common::tank_2d_morris(0.05),
     );
     check_direct_against_read_back("block on the floor", &block_on_floor());
+}
+
+/// A monitor without a bluff body's scales (a dam-break obstacle) reports the peak force,
+/// its time and the impulse, and no coefficient (issue #51).
+#[test]
+fn a_force_record_without_scales_gives_peak_and_impulse() {
+    // A surge on an obstacle: F(t) = (100 t, -20 t, 0) up to t = 1, then 0 (half-sine free).
+    let samples: Vec<ForceSample> = (0..=200)
+        .map(|k| {
+            let t = k as f64 * 0.01;
+            let f = if t <= 1.0 { t } else { 0.0 };
+            ForceSample {
+                t,
+                force: [100.0 * f, -20.0 * f, 0.0],
+                cd: 0.0,
+                cl: 0.0,
+            }
+        })
+        .collect();
+    let s = MonitorSummary::of("obstacle", 2, &samples, None);
+    assert!(s.coefficients.is_none());
+    assert!((s.peak_force - (100f64.powi(2) + 20f64.powi(2)).sqrt()).abs() < 1e-9);
+    assert!((s.peak_time - 1.0).abs() < 1e-12);
+    // The triangle's area 50 (x) and -10 (y), less the trapezoid's sliver past t = 1.
+    assert!((s.impulse[0] - 50.5).abs() < 1e-9, "{:?}", s.impulse);
+    assert!((s.impulse[1] + 10.1).abs() < 1e-9, "{:?}", s.impulse);
+    let line = s.to_string();
+    assert!(
+        line.contains("peak |F|") && !line.contains("Strouhal"),
+        "{line}"
+    );
 }

@@ -21,7 +21,7 @@
 //! largest void / 2 dx: s <= 1 meets every target.
 
 use meshfree_core::backend::BackendChoice;
-use meshfree_core::monitor::MonitorSummary;
+use meshfree_core::monitor::{BluffBody, Coefficients};
 use meshfree_core::scene::Scene;
 use meshfree_core::scheme::NoSlip;
 use meshfree_lab::validate::cylinder::{
@@ -92,7 +92,12 @@ fn main() -> anyhow::Result<()> {
         for s in &samples {
             writeln!(csv, "{:.4},{:.6},{:.6}", s.t * U / D, s.cd, s.cl)?;
         }
-        let raw = MonitorSummary::of(name, 0, &samples, U, D, D / h);
+        let body = BluffBody {
+            velocity: U,
+            length: D,
+            blockage_ratio: D / h,
+        };
+        let raw = Coefficients::of(&samples, body);
         let smooth = cylinder::summary(&samples);
         let cl = cylinder::smooth(
             &samples.iter().map(|s| s.cl).collect::<Vec<_>>(),

@@ -26,7 +26,7 @@ fn main() -> anyhow::Result<()> {
         let scene = Scene::from_file(dir.join("scene.toml"))?;
         let f = &scene.file;
         let m = &f.monitors[0];
-        let (u, d) = (m.reference_velocity, m.reference_length);
+        let (u, d) = (m.reference_velocity.unwrap(), m.reference_length.unwrap());
         let h = f.domain.max[1] - f.domain.min[1];
         let re = (u * d / f.fluid.viscosity).round() as u32;
         let text = std::fs::read_to_string(dir.join("forces.csv"))?;
@@ -76,7 +76,7 @@ fn main() -> anyhow::Result<()> {
             json["steps"],
             json["wall_seconds"].as_f64().unwrap_or(f64::NAN),
             s.window_start,
-            s.samples,
+            samples.len(),
             voids["largest_void_dx"].as_f64().unwrap_or(f64::NAN),
             voids["largest_void_time"].as_f64().unwrap_or(f64::NAN),
             voids["max_empty_fraction"].as_f64().unwrap_or(f64::NAN),

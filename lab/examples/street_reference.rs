@@ -69,7 +69,7 @@ fn main() -> anyhow::Result<()> {
                 "height": run.height,
                 "steps": run.steps,
                 "window_start": s.window_start,
-                "samples": s.samples,
+                "samples": run.samples.len(),
                 "strouhal": st,
                 "mean_cd": s.mean_cd,
                 "mean_cl": s.mean_cl,

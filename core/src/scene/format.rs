@@ -57,8 +57,10 @@ fn is_zero(x: &f64) -> bool {
     *x == 0.0
 }
 
-/// The force of the fluid (and solids) on one wall object, sampled every `interval`.
-/// Drag along x, lift along y; coefficients F / (0.5 rho0 U^2 L^(d-1)).
+/// The force of the fluid (and solids) on one wall object, sampled every `interval`: its
+/// peak, the peak's time and its impulse; for a bluff body in a stream, with
+/// `reference_velocity` and `reference_length` (both or neither), drag along x and lift
+/// along y as coefficients F / (0.5 rho0 U^2 L^(d-1)) and the Strouhal number.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Monitor {
@@ -69,10 +71,12 @@ pub struct Monitor {
     pub wall: usize,
     /// [T] time between samples.
     pub interval: f64,
-    /// [L/T] U of the coefficients and the Strouhal number.
-    pub reference_velocity: f64,
+    /// [L/T] U of the coefficients and the Strouhal number. Default none: no coefficients.
+    #[serde(default)]
+    pub reference_velocity: Option<f64>,
     /// [L] D of the coefficients, the Strouhal number and the blockage ratio D / H.
-    pub reference_length: f64,
+    #[serde(default)]
+    pub reference_length: Option<f64>,
 }
 
 fn default_monitor_name() -> String {

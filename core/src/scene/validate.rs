@@ -423,8 +423,27 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
             ));
         }
         c.positive(&format!("{field}.interval"), m.interval)?;
-        c.positive(&format!("{field}.reference_velocity"), m.reference_velocity)?;
-        c.positive(&format!("{field}.reference_length"), m.reference_length)?;
+        match (m.reference_velocity, m.reference_length) {
+            (Some(u), Some(d)) => {
+                c.positive(&format!("{field}.reference_velocity"), u)?;
+                c.positive(&format!("{field}.reference_length"), d)?;
+            }
+            (None, None) => {}
+            (u, _) => {
+                let (given, missing) = match u {
+                    Some(_) => ("reference_velocity", "reference_length"),
+                    None => ("reference_length", "reference_velocity"),
+                };
+                return Err(c.err(
+                    format!("{field}.{missing}"),
+                    format!(
+                        "a bluff body's coefficients need both scales: {given} is given, \
+                         {missing} is not (give both, or neither for the peak force and \
+                         impulse alone)"
+                    ),
+                ));
+            }
+        }
     }
     if let Some(fields) = &s.output.fields {
         if fields.contains(&crate::frame::Field::Stress) && s.solids.is_empty() {

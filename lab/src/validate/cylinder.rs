@@ -27,7 +27,7 @@
 
 use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
-use meshfree_core::monitor::{band_rms, ForceSample, MonitorSummary, BAND_REL};
+use meshfree_core::monitor::{band_rms, BluffBody, Coefficients, ForceSample, BAND_REL};
 use meshfree_core::particle::Kind;
 use meshfree_core::scene::Scene;
 use meshfree_core::scheme::NoSlip;
@@ -276,7 +276,7 @@ pub const SMOOTH_HALF: usize = 4;
 /// at St (0.93 at St 0.18: issue #23) and high by the noise the average lets through
 /// (raw rms Cl 0.24 when the shedding's is 0.12, D / dx = 20); without a dominant
 /// frequency the rms stays that of the smoothed lift.
-pub fn summary(samples: &[ForceSample]) -> MonitorSummary {
+pub fn summary(samples: &[ForceSample]) -> Coefficients {
     summary_for(samples, U, D, H)
 }
 
@@ -285,7 +285,7 @@ pub fn summary(samples: &[ForceSample]) -> MonitorSummary {
 /// intervals. The lift is smoothed over the same span in D / U as `summary`'s
 /// (2 `SMOOTH_HALF` + 1 samples of `SAMPLE_UD`: the half-width scaled to the record's
 /// sample interval, at least 1 sample).
-pub fn summary_for(samples: &[ForceSample], u: f64, d: f64, h: f64) -> MonitorSummary {
+pub fn summary_for(samples: &[ForceSample], u: f64, d: f64, h: f64) -> Coefficients {
     let interval_ud = match samples {
         [a, .., b] => (b.t - a.t) / (samples.len() - 1) as f64 * u / d,
         _ => SAMPLE_UD,
@@ -297,7 +297,12 @@ pub fn summary_for(samples: &[ForceSample], u: f64, d: f64, h: f64) -> MonitorSu
         .zip(smooth(&raw, half))
         .map(|(s, cl)| ForceSample { cl, ..*s })
         .collect();
-    let mut s = MonitorSummary::of(NAME, 0, &smoothed, u, d, d / h);
+    let body = BluffBody {
+        velocity: u,
+        length: d,
+        blockage_ratio: d / h,
+    };
+    let mut s = Coefficients::of(&smoothed, body);
     if let Some(st) = s.strouhal {
         let (t, cl): (Vec<f64>, Vec<f64>) = samples
             .iter()
@@ -374,7 +379,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
     }
     let (roshko, williamson) = strouhal_fits(100);
     let mut rows = Vec::new();
-    let mut all: Vec<(Vec<ForceSample>, RunInfo, MonitorSummary)> = Vec::new();
+    let mut all: Vec<(Vec<ForceSample>, RunInfo, Coefficients)> = Vec::new();
     let mut voids: Vec<VoidSummary> = Vec::new();
     for &n in &FULL_D_OVER_DX {
         let (samples, run, v) =
@@ -549,7 +554,12 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
 /// D / dx = 5 to t U / D = 3, no kick: the start-up drag, a regression bound.
 fn quick(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
     let (samples, run, _) = simulate(ctx, 5.0, RE, 3.0, 0.05, 0.0, &confined, false)?;
-    let s = MonitorSummary::of(NAME, 0, &samples, U, D, D / H);
+    let body = BluffBody {
+        velocity: U,
+        length: D,
+        blockage_ratio: D / H,
+    };
+    let s = Coefficients::of(&samples, body);
     ctx.log(&format!("{s}, {:.1} s", run.wall_seconds));
     let png = "cylinder.png";
     plot(
