@@ -335,6 +335,14 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
     if Path::new(&a.scene).is_dir() {
         return crate::view_run::render_run(a);
     }
+    let (Some(out), None) = (a.out.clone(), &a.movie) else {
+        return Err(meshfree::bad_input::BadInput(format!(
+            "--movie encodes a finished run's frames: run the scene (`meshfree run {}`), then \
+             `meshfree render DIR --movie VIDEO`, or write PNGs here with --frames N --out",
+            a.scene
+        ))
+        .into());
+    };
     let mut scene = Scene::load(&a.scene)?;
     if let Some(dx) = a.spacing {
         scene = scene.with_spacing(dx)?;
@@ -416,11 +424,11 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
         }
         Ok(on_device)
     };
-    let stem = a.out.with_extension("");
+    let stem = out.with_extension("");
     let numbered = |k: u32| std::path::PathBuf::from(format!("{}_{k:04}.png", stem.display()));
     if a.figures {
         let moments = figure_moments(&scene);
-        std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
+        std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
         let end = scene.file.time.end;
         for &t in &moments {
             if t > end + 1e-12 {
@@ -428,7 +436,7 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
                 continue;
             }
             live.advance_to(t).map_err(anyhow::Error::msg)?;
-            let path = a.out.join(format!("{}_t{t:.2}.png", scene.name()));
+            let path = out.join(format!("{}_t{t:.2}.png", scene.name()));
             shoot(&mut live, Some(&path))?;
         }
         return Ok(());
@@ -544,7 +552,7 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
         _ => {
             live.advance_to(a.at.unwrap_or(0.0))
                 .map_err(anyhow::Error::msg)?;
-            shoot(&mut live, Some(&a.out))?;
+            shoot(&mut live, Some(&out))?;
         }
     }
     Ok(())

@@ -150,40 +150,52 @@ fn refuse_scene_flags(a: &RenderArgs) -> Result<(), BadInput> {
 }
 
 /// `meshfree render DIR`: the frames of the finished run in DIR, drawn headless: the last
-/// one, the one nearest `--at T`, or `--frames N` evenly spaced over the run's frames.
+/// one, the one nearest `--at T`, or `--frames N` evenly spaced over the run's frames; with
+/// `--movie`, encoded by ffmpeg (all the frames unless `--frames N`).
 pub fn render_run(a: RenderArgs) -> anyhow::Result<()> {
     refuse_scene_flags(&a)?;
+    // Before anything is read or drawn: is there an encoder?
+    if a.movie.is_some() {
+        movie::detect()?;
+    }
     let mut rec = Recorded::open(Path::new(&a.scene))?;
     let n = rec.run.frames.len();
-    let stem = a.out.with_extension("");
-    let numbered = |k: usize| PathBuf::from(format!("{}_{k:04}.png", stem.display()));
-    let shots: Vec<(usize, PathBuf)> = match (a.frames, a.at) {
+    let count = a
+        .frames
+        .map(|c| c.max(1) as usize)
+        .or(a.movie.as_ref().map(|_| n));
+    let picks: Vec<usize> = match (count, a.at) {
         (Some(count), _) => {
-            let picks = rec.run.evenly(count.max(1) as usize);
-            if picks.len() > n {
+            if count > n {
                 meshfree::errln!(
-                    "{} frames asked, the run has {n}: some are drawn more than once",
-                    picks.len()
+                    "{count} frames asked, the run has {n}: some are drawn more than once"
                 );
             }
-            picks
-                .into_iter()
-                .enumerate()
-                .map(|(i, k)| (k, numbered(i)))
-                .collect()
+            rec.run.evenly(count)
         }
-        (None, Some(t)) => vec![(rec.run.nearest(t), a.out.clone())],
-        (None, None) => vec![(n - 1, a.out.clone())],
+        (None, Some(t)) => vec![rec.run.nearest(t)],
+        (None, None) => vec![n - 1],
+    };
+    // Where each image goes as PNG: numbered with a count, else --out itself; none with
+    // --movie and no --out.
+    let png = |i: usize| -> Option<PathBuf> {
+        let out = a.out.as_ref()?;
+        Some(match count {
+            Some(_) => PathBuf::from(format!("{}_{i:04}.png", out.with_extension("").display())),
+            None => out.clone(),
+        })
     };
     let f = a.field;
     // The first frame is read and checked before EGL is opened: a missing field or a bad
     // file is said at once, where EGL is missing too.
     let mut frame = FrameData::default();
-    rec.go(shots[0].0)?;
+    rec.go(picks[0])?;
     rec.fill(f, &mut frame)?;
-    if let Some(parent) = a.out.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(parent)
-            .with_context(|| format!("creating {}", parent.display()))?;
+    for path in [a.out.as_ref(), a.movie.as_ref()].into_iter().flatten() {
+        if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+            std::fs::create_dir_all(parent)
+                .with_context(|| format!("creating {}", parent.display()))?;
+        }
     }
     let started = std::time::Instant::now();
     let mut renderer = meshfree_viewer::HeadlessRenderer::new()?;
@@ -193,9 +205,13 @@ pub fn render_run(a: RenderArgs) -> anyhow::Result<()> {
         rec.run.dir.display(),
         renderer.gl_renderer()
     );
+    let mut video = match &a.movie {
+        Some(path) => Some(movie::Movie::start(path, a.size, a.fps)?),
+        None => None,
+    };
     let dim = rec.run.scene.file.dimension;
-    for (k, path) in &shots {
-        rec.go(*k)?;
+    for (i, &k) in picks.iter().enumerate() {
+        rec.go(k)?;
         rec.fill(f, &mut frame)?;
         let status = rec.status();
         let opts = RenderOptions {
@@ -217,23 +233,125 @@ pub fn render_run(a: RenderArgs) -> anyhow::Result<()> {
             ..Default::default()
         };
         let image = renderer.render(&frame, &opts)?;
-        image
-            .save_png(path)
-            .with_context(|| format!("writing {}", path.display()))?;
+        if let Some(v) = video.as_mut() {
+            v.push(&image)?;
+        }
+        if let Some(path) = png(i) {
+            image
+                .save_png(&path)
+                .with_context(|| format!("writing {}", path.display()))?;
+            meshfree::outln!(
+                "wrote {} (t = {:.4}, frame {k} of the run: {})",
+                path.display(),
+                status.time,
+                rec.run.frames[k].path.display()
+            )?;
+        }
+    }
+    if let Some(v) = video {
+        let path = v.finish()?;
         meshfree::outln!(
-            "wrote {} (t = {:.4}, frame {} of the run: {})",
+            "wrote {} ({} frames at {} frames/s)",
             path.display(),
-            status.time,
-            k,
-            rec.run.frames[*k].path.display()
+            picks.len(),
+            a.fps
         )?;
     }
     meshfree::errln!(
         "{} images in {:.2} s",
-        shots.len(),
+        picks.len(),
         started.elapsed().as_secs_f64()
     );
     Ok(())
+}
+
+/// `--movie`: the images piped to an installed ffmpeg as raw RGBA.
+mod movie {
+    use std::io::Write as _;
+    use std::path::{Path, PathBuf};
+    use std::process::{Child, Command, Stdio};
+
+    use anyhow::Context as _;
+
+    const MISSING: &str = "--movie needs `ffmpeg` on the PATH (install it: e.g. `apt-get \
+        install ffmpeg`, `brew install ffmpeg`); without it, `--frames N --out DIR/f.png` \
+        writes the frames as PNGs, which any encoder takes";
+
+    /// Whether ffmpeg answers; an error naming what to install where it does not.
+    pub fn detect() -> anyhow::Result<()> {
+        let status = Command::new("ffmpeg")
+            .arg("-version")
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status();
+        match status {
+            Ok(s) if s.success() => Ok(()),
+            Ok(s) => anyhow::bail!("`ffmpeg -version` failed ({s}): {MISSING}"),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => anyhow::bail!("{MISSING}"),
+            Err(e) => anyhow::bail!("starting ffmpeg: {e}: {MISSING}"),
+        }
+    }
+
+    pub struct Movie {
+        child: Child,
+        path: PathBuf,
+    }
+
+    impl Movie {
+        /// ffmpeg reading `w`x`h` RGBA frames at `fps` from its standard input into `path`
+        /// (an odd size is cropped by a pixel: H.264's 4:2:0 wants even sides).
+        pub fn start(path: &Path, (w, h): (u32, u32), fps: u32) -> anyhow::Result<Movie> {
+            let mut cmd = Command::new("ffmpeg");
+            cmd.args([
+                "-y",
+                "-loglevel",
+                "error",
+                "-f",
+                "rawvideo",
+                "-pix_fmt",
+                "rgba",
+            ])
+            .args(["-s", &format!("{w}x{h}"), "-r", &fps.to_string(), "-i", "-"]);
+            let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+            if matches!(ext, "mp4" | "m4v" | "mov" | "mkv") {
+                cmd.args([
+                    "-vf",
+                    "crop=trunc(iw/2)*2:trunc(ih/2)*2",
+                    "-pix_fmt",
+                    "yuv420p",
+                ]);
+            }
+            let child = cmd
+                .arg(path)
+                .stdin(Stdio::piped())
+                .spawn()
+                .with_context(|| format!("starting ffmpeg for {}", path.display()))?;
+            Ok(Movie {
+                child,
+                path: path.to_path_buf(),
+            })
+        }
+
+        pub fn push(&mut self, image: &meshfree_viewer::Image) -> anyhow::Result<()> {
+            let stdin = self.child.stdin.as_mut().expect("piped");
+            stdin
+                .write_all(&image.rgba)
+                .context("ffmpeg stopped taking frames (its error is above)")
+        }
+
+        /// Close ffmpeg's input and wait for it; the video's path.
+        pub fn finish(mut self) -> anyhow::Result<PathBuf> {
+            drop(self.child.stdin.take());
+            let status = self.child.wait().context("waiting for ffmpeg")?;
+            anyhow::ensure!(
+                status.success(),
+                "ffmpeg failed ({status}) writing {}: its error is above",
+                self.path.display()
+            );
+            Ok(self.path)
+        }
+    }
 }
 
 /// `meshfree view DIR`: the window on the run's frames, one frame on per drawn frame

@@ -325,3 +325,115 @@ fn render_draws_the_frames_of_a_finished_cpu_run() {
     assert_ne!(ia.rgba, ib.rgba);
     assert!(!tmp.path().join("f_0002.png").exists());
 }
+
+#[test]
+#[cfg(feature = "viewer")]
+fn render_movie_without_ffmpeg_says_what_to_install() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("tank");
+    tank_run(&dir, &[]);
+    let empty = tmp.path().join("bin");
+    std::fs::create_dir(&empty).unwrap();
+    let video = tmp.path().join("tank.mp4");
+    let out = meshfree()
+        .args([
+            "render",
+            dir.to_str().unwrap(),
+            "--movie",
+            video.to_str().unwrap(),
+        ])
+        .env("PATH", &empty)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{err}");
+    assert!(
+        err.contains("needs `ffmpeg`")
+            && err.contains("install ffmpeg")
+            && err.contains("--frames N"),
+        "{err}"
+    );
+    assert!(!video.exists());
+    // A scene is simulated, not encoded: refused with the way on.
+    let out = meshfree()
+        .args(["render", "tank-2d", "--movie", video.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("render DIR --movie"), "{err}");
+}
+
+/// A stand-in for ffmpeg: answers `-version`, else saves its arguments and copies its
+/// standard input to the file named last.
+#[cfg(all(feature = "viewer", unix))]
+fn fake_ffmpeg(bin: &Path) {
+    use std::os::unix::fs::PermissionsExt as _;
+    let path = bin.join("ffmpeg");
+    std::fs::write(
+        &path,
+        "#!/bin/sh\n[ \"$1\" = -version ] && exit 0\nfor last; do :; done\necho \"$@\" > \"$last.args\"\ncat > \"$last\"\n",
+    )
+    .unwrap();
+    std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+}
+
+#[test]
+#[cfg(all(feature = "viewer", unix))]
+#[cfg_attr(
+    not(meshfree_require_egl),
+    ignore = "needs EGL: build with MESHFREE_REQUIRE_EGL=1, or run with --include-ignored"
+)]
+fn render_movie_pipes_every_frame_to_ffmpeg() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("tank");
+    tank_run(&dir, &[]);
+    let bin = tmp.path().join("bin");
+    std::fs::create_dir(&bin).unwrap();
+    fake_ffmpeg(&bin);
+    let video = tmp.path().join("movie").join("tank.mp4");
+    let path = format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let out = meshfree()
+        .args([
+            "render",
+            dir.to_str().unwrap(),
+            "--size",
+            "320x200",
+            "--fps",
+            "12",
+        ])
+        .args(["--movie", video.to_str().unwrap()])
+        .env("PATH", path)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    // All 5 frames of the run, 320 x 200 RGBA each; no PNG without --out.
+    let bytes = std::fs::read(&video).unwrap();
+    assert_eq!(bytes.len(), 5 * 320 * 200 * 4);
+    let args = std::fs::read_to_string(tmp.path().join("movie").join("tank.mp4.args")).unwrap();
+    assert!(
+        args.contains("-f rawvideo -pix_fmt rgba -s 320x200 -r 12 -i -")
+            && args.contains("yuv420p"),
+        "{args}"
+    );
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        said.contains("5 frames at 12 frames/s") && !said.contains(".png"),
+        "{said}"
+    );
+    // The frames differ (the water moves) and are not blank.
+    let frame = 320 * 200 * 4;
+    assert_ne!(bytes[..frame], bytes[4 * frame..]);
+    assert!(
+        bytes[..frame]
+            .chunks_exact(4)
+            .filter(|p| p != &&bytes[..4])
+            .count()
+            > 2000
+    );
+}

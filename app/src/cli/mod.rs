@@ -143,6 +143,8 @@ Examples:
                                    50 of the run's frames, evenly spaced: movie/f_0000.png ...
   meshfree render out/dam-break-2d --at 1.5 --field pressure --out p.png
                                    the run's frame nearest t = 1.5, coloured by pressure
+  meshfree render out/dam-break-2d --movie db.mp4 --fps 30
+                                   every frame of the run as a video (needs ffmpeg)
 
 A directory is read as a run's output (particles.pvd and its .vtu files, or
 particles_NNNNN.csv, and scene.toml); anything else as a scene file or a built-in name.

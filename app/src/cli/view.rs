@@ -78,9 +78,17 @@ pub struct RenderArgs {
     #[arg(long, value_name = "T")]
     pub t_end: Option<f64>,
     /// The PNG to write (with --frames, the stem of the sequence; with --figures, a
-    /// directory).
-    #[arg(long, value_name = "PNG")]
-    pub out: PathBuf,
+    /// directory). Not needed with --movie.
+    #[arg(long, value_name = "PNG", required_unless_present = "movie")]
+    pub out: Option<PathBuf>,
+    /// Of a run's directory: encode its frames (all of them, or --frames N) into this video
+    /// through an installed `ffmpeg` (H.264 in an .mp4, or whatever the name's extension
+    /// tells ffmpeg), instead of PNGs.
+    #[arg(long, value_name = "VIDEO", conflicts_with = "at")]
+    pub movie: Option<PathBuf>,
+    /// Frames per second of --movie.
+    #[arg(long, default_value_t = 30, requires = "movie", value_parser = clap::value_parser!(u32).range(1..=240))]
+    pub fps: u32,
     /// Image size as WIDTHxHEIGHT.
     #[arg(long, default_value = "1280x720", value_parser = parse_size)]
     pub size: (u32, u32),
