@@ -2,12 +2,19 @@
 //! the test that reads our VTU files with the official VTK Python module and with meshio
 //! (`tests/python_readers.rs`, Python from `MESHFREE_PYTHON`, default `python3`) is
 //! `#[ignore]`d without it and fails without those modules with it (CI installs them).
+//! `MESHFREE_REQUIRE_EGL=1` sets `meshfree_require_egl`: the tests that render a run's
+//! frames headless (`tests/render_run.rs`) are `#[ignore]`d without it and fail without
+//! EGL with it, as the viewer's headless tests are (CI).
 
 fn main() {
-    let (var, cfg) = ("MESHFREE_REQUIRE_PYVTK", "meshfree_require_pyvtk");
-    println!("cargo:rerun-if-env-changed={var}");
-    println!("cargo::rustc-check-cfg=cfg({cfg})");
-    if std::env::var(var).is_ok_and(|v| v == "1") {
-        println!("cargo:rustc-cfg={cfg}");
+    for (var, cfg) in [
+        ("MESHFREE_REQUIRE_PYVTK", "meshfree_require_pyvtk"),
+        ("MESHFREE_REQUIRE_EGL", "meshfree_require_egl"),
+    ] {
+        println!("cargo:rerun-if-env-changed={var}");
+        println!("cargo::rustc-check-cfg=cfg({cfg})");
+        if std::env::var(var).is_ok_and(|v| v == "1") {
+            println!("cargo:rustc-cfg={cfg}");
+        }
     }
 }

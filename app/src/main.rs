@@ -5,6 +5,8 @@ use clap::Parser;
 
 #[cfg(feature = "viewer")]
 mod view;
+#[cfg(feature = "viewer")]
+mod view_run;
 
 fn main() -> ExitCode {
     let cli = meshfree::cli::Cli::parse();

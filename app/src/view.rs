@@ -18,7 +18,7 @@ use meshfree_viewer::{
     SplatView, Status, ViewOptions,
 };
 
-fn field(f: ShownField) -> Field {
+pub(crate) fn field(f: ShownField) -> Field {
     match f {
         ShownField::Speed => Field::Speed,
         ShownField::Pressure => Field::Pressure,
@@ -45,7 +45,7 @@ struct Live {
 /// The scene's box walls (containers by their inside, obstacles and gates), as outlines
 /// for the 3D viewer. Driven walls move and cylinders are no boxes: left out (`b` shows
 /// their particles).
-fn wall_outlines(scene: &Scene) -> Vec<(Outline, Option<f64>)> {
+pub(crate) fn wall_outlines(scene: &Scene) -> Vec<(Outline, Option<f64>)> {
     if scene.file.dimension != 3 {
         return Vec::new();
     }
@@ -228,8 +228,27 @@ impl Live {
     }
 }
 
-/// `meshfree view`: the live window; on close, the final particles and summary.json.
+/// The window's error; without a display (where the window's error names a path inside
+/// winit), the way on: the headless renderer (issue #51).
+pub(crate) fn window_error(e: meshfree_viewer::ViewerError) -> anyhow::Error {
+    let unset = |v| std::env::var_os(v).is_none_or(|s| s.is_empty());
+    let headless = unset("DISPLAY") && unset("WAYLAND_DISPLAY");
+    if headless {
+        anyhow::anyhow!(
+            "no display (neither DISPLAY nor WAYLAND_DISPLAY is set): use `meshfree render` \
+             for images without one"
+        )
+    } else {
+        e.into()
+    }
+}
+
+/// `meshfree view`: the live window; on close, the final particles and summary.json. A
+/// directory (a run's output) is stepped through frame by frame instead (`view_run`).
 pub fn view(a: ViewArgs) -> anyhow::Result<()> {
+    if Path::new(&a.scene).is_dir() {
+        return crate::view_run::view_run(a);
+    }
     let mut scene = Scene::load(&a.scene)?;
     if let Some(dx) = a.spacing {
         scene = scene.with_spacing(dx)?;
@@ -254,20 +273,7 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
         ..Default::default()
     };
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
-    meshfree_viewer::run_window(&mut live, opts).map_err(|e| {
-        // Without a display the window's error names a path inside winit; the way on is
-        // the headless renderer (issue #51).
-        let unset = |v| std::env::var_os(v).is_none_or(|s| s.is_empty());
-        let headless = unset("DISPLAY") && unset("WAYLAND_DISPLAY");
-        if headless {
-            anyhow::anyhow!(
-                "no display (neither DISPLAY nor WAYLAND_DISPLAY is set): use `meshfree render` \
-                 for images without one"
-            )
-        } else {
-            e.into()
-        }
-    })?;
+    meshfree_viewer::run_window(&mut live, opts).map_err(window_error)?;
     // The window closed: write where the run got to.
     let particles = live.solver.particles();
     let vtu = out.join("final.vtu");
@@ -323,8 +329,20 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// `meshfree render`: PNG without a display, at a time or as a sequence.
+/// `meshfree render`: PNG without a display, at a time or as a sequence. A directory (a
+/// run's output) has its recorded frames drawn instead (`view_run`).
 pub fn render(a: RenderArgs) -> anyhow::Result<()> {
+    if Path::new(&a.scene).is_dir() {
+        return crate::view_run::render_run(a);
+    }
+    let (Some(out), None) = (a.out.clone(), &a.movie) else {
+        return Err(meshfree::bad_input::BadInput(format!(
+            "--movie encodes a finished run's frames: run the scene (`meshfree run {}`), then \
+             `meshfree render DIR --movie VIDEO`, or write PNGs here with --frames N --out",
+            a.scene
+        ))
+        .into());
+    };
     let mut scene = Scene::load(&a.scene)?;
     if let Some(dx) = a.spacing {
         scene = scene.with_spacing(dx)?;
@@ -406,11 +424,11 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
         }
         Ok(on_device)
     };
-    let stem = a.out.with_extension("");
+    let stem = out.with_extension("");
     let numbered = |k: u32| std::path::PathBuf::from(format!("{}_{k:04}.png", stem.display()));
     if a.figures {
         let moments = figure_moments(&scene);
-        std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
+        std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
         let end = scene.file.time.end;
         for &t in &moments {
             if t > end + 1e-12 {
@@ -418,7 +436,7 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
                 continue;
             }
             live.advance_to(t).map_err(anyhow::Error::msg)?;
-            let path = a.out.join(format!("{}_t{t:.2}.png", scene.name()));
+            let path = out.join(format!("{}_t{t:.2}.png", scene.name()));
             shoot(&mut live, Some(&path))?;
         }
         return Ok(());
@@ -534,7 +552,7 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
         _ => {
             live.advance_to(a.at.unwrap_or(0.0))
                 .map_err(anyhow::Error::msg)?;
-            shoot(&mut live, Some(&a.out))?;
+            shoot(&mut live, Some(&out))?;
         }
     }
     Ok(())

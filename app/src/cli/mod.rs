@@ -99,9 +99,13 @@ pub enum Command {
     /// Measure speed: 2D and 3D dam-break blocks at several sizes; prints a table and writes
     /// bench.csv and bench.json.
     Bench(BenchArgs),
-    /// Watch a scene live in an OpenGL window (needs the `viewer` feature and a display).
+    /// Watch a scene live in an OpenGL window, or step through a finished run's frames (needs
+    /// the `viewer` feature and a display).
+    #[command(after_help = VIEW_HELP)]
     View(ViewArgs),
-    /// Render a scene to PNG without a display (EGL), at a time or as a sequence of frames.
+    /// Render a scene, or a finished run's frames, to PNG without a display (EGL), at a time
+    /// or as a sequence of frames.
+    #[command(after_help = RENDER_HELP)]
     Render(RenderArgs),
     /// Compare two particle CSV files (`run --format csv`, or another code's export in the same
     /// columns): per-field error norms and the worst particles.
@@ -123,6 +127,29 @@ pub enum Command {
     /// (validate's report.json, bench's bench.json), stamped with date, device and build.
     Docs(DocsArgs),
 }
+
+const VIEW_HELP: &str = "\
+Examples:
+  meshfree view dam-break-2d               simulate a built-in scene live
+  meshfree view out/dam-break-2d           step through the frames of a finished run";
+
+const RENDER_HELP: &str = "\
+Examples:
+  meshfree render dam-break-2d --at 0.4 --out db.png
+                                   simulate a built-in scene to t = 0.4 and draw it
+  meshfree render out/dam-break-2d --out last.png
+                                   draw the last frame of a finished run (no simulation)
+  meshfree render out/dam-break-2d --frames 50 --out movie/f.png
+                                   50 of the run's frames, evenly spaced: movie/f_0000.png ...
+  meshfree render out/dam-break-2d --at 1.5 --field pressure --out p.png
+                                   the run's frame nearest t = 1.5, coloured by pressure
+  meshfree render out/dam-break-2d --movie db.mp4 --fps 30
+                                   every frame of the run as a video (needs ffmpeg)
+
+A directory is read as a run's output (particles.pvd and its .vtu files, or
+particles_NNNNN.csv, and scene.toml); anything else as a scene file or a built-in name.
+A field the run did not write (its scene's [output] fields) is refused, naming the fields
+the frames have.";
 
 /// Exit statuses (listed in `meshfree run --help`).
 pub mod exit {

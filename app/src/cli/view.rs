@@ -18,7 +18,10 @@ pub enum ShownField {
 
 #[derive(Debug, clap::Args)]
 pub struct ViewArgs {
-    /// A scene file path or a built-in scene name.
+    /// A scene file path or a built-in scene name (simulated live), or a run's output
+    /// directory (its recorded frames, played one frame per drawn frame: space pauses, `.`
+    /// steps one frame, `r` goes back to the first; nothing is simulated, and --backend,
+    /// --steps-per-frame, --out, --paper-exact and --spacing do not apply).
     pub scene: String,
     /// Where to run the solver.
     #[arg(long, value_parser = named::<BackendChoice>(), default_value = "auto")]
@@ -48,16 +51,22 @@ pub struct ViewArgs {
 
 #[derive(Debug, clap::Args)]
 pub struct RenderArgs {
-    /// A scene file path or a built-in scene name.
+    /// A scene file path or a built-in scene name (simulated to the times drawn), or a run's
+    /// output directory (`meshfree run`'s: its frames, particles.pvd or particles_NNNNN.csv,
+    /// are drawn as written, nothing is simulated; --figures, --t-end, --spacing,
+    /// --paper-exact, --steps-per-frame and --host-copy do not apply).
     pub scene: String,
     /// Where to run the solver.
     #[arg(long, value_parser = named::<BackendChoice>(), default_value = "auto")]
     pub backend: BackendChoice,
-    /// Render at this simulated time [default: the start].
+    /// Render at this simulated time, in the scene's time unit (seconds for SI scenes); of a
+    /// run's directory, the frame nearest T [default: the start; of a run's directory, its
+    /// last frame].
     #[arg(long, value_name = "T", conflicts_with = "frames")]
     pub at: Option<f64>,
     /// Render N frames evenly spaced up to the scene's end time (or --t-end), as
-    /// OUT_0000.png, OUT_0001.png, ...
+    /// OUT_0000.png, OUT_0001.png, ...; of a run's directory, N of its frames evenly spaced
+    /// from the first to the last.
     #[arg(long, value_name = "N")]
     pub frames: Option<u32>,
     /// Render at each of the scene's figure moments (`time.figures`: the moments of the
@@ -69,9 +78,17 @@ pub struct RenderArgs {
     #[arg(long, value_name = "T")]
     pub t_end: Option<f64>,
     /// The PNG to write (with --frames, the stem of the sequence; with --figures, a
-    /// directory).
-    #[arg(long, value_name = "PNG")]
-    pub out: PathBuf,
+    /// directory). Not needed with --movie.
+    #[arg(long, value_name = "PNG", required_unless_present = "movie")]
+    pub out: Option<PathBuf>,
+    /// Of a run's directory: encode its frames (all of them, or --frames N) into this video
+    /// through an installed `ffmpeg` (H.264 in an .mp4, or whatever the name's extension
+    /// tells ffmpeg), instead of PNGs.
+    #[arg(long, value_name = "VIDEO", conflicts_with = "at")]
+    pub movie: Option<PathBuf>,
+    /// Frames per second of --movie.
+    #[arg(long, default_value_t = 30, requires = "movie", value_parser = clap::value_parser!(u32).range(1..=240))]
+    pub fps: u32,
     /// Image size as WIDTHxHEIGHT.
     #[arg(long, default_value = "1280x720", value_parser = parse_size)]
     pub size: (u32, u32),
