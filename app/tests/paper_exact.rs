@@ -4,7 +4,9 @@
 use meshfree::run::{run, Progress, RunOptions};
 use meshfree_core::scene::paper_exact::{alpha_for_viscosity, ALPHA_MIN, DT_FRACTION};
 use meshfree_core::scene::{builtin_names, Scene};
-use meshfree_core::scheme::{DensityForm, IntegratorChoice, NoSlip, SolidInterface, WallCoupling};
+use meshfree_core::scheme::{
+    DensityForm, DiffusionForm, IntegratorChoice, NoSlip, SolidInterface, WallCoupling,
+};
 use meshfree_core::scheme::{PAPER_BETA as BETA, PAPER_XSPH as XSPH};
 
 #[test]
@@ -28,6 +30,8 @@ fn the_transform_sets_exactly_the_paper_options() {
         want.fluid.viscosity = 0.0;
         want.fluid.xsph = XSPH;
         want.fluid.density_diffusion = 0.0;
+        // Every switch takes its paper value, this one inert without diffusion.
+        want.fluid.density_diffusion_form = DiffusionForm::MolteniColagrossi;
         want.fluid.shifting = 0.0;
         want.fluid.background_pressure = 0.0;
         // The nozzle's cohesion is not the paper's (issue #18: --paper-exact left it on).
