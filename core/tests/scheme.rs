@@ -7,7 +7,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use meshfree_core::params::SphParams;
 use meshfree_core::scene::paper_exact::{ALPHA_MIN, DT_FRACTION};
-use meshfree_core::scene::{builtin_names, Scene, SceneFile, SceneSource};
+use meshfree_core::scene::{builtin_names, Overrides, Scene, SceneFile, SceneSource};
 use meshfree_core::scheme::{
     self, reference, Key, KeyDefault, Paper, Param, DERIVED, FROM_RUN, FROM_SCENE,
 };
@@ -357,4 +357,34 @@ fn total_lagrangian_refuses_the_artificial_stress() {
     assert!(e.contains("solid.formulation"), "{e}");
     s.file.solid.as_mut().unwrap().artificial_stress = 0.0;
     s.revalidate().unwrap();
+}
+
+/// A run's copy of its scene says what ran: the command line's --t-end and
+/// --output-interval are written into the text, comments kept (issue #51).
+#[test]
+fn overrides_are_written_into_the_scenes_text() {
+    let s = Scene::builtin("tank-2d").unwrap();
+    let o = s
+        .with_overrides(&Overrides {
+            t_end: Some(0.5),
+            output_interval: Some(0.01),
+        })
+        .unwrap();
+    let back = Scene::from_toml(&o.text, "the copy").unwrap();
+    assert_eq!(back.file, o.file);
+    assert_eq!(
+        (back.file.time.end, back.file.time.output_interval),
+        (0.5, 0.01)
+    );
+    assert!(o.text.contains("# several acoustic periods"), "{}", o.text);
+    // Nothing overridden, or overridden to the same value: the scene's own text.
+    assert_eq!(
+        s.with_overrides(&Overrides::default()).unwrap().text,
+        s.text
+    );
+    let same = Overrides {
+        t_end: Some(s.file.time.end),
+        output_interval: None,
+    };
+    assert_eq!(s.with_overrides(&same).unwrap().text, s.text);
 }

@@ -41,7 +41,11 @@ impl Checkpoints {
             base: RunState {
                 build: meshfree_core::build_info::COMMIT.to_string(),
                 backend: set.info.backend.clone(),
-                scene_digest: crate::resume::digest(&set.scene.text),
+                // Of the copy in the directory, which a resume compares (a resumed run's
+                // overrides are not written into it again).
+                scene_digest: crate::resume::digest(
+                    resume.map_or(&set.scene.text, |r| &r.scene.text),
+                ),
                 t_end: set.t_end(),
                 output_interval: interval,
                 format: set.format,

@@ -238,6 +238,11 @@ impl Scene {
             s.file.time.output_interval = t;
         }
         s.revalidate().map_err(|e| o.blame(e, &self.origin()))?;
+        // The text says what runs: the copy a run writes holds the overrides (issue #51).
+        let changed = s.file.time != self.file.time;
+        if let Some(text) = changed.then(|| overridden_text(&s.text, o)).flatten() {
+            s.text = text;
+        }
         Ok(s)
     }
 
@@ -390,4 +395,20 @@ fn scene_params(s: &SceneFile) -> SphParams {
     }
     params::derive(&mut p);
     p
+}
+
+/// `text` with `[time] end` and `output_interval` set to the overrides, every comment and
+/// the rest of the text kept (`toml_edit`); None where the text has no `[time]` table of
+/// such keys to edit (the scene keeps its text).
+fn overridden_text(text: &str, o: &Overrides) -> Option<String> {
+    let mut doc: toml_edit::DocumentMut = text.parse().ok()?;
+    let time = doc.get_mut("time")?.as_table_like_mut()?;
+    for (key, value) in [("end", o.t_end), ("output_interval", o.output_interval)] {
+        let Some(value) = value else { continue };
+        let item = time.get_mut(key)?.as_value_mut()?;
+        let decor = item.decor().clone();
+        *item = toml_edit::Value::from(value);
+        *item.decor_mut() = decor;
+    }
+    Some(doc.to_string())
 }
