@@ -191,6 +191,14 @@ fn particle_csv_round_trip() {
         text.starts_with("id,kind,x,y,z,vx,vy,vz,density,pressure\n"),
         "{text}"
     );
+    // The kind as its code, as in the VTU files (#51).
+    for (line, q) in text.lines().skip(1).zip(&frame.kind) {
+        assert_eq!(
+            line.split(',').nth(1),
+            Some(q.to_string().as_str()),
+            "{line}"
+        );
+    }
     let back = output::read_particles_csv(&path).unwrap();
     assert_eq!(back.len(), 6);
     assert!(back.windows(2).all(|w| w[0].id < w[1].id));

@@ -1,6 +1,6 @@
 //! Plain particle CSV, one row per particle ordered by id, for comparisons with other codes
 //! (`meshfree compare`) and pandas: `id,kind,x,y,z,vx,vy,vz,density,pressure` (kind as its
-//! name), then `group` and the stress `sxx,syy,szz,sxy,sxz,syz`; a field the scene's
+//! code: 0 fluid, 1 solid, 2 boundary, as in the VTU files; a reader takes the name too), then `group` and the stress `sxx,syy,szz,sxy,sxz,syz`; a field the scene's
 //! `[output] fields` leaves out leaves out its columns.
 
 use std::fmt::Write as _;
@@ -52,11 +52,9 @@ pub fn write_particles_csv(path: &Path, f: &FrameData, fields: Fields) -> io::Re
             row.push(f.id[i].to_string());
         }
         if on(Field::Kind, f.kind.len()) {
-            row.push(
-                Kind::from_code(f.kind[i])
-                    .map_or("?", |k| k.name())
-                    .to_string(),
-            );
+            // The code, 0 fluid, 1 solid, 2 boundary, as in the VTU files (issue #51); the
+            // readers take the name as well.
+            row.push(f.kind[i].to_string());
         }
         let x = f.position.get(i).copied().unwrap_or_default();
         row.extend(x.iter().map(f32::to_string));
