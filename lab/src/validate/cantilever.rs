@@ -38,7 +38,6 @@
 use super::{convergence, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::named::Named;
-use meshfree_core::scene::Scene;
 use meshfree_core::scheme::SolidFormulation;
 
 pub const NAME: &str = "cantilever";
@@ -219,7 +218,7 @@ fn simulate(
 ) -> anyhow::Result<Outcome> {
     let t_ref = period(e, l);
     let t_end = periods * t_ref;
-    let scene = Scene::from_toml(&scene_text(e, l, dx, t_end, f), "validate:cantilever")?;
+    let scene = ctx.scene(&scene_text(e, l, dx, t_end, f), "validate:cantilever")?;
     let setup = scene.setup()?;
     // The tip: the beam's (group 1) centreline particle of the last column.
     let beam = || setup.particles.iter().filter(|q| q.group == 1);

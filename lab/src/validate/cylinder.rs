@@ -181,6 +181,7 @@ pub fn simulate(
     let mut scene = Scene::from_toml(&scene_text(dx, t_end, re), "validate:cylinder")?;
     edit(&mut scene);
     scene.revalidate()?;
+    ctx.perturb(&mut scene)?;
     let group = scene.wall_group(0);
     let mut setup = scene.setup()?;
     if kick_amplitude != 0.0 {

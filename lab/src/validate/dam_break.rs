@@ -19,7 +19,6 @@ use crate::plot::{plot, Figure, Series};
 use meshfree_core::kernel;
 use meshfree_core::params::SphParams;
 use meshfree_core::particle::{Kind, Particle};
-use meshfree_core::scene::Scene;
 
 pub const NAME: &str = "dam-break";
 pub const DESCRIPTION: &str =
@@ -340,7 +339,7 @@ struct Track {
 /// (t = T / t_scale).
 fn simulate(ctx: &Ctx, dx: f64, geo: [f64; 4], t_scale: f64, ts: &[f64]) -> anyhow::Result<Track> {
     let [w, h, len, tank_h] = geo;
-    let scene = Scene::from_toml(&scene_text(dx, w, h, len, tank_h), "validate:dam-break")?;
+    let scene = ctx.scene(&scene_text(dx, w, h, len, tank_h), "validate:dam-break")?;
     let setup = scene.setup()?;
     let params = setup.params;
     let mut sim = Sim::new(ctx, setup, scene.gates(), format!("dx = {dx}"))?;
@@ -591,6 +590,7 @@ fn curve(times: &[f64], values: &[f64]) -> Vec<(f64, f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use meshfree_core::scene::Scene;
 
     /// A block of water `depth` deep on the floor from x = 0 to `x1`, on a lattice of `dx`.
     fn block(dx: f64, x1: f64, depth: f64, y0: f64) -> Vec<Particle> {

@@ -43,7 +43,6 @@ use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::named::Named;
 use meshfree_core::particle::Particle;
-use meshfree_core::scene::Scene;
 use meshfree_core::scheme::SolidFormulation;
 
 pub const NAME: &str = "gate";
@@ -219,7 +218,7 @@ struct Outcome {
 }
 
 fn simulate(ctx: &Ctx, dx: f64, t_end: f64, f: SolidFormulation) -> anyhow::Result<Outcome> {
-    let scene = Scene::from_toml(&scene_text(dx, t_end, f), "validate:gate")?;
+    let scene = ctx.scene(&scene_text(dx, t_end, f), "validate:gate")?;
     let setup = scene.setup()?;
     // Groups: 0 the water, 1 the clamp, 2 the gate.
     let gate: Vec<&Particle> = setup.particles.iter().filter(|q| q.group == 2).collect();

@@ -17,7 +17,6 @@
 use super::{convergence, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::particle::{Kind, Particle};
-use meshfree_core::scene::Scene;
 
 pub const NAME: &str = "hydrostatic-tank";
 pub const DESCRIPTION: &str =
@@ -198,7 +197,7 @@ fn nearest_quantile(ps: &[Particle]) -> f64 {
 }
 
 fn simulate(ctx: &Ctx, dx: f64, scheme: &Scheme) -> anyhow::Result<Outcome> {
-    let scene = Scene::from_toml(&scene_text(dx, scheme), "validate:hydrostatic-tank")?;
+    let scene = ctx.scene(&scene_text(dx, scheme), "validate:hydrostatic-tank")?;
     let setup = scene.setup()?;
     let p = setup.params;
     let start = setup.particles.clone();

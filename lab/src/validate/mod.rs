@@ -34,7 +34,7 @@ use serde::{Deserialize, Serialize};
 
 use meshfree_core::backend::{self, BackendChoice};
 use meshfree_core::named::Named;
-use meshfree_core::scene::Counts;
+use meshfree_core::scene::{Counts, Scene};
 use meshfree_core::scheme::declare::ToParam;
 use meshfree_core::scheme::IntegratorChoice;
 use meshfree_core::solver::{BackendInfo, Setup, Solver};
@@ -76,9 +76,30 @@ pub struct Ctx<'a> {
     /// Where the case writes its plots.
     pub out_dir: &'a Path,
     pub verbose: bool,
+    /// Changes every scene the case builds, after the case's own changes, before it runs
+    /// (the scene is revalidated): a perturbed scheme, to show that a check can fail
+    /// (`tests/perturbed.rs`). None: the case as written (`run` sets none).
+    pub edit: Option<&'a dyn Fn(&mut Scene)>,
 }
 
 impl Ctx<'_> {
+    /// The case's scene from its TOML text `text` (named `origin` in errors), with `edit`
+    /// applied.
+    pub fn scene(&self, text: &str, origin: &str) -> anyhow::Result<Scene> {
+        let mut scene = Scene::from_toml(text, origin)?;
+        self.perturb(&mut scene)?;
+        Ok(scene)
+    }
+
+    /// Apply `edit`, if any, to a scene the case has finished changing, and revalidate it.
+    pub fn perturb(&self, scene: &mut Scene) -> anyhow::Result<()> {
+        if let Some(edit) = self.edit {
+            edit(scene);
+            scene.revalidate()?;
+        }
+        Ok(())
+    }
+
     pub fn log(&self, line: &str) {
         if self.verbose {
             crate::note!("  {line}");
@@ -472,6 +493,7 @@ pub fn run(options: &Options) -> anyhow::Result<Report> {
         integrator: options.integrator,
         out_dir: &options.out_dir,
         verbose: options.verbose,
+        edit: None,
     };
     let mut checks = Vec::new();
     for case in CASES {

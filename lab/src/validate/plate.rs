@@ -34,7 +34,6 @@
 use super::{convergence, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::named::Named;
-use meshfree_core::scene::Scene;
 use meshfree_core::scheme::SolidFormulation;
 
 pub const NAME: &str = "plate";
@@ -209,7 +208,7 @@ fn simulate(
     t_end: f64,
     f: SolidFormulation,
 ) -> anyhow::Result<Outcome> {
-    let scene = Scene::from_toml(&scene_text(r, dx, t_end, f), "validate:plate")?;
+    let scene = ctx.scene(&scene_text(r, dx, t_end, f), "validate:plate")?;
     let mut setup = scene.setup()?;
     // The initial velocity field of the first mode on the plate (group 1; the clamp is 0).
     let tip_x = setup
@@ -484,6 +483,7 @@ mod tests {
             integrator: None,
             out_dir: &out,
             verbose: true,
+            edit: None,
         };
         let r = reference();
         for f in [SolidFormulation::TotalLagrangian, SolidFormulation::Jaumann] {

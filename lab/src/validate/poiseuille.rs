@@ -17,7 +17,6 @@
 use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::particle::Kind;
-use meshfree_core::scene::Scene;
 
 pub const NAME: &str = "poiseuille";
 pub const DESCRIPTION: &str =
@@ -178,7 +177,7 @@ fn label(n: usize, walls: Walls) -> String {
 }
 
 fn simulate(ctx: &Ctx, n: usize, walls: Walls, times: &[f64]) -> anyhow::Result<Outcome> {
-    let scene = Scene::from_toml(&scene_text(n, walls), "validate:poiseuille")?;
+    let scene = ctx.scene(&scene_text(n, walls), "validate:poiseuille")?;
     let setup = scene.setup()?;
     let dx = L / n as f64;
     let label = label(n, walls);

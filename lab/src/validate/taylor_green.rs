@@ -100,6 +100,7 @@ fn simulate_edited(
     let mut scene = Scene::from_toml(&scene_text(n), "validate:taylor-green")?;
     edit(&mut scene);
     scene.revalidate()?;
+    ctx.perturb(&mut scene)?;
     let mut setup = scene.setup()?;
     let tau = 2.0 * std::f64::consts::PI;
     // Tait, eq. (9), with the scene's c0 and gamma (an `edit` may change c0).
