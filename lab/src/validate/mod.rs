@@ -219,6 +219,24 @@ pub struct RunInfo {
     pub info: BackendInfo,
 }
 
+impl Report {
+    /// (checks that pass, checks, informational rows): informational rows are no checks.
+    pub fn counts(&self) -> (usize, usize, usize) {
+        let info = self
+            .checks
+            .iter()
+            .filter(|c| c.comparison == "informational")
+            .count();
+        let checks = self.checks.len() - info;
+        let pass = self
+            .checks
+            .iter()
+            .filter(|c| c.pass && c.comparison != "informational")
+            .count();
+        (pass, checks, info)
+    }
+}
+
 impl Check {
     /// A row with `error <= tolerance`.
     #[allow(clippy::too_many_arguments)]
@@ -592,14 +610,16 @@ pub fn markdown(r: &Report) -> String {
     let _ = writeln!(s, "# meshfree validation report ({:?} tier)\n", r.tier);
     let _ = writeln!(
         s,
-        "Machine: {}. Build {}, run {}. Total wall time {:.1} s. Result: **{}** ({} of {} checks pass).\n",
+        "Machine: {}. Build {}, run {}. Total wall time {:.1} s. Result: **{}** ({} of {} checks pass; \
+         {} more rows informational).\n",
         r.machine,
         r.commit,
         r.date,
         r.wall_seconds,
         if r.pass { "PASS" } else { "FAIL" },
-        r.checks.iter().filter(|c| c.pass).count(),
-        r.checks.len()
+        r.counts().0,
+        r.counts().1,
+        r.counts().2
     );
     if let Some(c) = r.courant {
         let _ = writeln!(
