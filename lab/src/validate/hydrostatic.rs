@@ -446,12 +446,10 @@ speed {:.4} sqrt(gH), nearest-neighbour 1 % quantile {:.3} dx, {:.1} s",
     )?;
     let mut out = rows(ctx, &CHECKED, &checked, Some(png));
     out.extend(rows(ctx, &PAPER, &paper, None).into_iter().map(|c| {
-        let note = format!(
+        c.informational().with_note(
             "informational: the paper's scheme, shown beside the checked one (without density \
-                 diffusion its pressure noise does not shrink with dx); {}",
-            c.note
-        );
-        c.informational().with_note(note)
+             diffusion its pressure noise does not shrink with dx)",
+        )
     }));
     Ok(out)
 }
