@@ -84,7 +84,8 @@ pub fn accuracy_table(r: &Report) -> String {
     let _ = writeln!(
         s,
         "`meshfree validate` ({:?} tier), run {} with build {} on {} (host: {}): **{} of {} \
-         checks pass**, {:.1} s in all.\n",
+         checks pass**, {} more rows informational (reported, never failing: `info:`, each \
+         with why below the table), {:.1} s in all.\n",
         r.tier,
         r.date,
         r.commit,
@@ -94,8 +95,9 @@ pub fn accuracy_table(r: &Report) -> String {
             devices.join(", ")
         },
         r.machine,
-        r.checks.iter().filter(|c| c.pass).count(),
-        r.checks.len(),
+        r.counts().0,
+        r.counts().1,
+        r.counts().2,
         r.wall_seconds
     );
     let _ = writeln!(
@@ -122,6 +124,17 @@ pub fn accuracy_table(r: &Report) -> String {
             c.resolution,
             c.wall_seconds
         );
+    }
+    let info: Vec<_> = r
+        .checks
+        .iter()
+        .filter(|c| c.comparison == "informational")
+        .collect();
+    if !info.is_empty() {
+        let _ = writeln!(s, "\nWhy each informational row is one (its note):\n");
+        for c in info {
+            let _ = writeln!(s, "- {} / {}: {}", c.case, c.quantity, c.note);
+        }
     }
     s
 }

@@ -45,6 +45,7 @@ fn main() -> anyhow::Result<()> {
         integrator: None,
         out_dir: &out,
         verbose: true,
+        edit: None,
     };
     for spec in &args[2..] {
         let f: Vec<&str> = spec.split(':').collect();

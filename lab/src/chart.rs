@@ -173,6 +173,7 @@ pub fn run(options: &Options) -> anyhow::Result<Vec<Point>> {
                 integrator: None,
                 out_dir: &options.out_dir,
                 verbose: options.verbose,
+                edit: None,
             };
             // Resolutions with the default scheme, then each variant at the middle one.
             let (resolutions, middle): (Vec<f64>, f64) = match (case, quick) {

@@ -50,11 +50,10 @@ pub(super) fn validate(a: ValidateArgs) -> anyhow::Result<()> {
         integrator: a.integrator,
     })?;
     let failed = report.checks.iter().filter(|c| !c.pass).count();
+    let (pass, checks, info) = report.counts();
     crate::outln!(
-        "validate ({:?} tier): {} of {} checks pass in {:.1} s; report in {}",
+        "validate ({:?} tier): {pass} of {checks} checks pass ({info} more rows informational) in {:.1} s; report in {}",
         report.tier,
-        report.checks.len() - failed,
-        report.checks.len(),
         report.wall_seconds,
         a.out.join("report.md").display()
     )?;

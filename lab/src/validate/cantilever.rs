@@ -30,15 +30,16 @@
 //! total-Lagrangian one (`meshfree_core::tlsph`), each with its own rows.
 //!
 //! Quick tier: t / dx = 5 and L / t = 5 (CPU, seconds; a quarter of the steps per period of
-//! L / t = 10), regression bounds on the ratio and the key check
-//! that the ratio's spread across E is within a few per cent. Full tier (GPU): t / dx = 5,
+//! L / t = 10): the total-Lagrangian ratio within 0.15 of the theory, the Jaumann ratio
+//! informational (1.82 at this resolution, and 1.17 with a doubled shear modulus: no bound
+//! about the theory separates right from wrong), and the key check that the ratio's spread
+//! across E is round-off (1e-4). Full tier (GPU): t / dx = 5,
 //! 9, 17, 5 % against the theory at every E on the finest, the spread, and the observed order
 //! of the error at E = 7e10.
 
 use super::{convergence, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::named::Named;
-use meshfree_core::scene::Scene;
 use meshfree_core::scheme::SolidFormulation;
 
 pub const NAME: &str = "cantilever";
@@ -219,7 +220,7 @@ fn simulate(
 ) -> anyhow::Result<Outcome> {
     let t_ref = period(e, l);
     let t_end = periods * t_ref;
-    let scene = Scene::from_toml(&scene_text(e, l, dx, t_end, f), "validate:cantilever")?;
+    let scene = ctx.scene(&scene_text(e, l, dx, t_end, f), "validate:cantilever")?;
     let setup = scene.setup()?;
     // The tip: the beam's (group 1) centreline particle of the last column.
     let beam = || setup.particles.iter().filter(|q| q.group == 1);
@@ -343,15 +344,18 @@ fn run_formulation(ctx: &Ctx, f: SolidFormulation) -> anyhow::Result<Vec<Check>>
     let ratio = |o: &Outcome| o.w / o.w_theory;
     let mut rows = Vec::new();
     for o in fine {
-        rows.push(
-            Check::within(
+        let row = Check::within(
                 NAME,
                 &format!("{label}: tip deflection at E = {:e} Pa: |w / w_theory - 1|", o.e),
                 SOURCE,
                 Some(o.w_theory),
                 o.w,
                 (ratio(o) - 1.0).abs(),
-                if quick { 1.0 } else { 0.05 },
+                match (quick, f) {
+                    (true, SolidFormulation::Jaumann) => 1.0,
+                    (true, SolidFormulation::TotalLagrangian) => 0.15,
+                    (false, _) => 0.05,
+                },
                 basis,
                 &o.run,
             )
@@ -363,25 +367,32 @@ fn run_formulation(ctx: &Ctx, f: SolidFormulation) -> anyhow::Result<Vec<Check>>
                 period(o.e, l),
                 match (quick, f) {
                     (true, SolidFormulation::Jaumann) => {
-                        "t / dx = 5, L / t = 5: a regression bound. Measured 1.82 x the theory at every E \
-                         (CPU and H100, 2026-11-25); before the density departure (rho_dev) 1.87 at E = 1e6 \
-                         and 5.04 at 1e8 ... 7e10 Pa: the coarse beam is soft (kernel truncated at its \
-                         faces, compliant clamp, shear 4 % at L / t = 5)"
+                        "informational at t / dx = 5, L / t = 5: the coarse Jaumann beam is 1.82 x the \
+                         theory at every E (CPU 2026-12-05, H100 2026-11-25; the kernel truncated at its \
+                         faces, a compliant clamp, shear 4 % at L / t = 5), and a doubled shear modulus \
+                         brings it to 1.17 (tests/perturbed.rs): no bound about the theory tells a right \
+                         scheme from a wrong one at this resolution. The spread across E is checked; the \
+                         full tier checks 5 % at t / dx = 17"
                     }
                     (true, SolidFormulation::TotalLagrangian) => {
-                        "t / dx = 5, L / t = 5: a regression bound. Measured 1.089 x the theory at every E \
-                         (CPU, 2026-11-27; 1.29 before the clamp's face, 1.64 before the reference \
+                        "t / dx = 5, L / t = 5: measured 1.064 x the theory at every E (CPU 2026-12-05, \
+                         H200 2026-11-28; 1.29 before the clamp's face, 1.64 before the reference \
                          gradient was made exact for quadratic fields); the plane-strain continuum \
                          itself is 1.037 x Euler-Bernoulli here (shear and the clamp face: \
-                         lab/reference/cantilever_fem.py)"
+                         lab/reference/cantilever_fem.py). 0.15 is 2.3 x the error; a doubled shear \
+                         modulus gives 0.35 (tests/perturbed.rs)"
                     }
                     (false, _) => {
                         "the plane-strain continuum is 1.007 x Euler-Bernoulli at L / t = 10 (shear and the \
                          clamp face: lab/reference/cantilever_fem.py)"
                     }
                 }
-            )),
-        );
+            ));
+        rows.push(if quick && f == SolidFormulation::Jaumann {
+            row.informational()
+        } else {
+            row
+        });
     }
     let rs: Vec<f64> = fine.iter().map(ratio).collect();
     let mean = rs.iter().sum::<f64>() / rs.len() as f64;
@@ -399,17 +410,25 @@ fn run_formulation(ctx: &Ctx, f: SolidFormulation) -> anyhow::Result<Vec<Check>>
             Some(0.0),
             spread,
             spread,
-            0.03,
+            if quick { 1e-4 } else { 0.03 },
             "literature",
             last,
         )
         .with_note(format!(
             "ratios {}: a stiff solid whose density change per step rounds away in f32 comes out \
-             several times softer",
+             several times softer{}",
             rs.iter()
                 .map(|r| format!("{r:.4}"))
                 .collect::<Vec<_>>()
-                .join(", ")
+                .join(", "),
+            if quick {
+                " (1.87 against 5.04 before rho_dev). Quick: 1e-4, 30 x the round-off-level spread \
+                 measured (3.3e-6 Jaumann, 5.3e-7 total Lagrangian; CPU 2026-12-05, the H200 within \
+                 10 % of it): a bound 1.5-3 x it would test the backend's summation order; a shear \
+                 modulus 1.5 x off at the stiffest E alone gives 0.24 (tests/perturbed.rs)"
+            } else {
+                ""
+            }
         )),
     );
     if by_res.len() > 1 {

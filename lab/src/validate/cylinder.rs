@@ -5,7 +5,7 @@
 //! (refdata/cylinder_flow_reference.json, cylinder_strouhal_vs_Re.csv).
 //!
 //! Quick tier: D / dx = 5, t U / D = 3 (about 10 s on the CPU): the drag only, a regression
-//! bound. Full tier (for the GPU, about 1e10 particle-steps): D / dx = 5, 10, 20 to
+//! bound 1.5 x today's error (no Strouhal number: nothing sheds by t U / D = 3). Full tier (for the GPU, about 1e10 particle-steps): D / dx = 5, 10, 20 to
 //! t U / D = 120, each started with a small antisymmetric kick (`kick`) so the shedding
 //! starts within t U / D ~ 30 instead of growing from round-off; St and Cd at every
 //! resolution, the finest against the literature, and the observed order of convergence
@@ -181,6 +181,7 @@ pub fn simulate(
     let mut scene = Scene::from_toml(&scene_text(dx, t_end, re), "validate:cylinder")?;
     edit(&mut scene);
     scene.revalidate()?;
+    ctx.perturb(&mut scene)?;
     let group = scene.wall_group(0);
     let mut setup = scene.setup()?;
     if kick_amplitude != 0.0 {
@@ -560,7 +561,14 @@ fn quick(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
         blockage_ratio: D / H,
     };
     let s = Coefficients::of(&samples, body);
-    ctx.log(&format!("{s}, {:.1} s", run.wall_seconds));
+    // Only what is checked: at t U / D = 3 the wake has not started to shed, so the lift's
+    // "Strouhal number" would be noise (the full tier measures it to t U / D = 120).
+    ctx.log(&format!(
+        "mean Cd {:.4} over t U / D >= {:.1}, {:.1} s",
+        s.mean_cd,
+        s.window_start * U / D,
+        run.wall_seconds
+    ));
     let png = "cylinder.png";
     plot(
         &ctx.out_dir.join(png),
@@ -573,8 +581,8 @@ fn quick(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
         },
         &force_series(&[("D/dx 5".into(), &samples)], 0.0, 0),
     )?;
-    // The impulsive start's drag, early: a broad regression bound (positive, the right
-    // order), not a claim of accuracy.
+    // The ramped start's drag, early: a regression bound 1.5 x today's error (the start-up
+    // drag is not the shedding mean of the reference, so no claim of accuracy).
     let err = (s.mean_cd / CD_REF - 1.0).abs();
     Ok(vec![Check::within(
         NAME,
@@ -586,12 +594,14 @@ fn quick(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
         Some(CD_REF),
         s.mean_cd,
         err,
-        1.0,
+        0.16,
         "regression",
         &run,
     )
     .with_plot(png)
     .with_note(
-        "D / dx = 5, before shedding starts: the drag only, 0 < Cd < 2.7 (at t U / D = 1-2 the start-up drag is still 4.4)",
+        "D / dx = 5, before shedding starts: the drag only (no Strouhal number: nothing sheds by t U / D = 3). \
+         0.16 is 1.5 x the 0.106 measured on the CPU (2026-12-05; 0.066 on the H200, 2026-11-28): 1.13 < Cd < 1.55; \
+         a doubled viscosity gives 0.22, a halved sound speed 0.49, a halved inflow velocity 0.74 (tests/perturbed.rs)",
     )])
 }

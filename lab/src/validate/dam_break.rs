@@ -19,7 +19,6 @@ use crate::plot::{plot, Figure, Series};
 use meshfree_core::kernel;
 use meshfree_core::params::SphParams;
 use meshfree_core::particle::{Kind, Particle};
-use meshfree_core::scene::Scene;
 
 pub const NAME: &str = "dam-break";
 pub const DESCRIPTION: &str =
@@ -340,7 +339,7 @@ struct Track {
 /// (t = T / t_scale).
 fn simulate(ctx: &Ctx, dx: f64, geo: [f64; 4], t_scale: f64, ts: &[f64]) -> anyhow::Result<Track> {
     let [w, h, len, tank_h] = geo;
-    let scene = Scene::from_toml(&scene_text(dx, w, h, len, tank_h), "validate:dam-break")?;
+    let scene = ctx.scene(&scene_text(dx, w, h, len, tank_h), "validate:dam-break")?;
     let setup = scene.setup()?;
     let params = setup.params;
     let mut sim = Sim::new(ctx, setup, scene.gates(), format!("dx = {dx}"))?;
@@ -522,8 +521,15 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
             .with_note(format!("worst at T = {th}; height = kernel gauge at the wall, the last phi = 1/2 below the first dry point, phi < 1/4 (wall_height); the reference times carry the digitisation error (the heights were read at fixed ordinates); 10 % is our reading of published SPH comparisons, not a published bound")),
     ];
     if quick {
-        // Reported, not checked, in the quick tier: the full tier checks it (see docs/reference/accuracy.md).
-        rows[2] = rows[2].clone().informational();
+        // The quick tier's margins (CPU release, 2026-12-05): front 0.105 against 0.15 (a
+        // literature bound, 1.4 x), the 1 x 2 column 0.184 against 0.25 (1.4 x), the height
+        // 0.060 against 0.15 (2.5 x; 25 particles across the column resolve the kernel gauge).
+        // Halved gravity (the time scale sqrt(a / g) then wrong by sqrt 2) fails all three
+        // (0.22, 0.27, 0.23; tests/perturbed.rs).
+        for row in rows.iter_mut() {
+            let margin = row.tolerance / row.error;
+            row.note = format!("{}; quick tier: margin {margin:.1} x", row.note);
+        }
     }
     if mm_runs.len() > 1 {
         let errs = |runs: &[Track],
@@ -591,6 +597,7 @@ fn curve(times: &[f64], values: &[f64]) -> Vec<(f64, f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use meshfree_core::scene::Scene;
 
     /// A block of water `depth` deep on the floor from x = 0 to `x1`, on a lattice of `dx`.
     fn block(dx: f64, x1: f64, depth: f64, y0: f64) -> Vec<Particle> {

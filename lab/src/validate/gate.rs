@@ -34,16 +34,16 @@
 //! informational unless they pass the same bounds.
 //!
 //! Quick tier: two particles across the gate (dx = 2.5 mm) to t = 0.02 s (about 50 s on 2
-//! CPU cores in the debug profile): it checks that the gate bends downstream, by no more than
-//! twice the experiment's displacement at that time (interpolated from the start), and stays
-//! bonded to its clamp; two particles cannot resolve bending, so no accuracy claim. Full tier (GPU): 2, 4 and 8 particles across to t = 0.4 s: peak x and
+//! CPU cores in the debug profile): it checks that the gate stays bonded to its clamp, and
+//! reports (informational) that it bends downstream, by no more than twice the experiment's
+//! displacement at that time (interpolated from the start): two particles cannot resolve
+//! bending (halved gravity and a doubled shear modulus stay inside those bounds). Full tier (GPU): 2, 4 and 8 particles across to t = 0.4 s: peak x and
 //! its time, RMS of x(t) against the experiment, peak y, and the observed order of the RMS.
 
 use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::named::Named;
 use meshfree_core::particle::Particle;
-use meshfree_core::scene::Scene;
 use meshfree_core::scheme::SolidFormulation;
 
 pub const NAME: &str = "gate";
@@ -219,7 +219,7 @@ struct Outcome {
 }
 
 fn simulate(ctx: &Ctx, dx: f64, t_end: f64, f: SolidFormulation) -> anyhow::Result<Outcome> {
-    let scene = Scene::from_toml(&scene_text(dx, t_end, f), "validate:gate")?;
+    let scene = ctx.scene(&scene_text(dx, t_end, f), "validate:gate")?;
     let setup = scene.setup()?;
     // Groups: 0 the water, 1 the clamp, 2 the gate.
     let gate: Vec<&Particle> = setup.particles.iter().filter(|q| q.group == 2).collect();
@@ -319,9 +319,16 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
     // stops at the coarsest resolution is one informational row: the Jaumann rows stand.
     match run_formulation(ctx, SolidFormulation::TotalLagrangian) {
         Ok(tl) => {
+            // In the quick tier a checked row stays a check (informational when it fails
+            // is no check).
+            let quick = ctx.tier == Tier::Quick;
             for mut row in tl {
                 row.quantity = format!("{} (total Lagrangian)", row.quantity);
-                rows.push(if row.pass { row } else { row.informational() });
+                rows.push(if row.pass || quick {
+                    row
+                } else {
+                    row.informational()
+                });
             }
         }
         Err(e) => {
@@ -417,11 +424,16 @@ fn run_formulation(ctx: &Ctx, f: SolidFormulation) -> anyhow::Result<Vec<Check>>
         Some(0.0),
         fine.root_slip,
         fine.root_slip,
-        0.5,
+        if quick { 0.03 } else { 0.5 },
         "regression",
         run,
     )
-    .with_note("an unbonded gate slides off its clamp by many dx")];
+    .with_note(
+        "an unbonded gate slides off its clamp by many dx. Quick: 0.03, 3.3 x the 0.0092 measured with the \
+         Jaumann rate (0.0039 total Lagrangian; CPU 2026-12-05, H200 2026-11-28): the root row moves only \
+         elastically, by 1 % of dx; neither a doubled shear modulus (0.009) nor halved gravity (0.004) moves \
+         it, only a clamp that starts to let go (not shown by tests/perturbed.rs). Full tier: half a spacing",
+    )];
     if quick {
         // Downstream, and no more than twice the experiment's at that time: the right
         // direction and order, not an accuracy claim at two particles across.
@@ -443,9 +455,12 @@ fn run_formulation(ctx: &Ctx, f: SolidFormulation) -> anyhow::Result<Vec<Check>>
             )
             .with_plot(png_x)
             .with_note(
-                "two particles across the 5 mm gate: the direction and the order only (0 < x < 2 x_exp, x_exp interpolated \
-                 between the start and the first measured point at 0.04 s); the full tier compares the curves",
-            ),
+                "informational: two particles across the 5 mm gate at t = 0.02 s resolve neither load nor \
+                 stiffness: halved gravity gives 0.77, a doubled shear modulus 0.45 (today 0.50 Jaumann, 0.36 total \
+                 Lagrangian), all inside 0 < x < 2 x_exp (x_exp interpolated between the start and the first \
+                 measured point at 0.04 s); the full tier compares the curves",
+            )
+            .informational(),
         );
         return Ok(rows);
     }

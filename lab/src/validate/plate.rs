@@ -28,13 +28,14 @@
 //! +6.5 % at 8, 16, 32. The 2 % target at 8 is not met yet.
 //!
 //! Quick tier: H / dx = 4 (coarse: the plate is soft and the clamp compliant), 2.5 periods,
-//! regression bounds. Full tier (GPU): H / dx = 8, 16, 32, 3.5 periods, the JSON's tolerances
+//! regression bounds; the Jaumann period and amplitude informational (43 % and 37 % off,
+//! 12 % and 8 % with a doubled shear modulus: no bound separates right from wrong there),
+//! the total-Lagrangian rows checks. Full tier (GPU): H / dx = 8, 16, 32, 3.5 periods, the JSON's tolerances
 //! on the finest, and the observed order of the period error.
 
 use super::{convergence, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::named::Named;
-use meshfree_core::scene::Scene;
 use meshfree_core::scheme::SolidFormulation;
 
 pub const NAME: &str = "plate";
@@ -209,7 +210,7 @@ fn simulate(
     t_end: f64,
     f: SolidFormulation,
 ) -> anyhow::Result<Outcome> {
-    let scene = Scene::from_toml(&scene_text(r, dx, t_end, f), "validate:plate")?;
+    let scene = ctx.scene(&scene_text(r, dx, t_end, f), "validate:plate")?;
     let mut setup = scene.setup()?;
     // The initial velocity field of the first mode on the plate (group 1; the clamp is 0).
     let tip_x = setup
@@ -295,9 +296,16 @@ fn simulate(
 
 pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
     let mut rows = run_formulation(ctx, SolidFormulation::Jaumann)?;
-    // The total-Lagrangian rows: informational unless they pass the same bounds.
+    // The total-Lagrangian rows: in the full tier informational unless they pass the same
+    // bounds; in the quick tier checks with their own tolerances (a row that turns
+    // informational when it fails is no check).
+    let quick = ctx.tier == Tier::Quick;
     for row in run_formulation(ctx, SolidFormulation::TotalLagrangian)? {
-        rows.push(if row.pass { row } else { row.informational() });
+        rows.push(if row.pass || quick {
+            row
+        } else {
+            row.informational()
+        });
     }
     Ok(rows)
 }
@@ -377,15 +385,23 @@ fn run_formulation(ctx: &Ctx, f: SolidFormulation) -> anyhow::Result<Vec<Check>>
             Some(r.period),
             fine.period,
             period_err(fine),
-            if quick { 0.5 } else { 0.10 },
+            match (quick, tl) {
+                (true, false) => 0.5,
+                (true, true) => 0.04,
+                (false, _) => 0.10,
+            },
             basis,
             run,
         )
         .with_plot(png)
-        .with_note(if quick {
-            "H / dx = 4: a coarse plate is softer than thin-plate theory (period +40 % here, +16 % at H / dx = 8 on \
-             the CPU); a regression bound: a loose clamp or a broken stress rate leaves it far longer or still. \
-             The JSON recommends 5-10 % at V_f = 0.01"
+        .with_note(if quick && tl {
+            "H / dx = 4: measured +1.4 % (CPU 2026-12-05, H200 2026-11-28); 0.04 is 2.8 x that, a doubled shear \
+             modulus shortens the period by about 30 %. The JSON recommends 5-10 % at V_f = 0.01"
+        } else if quick {
+            "informational at H / dx = 4: the coarse Jaumann plate is softer than thin-plate theory (period +43 % \
+             here, CPU 2026-12-05 and H200 2026-11-28; +16 % at H / dx = 8), and a doubled shear modulus brings it \
+             to +12 % (tests/perturbed.rs): no bound about the theory tells a right scheme from a wrong one at this \
+             resolution (a halved one stops the oscillation, which fails the case). The JSON recommends 5-10 % at V_f = 0.01"
         } else {
             "10 %, the JSON's 5-10 %: thickness / length 0.1 (shear and rotary inertia) lowers the frequency by a few per cent"
         }),
@@ -396,13 +412,20 @@ fn run_formulation(ctx: &Ctx, f: SolidFormulation) -> anyhow::Result<Vec<Check>>
             Some(amp_ref),
             fine.amplitude,
             (fine.amplitude / amp_ref - 1.0).abs(),
-            if quick { 0.5 } else { 0.15 },
+            match (quick, tl) {
+                (true, false) => 0.5,
+                (true, true) => 0.04,
+                (false, _) => 0.15,
+            },
             basis,
             run,
         )
-        .with_note(if quick {
-            "A = v / omega: the coarse plate's lower frequency raises it (+35 % at H / dx = 4, +14 % at 8); \
-             a regression bound. The JSON recommends 10-15 %"
+        .with_note(if quick && tl {
+            "H / dx = 4: measured 0.015 (CPU 2026-12-05, H200 2026-11-28); 0.04 is 2.7 x that; A = v / omega moves \
+             with the frequency. The JSON recommends 10-15 %"
+        } else if quick {
+            "informational at H / dx = 4: A = v / omega, the coarse plate's lower frequency raises it (+37 % here, \
+             +14 % at 8), and a doubled shear modulus brings it to +8 % (tests/perturbed.rs). The JSON recommends 10-15 %"
         } else {
             "the JSON recommends 10-15 %"
         }),
@@ -413,16 +436,27 @@ fn run_formulation(ctx: &Ctx, f: SolidFormulation) -> anyhow::Result<Vec<Check>>
             Some(0.0),
             fine.decay,
             fine.decay,
-            if quick { 0.15 } else { 0.05 },
+            match (quick, tl) {
+                (true, false) => 0.15,
+                _ => 0.05,
+            },
             basis,
             run,
         )
         .with_note(if tl {
-            format!("total Lagrangian: alpha = {ALPHA}, hourglass control at its default, no artificial stress; {dt_note}")
+            format!("total Lagrangian: alpha = {ALPHA}, hourglass control at its default, no artificial stress; {dt_note}{}",
+                if quick { "; quick: the JSON's 5 %, a physical bound (today 0.0006; a doubled alpha gives 0.0008): it catches the plate damped as the Jaumann one is (0.10)" } else { "" })
         } else {
-            format!("alpha = {ALPHA}, artificial stress {ART_STRESS}, density diffusion in the body {SOLID_DIFFUSION}; {dt_note}")
+            format!("alpha = {ALPHA}, artificial stress {ART_STRESS}, density diffusion in the body {SOLID_DIFFUSION}; {dt_note}{}",
+                if quick { "; quick: 0.15, 1.5 x the 0.102 measured (CPU 2026-12-05, H200 2026-11-28)" } else { "" })
         }),
     ];
+    if quick && !tl {
+        // The coarse Jaumann plate's period and amplitude (see their notes).
+        for row in rows.iter_mut().take(2) {
+            *row = row.clone().informational();
+        }
+    }
     if tl {
         for row in rows.iter_mut() {
             row.quantity = format!("{} (total Lagrangian)", row.quantity);
@@ -484,6 +518,7 @@ mod tests {
             integrator: None,
             out_dir: &out,
             verbose: true,
+            edit: None,
         };
         let r = reference();
         for f in [SolidFormulation::TotalLagrangian, SolidFormulation::Jaumann] {

@@ -17,7 +17,6 @@
 use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::particle::Kind;
-use meshfree_core::scene::Scene;
 
 pub const NAME: &str = "poiseuille";
 pub const DESCRIPTION: &str =
@@ -178,7 +177,7 @@ fn label(n: usize, walls: Walls) -> String {
 }
 
 fn simulate(ctx: &Ctx, n: usize, walls: Walls, times: &[f64]) -> anyhow::Result<Outcome> {
-    let scene = Scene::from_toml(&scene_text(n, walls), "validate:poiseuille")?;
+    let scene = ctx.scene(&scene_text(n, walls), "validate:poiseuille")?;
     let setup = scene.setup()?;
     let dx = L / n as f64;
     let label = label(n, walls);
@@ -292,12 +291,17 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
         Some(0.0),
         l2_early,
         l2_early,
-        0.05,
-        "literature",
+        if quick { 0.005 } else { 0.05 },
+        if quick { "regression" } else { "literature" },
         r,
     )
     .with_plot(png)
-    .with_note("5 %: the refdata recommendation for transient profiles")];
+    .with_note(if quick {
+        "L / 20: measured 0.0016 (CPU 2026-12-05, H200 2026-11-28): 0.005 is 3 x that, ten times below the refdata's 5 % \
+         for transient profiles, which a doubled viscosity meets (0.048; tests/perturbed.rs)"
+    } else {
+        "5 %: the refdata recommendation for transient profiles"
+    })];
     let t_last = fine.errors.last().map(|e| e.0).unwrap_or(0.0);
     rows.push(Check::within(
         NAME,
@@ -306,14 +310,21 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
         Some(0.0),
         l2_worst,
         l2_worst,
-        // Quick tier: L/20 to 0.225 s measured 0.0032 with Morris's walls (0.082 without).
-        if quick { 0.01 } else { 0.05 },
+        // Quick tier: L/20 to 0.225 s measured 0.0030 with Morris's walls (0.082 without):
+        // 0.008 is 2.7 x that, below the 0.030 of Morris's own cap 1.5.
+        if quick { 0.008 } else { 0.05 },
         if quick { "regression" } else { "literature" },
         r,
     )
     .with_plot(png)
     .with_note(format!(
-        "worst at t = {t_worst} s; 5 % is the refdata recommendation for transient profiles (Morris et al. show figure-level agreement, no norm); errors per time: {}",
+        "worst at t = {t_worst} s; {}5 % is the refdata recommendation for transient profiles (Morris et al. show figure-level agreement, no norm); errors per time: {}",
+        if quick {
+            "quick: 0.008 = 2.7 x the 0.0030 measured (CPU 2026-12-05, H200 2026-11-28), below the walls at \
+             Morris's cap 1.5 (0.030) and at their own velocity (0.082); a doubled viscosity gives 0.29; "
+        } else {
+            ""
+        },
         fine.errors.iter().map(|e| format!("t = {}: L2 {:.4}, Linf {:.4}", e.0, e.1, e.2)).collect::<Vec<_>>().join("; ")
     )));
     if let Some(&(t, l2, linf)) = fine.errors.iter().find(|e| e.0 >= 1.0) {
@@ -366,7 +377,7 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
             )
             .informational()
             .with_note(format!(
-                "L2 {l2:.4}; errors per time: {}",
+                "informational: another wall scheme, shown beside the checked one (Morris's, cap 4); L2 {l2:.4}; errors per time: {}",
                 o.errors
                     .iter()
                     .map(|e| format!("t = {}: L2 {:.4}, Linf {:.4}", e.0, e.1, e.2))

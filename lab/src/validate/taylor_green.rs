@@ -100,6 +100,7 @@ fn simulate_edited(
     let mut scene = Scene::from_toml(&scene_text(n), "validate:taylor-green")?;
     edit(&mut scene);
     scene.revalidate()?;
+    ctx.perturb(&mut scene)?;
     let mut setup = scene.setup()?;
     let tau = 2.0 * std::f64::consts::PI;
     // Tait, eq. (9), with the scene's c0 and gamma (an `edit` may change c0).
@@ -211,12 +212,18 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
             Some(exact_rate),
             fine.rate,
             rate_err(fine),
-            if quick { 0.15 } else { 0.05 },
+            0.05,
             basis,
             &fine.run,
         )
         .with_plot(png)
-        .with_note("5 %: refdata recommendation for ~100^2 particles with laminar viscosity (Adami 2013 reach it with transport velocity); 15 % for the coarse quick run"),
+        .with_note(if quick {
+            "5 %: the refdata recommendation for ~100^2 particles with laminar viscosity (Adami 2013 reach it with transport velocity), \
+             also at 30 x 30: measured 0.0096 (CPU, 2026-12-05) and 0.020 (H200, 2026-11-28), margins 5.2 x and 2.5 x; \
+             a halved sound speed gives 0.30, a doubled viscosity 0.93 (tests/perturbed.rs)"
+        } else {
+            "5 %: refdata recommendation for ~100^2 particles with laminar viscosity (Adami 2013 reach it with transport velocity)"
+        }),
         Check::within(
             NAME,
             &format!("max|u| at t = {t_end}: relative error"),
@@ -224,10 +231,16 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
             Some(umax_exact),
             last.2,
             umax_err(fine),
-            if quick { 0.15 } else { 0.05 },
+            if quick { 0.10 } else { 0.05 },
             basis,
             &fine.run,
-        ),
+        )
+        .with_note(if quick {
+            "30 x 30: measured 0.035 (CPU, 2026-12-05) and 0.0068 (H200, 2026-11-28): 0.10 is 2.9 x the larger; \
+             a halved sound speed gives 0.25, a doubled viscosity 0.53 (tests/perturbed.rs)"
+        } else {
+            "5 %, as the decay rate"
+        }),
     ];
     // E_k must never grow (no energy from nowhere); a robust check in both tiers.
     let growth = fine
@@ -248,7 +261,8 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
             "regression",
             &fine.run,
         )
-        .with_note("samples every 0.05"),
+        .with_note("samples every 0.05; exactly 0 today: 1e-3 is a physical bound (energy from nowhere), above the \
+             f32 noise of E_k; a body force 0.5 on the periodic vortex gives 0.058 (tests/perturbed.rs)"),
     );
     if quick {
         // The same vortex without shifting, reported beside it (not checked).
@@ -272,7 +286,8 @@ pub fn run(ctx: &Ctx) -> anyhow::Result<Vec<Check>> {
                 &bare.run,
             )
             .informational()
-            .with_note("the solver's default (no shifting): particle lines at the stagnation points break the vortices up"),
+            .with_note("informational: the solver's default (no shifting) is shown beside the checked scheme, not checked; \
+             particle lines at the stagnation points break the vortices up"),
         );
     }
     if outs.len() > 1 {
