@@ -61,16 +61,18 @@ fn a_scene_benches_with_its_own_scheme_from_its_start() {
 
 #[test]
 fn a_scenes_diffusion_and_kernel_are_named() {
-    let text = Scene::builtin("tank-2d").unwrap().text.replace(
-        "[fluid]\n",
-        "[fluid]\ndensity_diffusion = 0.1\ndensity_diffusion_form = \"fourtakas\"\n",
-    ) + "";
+    // tank-2d's own delta-SPH (0.1, Fourtakas) at another strength, and another kernel.
+    let text = Scene::builtin("tank-2d")
+        .unwrap()
+        .text
+        .replace("density_diffusion = 0.1 ", "density_diffusion = 0.05 ");
+    assert!(text.contains("density_diffusion = 0.05 "));
     let text = text.replace("kernel = \"cubic-spline\"", "kernel = \"wendland-c2\"");
     let scene = Scene::from_toml(&text, "tank, Wendland, Fourtakas").unwrap();
     let rows = bench::bench_scenes(&quick(), &[scene], None).unwrap();
     assert_eq!(
         (rows[0].kernel.as_str(), rows[0].diffusion.as_str()),
-        ("wendland-c2", "0.1 fourtakas")
+        ("wendland-c2", "0.05 fourtakas")
     );
 }
 
