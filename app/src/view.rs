@@ -9,6 +9,7 @@ use meshfree::cli::{RenderArgs, ShownField, ViewArgs};
 use meshfree::output::{write_vtu, RunStatus, RunSummary, Timing};
 use meshfree_core::backend::{create, Layout};
 use meshfree_core::frame;
+use meshfree_core::params::SphParams;
 use meshfree_core::scene::format::{OutputFormat, Wall};
 use meshfree_core::scene::{Counts, Overrides, Scene};
 use meshfree_core::solver::{Diagnostics, GlBuffers, GlSplat, Shown, Snapshot, Solver};
@@ -207,25 +208,33 @@ impl LiveSource for Live {
 impl Live {
     /// The frame's dimension, domain and drawn radius.
     fn frame_meta(&self, out: &mut FrameData) {
-        let p = *self.solver.params();
-        out.dim = p.dim as u8;
-        out.domain_min = p.domain_min;
-        out.domain_max = p.domain_max;
-        if p.dim == 2 {
-            out.domain_min[2] = 0.0;
-            out.domain_max[2] = 0.0;
-        }
-        out.particle_radius = 0.5 * p.dx;
-        // Gates leave the picture when they are removed.
-        let t = self.time;
-        out.outlines.clear();
-        out.outlines.extend(
-            self.outlines
-                .iter()
-                .filter(|(_, removed)| removed.is_none_or(|r| t < r))
-                .map(|(o, _)| *o),
-        );
+        frame_meta(self.solver.params(), self.time, &self.outlines, out);
     }
+}
+
+/// A frame's dimension, domain, drawn radius and the wall outlines standing at `t` [T]
+/// (gates leave the picture when they are removed): for the live solver and for a
+/// recorded run alike.
+pub(crate) fn frame_meta(
+    p: &SphParams,
+    t: f64,
+    outlines: &[(Outline, Option<f64>)],
+    out: &mut FrameData,
+) {
+    out.dim = p.dim as u8;
+    out.domain_min = p.domain_min;
+    out.domain_max = p.domain_max;
+    if p.dim == 2 {
+        out.domain_min[2] = 0.0;
+        out.domain_max[2] = 0.0;
+    }
+    out.particle_radius = 0.5 * p.dx;
+    out.outlines.clear();
+    out.outlines.extend(
+        (outlines.iter())
+            .filter(|(_, removed)| removed.is_none_or(|r| t < r))
+            .map(|(o, _)| *o),
+    );
 }
 
 /// The window's error; without a display (where the window's error names a path inside

@@ -15,7 +15,7 @@ use meshfree_viewer::{
     Field, FrameData, LiveSource, Outline, Panel, RenderOptions, Status, ViewOptions,
 };
 
-use crate::view::{field, wall_outlines, window_error};
+use crate::view::{field, frame_meta, wall_outlines, window_error};
 
 /// The viewer's field as the command line names it.
 fn shown_field(f: Field) -> ShownField {
@@ -71,22 +71,7 @@ impl Recorded {
     /// The shown frame for the viewer, coloured by `f`.
     fn fill(&self, f: ShownField, out: &mut FrameData) -> Result<(), BadInput> {
         let p = self.run.scene.params();
-        out.dim = p.dim as u8;
-        out.domain_min = p.domain_min;
-        out.domain_max = p.domain_max;
-        if p.dim == 2 {
-            out.domain_min[2] = 0.0;
-            out.domain_max[2] = 0.0;
-        }
-        out.particle_radius = 0.5 * p.dx;
-        let t = self.frame.time;
-        out.outlines.clear();
-        out.outlines.extend(
-            self.outlines
-                .iter()
-                .filter(|(_, removed)| removed.is_none_or(|r| t < r))
-                .map(|(o, _)| *o),
-        );
+        frame_meta(&p, self.frame.time, &self.outlines, out);
         out.positions.clear();
         out.positions.extend_from_slice(&self.frame.position);
         out.kinds = kinds(&self.frame);
