@@ -62,3 +62,22 @@ impl From<writer::Failure> for RunError {
         }
     }
 }
+
+impl From<crate::output::files::LockError> for RunError {
+    /// Another process holds the directory's lock: the directory is in use (exit 2).
+    fn from(e: crate::output::files::LockError) -> RunError {
+        use crate::output::files::LockError;
+        match e {
+            LockError::Held(dir) => RunError::OutputInUse {
+                dir,
+                reason: "another meshfree run or resume is writing there (it holds the \
+                         directory's lock): wait for it to end, or choose another --out"
+                    .into(),
+            },
+            LockError::Io(path, e) => RunError::Io {
+                path,
+                reason: e.to_string(),
+            },
+        }
+    }
+}

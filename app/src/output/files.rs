@@ -16,8 +16,6 @@ use std::fs::File;
 use std::io;
 use std::path::{Path, PathBuf};
 
-use crate::run_error::RunError;
-
 pub use meshfree_core::run_files::{
     frame_file, monitor_file, BODIES, CHECKPOINT, CLUSTERS, DIAGNOSTICS, FILES, GAUGES, PROBES,
     SCENE, SERIES, SUMMARY, VOIDS,
@@ -51,8 +49,19 @@ pub fn by_pattern(name: &str) -> bool {
         || name == SUMMARY
         || name == SCENE
         || name == CHECKPOINT
-        || super::checkpoint::is_piece_name(name)
+        || is_piece_name(name)
         || frame_index(name).is_some()
+}
+
+/// The file name of rank `rank`'s piece of `ranks` at step `steps` (a decomposed run's
+/// checkpoint, `output::checkpoint`).
+pub fn piece_name(steps: u64, rank: usize, ranks: usize) -> String {
+    format!("checkpoint-step{steps}-rank{rank}of{ranks}.bin")
+}
+
+/// Whether `name` is a checkpoint piece's (`piece_name`).
+pub fn is_piece_name(name: &str) -> bool {
+    name.starts_with("checkpoint-step") && name.ends_with(".bin")
 }
 
 /// Whether a file of that name could be written by a run of a scene with force monitors
@@ -132,23 +141,22 @@ pub struct DirLock {
     _dir: File,
 }
 
+/// Why a directory's lock was not taken (`RunError` takes it: `OutputInUse`, exit 2, where
+/// another process holds it; an I/O error otherwise).
+#[derive(Debug)]
+pub enum LockError {
+    Held(PathBuf),
+    Io(PathBuf, io::Error),
+}
+
 impl DirLock {
-    /// Take the lock on the directory `dir` (which exists), without waiting: refused
-    /// (`RunError::OutputInUse`, exit 2) where another process holds it.
-    pub fn take(dir: &Path) -> Result<DirLock, RunError> {
-        let io = |e: io::Error| RunError::Io {
-            path: dir.to_path_buf(),
-            reason: e.to_string(),
-        };
+    /// Take the lock on the directory `dir` (which exists), without waiting.
+    pub fn take(dir: &Path) -> Result<DirLock, LockError> {
+        let io = |e: io::Error| LockError::Io(dir.to_path_buf(), e);
         let file = File::open(dir).map_err(io)?;
         match file.try_lock() {
             Ok(()) => Ok(DirLock { _dir: file }),
-            Err(std::fs::TryLockError::WouldBlock) => Err(RunError::OutputInUse {
-                dir: dir.to_path_buf(),
-                reason: "another meshfree run or resume is writing there (it holds the \
-                         directory's lock): wait for it to end, or choose another --out"
-                    .into(),
-            }),
+            Err(std::fs::TryLockError::WouldBlock) => Err(LockError::Held(dir.to_path_buf())),
             Err(std::fs::TryLockError::Error(e)) => Err(io(e)),
         }
     }
@@ -194,10 +202,7 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("meshfree-lock-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let first = DirLock::take(&dir).expect("the first lock");
-        assert!(matches!(
-            DirLock::take(&dir),
-            Err(RunError::OutputInUse { .. })
-        ));
+        assert!(matches!(DirLock::take(&dir), Err(LockError::Held(_))));
         drop(first);
         assert!(DirLock::take(&dir).is_ok());
         let _ = std::fs::remove_dir(&dir);

@@ -26,7 +26,7 @@ use meshfree_core::step::StepperState;
 
 use crate::monitors::MonitorsState;
 use crate::output::checkpoint::{self, Saved};
-use crate::output::files::{self, DirLock};
+use crate::output::files::{self, DirLock, LockError};
 use crate::output::writer::{Failure, Job, WriterState};
 use crate::output::{PvdSeries, Timing};
 use crate::probes::ProbesState;
@@ -117,8 +117,8 @@ pub fn load(dir: &Path) -> Result<Resume, RunError> {
     let lock = match DirLock::take(dir) {
         Ok(lock) => Some(lock),
         // A missing directory: told below as no checkpoint.
-        Err(RunError::Io { .. }) if !dir.is_dir() => None,
-        Err(e) => return Err(e),
+        Err(LockError::Io(..)) if !dir.is_dir() => None,
+        Err(e) => return Err(e.into()),
     };
     // Its own type: a directory, a FIFO (which would block the read) or a link is refused.
     let kind = std::fs::symlink_metadata(&path).map(|m| m.file_type());

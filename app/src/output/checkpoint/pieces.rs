@@ -60,15 +60,7 @@ struct PieceRun {
     ranks: usize,
 }
 
-/// The file name of rank `rank`'s piece of `ranks` at step `steps`.
-pub fn piece_name(steps: u64, rank: usize, ranks: usize) -> String {
-    format!("checkpoint-step{steps}-rank{rank}of{ranks}.bin")
-}
-
-/// Whether `name` is a checkpoint piece's (`piece_name`).
-pub fn is_piece_name(name: &str) -> bool {
-    name.starts_with("checkpoint-step") && name.ends_with(".bin")
-}
+pub use crate::output::files::{is_piece_name, piece_name};
 
 /// A solver's saved state: one checkpoint, or one piece per rank of a decomposed solver.
 pub enum Saved {
