@@ -11,8 +11,17 @@ mod view_run;
 fn main() -> ExitCode {
     let cli = meshfree::cli::Cli::parse();
     let result = match cli.command {
+        // A run's output directory is drawn from its frames; anything else is a scene.
+        #[cfg(feature = "viewer")]
+        meshfree::cli::Command::View(a) if std::path::Path::new(&a.scene).is_dir() => {
+            view_run::view_run(a)
+        }
         #[cfg(feature = "viewer")]
         meshfree::cli::Command::View(a) => view::view(a),
+        #[cfg(feature = "viewer")]
+        meshfree::cli::Command::Render(a) if std::path::Path::new(&a.scene).is_dir() => {
+            view_run::render_run(a)
+        }
         #[cfg(feature = "viewer")]
         meshfree::cli::Command::Render(a) => view::render(a),
         _ => meshfree::cli::main(cli),

@@ -252,12 +252,9 @@ pub(crate) fn window_error(e: meshfree_viewer::ViewerError) -> anyhow::Error {
     }
 }
 
-/// `meshfree view`: the live window; on close, the final particles and summary.json. A
-/// directory (a run's output) is stepped through frame by frame instead (`view_run`).
+/// `meshfree view` of a scene: the live window; on close, the final particles and
+/// summary.json. (A run's directory is `view_run`'s: `main.rs` tells them apart.)
 pub fn view(a: ViewArgs) -> anyhow::Result<()> {
-    if Path::new(&a.scene).is_dir() {
-        return crate::view_run::view_run(a);
-    }
     let mut scene = Scene::load(&a.scene)?;
     if let Some(dx) = a.spacing {
         scene = scene.with_spacing(dx)?;
@@ -338,12 +335,9 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// `meshfree render`: PNG without a display, at a time or as a sequence. A directory (a
-/// run's output) has its recorded frames drawn instead (`view_run`).
+/// `meshfree render` of a scene: PNG without a display, at a time or as a sequence. (A
+/// run's directory is `view_run`'s: `main.rs` tells them apart.)
 pub fn render(a: RenderArgs) -> anyhow::Result<()> {
-    if Path::new(&a.scene).is_dir() {
-        return crate::view_run::render_run(a);
-    }
     let (Some(out), None) = (a.out.clone(), &a.movie) else {
         return Err(meshfree::bad_input::BadInput(format!(
             "--movie encodes a finished run's frames: run the scene (`meshfree run {}`), then \

@@ -12,7 +12,7 @@ use std::time::Instant;
 use meshfree_core::step::reached;
 
 use super::context::{Ctx, RunFailure};
-use super::events::Event;
+use super::event::Event;
 use super::setup::Setup;
 use crate::output::checkpoint::{self, Saved};
 use crate::resume::{Resume, RunState};

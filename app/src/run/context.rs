@@ -12,7 +12,7 @@ use meshfree_core::solver::{Diagnostics, Fault, Solver};
 use meshfree_core::step::{reached, Stepper};
 
 use super::ending::Stop;
-use super::progress::Lines;
+use super::lines::Lines;
 use super::{RunError, RunOptions};
 use crate::output::writer::{self, Failure, Report};
 use crate::output::{RunSummary, Timing};

@@ -8,7 +8,7 @@ use meshfree_core::frame::Fields;
 use meshfree_core::solver::Diagnostics;
 
 use super::context::{Ctx, RunFailure};
-use super::events::Event;
+use super::event::Event;
 use super::RunError;
 use crate::output::writer;
 use crate::resume::RunState;

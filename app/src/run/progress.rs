@@ -1,19 +1,12 @@
-//! Progress on stderr: the lines of a run (its start, gates opened, slow outputs, its end)
-//! and the progress event, an indicatif bar on a terminal, else a line per tenth of the run.
+//! The progress event on stderr: an indicatif bar on a terminal, else a line per tenth of
+//! the run; and the reporter that makes it with the run's lines (`lines.rs`).
 
 use std::io::IsTerminal;
 
 use super::context::{Ctx, RunFailure};
-use super::events::Event;
+use super::event::Event;
+use super::lines::Lines;
 use super::Progress;
-use crate::output::{RunStatus, RunSummary};
-
-/// The run's lines on stderr: above the bar where there is one, else plain, or none.
-#[derive(Clone)]
-pub(super) struct Lines {
-    bar: Option<indicatif::ProgressBar>,
-    plain: bool,
-}
 
 /// The progress event: fires after every batch, bounds none.
 pub(super) struct ProgressReport {
@@ -59,53 +52,6 @@ pub(super) fn reporter(
         next_tenth: 1,
     };
     (lines, report)
-}
-
-impl Lines {
-    pub fn line(&self, text: &str) {
-        if let Some(bar) = &self.bar {
-            bar.println(text);
-        } else if self.plain {
-            crate::errln!("{text}");
-        }
-    }
-
-    /// The bar cleared, and the run's last lines: how it ended, its timing split, its
-    /// monitors' statistics.
-    pub fn finish(&self, s: &RunSummary) {
-        if let Some(bar) = &self.bar {
-            bar.finish_and_clear();
-        }
-        let status = match s.status {
-            RunStatus::Completed => "completed".to_string(),
-            RunStatus::Failed => "FAILED".to_string(),
-            RunStatus::Interrupted => format!(
-                "INTERRUPTED ({})",
-                s.interrupted_by.as_deref().unwrap_or("signal")
-            ),
-            RunStatus::Running => "running".to_string(),
-        };
-        let t = &s.timing;
-        self.line(&format!(
-            "{status}: {} steps to t = {:.4} in {:.2} s ({:.3e} particle-steps/s); set-up {:.2} s, \
-             stepping {:.2} s, waiting for output {:.2} s (writer busy {:.2} s alongside); {} outputs, \
-             {:.1} MB in {}",
-            s.steps,
-            s.simulated_time,
-            s.wall_seconds,
-            s.particle_steps_per_second,
-            t.setup_seconds,
-            t.stepping_seconds,
-            t.output_wait_seconds,
-            t.writer_seconds,
-            s.outputs,
-            s.output_bytes as f64 / 1e6,
-            s.output_dir
-        ));
-        for m in &s.monitors {
-            self.line(&m.to_string());
-        }
-    }
 }
 
 impl Event for ProgressReport {

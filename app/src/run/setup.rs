@@ -16,8 +16,8 @@ use meshfree_core::step::Stepper;
 use meshfree_core::voids::VoidMeter;
 
 use super::context::Clock;
+use super::lines::Lines;
 use super::out_dir::{default_out_dir, prepare_out_dir};
-use super::progress::Lines;
 use super::{io_err, RunError, RunOptions};
 use crate::analysis::bodies::BodyTracker;
 use crate::analysis::clusters;
