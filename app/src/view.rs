@@ -6,6 +6,7 @@ use std::path::Path;
 
 use anyhow::Context;
 use meshfree::cli::{RenderArgs, ShownField, ViewArgs};
+use meshfree::output::files::SUMMARY;
 use meshfree::output::{write_vtu, RunStatus, RunSummary, Timing};
 use meshfree_core::backend::{create, Layout};
 use meshfree_core::frame;
@@ -316,16 +317,17 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
         fault: None,
         interrupted_by: None,
         error: None,
-        files: Vec::new(),
+        // What `run --overwrite` may remove here later (output::files).
+        files: vec!["final.vtu".into(), SUMMARY.into()],
         fault_frame: None,
         monitors: Vec::new(),
         bodies: Vec::new(),
         checkpoint_time: None,
         resumed_from: Vec::new(),
     };
-    let path = out.join("summary.json");
-    std::fs::write(&path, serde_json::to_string_pretty(&summary)?)
-        .with_context(|| format!("writing {}", path.display()))?;
+    // Written as a run writes it: renamed into place, never through a planted link.
+    let path = out.join(SUMMARY);
+    (summary.write(&path)).with_context(|| format!("writing {}", path.display()))?;
     meshfree::outln!(
         "window closed at t = {:.4}; wrote {} and {}",
         summary.simulated_time,
