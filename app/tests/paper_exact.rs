@@ -5,7 +5,8 @@ use meshfree::run::{run, Progress, RunOptions};
 use meshfree_core::scene::paper_exact::{alpha_for_viscosity, ALPHA_MIN, DT_FRACTION};
 use meshfree_core::scene::{builtin_names, Scene};
 use meshfree_core::scheme::{
-    DensityForm, DiffusionForm, IntegratorChoice, NoSlip, SolidInterface, WallCoupling,
+    DensityForm, DiffusionForm, IntegratorChoice, NoSlip, SolidFluidPressure, SolidInterface,
+    WallCoupling,
 };
 use meshfree_core::scheme::{PAPER_BETA as BETA, PAPER_XSPH as XSPH};
 
@@ -39,6 +40,7 @@ fn the_transform_sets_exactly_the_paper_options() {
         if let Some(m) = want.solid.as_mut() {
             m.artificial_stress = 0.0;
             m.interface = SolidInterface::Stress;
+            m.fluid_pressure = SolidFluidPressure::Own;
             // Inert under the paper's Jaumann solids; the total-Lagrangian default is 5.
             m.hourglass = 0.1;
         }

@@ -15,7 +15,10 @@ use meshfree_core::step::Stepper;
 /// The square (group 1) at rest, the water block (group 0) to its left moving at +6.
 /// `interface` is the `[solid] interface` value (None: the default).
 fn scene(interface: Option<&str>) -> Scene {
-    let interface = interface.map_or(String::new(), |c| format!("interface = \"{c}\"\n"));
+    // The paper's whole stress across the interface comes with the body's own pressure.
+    let interface = interface.map_or(String::new(), |c| {
+        format!("interface = \"{c}\"\nfluid_pressure = \"own\"\n")
+    });
     let text = format!(
         r#"dimension = 2
 name = "solid-impact"

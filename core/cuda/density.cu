@@ -142,3 +142,49 @@ __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __re
                float* art),                                                                                    \
               (p, n, cell_start, pos, vel, kind, rho, pr, rho_dev, stress, art))
 MF_LANES_EACH(MF_DENSITY_ENTRY)
+
+// The Tait density of pressure pr, eq. (9) inverted (less the background pressure), held at
+// 0.1 rho0 or more. Twin of `tait_density` in cpu/interface.rs. [M L^-d]
+__device__ __forceinline__ float tait_density(const SphParams& p, float pr) {
+    const float base = fmaxf(1.0f + (pr - p.background_pressure) / p.tait_b, powf(0.1f, p.tait_gamma));
+    return p.rho0 * powf(base, 1.0f / p.tait_gamma);
+}
+
+// The fluid's pressure extrapolated to each body's particle b and its Tait density, as
+// float2 (P'_b, rho'_b) in iface (solid_fluid_pressure = EXTRAPOLATED; Adami, Hu & Adams
+// 2012, eq. (27) without the body's acceleration): P'_b = (sum_f P_f W_bf + rho_f g .
+// (x_b - x_f) W_bf) / sum_f W_bf over the fluid neighbours f; (background pressure, rho0)
+// for other particles and a body's particle without fluid. One thread per particle.
+// Twin: `solid_interface` in cpu/interface.rs.
+template <int DIM>
+__device__ void sph_solid_interface_body(const SphParams p, unsigned n, const unsigned* __restrict__ cell_start,
+                                         const float* __restrict__ pos, const float* __restrict__ rho,
+                                         const float* __restrict__ pr, const unsigned char* __restrict__ kind,
+                                         float* __restrict__ iface) {
+    const unsigned b = blockIdx.x * blockDim.x + threadIdx.x;
+    if (b >= n) return;
+    float2 out = make_float2(p.background_pressure, p.rho0);
+    if (kind[b] == MF_KIND_SOLID) {
+        Vec<DIM> g;
+#pragma unroll
+        for (int a = 0; a < DIM; ++a) g.c[a] = p.gravity[a];
+        float sum_w = 0.0f, sum_pw = 0.0f;
+        for_each_neighbor_split<DIM, 1>(p, cell_start, pos, vload<DIM>(pos, b), 0,
+                                        [&](unsigned f, Vec<DIM> r, float r2, float) {
+                                            if (kind[f] != MF_KIND_FLUID) return;
+                                            // r = x_b - x_f
+                                            const float w = kernel_w(p, sqrtf(r2));
+                                            sum_w += w;
+                                            sum_pw += (pr[f] + rho[f] * dot(g, r)) * w;
+                                        });
+        if (sum_w > 0.0f) {
+            const float pb = sum_pw / sum_w;
+            out = make_float2(pb, tait_density(p, pb));
+        }
+    }
+    reinterpret_cast<float2*>(iface)[b] = out;
+}
+MF_ENTRY2(sph_solid_interface,
+          (const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, const float* rho,
+           const float* pr, const unsigned char* kind, float* iface),
+          (p, n, cell_start, pos, rho, pr, kind, iface))

@@ -82,13 +82,17 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct ForceSum {
     // sigma_i / rho_i^2 with sigma = -P I + S, eq. (11); S = 0 for fluid (solids only).
     Mat<DIM> sig_i;
     float psi;  // fluid-only scenes: -P_i / rho_i^2
+    // A body's particle i under the extrapolated coupling: (P'_i, rho'_i) (iface).
+    float pe_i, rhoe_i;
     Vec<DIM> acc;
 
-    // Particle i of kind k (a wall for i >= n); lane 0 starts from gravity.
+    // Particle i of kind k (a wall for i >= n); lane 0 starts from gravity. iface: the
+    // interface stage's (P', rho') per particle (sph_solid_interface), null unless the bodies
+    // meet the fluid at its extrapolated pressure.
     __device__ __forceinline__ void begin(const SphParams& p, unsigned i, unsigned n, unsigned char k, int lane,
                                           const float* __restrict__ vel, const float* __restrict__ rho,
                                           const float* __restrict__ pr, const unsigned* __restrict__ group,
-                                          const float* __restrict__ stress) {
+                                          const float* __restrict__ stress, const float* __restrict__ iface) {
         ki = k;
         on = i < n && ki != MF_KIND_BOUNDARY;
         acc = vzero<DIM>();
@@ -101,6 +105,11 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct ForceSum {
         gi = group[i];
         inv_r2i = 1.0f / (rhoi * rhoi);
         if constexpr (SOLIDS) {
+            if (iface && ki == MF_KIND_SOLID) {
+                const float2 e = reinterpret_cast<const float2*>(iface)[i];
+                pe_i = e.x;
+                rhoe_i = e.y;
+            }
             sig_i = sload<DIM>(stress, i, n);
 #pragma unroll
             for (int a = 0; a < DIM; ++a) {
@@ -121,7 +130,8 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct ForceSum {
     __device__ __forceinline__ void add(const SphParams& p, unsigned i, unsigned n, const Neighbour<DIM>& nb,
                                         const float* __restrict__ pr, const unsigned* __restrict__ group,
                                         const float* __restrict__ stress, const float* __restrict__ art,
-                                        const unsigned* __restrict__ id, const float* __restrict__ surf) {
+                                        const float* __restrict__ iface, const unsigned* __restrict__ id,
+                                        const float* __restrict__ surf) {
         const unsigned j = nb.j;
         const unsigned char kj = nb.kind;
         const Vec<DIM> r = nb.r;
@@ -136,6 +146,12 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct ForceSum {
             // Dynamic walls: then like any other neighbour (own P_j, rho_j, v_j = 0,
             // stress 0, sound speed c0).
             if (!couples(p, kj)) return;
+        }
+        if constexpr (SOLIDS) {
+            if (iface && extrapolated_pair(p, ki, kj)) {
+                acc = acc + fluid_body(p, nb, pr, iface);
+                return;
+            }
         }
         const float rhoj = nb.rho;
         const Vec<DIM> vj = nb.v;
@@ -201,6 +217,37 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct ForceSum {
                 acc = acc + mat_vec<DIM>(ra, gw) * (mj * fij);
             }
         }
+    }
+
+    // What j exerts on i where one is a fluid particle and the other a body's particle that
+    // meet at the fluid's extrapolated pressure: the body's particle b as fluid of its own
+    // volume m_b / rho_b, mass rho'_b m_b / rho_b, at (P'_b, rho'_b), in eq. (7), eq. (10)
+    // (with the fluid's c0) and the laminar term; on b the reaction over its own mass, the
+    // fluid form times rho'_b / rho_b. Twin of `fluid_body` in cpu/forces.rs.
+    __device__ __forceinline__ Vec<DIM> fluid_body(const SphParams& p, const Neighbour<DIM>& nb,
+                                                   const float* __restrict__ pr, const float* __restrict__ iface) {
+        const unsigned j = nb.j;
+        float pj, rhoj, mj;
+        if (nb.kind == MF_KIND_SOLID) {
+            const float2 e = reinterpret_cast<const float2*>(iface)[j];
+            pj = e.x;
+            rhoj = e.y;
+            mj = e.y * nb.m / nb.rho;
+        } else {
+            pj = pr[j];
+            rhoj = nb.rho;
+            mj = nb.m;
+        }
+        const bool body_i = ki == MF_KIND_SOLID;
+        const float pi_s = body_i ? pe_i : pi, rhoi_s = body_i ? rhoe_i : rhoi;
+        const float scale = body_i ? rhoe_i / rhoi : 1.0f;
+        const Vec<DIM> gw = nb.r * nb.fw;
+        const Vec<DIM> vij = vi - nb.v;
+        Vec<DIM> a = gw * (-mj * (pi_s / (rhoi_s * rhoi_s) + pj / (rhoj * rhoj)));  // eq. (7)
+        const float pij = artificial_viscosity(p, dot(vij, nb.r), nb.r2, p.c0, 0.5f * (rhoi_s + rhoj));
+        a = a - gw * (mj * pij);  // eq. (10)
+        if (EXTRAS && p.viscosity > 0.0f) a = a + vij * (mj * laminar(p, nb.r2, nb.fw, rhoi_s, rhoj));
+        return a * scale;
     }
 
     // Combine the L lanes of each particle, store a (0 on walls), and fold |v|, |a| and c

@@ -16,7 +16,8 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
                                   const float* __restrict__ rho, const float* __restrict__ pr,
                                   const unsigned char* __restrict__ kind,
                                   const unsigned* __restrict__ group, const float* __restrict__ stress,
-                                  const float* __restrict__ art, const unsigned* __restrict__ id,
+                                  const float* __restrict__ art, const float* __restrict__ iface,
+                                  const unsigned* __restrict__ id,
                                   const float* __restrict__ surf, float* __restrict__ acc_out,
                                   unsigned* __restrict__ red, const float* __restrict__ grad_rho,
                                   float* __restrict__ drho_out,
@@ -28,7 +29,7 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
     const unsigned char ki = i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY;
     ForceSum<DIM, SOLIDS, EXTRAS> f;
     RateSum<DIM, SOLIDS, EXTRAS> r;
-    f.begin(p, i, n, ki, lane, vel, rho, pr, group, stress);
+    f.begin(p, i, n, ki, lane, vel, rho, pr, group, stress, iface);
     r.begin(p, i, n, ki, vel, rho, group, grad_rho);
     // Every particle with forces has rates (dynamic walls have rates only); a wall at rest
     // walks the rows with a moving particle only, none among walls at rest alone (its rates
@@ -38,7 +39,7 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
                               [&](unsigned j, Vec<DIM> rij, float r2, float pw) {
         if (j == i) return;
         const Neighbour<DIM> nb = neighbour<DIM, SOLIDS>(p, j, rij, r2, pw, vel, kind);
-        if (f.on) f.add(p, i, n, nb, pr, group, stress, art, id, surf);
+        if (f.on) f.add(p, i, n, nb, pr, group, stress, art, iface, id, surf);
         r.add(p, nb, group);
     }, PairBits<DIM>{}, true, walk);
     f.template finish<L>(p, i, n, lane, acc_out, red, sh, i < n && owns_slot<DIM>(p, pos, i));
@@ -52,10 +53,11 @@ __device__ void forces_rates_impl(const SphParams& p, unsigned n, const unsigned
     extern "C" __global__ void __launch_bounds__(MF_BLOCK, SOLIDS ? 1 : MF_FLUID_BLOCKS)                                        \
         name(const SphParams p, unsigned n, const unsigned* cell_start, const unsigned char* stamp, const float* pos, \
              const float* vel, const float* rho, const float* pr, const unsigned char* kind,                    \
-             const unsigned* group, const float* stress, const float* art, const unsigned* id,      \
+             const unsigned* group, const float* stress, const float* art, const float* iface,      \
+             const unsigned* id,                                                                        \
              const float* surf, float* acc, unsigned* red,            \
              const float* grad_rho, float* drho, float* xsph, float* rate) {                                     \
-        forces_rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, stamp, pos, vel, rho, pr, kind, group, stress, art, id, surf, acc, \
+        forces_rates_impl<DIM, SOLIDS, EXTRAS, L>(p, n, cell_start, stamp, pos, vel, rho, pr, kind, group, stress, art, iface, id, surf, acc, \
                                           red, grad_rho, drho, xsph, rate);                                      \
     }
 #define MF_FORCES_RATES_LANES(L) MF_SCHEMES(MF_FORCES_RATES_ENTRY, sph_forces_rates, L)

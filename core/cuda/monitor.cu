@@ -54,10 +54,10 @@ __device__ __forceinline__ void wall_pairs(const SphParams& p, unsigned n, unsig
             // The force kernel's pair term of wall particle j on particle i, alone: i's sum
             // started at zero (no gravity), r_ij = x_i - x_j.
             ForceSum<DIM, SOLIDS> f;
-            f.begin(p, i, n, ki, 0, vel, rho, pr, group, stress);
+            f.begin(p, i, n, ki, 0, vel, rho, pr, group, stress, nullptr);
             f.acc = vzero<DIM>();
             f.add(p, i, n, neighbour<DIM, SOLIDS>(p, j, r_ji * -1.0f, r2, wj, vel, kind), pr, group, stress,
-                  nullptr, id, surf);
+                  nullptr, nullptr, id, surf);
             const double mi = (double)mass_of<DIM>(pos, vel, i);
 #pragma unroll
             for (int a = 0; a < DIM; ++a) F[a] -= mi * (double)f.acc.c[a];

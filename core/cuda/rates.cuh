@@ -107,7 +107,11 @@ template <int DIM, bool SOLIDS, bool EXTRAS = true> struct RateSum {
         const Vec<DIM> vij = vi - nb.v;  // v = 0 on boundary particles
         // Continuity, volume form: d rho_i/dt = rho_i sum_j m_j / rho_j v_ij . grad W
         // (the factor rho_i is applied after the sum, as in cpu/rates.rs).
-        drho += fast_div(mj, rhoj) * dot(vij, gw);
+        // A body meeting the fluid at its extrapolated pressure leaves the fluid out of its
+        // own density (extrapolated_pair; cpu/rates.rs says why).
+        bool own_rate = true;
+        if constexpr (SOLIDS) own_rate = !(ki == MF_KIND_SOLID && extrapolated_pair(p, ki, kj));
+        if (own_rate) drho += fast_div(mj, rhoj) * dot(vij, gw);
         // Without solids every particle is fluid or a wall, and same_body is kj == ki (walls
         // return below anyway): no load of the neighbour's group.
         const bool one_body = SOLIDS ? same_body(p, ki, kj, gi, group[nb.j]) : kj == ki;

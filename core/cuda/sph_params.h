@@ -53,6 +53,12 @@
 #define MF_INTERFACE_PRESSURE 0 /* the pressure part -P I (Antoci, Gallati & Sibilla 2007) */
 #define MF_INTERFACE_STRESS 1   /* the whole stress -P I + S: the paper's eq. (16) */
 
+/* What pressure an elastic body's particles present to the fluid (`solid_fluid_pressure`). */
+#define MF_SOLID_FLUID_PRESSURE_EXTRAPOLATED 1 /* the fluid's, extrapolated to them (Adami, Hu &
+                                                  Adams 2012), as to walls' */
+#define MF_SOLID_FLUID_PRESSURE_OWN 0          /* the body's own P = c_s^2 (rho - rho0_s) of its
+                                                  continuity density: the paper's, the default */
+
 /* The stress the artificial stress is taken from (`artificial_stress_from`). */
 #define MF_ART_STRESS_FROM_STRESS 0     /* sigma = -P I + S (Gray, Monaghan & Swift 2001) */
 #define MF_ART_STRESS_FROM_DEVIATORIC 1 /* S alone */
@@ -139,6 +145,17 @@ typedef struct SphParams {
                                   and the internal force sum_j V0_i V0_j (P_i L_i + P_j L_j)
                                   grad W0_ij; the pairs of one body skip eq. (16)'s stress
                                   term; no Jaumann rate, no artificial stress */
+    int32_t solid_fluid_pressure; /* MF_SOLID_FLUID_PRESSURE_*: in a pair of a fluid particle
+                              and a body's particle b. EXTRAPOLATED: b meets
+                              the fluid as fluid of its volume V_b = m_b / rho_b at the
+                              fluid's pressure extrapolated to it, P'_b = (sum_f P_f W_bf +
+                              rho_f g . (x_b - x_f) W_bf) / sum_f W_bf (Adami, Hu & Adams
+                              2012, J. Comput. Phys. 231, 7057, eq. (27) without the body's
+                              acceleration), and its Tait density rho'_b, eq. (9) inverted;
+                              the pair's force on b is the reaction of the fluid's (momentum
+                              conserved), and b's continuity density sums no fluid. OWN (the
+                              default): b's own P and rho, its continuity summing the fluid
+                              too (the paper) */
     float hourglass;       /* [-] alpha of the hourglass control of Ganzenmueller 2015 (total
                               Lagrangian only): a pair force against the part of the pair's
                               separation that F does not predict; 0 = off */

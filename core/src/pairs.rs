@@ -3,7 +3,9 @@
 //! share: whether a neighbour enters a particle's sums (`couples`), whether two kinds meet at
 //! all (`meets`), and whether two particles count as one body (`same_body`).
 
-use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID};
+use crate::params::{
+    SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID, MF_SOLID_FLUID_PRESSURE_EXTRAPOLATED,
+};
 
 /// Whether particle j of kind `kj` enters the SPH sums of another particle: boundary
 /// particles only with dynamic walls (`wall_coupling`, Crespo et al. 2007: wall particles
@@ -41,4 +43,22 @@ pub fn same_body(p: &SphParams, ki: u8, kj: u8, gi: u32, gj: u32) -> bool {
         && (ki as u32 == MF_KIND_FLUID
             || gi == gj
             || (ki as u32 == MF_KIND_SOLID && (clamp(gi) || clamp(gj))))
+}
+
+/// Whether bodies meet the fluid at its extrapolated pressure (`[solid] fluid_pressure`);
+/// the interface stage runs where the scene also has solids.
+#[inline]
+pub fn extrapolated(p: &SphParams) -> bool {
+    p.solid_fluid_pressure as u32 == MF_SOLID_FLUID_PRESSURE_EXTRAPOLATED
+}
+
+/// Whether a pair of kinds `ki`, `kj` is a fluid particle and a body's particle that meet at
+/// the fluid's pressure extrapolated to the body (`[solid] fluid_pressure = "extrapolated"`,
+/// `backend/cpu/interface.rs`): there the body's particle takes part as fluid of its own
+/// volume, and its continuity density leaves the fluid out.
+#[inline]
+pub fn extrapolated_pair(p: &SphParams, ki: u8, kj: u8) -> bool {
+    let (f, s) = (MF_KIND_FLUID, MF_KIND_SOLID);
+    let (ki, kj) = (ki as u32, kj as u32);
+    extrapolated(p) && ((ki == f && kj == s) || (ki == s && kj == f))
 }

@@ -18,6 +18,14 @@ __device__ __forceinline__ bool meets(const SphParams& p, unsigned char ki, unsi
                                          (ki == MF_KIND_BOUNDARY && kj == MF_KIND_SOLID));
 }
 
+// Whether a pair of kinds ki, kj is a fluid particle and a body's particle that meet at the
+// fluid's pressure extrapolated to the body (solid_fluid_pressure): the body's particle takes
+// part as fluid of its own volume, and its continuity leaves the fluid out.
+__device__ __forceinline__ bool extrapolated_pair(const SphParams& p, unsigned char ki, unsigned char kj) {
+    return p.solid_fluid_pressure == MF_SOLID_FLUID_PRESSURE_EXTRAPOLATED &&
+           ((ki == MF_KIND_FLUID && kj == MF_KIND_SOLID) || (ki == MF_KIND_SOLID && kj == MF_KIND_FLUID));
+}
+
 // Whether i and j count as one body for XSPH (eq. 18), the velocity gradient (eq. 15) and
 // the artificial stress: all fluid; one solid group; and a driven solid (a clamp) bonded to
 // every solid it neighbours, so the held part passes stress into the body it holds.

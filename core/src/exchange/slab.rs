@@ -84,7 +84,8 @@ pub fn balanced(p: &SphParams, axis: usize, coords: &[f32], n: usize) -> Vec<Sla
 /// radius further out: the force pass and the rates pass (which reads the neighbours'
 /// kicked velocities) under the symplectic Euler, one fused pass under the forward Euler;
 /// one more where the density is summed (eq. (8): the force pass reads the neighbours'
-/// summed densities) and one more where the rates read renormalised density gradients.
+/// summed densities), one more where the rates read renormalised density gradients, and one
+/// more where bodies meet the fluid at its extrapolated pressure.
 pub fn passes(p: &SphParams) -> u32 {
     let mut n = if p.integrator as u32 == MF_INTEGRATOR_EULER {
         1
@@ -95,6 +96,11 @@ pub fn passes(p: &SphParams) -> u32 {
         n += 1;
     }
     if crate::params::needs_density_gradient(p) {
+        n += 1;
+    }
+    // The bodies' particles read the fluid's pressures of the density pass
+    // (`Solver::solid_interface`) before the force pass reads theirs.
+    if p.own_solids != 0 && crate::pairs::extrapolated(p) {
         n += 1;
     }
     n

@@ -18,6 +18,8 @@ pub const MF_DIFFUSION_FOURTAKAS: u32 = 1;
 pub const MF_DIFFUSION_ANTUONO: u32 = 2;
 pub const MF_INTERFACE_PRESSURE: u32 = 0;
 pub const MF_INTERFACE_STRESS: u32 = 1;
+pub const MF_SOLID_FLUID_PRESSURE_EXTRAPOLATED: u32 = 1;
+pub const MF_SOLID_FLUID_PRESSURE_OWN: u32 = 0;
 pub const MF_ART_STRESS_FROM_STRESS: u32 = 0;
 pub const MF_ART_STRESS_FROM_DEVIATORIC: u32 = 1;
 pub const MF_SOLID_JAUMANN: u32 = 0;
@@ -99,6 +101,8 @@ pub struct SphParams {
     pub artificial_stress_from: i32,
     #[doc = " MF_SOLID_*: JAUMANN, the paper's rate form (the default), or\nTOTAL_LAGRANGIAN (O'Connor & Rogers 2021, J. Fluids Struct.\n104, 103312): per body the deformation gradient\nF = I + sum_j V0_j (u_j - u_i) (x) L_i grad W0_ij on the\nreference configuration, the Saint Venant-Kirchhoff stress,\nand the internal force sum_j V0_i V0_j (P_i L_i + P_j L_j)\ngrad W0_ij; the pairs of one body skip eq. (16)'s stress\nterm; no Jaumann rate, no artificial stress"]
     pub solid_formulation: i32,
+    #[doc = " MF_SOLID_FLUID_PRESSURE_*: in a pair of a fluid particle\nand a body's particle b. EXTRAPOLATED: b meets\nthe fluid as fluid of its volume V_b = m_b / rho_b at the\nfluid's pressure extrapolated to it, P'_b = (sum_f P_f W_bf +\nrho_f g . (x_b - x_f) W_bf) / sum_f W_bf (Adami, Hu & Adams\n2012, J. Comput. Phys. 231, 7057, eq. (27) without the body's\nacceleration), and its Tait density rho'_b, eq. (9) inverted;\nthe pair's force on b is the reaction of the fluid's (momentum\nconserved), and b's continuity density sums no fluid. OWN (the\ndefault): b's own P and rho, its continuity summing the fluid\ntoo (the paper)"]
+    pub solid_fluid_pressure: i32,
     #[doc = " [-] alpha of the hourglass control of Ganzenmueller 2015 (total\nLagrangian only): a pair force against the part of the pair's\nseparation that F does not predict; 0 = off"]
     pub hourglass: f32,
     #[doc = " [L/T^2] C0, strength of the Lennard-Jones force"]

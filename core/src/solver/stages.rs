@@ -21,6 +21,12 @@ macro_rules! stage_list {
             /// equation of state, eq. (9), and the solid pressure law; the artificial stress
             /// of solids.
             Density: fn density(&mut self);
+            /// The fluid's pressure extrapolated to the bodies' particles and its Tait
+            /// density, at which the force stage pairs them with the fluid (`[solid]
+            /// fluid_pressure = "extrapolated"`: Adami, Hu & Adams 2012; `pairs::
+            /// extrapolated_pair`). Nothing without solids or under "own" (the default does
+            /// nothing).
+            SolidInterface: fn solid_interface(&mut self) {}
             /// The total-Lagrangian bodies' stress (`[solid] formulation =
             /// "total-lagrangian"`, `crate::tlsph`): the deformation gradient from the
             /// displacements, the Saint Venant-Kirchhoff stress, and the deviator of its
@@ -143,6 +149,7 @@ pub trait Solver: Readback + Persist + Send {
     fn step(&mut self) {
         self.build_grid();
         self.density();
+        self.solid_interface();
         self.solid_stress();
         if self.params().integrator as u32 == MF_INTEGRATOR_EULER {
             self.density_gradient();

@@ -339,6 +339,14 @@ pub(crate) fn driven_cohesive(dim: usize, v: Variant, group: i32, u: [f32; 3]) -
 pub(crate) fn bodies_in_contact(dim: usize, v: Variant, whole: bool) -> Setup {
     let mut setup = scene(dim, v);
     setup.params.interface = whole as i32;
+    // The paper's whole stress comes with the body's own pressure (`scheme`'s check); the
+    // pressure part alone with the fluid's pressure extrapolated to the bodies (the interface
+    // stage, `pairs::extrapolated_pair`), which the other setups (the default) leave out.
+    setup.params.solid_fluid_pressure = if whole {
+        MF_SOLID_FLUID_PRESSURE_OWN
+    } else {
+        MF_SOLID_FLUID_PRESSURE_EXTRAPOLATED
+    } as i32;
     let p = setup.params;
     let xc = 0.5 * p.domain_max[0];
     let vol = p.dx.powi(dim as i32);

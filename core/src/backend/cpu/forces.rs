@@ -6,7 +6,7 @@ use rayon::prelude::*;
 use super::grid::Grid;
 use crate::dim::Dim;
 use crate::kernel;
-use crate::pairs::{couples, meets, same_body};
+use crate::pairs::{couples, extrapolated_pair, meets, same_body};
 use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID, MF_NO_SLIP_MORRIS};
 use crate::state::State;
 use crate::tlsph::total_lagrangian;
@@ -144,6 +144,9 @@ pub struct ForceSum<'a, D: Dim> {
     s: &'a State<D>,
     /// `Setup::wall_surface` (empty unless `no_slip`).
     surface: &'a [[f32; 4]],
+    /// (P', rho') per slot, the fluid's pressure at the bodies' particles and its Tait
+    /// density (`interface::solid_interface`), where the bodies meet the fluid at it.
+    iface: Option<&'a [[f32; 2]]>,
     /// The deviatoric stress and the artificial stress, where the state holds them.
     stress: Option<&'a Vec<D::M>>,
     art: Option<&'a Vec<D::M>>,
@@ -164,10 +167,13 @@ pub struct ForceSum<'a, D: Dim> {
 impl<'a, D: Dim> ForceSum<'a, D> {
     /// Particle i (no wall particle) of state `s`, its sum started at `acc` (gravity in the
     /// force stage). Pressures are those of `s.p`.
+    /// `iface`: `interface::solid_interface`'s (P', rho') where the bodies meet the fluid at
+    /// its extrapolated pressure (`pairs::extrapolated_pair`), else None.
     pub fn new(
         p: &SphParams,
         s: &'a State<D>,
         surface: &'a [[f32; 4]],
+        iface: Option<&'a [[f32; 2]]>,
         i: usize,
         acc: D::V,
     ) -> Self {
@@ -178,6 +184,7 @@ impl<'a, D: Dim> ForceSum<'a, D> {
         ForceSum {
             s,
             surface,
+            iface,
             stress,
             art: s.solid.as_ref().and_then(|so| so.art_stress.as_ref()),
             i,
@@ -201,7 +208,6 @@ impl<'a, D: Dim> ForceSum<'a, D> {
             (&s.vel, &s.rho, &s.p, &s.mass, &s.kind, &s.group, &s.id);
         let (stress, art) = (self.stress, self.art);
         let (i, ki, vi, rhoi, pi, ci) = (self.i, self.ki, self.vi, self.rhoi, self.pi, self.ci);
-        let acc = &mut self.acc;
         let kj = kind[j];
         let rr = r2.sqrt();
         let fw = kernel::f(p, rr);
@@ -211,11 +217,17 @@ impl<'a, D: Dim> ForceSum<'a, D> {
             if !meets(p, ki, kj) {
                 return;
             }
-            *acc += lennard_jones::<D>(p, r, rr); // eq. (17)
+            self.acc += lennard_jones::<D>(p, r, rr); // eq. (17)
             if !couples(p, kj) {
                 return;
             }
         }
+        if let Some(iface) = self.iface.filter(|_| extrapolated_pair(p, ki, kj)) {
+            let a = self.fluid_body(p, iface, j, r, r2, fw, grad_w);
+            self.acc += a;
+            return;
+        }
+        let acc = &mut self.acc;
         let (vj, rhoj, kj32) = (vel[j], rho[j], kj as u32);
         let vij = vi - vj;
         let vr = D::dot(vij, r);
@@ -263,10 +275,64 @@ impl<'a, D: Dim> ForceSum<'a, D> {
             }
         }
     }
+
+    /// What j exerts on i where one is a fluid particle and the other a body's particle that
+    /// meet at the fluid's extrapolated pressure (`pairs::extrapolated_pair`; r = x_i - x_j,
+    /// fw = `kernel::f`, grad_w = r fw): the body's particle b as fluid of its own volume
+    /// V_b = m_b / rho_b, mass rho'_b V_b, at (P'_b, rho'_b) (`interface::solid_interface`),
+    /// in eq. (7), eq. (10) (with the fluid's c0: b stands for fluid) and the laminar term.
+    /// On b the same pair force, reversed, over its own mass: its acceleration is the fluid
+    /// form's times rho'_b / rho_b (a body lighter than water rises). Momentum is conserved.
+    #[inline]
+    fn fluid_body(
+        &self,
+        p: &SphParams,
+        iface: &[[f32; 2]],
+        j: usize,
+        r: D::V,
+        r2: f32,
+        fw: f32,
+        grad_w: D::V,
+    ) -> D::V {
+        let s = self.s;
+        let i = self.i;
+        let body_i = self.ki as u32 == MF_KIND_SOLID;
+        // (P, rho, mass) as the pair sees each.
+        let seen = |k: usize| {
+            if s.kind[k] as u32 == MF_KIND_SOLID {
+                let [pk, rk] = iface[k];
+                (pk, rk, rk * s.mass[k] / s.rho[k])
+            } else {
+                (s.p[k], s.rho[k], s.mass[k])
+            }
+        };
+        let (pi, rhoi, mi) = seen(i);
+        let (pj, rhoj, mj) = seen(j);
+        // m_i' / m_i: 1 for fluid, rho'_b / rho_b for a body's particle.
+        let scale = if body_i { mi / s.mass[i] } else { 1.0 };
+        let vij = self.vi - s.vel[j];
+        // eq. (7): -m_j (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij
+        let mut a = grad_w * (-mj * (pi / (rhoi * rhoi) + pj / (rhoj * rhoj)));
+        // eq. (10)
+        let pi_ij = artificial_viscosity(p, D::dot(vij, r), r2, p.c0, 0.5 * (rhoi + rhoj));
+        a -= grad_w * (mj * pi_ij);
+        if p.viscosity > 0.0 {
+            a += vij * (mj * laminar(p, r2, fw, rhoi, rhoj));
+        }
+        a * scale
+    }
 }
 
 /// `surface`: `Setup::wall_surface` (empty unless `no_slip`).
-pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, surface: &[[f32; 4]], s: &mut State<D>) {
+/// `iface`: `interface::solid_interface`'s, where the bodies meet the fluid at its
+/// extrapolated pressure.
+pub fn forces<D: Dim>(
+    p: &SphParams,
+    grid: &Grid,
+    surface: &[[f32; 4]],
+    iface: Option<&[[f32; 2]]>,
+    s: &mut State<D>,
+) {
     let g = D::from3(p.gravity);
     let st: &State<D> = s;
     let acc: Vec<D::V> = (0..st.len())
@@ -275,7 +341,7 @@ pub fn forces<D: Dim>(p: &SphParams, grid: &Grid, surface: &[[f32; 4]], s: &mut 
             if st.kind[i] as u32 == MF_KIND_BOUNDARY {
                 return D::V::default();
             }
-            let mut f = ForceSum::new(p, st, surface, i, g);
+            let mut f = ForceSum::new(p, st, surface, iface, i, g);
             grid.for_each_neighbor::<D>(p, &st.pos, st.pos[i], |j, r, r2| {
                 if j != i {
                     f.add(p, j, r, r2);

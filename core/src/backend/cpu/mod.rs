@@ -5,6 +5,7 @@ mod density;
 mod forces;
 mod grid;
 mod integrate;
+mod interface;
 mod monitor;
 mod probes;
 mod rates;
@@ -49,6 +50,10 @@ pub struct CpuSolver<D: Dim> {
     /// which the rates stage reads; None until that stage ran since the last sort, or where
     /// the scheme needs none.
     grad_rho: Option<Vec<D::V>>,
+    /// The interface stage's (P', rho') per slot (`interface::solid_interface`), which the
+    /// force stage reads; None until that stage ran since the last sort, or where the bodies
+    /// meet the fluid at their own pressure.
+    iface: Option<Vec<[f32; 2]>>,
     /// The total-Lagrangian bodies (`crate::tlsph`); `None` under the Jaumann rate or
     /// without solids.
     tl: Option<TlBodies<D>>,
@@ -86,6 +91,7 @@ impl<D: Dim> CpuSolver<D> {
             grid: Grid::default(),
             grid_stale: true,
             grad_rho: None,
+            iface: None,
             wall_surface: setup.wall_surface,
             time: 0.0,
             steps: 0,
@@ -113,6 +119,7 @@ impl<D: Dim> CpuSolver<D> {
     fn sort(&mut self) {
         self.grid.build(&self.params, &mut self.state);
         self.grad_rho = None;
+        self.iface = None;
         if let Some(tl) = self.tl.as_mut() {
             tl.map_slots(&self.state);
         }
@@ -161,16 +168,32 @@ impl<D: Dim> Solver for CpuSolver<D> {
         });
         rates::rates(&self.params, self.dt, &self.grid, grad_rho, &mut self.state);
     }
+    fn solid_interface(&mut self) {
+        if self.has_solids() && crate::pairs::extrapolated(&self.params) {
+            self.iface = Some(interface::solid_interface(
+                &self.params,
+                &self.grid,
+                &self.state,
+            ));
+        }
+    }
     fn solid_stress(&mut self) {
         if let Some(tl) = self.tl.as_mut() {
             tl.stress(&self.params, &mut self.state);
         }
     }
     fn forces(&mut self) {
+        let iface = (self.has_solids() && crate::pairs::extrapolated(&self.params)).then(|| {
+            self.iface
+                .as_deref()
+                .filter(|f| f.len() == self.state.len())
+                .expect("the interface stage runs before the forces (Solver::step)")
+        });
         forces::forces(
             &self.params,
             &self.grid,
             &self.wall_surface,
+            iface,
             &mut self.state,
         );
     }

@@ -59,7 +59,7 @@ pub fn wall_force<D: Dim>(
                 return;
             }
             // The force stage's pair term of wall particle j on particle i, alone.
-            let mut f = ForceSum::new(p, s, surface, i, D::V::default());
+            let mut f = ForceSum::new(p, s, surface, None, i, D::V::default());
             f.add(p, j, -r_ji, r2); // r_ij = x_i - x_j
             let a = D::to3(f.acc);
             for (f, a) in force.iter_mut().zip(a) {

@@ -12,7 +12,7 @@ use super::grid::Grid;
 use crate::consts::{MF_MOMENT_DET_MIN, MF_SHIFT_ANTI_CLUMP, MF_SHIFT_SURFACE_MARGIN};
 use crate::dim::Dim;
 use crate::kernel;
-use crate::pairs::{couples, meets, same_body};
+use crate::pairs::{couples, extrapolated_pair, meets, same_body};
 use crate::params::{
     needs_density_gradient, SphParams, MF_DIFFUSION_FOURTAKAS, MF_INTEGRATOR_LEAPFROG,
     MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID,
@@ -189,7 +189,13 @@ pub fn rates<D: Dim>(
                 // volume form (Colagrossi & Landrini 2003): a fluid neighbour of mass 1.0 dx^d
                 // must not compress a solid of density 0.6 as if it were its own kind.
                 // (The sum of m_j / rho_j v_ij . grad W here, times rho_i after the loop.)
-                o.drho += mass[j] / rho[j] * D::dot(vij, grad_w);
+                // A body meeting the fluid at its extrapolated pressure leaves the fluid
+                // out of its own density (`pairs::extrapolated_pair`): the fluid's push
+                // reaches it through the pair force, and the body's density is its own
+                // deformation's.
+                if !(solid_i && extrapolated_pair(p, ki, kj)) {
+                    o.drho += mass[j] / rho[j] * D::dot(vij, grad_w);
+                }
                 if shift {
                     // Every neighbour that couples (fluid, solid, dynamic wall) fills the
                     // support, so a fluid particle is not shifted into a wall or a body.

@@ -80,6 +80,9 @@ pub struct Buffers {
     /// Renormalised density gradients (`sph_grad_rho`), D floats per particle; only with the
     /// density diffusion in Antuono et al.'s form (`needs_density_gradient`).
     pub grad_rho: Option<CudaSlice<f32>>,
+    /// The interface stage's (P', rho') per particle (`sph_solid_interface`), 2 floats
+    /// each; with solids (read only where `pairs::extrapolated`).
+    pub iface: Option<CudaSlice<f32>>,
     /// `Setup::wall_surface` as float4 per boundary particle (by id - wall_first_id; not
     /// reordered by the grid); only with `no_slip`.
     pub wall_surface: Option<CudaSlice<f32>>,
@@ -217,6 +220,7 @@ struct Working {
     stress_rate: Option<CudaSlice<f32>>,
     art: Option<CudaSlice<f32>>,
     grad_rho: Option<CudaSlice<f32>>,
+    iface: Option<CudaSlice<f32>>,
     cell: CudaSlice<u32>,
     diag_partial: CudaSlice<f64>,
 }
@@ -294,6 +298,7 @@ impl Working {
             stress_rate: opt(a, h.solids, cap * ns)?,
             art: opt(a, h.art, cap * ns)?,
             grad_rho: opt(a, h.grad_rho, cap * D::D)?,
+            iface: opt(a, h.solids, cap * 2)?,
             cell: a.z(cap)?,
             diag_partial: a.z(2 * 3 * (cap.max(1) as u32).div_ceil(MF_BLOCK) as usize)?,
         })
@@ -353,6 +358,7 @@ impl Buffers {
             stress_rate: w.stress_rate,
             art: w.art,
             grad_rho: w.grad_rho,
+            iface: w.iface,
             wall_surface: if surface.is_empty() {
                 None
             } else {
@@ -440,6 +446,7 @@ impl Buffers {
         self.stress_rate = w.stress_rate;
         self.art = w.art;
         self.grad_rho = w.grad_rho;
+        self.iface = w.iface;
         self.cell = w.cell;
         self.diag_partial = w.diag_partial;
         // The scan's cell starts move into the new `xsph` where they fit now (they never

@@ -83,6 +83,7 @@ pub enum Family {
     GridScatter,
     GridGather,
     Density,
+    SolidInterface,
     GradRho,
     Forces,
     Rates,
@@ -135,7 +136,8 @@ macro_rules! forces_params {
             "const SphParams p, unsigned n, const unsigned* cell_start, \
              const unsigned char* stamp, const float* pos, \
              const float* vel, const float* rho, const float* pr, const unsigned char* kind, \
-             const unsigned* group, const float* stress, const float* art, const unsigned* id, \
+             const unsigned* group, const float* stress, const float* art, const float* iface, \
+             const unsigned* id, \
              const float* surf, float* acc, unsigned* red"
             $(, ", ", $more)?
         )
@@ -152,7 +154,7 @@ const WALL_FORCE_PARAMS: &str =
 
 impl Family {
     /// Every family, in the order of the discriminants.
-    pub const ALL: [Family; 38] = [
+    pub const ALL: [Family; 39] = [
         Family::GridHist,
         Family::ScanLocal,
         Family::ScanOne,
@@ -160,6 +162,7 @@ impl Family {
         Family::GridScatter,
         Family::GridGather,
         Family::Density,
+        Family::SolidInterface,
         Family::GradRho,
         Family::Forces,
         Family::Rates,
@@ -248,6 +251,13 @@ impl Family {
                 "const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, \
                  float* vel, const unsigned char* kind, float* rho, float* pr, float* rho_dev, \
                  const float* stress, float* art",
+            ),
+            Family::SolidInterface => (
+                "density",
+                "sph_solid_interface",
+                Dims,
+                "const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, \
+                 const float* rho, const float* pr, const unsigned char* kind, float* iface",
             ),
             Family::GradRho => (
                 "rates",

@@ -445,6 +445,9 @@ impl<D: Dim> Solver for CudaSolver<D> {
     fn density(&mut self) {
         launch::density(&self.k, &self.dev.stream, &self.params, &mut self.buf);
     }
+    fn solid_interface(&mut self) {
+        launch::solid_interface(&self.k, &self.dev.stream, &self.params, &mut self.buf);
+    }
     fn density_gradient(&mut self) {
         launch::grad_rho(&self.k, &self.dev.stream, &self.params, &mut self.buf);
     }

@@ -35,6 +35,35 @@ pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers)
     kd.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
 }
 
+/// The fluid's pressure extrapolated to the bodies' particles (`Buffers::iface`), which the
+/// forces pass (alone or fused) reads: the interface stage; nothing without solids or where
+/// the bodies meet the fluid at their own pressure.
+pub fn solid_interface(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+    if !crate::pairs::extrapolated(p) {
+        return;
+    }
+    let Some(e) = b.iface.as_mut().filter(|_| b.n > 0) else {
+        return;
+    };
+    let n = b.n as u32;
+    let c = &b.cur;
+    // SAFETY: the arguments of `Family::SolidInterface`; iface holds 2 floats per particle.
+    let ki = k.get(Family::SolidInterface);
+    ki.check(unsafe {
+        s.launch_builder(&ki.f)
+            .arg(p)
+            .arg(&n)
+            .arg(&b.cell_start)
+            .arg(&c.pos)
+            .arg(&c.rho)
+            .arg(&c.p)
+            .arg(&c.kind)
+            .arg(e)
+            .launch(cfg(b.n))
+            .map(|_| ())
+    });
+}
+
 /// The renormalised density gradients for the density diffusion in Antuono et al.'s form
 /// (`Buffers::grad_rho`, held only where `needs_density_gradient`), which the rates pass
 /// (alone or fused with the forces) reads: the density gradient stage.
@@ -121,7 +150,8 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     };
     let (kf, lanes) = (k.neighbour(family, scheme(p, b)), k.lanes);
     let c = &b.cur;
-    // SAFETY: the arguments of `Family::Forces` or, fused, `Family::ForcesRates` (stamp:
+    // SAFETY: the arguments of `Family::Forces` or, fused, `Family::ForcesRates` (iface:
+    // null, or 2 floats per particle from this step's interface stage; stamp:
     // null, or n_cells + 1 bytes from the grid build these positions were filed by): the same
     // followed by grad_rho, drho, xsph and rate (every scheme's); stress, art, surf may be
     // null (surf is read only under no_slip, when Buffers holds it: float4 per boundary
@@ -136,6 +166,10 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     l.arg(&c.kind).arg(&c.group);
     opt!(l, &c.stress);
     opt!(l, &b.art);
+    opt!(
+        l,
+        b.iface.as_ref().filter(|_| crate::pairs::extrapolated(p))
+    );
     l.arg(&c.id);
     opt!(l, &b.wall_surface);
     l.arg(&mut b.acc).arg(&mut b.red);
