@@ -325,6 +325,10 @@ pub(crate) fn stages_on<D: Dim>(what: &str, setup: Setup) {
 
         c.density();
         g.density();
+        // The fluid's pressure at the bodies (where they meet the fluid at it), which the
+        // force stage reads: compared through the forces.
+        c.solid_interface();
+        g.solid_interface();
         if let Some(pg) = grid_pressure {
             let pc = &c.state().p;
             close(

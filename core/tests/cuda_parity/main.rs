@@ -40,6 +40,7 @@ use meshfree_core::params::{
 };
 use meshfree_core::params::{
     MF_INTEGRATOR_LEAPFROG, MF_INTEGRATOR_SYMPLECTIC_EULER, MF_KIND_BOUNDARY,
+    MF_SOLID_FLUID_PRESSURE_EXTRAPOLATED, MF_SOLID_FLUID_PRESSURE_OWN,
 };
 use meshfree_core::particle::{Kind, Particle};
 use meshfree_core::solver::{PointSample, Setup, Solver};

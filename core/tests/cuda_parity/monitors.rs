@@ -113,7 +113,7 @@ fn gross_wall_force<D: Dim>(
         }
         grid.for_each_neighbor::<D>(p, &s.pos, s.pos[j], |i, r_ji, r2| {
             if s.kind[i] != Kind::Boundary.code() {
-                let mut f = cpu::ForceSum::new(p, &s, surface, i, D::V::default());
+                let mut f = cpu::ForceSum::new(p, &s, surface, None, i, D::V::default());
                 f.add(p, j, -r_ji, r2);
                 sum += s.mass[i] as f64 * D::length2(f.acc).sqrt() as f64;
             }

@@ -11,6 +11,7 @@ fn fused_equals_two_passes<D: Dim>(what: &str, setup: Setup) {
     let mut g = gpu::<D>(&setup);
     g.build_grid();
     g.density();
+    g.solid_interface();
     g.density_gradient();
     let start = g.download_state();
     for lanes in [8, 4, 2, 1] {
@@ -95,6 +96,7 @@ fn replayed_rates_equal_tested<D: Dim>(what: &str, mut setup: Setup, h_over_dx: 
     g.set_lanes(Some(1));
     g.build_grid();
     g.density();
+    g.solid_interface();
     g.density_gradient();
     let start = g.download_state();
     g.forces();
@@ -212,6 +214,7 @@ fn walls_at_rest_are_skipped_exactly_3d() {
         "a grid build at one lane in 3D stamps"
     );
     g.density();
+    g.solid_interface();
     let start = g.download_state();
     let step = |g: &mut CudaSolver<D3>| {
         g.forces();

@@ -223,7 +223,7 @@ impl<'a, D: Dim> ForceSum<'a, D> {
             }
         }
         if let Some(iface) = self.iface.filter(|_| extrapolated_pair(p, ki, kj)) {
-            let a = self.fluid_body(p, iface, j, r, r2, fw, grad_w);
+            let a = self.fluid_body(p, iface, j, r, r2, fw);
             self.acc += a;
             return;
         }
@@ -278,7 +278,7 @@ impl<'a, D: Dim> ForceSum<'a, D> {
 
     /// What j exerts on i where one is a fluid particle and the other a body's particle that
     /// meet at the fluid's extrapolated pressure (`pairs::extrapolated_pair`; r = x_i - x_j,
-    /// fw = `kernel::f`, grad_w = r fw): the body's particle b as fluid of its own volume
+    /// fw = `kernel::f`): the body's particle b as fluid of its own volume
     /// V_b = m_b / rho_b, mass rho'_b V_b, at (P'_b, rho'_b) (`interface::solid_interface`),
     /// in eq. (7), eq. (10) (with the fluid's c0: b stands for fluid) and the laminar term.
     /// On b the same pair force, reversed, over its own mass: its acceleration is the fluid
@@ -292,8 +292,8 @@ impl<'a, D: Dim> ForceSum<'a, D> {
         r: D::V,
         r2: f32,
         fw: f32,
-        grad_w: D::V,
     ) -> D::V {
+        let grad_w = r * fw; // grad_i W_ij
         let s = self.s;
         let i = self.i;
         let body_i = self.ki as u32 == MF_KIND_SOLID;
@@ -306,10 +306,10 @@ impl<'a, D: Dim> ForceSum<'a, D> {
                 (s.p[k], s.rho[k], s.mass[k])
             }
         };
-        let (pi, rhoi, mi) = seen(i);
+        let (pi, rhoi, _) = seen(i);
         let (pj, rhoj, mj) = seen(j);
         // m_i' / m_i: 1 for fluid, rho'_b / rho_b for a body's particle.
-        let scale = if body_i { mi / s.mass[i] } else { 1.0 };
+        let scale = if body_i { rhoi / s.rho[i] } else { 1.0 };
         let vij = self.vi - s.vel[j];
         // eq. (7): -m_j (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij
         let mut a = grad_w * (-mj * (pi / (rhoi * rhoi) + pj / (rhoj * rhoj)));
