@@ -10,7 +10,8 @@
 //! full tier only, the cylinder at Re 100 (|St / St_Williamson - 1| over t U / D = 40-80 of
 //! a kicked start, `cylinder::strouhal_error`; D / dx = 5, 8, 10, the variants at 5).
 //! Every point carries its backend and device (labels, CSV, JSON); one front per case over
-//! all backends asked for.
+//! all backends asked for. A variant that does not apply to a case's scheme, or changes
+//! nothing in it, is not run: its row says why (`variants.rs`).
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -18,13 +19,17 @@ use std::path::PathBuf;
 use anyhow::Context;
 use serde::{Deserialize, Serialize};
 
+mod variants;
+
 use crate::plot::{plot, Figure, Series};
 use crate::stability::cases;
 use crate::stability::sweep::Base;
-use crate::validate::{cylinder, taylor_green, Ctx, Tier};
+use crate::validate::{cylinder, taylor_green, Ctx, RunInfo, Tier};
 use meshfree_core::backend::BackendChoice;
 use meshfree_core::scene::Scene;
-use meshfree_core::scheme::{DensityForm, DiffusionForm, IntegratorChoice, KernelChoice};
+use meshfree_core::solver::BackendInfo;
+pub use variants::SAME_AS_DEFAULT;
+use variants::{case_variants, skip_reason, Variant};
 
 /// The cylinder's run length in D / U: the kicked wake sheds from t U / D ~ 30; the
 /// Strouhal number comes from the second half.
@@ -51,90 +56,15 @@ pub struct Point {
     pub device: String,
     pub particles: usize,
     pub wall_seconds: f64,
-    /// None: the run blew up (`failure` says how).
+    /// None: the run blew up (`failure` says how), or was not made (`skipped`).
     pub error: Option<f64>,
     pub failure: Option<String>,
     pub pareto: bool,
-}
-
-/// A variant: a name and a change to the case's scene.
-struct Variant {
-    name: &'static str,
-    edit: fn(&mut Scene),
-}
-
-fn variants(quick: bool) -> Vec<Variant> {
-    let all = vec![
-        Variant {
-            name: "default",
-            edit: |_| {},
-        },
-        Variant {
-            name: "Wendland C2",
-            edit: |s| s.file.discretisation.kernel = KernelChoice::WendlandC2,
-        },
-        Variant {
-            name: "summation density",
-            edit: |s| s.file.fluid.density_form = DensityForm::Summation,
-        },
-        Variant {
-            name: "forward Euler",
-            edit: |s| s.file.time.integrator = IntegratorChoice::Euler,
-        },
-        Variant {
-            name: "delta-SPH 0.1",
-            edit: |s| s.file.fluid.density_diffusion = 0.1,
-        },
-        Variant {
-            name: "delta-SPH 0.1, Fourtakas",
-            edit: |s| {
-                s.file.fluid.density_diffusion = 0.1;
-                s.file.fluid.density_diffusion_form = DiffusionForm::Fourtakas;
-            },
-        },
-        Variant {
-            name: "delta-SPH 0.1, Antuono",
-            edit: |s| {
-                s.file.fluid.density_diffusion = 0.1;
-                s.file.fluid.density_diffusion_form = DiffusionForm::Antuono;
-            },
-        },
-        Variant {
-            name: "shifting 0.2",
-            edit: |s| s.file.fluid.shifting = 0.2,
-        },
-        Variant {
-            name: "Courant 0.4",
-            edit: |s| s.file.time.courant = Some(0.4),
-        },
-    ];
-    if quick {
-        all.into_iter().take(2).collect()
-    } else {
-        all
-    }
-}
-
-/// The dam break's viscosity variant: alpha 0.05 instead of 0.02; the Taylor-Green
-/// vortex's: artificial viscosity with the same nu = alpha h c0 / 8 (Monaghan 1992, 2D)
-/// instead of the laminar term.
-fn viscosity_variant(base: &str) -> Variant {
-    if base == "dam-break" {
-        Variant {
-            name: "alpha 0.05",
-            edit: |s| s.file.fluid.alpha = 0.05,
-        }
-    } else {
-        Variant {
-            name: "artificial viscosity",
-            edit: |s| {
-                let f = &mut s.file;
-                let h = f.discretisation.h_factor * f.discretisation.spacing;
-                f.fluid.alpha = 8.0 * f.fluid.viscosity / (h * f.fluid.sound_speed);
-                f.fluid.viscosity = 0.0;
-            },
-        }
-    }
+    /// Some: the variant was not run on this case, and why (it does not apply to the case's
+    /// scheme, or changes nothing in it); once per case, whatever the backends, with no
+    /// backend, device, particles or wall time.
+    #[serde(default)]
+    pub skipped: Option<String>,
 }
 
 /// Mark the Pareto front among the successful points of one case and backend set: a point
@@ -153,6 +83,129 @@ fn mark_pareto(points: &mut [Point]) {
     }
 }
 
+/// The resolutions a case runs the default scheme at, and the one its variants run at.
+fn resolutions(case: &str, quick: bool) -> (Vec<f64>, f64) {
+    match (case, quick) {
+        ("dam-break", true) => (vec![0.1, 0.05], 0.1),
+        ("dam-break", false) => (vec![0.1, 0.05, 0.04, 0.025], 0.05),
+        ("cylinder", _) => (vec![5.0, 8.0, 10.0], 5.0),
+        (_, true) => (vec![16.0, 24.0], 16.0),
+        (_, false) => (vec![20.0, 30.0, 40.0, 60.0], 30.0),
+    }
+}
+
+/// The scene a case's run at resolution `r` starts from, before a variant's edit.
+fn case_scene(case: &str, r: f64) -> anyhow::Result<Scene> {
+    match case {
+        "dam-break" => Ok(cases::base_scene(Base::DamBreak, r)),
+        "cylinder" => cylinder::scene(r, cylinder::RE, CYLINDER_T_END_UD),
+        _ => taylor_green::scene(r as usize),
+    }
+}
+
+/// The resolution as a row names it where no run reports its own.
+fn resolution_label(case: &str, r: f64) -> String {
+    match case {
+        "dam-break" => format!("dx = {r}"),
+        "cylinder" => format!("D / dx = {r}"),
+        _ => format!("{n} x {n}", n = r as usize),
+    }
+}
+
+/// The rows of the variants of `case` not run there (`variants::skip_reason`), and the
+/// variants that run.
+fn plan(case: &str, quick: bool) -> anyhow::Result<(Vec<Variant>, Vec<Point>)> {
+    let middle = resolutions(case, quick).1;
+    let default = case_scene(case, middle)?;
+    let (mut run, mut skipped) = (Vec::new(), Vec::new());
+    for v in case_variants(case, quick) {
+        match skip_reason(&default, &v) {
+            None => run.push(v),
+            Some(reason) => skipped.push(Point {
+                case: case.into(),
+                variant: v.name.into(),
+                resolution: resolution_label(case, middle),
+                backend: String::new(),
+                device: String::new(),
+                particles: 0,
+                wall_seconds: f64::NAN,
+                error: None,
+                failure: None,
+                pareto: false,
+                skipped: Some(reason),
+            }),
+        }
+    }
+    Ok((run, skipped))
+}
+
+/// Run `case` at resolution `r` with `v` on `ctx.backend`: its error, or how it failed,
+/// and the run. An Err: the run did not start or stopped short (a blow-up, no shedding).
+fn measure(
+    ctx: &Ctx,
+    case: &str,
+    r: f64,
+    v: &Variant,
+) -> anyhow::Result<(Result<f64, String>, RunInfo)> {
+    match case {
+        "dam-break" => {
+            let mut scene = case_scene(case, r)?;
+            (v.edit)(&mut scene);
+            scene.revalidate()?;
+            let m = cases::measure(Base::DamBreak, &scene, ctx.backend, 2.5)?;
+            let run = RunInfo {
+                resolution: resolution_label(case, r),
+                particles: m.particles,
+                wall_seconds: m.wall_seconds,
+                info: m.info,
+            };
+            Ok((m.result.map_err(|f| f.to_string()), run))
+        }
+        "cylinder" => {
+            let (e, run) = cylinder::strouhal_error(ctx, r, CYLINDER_T_END_UD, &|s| (v.edit)(s))?;
+            Ok((Ok(e), run))
+        }
+        _ => {
+            let (e, run) = taylor_green::decay_rate_error(ctx, r as usize, &|s| (v.edit)(s))?;
+            Ok((Ok(e), run))
+        }
+    }
+}
+
+/// The point of one run (`measure`); a run that errors is a point with its failure, never
+/// an error of the chart.
+fn point(ctx: &Ctx, case: &str, r: f64, v: &Variant) -> Point {
+    let (error, failure, run) = match measure(ctx, case, r, v) {
+        Ok((result, run)) => (result.as_ref().ok().copied(), result.err(), run),
+        Err(e) => {
+            let info = BackendInfo {
+                backend: format!("{:?}", ctx.backend).to_lowercase(),
+                device: String::new(),
+            };
+            let run = RunInfo {
+                resolution: resolution_label(case, r),
+                particles: 0,
+                wall_seconds: f64::NAN,
+                info,
+            };
+            (None, Some(format!("{e:#}")), run)
+        }
+    };
+    Point {
+        case: case.into(),
+        variant: v.name.into(),
+        resolution: run.resolution,
+        backend: run.info.backend,
+        device: run.info.device,
+        particles: run.particles,
+        wall_seconds: run.wall_seconds,
+        error,
+        failure,
+        pareto: false,
+        skipped: None,
+    }
+}
+
 pub fn run(options: &Options) -> anyhow::Result<Vec<Point>> {
     let quick = options.tier == Tier::Quick;
     std::fs::create_dir_all(&options.out_dir)
@@ -164,6 +217,22 @@ pub fn run(options: &Options) -> anyhow::Result<Vec<Point>> {
         &["dam-break", "taylor-green", "cylinder"]
     };
     for &case in cases {
+        // Resolutions with the default scheme, then each variant that applies at the middle one.
+        let (resolutions, middle) = resolutions(case, quick);
+        let (variants, skipped) = plan(case, quick)?;
+        for p in skipped.iter().filter(|_| options.verbose) {
+            crate::note!(
+                "chart {case} {} {}: skipped: {}",
+                p.variant,
+                p.resolution,
+                p.skipped.as_deref().unwrap_or_default()
+            );
+        }
+        let runs: Vec<(f64, Variant)> = resolutions
+            .iter()
+            .map(|&r| (r, Variant::default()))
+            .chain(variants.into_iter().map(|v| (middle, v)))
+            .collect();
         let mut points = Vec::new();
         for &backend in &options.backends {
             let ctx = Ctx {
@@ -175,100 +244,8 @@ pub fn run(options: &Options) -> anyhow::Result<Vec<Point>> {
                 verbose: options.verbose,
                 edit: None,
             };
-            // Resolutions with the default scheme, then each variant at the middle one.
-            let (resolutions, middle): (Vec<f64>, f64) = match (case, quick) {
-                ("dam-break", true) => (vec![0.1, 0.05], 0.1),
-                ("dam-break", false) => (vec![0.1, 0.05, 0.04, 0.025], 0.05),
-                ("cylinder", _) => (vec![5.0, 8.0, 10.0], 5.0),
-                (_, true) => (vec![16.0, 24.0], 16.0),
-                (_, false) => (vec![20.0, 30.0, 40.0, 60.0], 30.0),
-            };
-            let mut runs: Vec<(f64, Variant)> = resolutions
-                .iter()
-                .map(|&r| {
-                    (
-                        r,
-                        Variant {
-                            name: "default",
-                            edit: |_| {},
-                        },
-                    )
-                })
-                .collect();
-            let mut vs = variants(quick);
-            if !quick {
-                vs.push(viscosity_variant(case));
-            }
-            if case == "cylinder" {
-                // The validate case's scheme (issue #23: the wake without voids).
-                vs.push(Variant {
-                    name: "shifting 0.2, background pressure 2 q, Morris walls, ramped start",
-                    edit: cylinder::confined,
-                });
-            }
-            runs.extend(
-                vs.into_iter()
-                    .filter(|v| v.name != "default")
-                    .map(|v| (middle, v)),
-            );
-            for (r, v) in runs {
-                let p = if case == "dam-break" {
-                    let mut scene = cases::base_scene(Base::DamBreak, r);
-                    (v.edit)(&mut scene);
-                    scene.revalidate()?;
-                    let m = cases::measure(Base::DamBreak, &scene, backend, 2.5)?;
-                    Point {
-                        case: case.into(),
-                        variant: v.name.into(),
-                        resolution: format!("dx = {r}"),
-                        backend: m.info.backend,
-                        device: m.info.device,
-                        particles: m.particles,
-                        wall_seconds: m.wall_seconds,
-                        error: m.result.as_ref().ok().copied(),
-                        failure: m.result.as_ref().err().map(|f| f.to_string()),
-                        pareto: false,
-                    }
-                } else {
-                    let (measured, label) = if case == "cylinder" {
-                        (
-                            cylinder::strouhal_error(&ctx, r, CYLINDER_T_END_UD, &|s| (v.edit)(s)),
-                            format!("D / dx = {r}"),
-                        )
-                    } else {
-                        let n = r as usize;
-                        (
-                            taylor_green::decay_rate_error(&ctx, n, &|s| (v.edit)(s)),
-                            format!("{n} x {n}"),
-                        )
-                    };
-                    match measured {
-                        Ok((e, run)) => Point {
-                            case: case.into(),
-                            variant: v.name.into(),
-                            resolution: run.resolution,
-                            backend: run.info.backend,
-                            device: run.info.device,
-                            particles: run.particles,
-                            wall_seconds: run.wall_seconds,
-                            error: Some(e),
-                            failure: None,
-                            pareto: false,
-                        },
-                        Err(e) => Point {
-                            case: case.into(),
-                            variant: v.name.into(),
-                            resolution: label,
-                            backend: format!("{backend:?}").to_lowercase(),
-                            device: String::new(),
-                            particles: 0,
-                            wall_seconds: f64::NAN,
-                            error: None,
-                            failure: Some(format!("{e:#}")),
-                            pareto: false,
-                        },
-                    }
-                };
+            for (r, v) in &runs {
+                let p = point(&ctx, case, *r, v);
                 if options.verbose {
                     crate::note!(
                         "chart {case} {} {} ({}): {} in {:.2} s",
@@ -287,6 +264,7 @@ pub fn run(options: &Options) -> anyhow::Result<Vec<Point>> {
         mark_pareto(&mut points);
         draw(options, case, &points)?;
         all.extend(points);
+        all.extend(skipped);
     }
     let json = options.out_dir.join("chart.json");
     std::fs::write(&json, serde_json::to_string_pretty(&all)? + "\n")
@@ -302,25 +280,30 @@ fn quoted(field: &str) -> String {
     format!("\"{}\"", field.replace('"', "\"\""))
 }
 
-/// The points as CSV (error empty for a failed run; text fields quoted).
+/// The points as CSV (error empty for a failed or skipped run, the wall time where none
+/// was measured; text fields quoted).
 pub fn to_csv(points: &[Point]) -> String {
     let mut s = String::from(
-        "case,variant,resolution,backend,device,particles,wall_seconds,error,pareto,failure\n",
+        "case,variant,resolution,backend,device,particles,wall_seconds,error,pareto,failure,skipped\n",
     );
     for p in points {
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{:.3},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{}",
             quoted(&p.case),
             quoted(&p.variant),
             quoted(&p.resolution),
             quoted(&p.backend),
             quoted(&p.device),
             p.particles,
-            p.wall_seconds,
+            Some(p.wall_seconds)
+                .filter(|t| t.is_finite())
+                .map(|t| format!("{t:.3}"))
+                .unwrap_or_default(),
             p.error.map(|e| format!("{e:.5}")).unwrap_or_default(),
             p.pareto,
-            quoted(p.failure.as_deref().unwrap_or_default())
+            quoted(p.failure.as_deref().unwrap_or_default()),
+            quoted(p.skipped.as_deref().unwrap_or_default())
         );
     }
     s
@@ -385,6 +368,88 @@ mod tests {
         out
     }
 
+    /// The names of the variants `plan` runs on `case` (full tier), and its skipped rows as
+    /// (variant, reason).
+    fn planned(case: &str) -> (Vec<&'static str>, Vec<(String, String)>) {
+        let (run, skipped) = plan(case, false).unwrap();
+        let skipped = skipped
+            .into_iter()
+            .map(|p| (p.variant, p.skipped.expect("a skipped row says why")))
+            .collect();
+        (run.iter().map(|v| v.name).collect(), skipped)
+    }
+
+    #[test]
+    fn a_summation_case_skips_density_diffusion_and_runs_only_what_its_scene_accepts() {
+        // The cylinder has summation density: the three delta-SPH variants were refused by
+        // the scene check mid-chart. Now they are skipped, with the reason.
+        let (run, skipped) = planned("cylinder");
+        let default = case_scene("cylinder", 5.0).unwrap();
+        for v in case_variants("cylinder", false)
+            .iter()
+            .filter(|v| run.contains(&v.name))
+        {
+            let mut s = default.clone();
+            (v.edit)(&mut s);
+            assert!(s.revalidate().is_ok(), "{}: {:?}", v.name, s.revalidate());
+            assert!(!v.name.starts_with("delta-SPH"), "{}", v.name);
+        }
+        let diffusion: Vec<_> = skipped
+            .iter()
+            .filter(|(v, _)| v.starts_with("delta-SPH"))
+            .collect();
+        assert_eq!(diffusion.len(), 3, "{skipped:?}");
+        assert!(
+            diffusion
+                .iter()
+                .all(|(_, r)| r.contains("summation density")),
+            "{diffusion:?}"
+        );
+        // On the continuity cases they run.
+        for case in ["dam-break", "taylor-green"] {
+            let (run, _) = planned(case);
+            assert!(run.contains(&"delta-SPH 0.1, Antuono"), "{case}: {run:?}");
+        }
+    }
+
+    #[test]
+    fn a_variant_that_changes_nothing_is_skipped_as_the_default() {
+        let same = |skipped: &[(String, String)], name: &str| {
+            skipped
+                .iter()
+                .any(|(v, r)| v == name && r == SAME_AS_DEFAULT)
+        };
+        // The cylinder already has summation density; the leapfrog's own Courant number
+        // is 0.4 on every case.
+        let (run, skipped) = planned("cylinder");
+        assert!(same(&skipped, "summation density"), "{skipped:?}");
+        assert!(same(&skipped, "Courant 0.4"), "{skipped:?}");
+        assert!(run.contains(&"Wendland C2"), "{run:?}");
+        // The dam break has the continuity form: its summation variant is a change.
+        let (run, skipped) = planned("dam-break");
+        assert!(run.contains(&"summation density"), "{run:?}");
+        assert!(same(&skipped, "Courant 0.4"), "{skipped:?}");
+    }
+
+    #[test]
+    fn a_skipped_row_carries_its_reason_in_the_table() {
+        let (_, skipped) = plan("cylinder", false).unwrap();
+        let csv = to_csv(&skipped);
+        let mut lines = csv.lines();
+        let header = fields(lines.next().unwrap());
+        let col = header.iter().position(|h| h == "skipped").unwrap();
+        let rows: Vec<_> = lines.map(fields).collect();
+        assert!(
+            rows.iter()
+                .any(|r| r[1] == "summation density" && r[col] == SAME_AS_DEFAULT),
+            "{csv}"
+        );
+        // No wall time, error or backend where nothing ran.
+        assert!(rows
+            .iter()
+            .all(|r| r[3].is_empty() && r[6].is_empty() && r[7].is_empty()));
+    }
+
     #[test]
     fn csv_rows_keep_their_columns_where_names_hold_commas() {
         let p = Point {
@@ -398,6 +463,7 @@ mod tests {
             error: None,
             failure: Some("fluid.density_diffusion: set \"continuity\"".into()),
             pareto: false,
+            skipped: None,
         };
         let csv = to_csv(&[p]);
         let mut lines = csv.lines();

@@ -1,22 +1,15 @@
 //! PNG plots of simulation vs reference (plotters, bitmap backend only). Text is drawn with
-//! an embedded DejaVu Sans Mono (`assets/fonts`, Bitstream Vera licence) through plotters'
-//! `ab_glyph` feature, so no system font or fontconfig is needed.
+//! an embedded DejaVu Sans Mono (`assets/fonts`, Bitstream Vera licence) through ab_glyph
+//! (`text.rs`: plotters measures it, `Typeset` places its glyphs), so no system font or
+//! fontconfig is needed.
+
+mod text;
 
 use std::path::Path;
 
 use plotters::prelude::*;
-use plotters::style::FontStyle;
 
-static FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSansMono.ttf");
-pub(crate) const FAMILY: &str = "sans-serif";
-
-pub(crate) fn register_font() {
-    static ONCE: std::sync::Once = std::sync::Once::new();
-    ONCE.call_once(|| {
-        // Registering a valid embedded font cannot fail; if it did, text is just missing.
-        let _ = plotters::style::register_font(FAMILY, FontStyle::Normal, FONT);
-    });
-}
+pub(crate) use text::{register_font, Typeset, FAMILY};
 
 /// How a series is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -141,7 +134,7 @@ pub fn plot(path: &Path, fig: &Figure, series: &[Series]) -> anyhow::Result<()> 
     let (y0, y1) = range(all().map(|p| p.1), fig.log_y);
     let outside = series.len() > LEGEND_INSIDE_MAX;
     let width = 900 + if outside { LEGEND_WIDTH } else { 0 };
-    let root = BitMapBackend::new(path, (width, 600)).into_drawing_area();
+    let root = Typeset(BitMapBackend::new(path, (width, 600))).into_drawing_area();
     let err = |e: &dyn std::fmt::Display| anyhow::anyhow!("plot {}: {e}", path.display());
     root.fill(&WHITE).map_err(|e| err(&e))?;
     let (area, side) = root.split_horizontally(900);

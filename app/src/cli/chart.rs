@@ -9,7 +9,9 @@ use meshfree_core::backend::BackendChoice;
 pub struct ChartArgs {
     /// The quick tier: two coarse resolutions and one variant per case (seconds).
     /// Without it: four resolutions and nine variants per case (minutes in a release build),
-    /// and the cylinder at Re 100 (three resolutions, nine variants: for the GPU).
+    /// and the cylinder at Re 100 (three resolutions, ten variants: for the GPU). A variant
+    /// that does not apply to a case's scheme or changes nothing in it is skipped, with
+    /// its reason on stderr and in chart.csv.
     #[arg(long)]
     pub quick: bool,
     /// Where to run (repeatable: `--backend cpu --backend cuda` puts both on the charts).
@@ -29,10 +31,15 @@ pub(super) fn chart(a: ChartArgs) -> anyhow::Result<()> {
         out_dir: a.out.clone(),
         verbose: true,
     })?;
-    let failed = points.iter().filter(|p| p.error.is_none()).count();
+    let skipped = points.iter().filter(|p| p.skipped.is_some()).count();
+    let failed = points
+        .iter()
+        .filter(|p| p.error.is_none() && p.skipped.is_none())
+        .count();
     crate::outln!(
-        "chart: {} runs ({failed} failed, {} on the Pareto front); charts in {}",
-        points.len(),
+        "chart: {} runs ({failed} failed, {} on the Pareto front), {skipped} variants skipped \
+         (see chart.csv); charts in {}",
+        points.len() - skipped,
         points.iter().filter(|p| p.pareto).count(),
         a.out.display()
     )?;

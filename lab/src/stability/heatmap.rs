@@ -8,7 +8,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::{Class, MapResult};
-use crate::plot::{register_font, FAMILY};
+use crate::plot::{register_font, Typeset, FAMILY};
 
 const W: i32 = 900;
 const H: i32 = 640;
@@ -46,7 +46,7 @@ fn annotation(c: &super::Cell) -> (String, String) {
 pub fn draw(path: &Path, map: &MapResult) -> anyhow::Result<()> {
     register_font();
     let err = |e: &dyn std::fmt::Display| anyhow::anyhow!("heat map {}: {e}", path.display());
-    let root = BitMapBackend::new(path, (W as u32, H as u32)).into_drawing_area();
+    let root = Typeset(BitMapBackend::new(path, (W as u32, H as u32))).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
     let (nx, ny) = (map.def.x.values.len() as i32, map.def.y.values.len() as i32);
     let cw = (W - LEFT - RIGHT) / nx.max(1);

@@ -41,7 +41,7 @@ viscosity, summation density, the band 10 D upstream of the cylinder, particle s
 values, and (full tier) St, Cd and rms Cl corrected for the blockage (Allen & Vincenti 1944) and the largest void in the \
 wake; full tier at D / dx = 5, 10, 20 with the observed order of convergence.";
 
-const RE: f64 = 100.0;
+pub const RE: f64 = 100.0;
 pub const U: f64 = 1.0;
 pub const D: f64 = 2.0;
 pub const H: f64 = 24.0;
@@ -145,6 +145,13 @@ velocity = [{U}, 0.0]
     )
 }
 
+/// The scene `simulate` starts from, before its `edit`: at `D / dx`, `re` and to
+/// `t_end_ud` (in D / U).
+pub fn scene(d_over_dx: f64, re: f64, t_end_ud: f64) -> anyhow::Result<Scene> {
+    let text = scene_text(D / d_over_dx, t_end_ud * D / U, re);
+    Ok(Scene::from_toml(&text, "validate:cylinder")?)
+}
+
 /// An antisymmetric start: the fluid gets a cross-flow velocity
 /// v = amplitude U exp(-|x - x0|^2 / (D / 2)^2), x0 one diameter behind the cylinder's
 /// rear on the wake axis. v is even in y - yc, the symmetry of the shedding mode (the
@@ -176,9 +183,7 @@ pub fn simulate(
     edit: &dyn Fn(&mut Scene),
     voids: bool,
 ) -> anyhow::Result<(Vec<ForceSample>, RunInfo, Option<VoidSummary>)> {
-    let dx = D / d_over_dx;
-    let t_end = t_end_ud * D / U;
-    let mut scene = Scene::from_toml(&scene_text(dx, t_end, re), "validate:cylinder")?;
+    let mut scene = scene(d_over_dx, re, t_end_ud)?;
     edit(&mut scene);
     scene.revalidate()?;
     ctx.perturb(&mut scene)?;

@@ -80,6 +80,11 @@ max = [1.0, 1.0]
     )
 }
 
+/// The scene at n x n particles, as `decay_rate_error` starts from it before its `edit`.
+pub fn scene(n: usize) -> anyhow::Result<Scene> {
+    Ok(Scene::from_toml(&scene_text(n), "validate:taylor-green")?)
+}
+
 struct Outcome {
     n: usize,
     /// (t, E_k / E_k0, max|u| / U)
@@ -97,7 +102,7 @@ fn simulate_edited(
     fit_from: f64,
     edit: &dyn Fn(&mut Scene),
 ) -> anyhow::Result<Outcome> {
-    let mut scene = Scene::from_toml(&scene_text(n), "validate:taylor-green")?;
+    let mut scene = scene(n)?;
     edit(&mut scene);
     scene.revalidate()?;
     ctx.perturb(&mut scene)?;
