@@ -5,9 +5,9 @@
 
 use rayon::prelude::*;
 
-use super::grid::separation;
 use super::integrate::driven_velocity;
 use crate::dim::Dim;
+use crate::pairs::separation;
 use crate::params::{SphParams, MF_KIND_SOLID};
 use crate::particle::Particle;
 use crate::state::State;
