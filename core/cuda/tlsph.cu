@@ -19,6 +19,10 @@
 // fit's value weights r_am, src/tlsph/mod.rs `FacePair`); quad (omega / V0, the strain energy's
 // quadrature weight, src/tlsph/quadrature.rs) one per solid; slot NONE (0xffffffff) for a
 // removed particle.
+//
+// Every reference separation X0_a - X0_b (and X0_a - X0_m of a face point) is the minimum image
+// on periodic axes (separation, device/grid.cuh), as the host's set-up took it: a body or a
+// clamp may cross the seam (src/tlsph/mod.rs).
 #include "device/entries.cuh"
 #include "device/grid.cuh"
 #include "device/kernel.cuh"
@@ -88,7 +92,7 @@ __device__ __forceinline__ unsigned tl_face_clamp(const unsigned* __restrict__ f
 }
 
 // The pair's reference kernel weight w = -(dW/dr) / r [L^-d-2], W0 [L^-d] and the scaled
-// separation s = (X0_b - X0_a) / h from x0ab = X0_a - X0_b (gradient.rs `pair`).
+// separation s = (X0_b - X0_a) / h from x0ab = X0_a - X0_b, the minimum image (gradient.rs `pair`).
 template <int DIM>
 __device__ __forceinline__ Vec<DIM> tl_pair(const SphParams& p, const Vec<DIM>& x0ab, float& w, float& w0) {
     float f;
@@ -153,7 +157,7 @@ __device__ void sph_tl_stress_body(const SphParams p, unsigned n, unsigned n_sol
         const unsigned b = nbr[e];
         if (slot[b] == MF_TL_NONE) continue;
         float w, w0;
-        const Vec<DIM> s = tl_pair<DIM>(p, xa - vload<DIM>(x0, b), w, w0);
+        const Vec<DIM> s = tl_pair<DIM>(p, separation<DIM>(p, xa, vload<DIM>(x0, b)), w, w0);
         const Vec<DIM> gw = tl_apply<DIM>(corr, a, tl_basis<DIM>(s)) * (vol[b] * w);
         const Vec<DIM> du = vload<DIM>(disp, b) - ua;
 #pragma unroll
@@ -268,7 +272,7 @@ __device__ TlFitSum<DIM> tl_fit_sum(const SphParams& p, unsigned a, const Vec<DI
         const unsigned b = nbr[e];
         if (slot[b] == MF_TL_NONE) continue;
         float w, w0;
-        const TlBasis<DIM> pb = tl_basis<DIM>(tl_pair<DIM>(p, xa - vload<DIM>(x0, b), w, w0));
+        const TlBasis<DIM> pb = tl_basis<DIM>(tl_pair<DIM>(p, separation<DIM>(p, xa, vload<DIM>(x0, b)), w, w0));
         const Vec<DIM> du = (vload<DIM>(disp, b) - ua) * (vol[b] * w);
 #pragma unroll
         for (int k = 0; k < Q; ++k) f.b[k] = f.b[k] + du * pb.p[k];
@@ -306,7 +310,7 @@ __device__ __forceinline__ float tl_force_one(const SphParams& p, unsigned a, un
                 for (int d = 0; d < DIM; ++d) xm.c[d] = m[d];
 #pragma unroll
                 for (int k = 0; k < Q; ++k) u_fit = u_fit + fs.b[k] * m[DIM + 1 + k];
-                const Vec<DIM> x0am = xa - xm;
+                const Vec<DIM> x0am = separation<DIM>(p, xa, xm);
                 const float w0 = kernel_w(p, sqrtf(dot(x0am, x0am)));
                 sum = sum + tl_hourglass<DIM>(p, young, m[DIM], w0, x0am, x0am + (ua - uc), (uc - u_fit) * 2.0f);
             }
@@ -316,7 +320,7 @@ __device__ __forceinline__ float tl_force_one(const SphParams& p, unsigned a, un
         const unsigned b = nbr[e];
         const unsigned j = slot[b];
         if (j == MF_TL_NONE) continue;
-        const Vec<DIM> x0ab = xa - vload<DIM>(x0, b);
+        const Vec<DIM> x0ab = separation<DIM>(p, xa, vload<DIM>(x0, b));
         float w, w0;
         const Vec<DIM> s = tl_pair<DIM>(p, x0ab, w, w0);
         const Vec<DIM> f = tl_apply<DIM>(pk1_corr, a, tl_basis<DIM>(s)) -

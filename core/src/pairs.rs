@@ -1,11 +1,35 @@
-//! Twin: `cuda/device/pairs.cuh`; parity test `tests/cuda_parity/`.
+//! Twin: `cuda/device/pairs.cuh` (`separation`: `cuda/device/grid.cuh`); parity test
+//! `tests/cuda_parity/`.
 //! The pair predicates that the CPU stages (density, forces, rates) and the force monitors
 //! share: whether a neighbour enters a particle's sums (`couples`), whether two kinds meet at
-//! all (`meets`), and whether two particles count as one body (`same_body`).
+//! all (`meets`), and whether two particles count as one body (`same_body`); and the pair's
+//! separation on periodic axes (`separation`), which the neighbour grid and the
+//! total-Lagrangian reference configuration (`crate::tlsph`) both take.
 
+use crate::dim::Dim;
 use crate::params::{
     SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID, MF_SOLID_FLUID_PRESSURE_EXTRAPOLATED,
 };
+
+/// The minimum-image separation r_i - r_j [L]: on a periodic axis of length len the image
+/// of j nearest i, |r| <= len / 2 (for |x_i - x_j| < 3 len / 2, as for positions inside the
+/// domain and points within a support of one).
+#[inline]
+pub fn separation<D: Dim>(p: &SphParams, xi: D::V, xj: D::V) -> D::V {
+    let mut r = xi - xj;
+    for a in 0..D::D {
+        if p.periodic[a] != 0 {
+            let len = p.domain_max[a] - p.domain_min[a];
+            let d = D::comp(r, a);
+            if d > 0.5 * len {
+                D::set_comp(&mut r, a, d - len);
+            } else if d < -0.5 * len {
+                D::set_comp(&mut r, a, d + len);
+            }
+        }
+    }
+    r
+}
 
 /// Whether particle j of kind `kj` enters the SPH sums of another particle: boundary
 /// particles only with dynamic walls (`wall_coupling`, Crespo et al. 2007: wall particles

@@ -1,8 +1,9 @@
 //! Neighbour search against brute force, with and without periodic axes, in 2D and 3D.
 mod common;
 
-use meshfree_core::backend::cpu::{separation, Grid};
+use meshfree_core::backend::cpu::Grid;
 use meshfree_core::dim::{Dim, D2, D3};
+use meshfree_core::pairs::separation;
 use meshfree_core::particle::{Kind, Particle};
 use meshfree_core::state::State;
 

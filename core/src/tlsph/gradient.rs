@@ -10,7 +10,8 @@
 //! quadratic about each particle (the moving-least-squares / finite-particle form of
 //! Liu, Liu & Lam 2003 and Zhang & Batra 2004, in the reference configuration) removes it:
 //!
-//! u_b - u_a = sum_m c_m p_m(s_ab),  s_ab = (X0_b - X0_a) / h,
+//! u_b - u_a = sum_m c_m p_m(s_ab),  s_ab = (X0_b - X0_a) / h (the minimum image on a
+//! periodic axis, `pairs::separation`),
 //! p(s) = [s_1 .. s_d, the d (d + 1) / 2 products s_i s_j (i <= j)] (Q = 5 in 2D, 9 in 3D),
 //! A_a = sum_b V0_b w_ab p(s_ab) p(s_ab)^T,  w_ab = -(dW/dr) / r at |X0_ab| (>= 0),
 //! grad u_a = (1 / h) [A_a^-1]_{1..d} sum_b V0_b w_ab p(s_ab) (u_b - u_a),
@@ -27,6 +28,7 @@
 use crate::consts::MF_MOMENT_DET_MIN;
 use crate::dim::Dim;
 use crate::kernel;
+use crate::pairs::separation;
 use crate::params::SphParams;
 
 /// The most basis functions (3D: 3 linear + 6 quadratic).
@@ -67,10 +69,10 @@ pub fn apply<D: Dim>(c: &Corr<D>, p: &[f32; Q_MAX]) -> D::V {
 }
 
 /// The pair's kernel weight w_ab = -(dW/dr) / r at the reference distance [L^-d-2] and its
-/// scaled separation s_ab = (X0_b - X0_a) / h [-].
+/// scaled separation s_ab = (X0_b - X0_a) / h [-], X0_b - X0_a the minimum image.
 #[inline]
 pub fn pair<D: Dim>(p: &SphParams, x0a: D::V, x0b: D::V) -> (f32, D::V) {
-    let d = x0b - x0a;
+    let d = separation::<D>(p, x0b, x0a);
     (-kernel::f(p, D::length2(d).sqrt()), d * (1.0 / p.h))
 }
 
@@ -136,10 +138,11 @@ pub fn correction<D: Dim>(p: &SphParams, x0a: D::V, nbrs: &[(D::V, f32)]) -> Cor
 /// makes of the field f (`correction`, the same `nbrs`, and `c` = its C_a) predicts
 /// f(x) - f_a = sum_m r_m B_m, where B = sum_b V0_b w_ab p(s_ab) (f_b - f_a) is the sum the
 /// fit reads (the clamp's face adds (f_clamp - f_a) F_a to it) [-]:
-/// r = A_a^-1 p(s), s = (x - X0_a) / h (A_a symmetric), exact for a quadratic field; where
-/// A_a is singular, the linear fit's r_m = C_a column m . (x - X0_a) (zero on the quadratic
-/// terms), f_a + grad f_a (x - X0_a). The hourglass control of the clamp's face pairs
-/// predicts the face points' displacement with it (`TlBodies::forces`).
+/// r = A_a^-1 p(s), s = (x - X0_a) / h (A_a symmetric; x - X0_a the minimum image), exact
+/// for a quadratic field; where A_a is singular, the linear fit's r_m = C_a column m .
+/// (x - X0_a) (zero on the quadratic terms), f_a + grad f_a (x - X0_a). The hourglass control
+/// of the clamp's face pairs predicts the face points' displacement with it
+/// (`TlBodies::forces`).
 pub fn value_weights<D: Dim>(
     p: &SphParams,
     c: &Corr<D>,
@@ -148,7 +151,8 @@ pub fn value_weights<D: Dim>(
     x: D::V,
 ) -> [f32; Q_MAX] {
     let q = basis_len(D::D);
-    let s = (x - x0a) * (1.0 / p.h);
+    let dx = separation::<D>(p, x, x0a);
+    let s = dx * (1.0 / p.h);
     let mut r = [0.0f32; Q_MAX];
     if let Some(inv) = invert(&moments::<D>(p, x0a, nbrs), q) {
         let ps = basis::<D>(s);
@@ -157,7 +161,7 @@ pub fn value_weights<D: Dim>(
         }
     } else {
         for (m, rm) in r.iter_mut().enumerate().take(D::D) {
-            *rm = D::dot(c[m], x - x0a);
+            *rm = D::dot(c[m], dx);
         }
     }
     r

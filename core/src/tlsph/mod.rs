@@ -15,6 +15,13 @@
 //! reference neighbours: the solid particles of the same body (`same_body`: a clamp is bonded
 //! to the body it holds) within the support at the start, ascending, as a CSR list.
 //!
+//! Periodic axes (`[domain] periodic`): a body or a clamp may cross the seam, so every
+//! reference separation X0_b - X0_a, here and in the stages, is the minimum image
+//! (`pairs::separation`, as the fluid's neighbour search takes it), and the candidates come
+//! from cells that wrap round the period (`cells`). X0 stays where the particle started,
+//! inside the domain; u = x - X0 is integrated, not wrapped, so the current separation
+//! X0_b - X0_a + u_b - u_a needs nothing more.
+//!
 //! The stages (CPU: `backend/cpu/tlsph.rs`; CUDA: `cuda/tlsph.cu`) integrate a displacement
 //! u = x - X0 per solid particle (f32 positions near 1 m resolve strains of about 1e-7 / dx
 //! only, an aluminium plate strains 1e-5), form the displacement gradient H = F - I from it,
@@ -25,14 +32,13 @@
 //! (O'Connor & Rogers 2021's sum_b V0_a V0_b (P_a L_a + P_b L_b) grad_a W0_ab where C is
 //! linear).
 
+pub mod cells;
 pub mod gradient;
 pub mod quadrature;
 
-use std::collections::HashMap;
-
 use crate::dim::Dim;
 use crate::kernel;
-use crate::pairs::same_body;
+use crate::pairs::{same_body, separation};
 use crate::params::{SphParams, MF_KIND_SOLID, MF_SOLID_TOTAL_LAGRANGIAN};
 use crate::particle::{Kind, Particle};
 pub use gradient::Corr;
@@ -99,50 +105,22 @@ impl<D: Dim> Reference<D> {
         let x0: Vec<D::V> = solids.iter().map(|q| D::from3(q.position)).collect();
         let vol: Vec<f32> = solids.iter().map(|q| q.mass / p.solid_rho0).collect();
         // Candidates from cells one support wide (3^d cells around each particle).
-        let cell = |x: D::V| {
-            let mut c = [0i32; 3];
-            for (k, ck) in c.iter_mut().enumerate().take(D::D) {
-                *ck = (D::comp(x, k) / p.support).floor() as i32;
-            }
-            c
-        };
-        let mut cells: HashMap<[i32; 3], Vec<u32>> = HashMap::new();
-        for (a, &x) in x0.iter().enumerate() {
-            cells.entry(cell(x)).or_default().push(a as u32);
-        }
-        // The entries of `cells` in the 3^d cells around x (one support each way).
-        let around = |cells: &HashMap<[i32; 3], Vec<u32>>, x: D::V| {
-            let c = cell(x);
-            let reach_z = if D::D == 3 { 1 } else { 0 };
-            let mut v = Vec::new();
-            for dz in -reach_z..=reach_z {
-                for dy in -1..=1 {
-                    for dx in -1..=1 {
-                        if let Some(l) = cells.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) {
-                            v.extend_from_slice(l);
-                        }
-                    }
-                }
-            }
-            v
-        };
+        let cells = cells::Cells::<D>::new(p, x0.iter().copied());
         let clamp = |a: usize| p.driven != 0 && solids[a].group == p.driven_group as u32;
-        let faces = faces::<D>(p, &x0, &vol, &clamp, |x| around(&cells, x));
-        let mut face_cells: HashMap<[i32; 3], Vec<u32>> = HashMap::new();
-        for (m, f) in faces.iter().enumerate() {
-            face_cells.entry(cell(f.x)).or_default().push(m as u32);
-        }
+        let faces = faces::<D>(p, &x0, &vol, &clamp, |x| cells.around(x));
+        let face_cells = cells::Cells::<D>::new(p, faces.iter().map(|f| f.x));
         let mut start = Vec::with_capacity(n + 1);
         let mut nbr = Vec::new();
         start.push(0u32);
         let solid = MF_KIND_SOLID as u8;
         for a in 0..n {
-            let mut list: Vec<u32> = around(&cells, x0[a])
+            let mut list: Vec<u32> = cells
+                .around(x0[a])
                 .into_iter()
                 .filter(|&b| {
                     let b_us = b as usize;
                     b_us != a
-                        && D::length2(x0[a] - x0[b_us]) < p.support2
+                        && D::length2(separation::<D>(p, x0[a], x0[b_us])) < p.support2
                         && same_body(p, solid, solid, solids[a].group, solids[b_us].group)
                         && (faces.is_empty() || clamp(a) == clamp(b_us))
                 })
@@ -163,10 +141,11 @@ impl<D: Dim> Reference<D> {
                 let near: Vec<&Face<D>> = if clamp(a) {
                     Vec::new()
                 } else {
-                    around(&face_cells, x0[a])
+                    face_cells
+                        .around(x0[a])
                         .into_iter()
                         .map(|m| &faces[m as usize])
-                        .filter(|f| D::length2(f.x - x0[a]) < p.support2)
+                        .filter(|f| D::length2(separation::<D>(p, f.x, x0[a])) < p.support2)
                         .collect()
                 };
                 nbrs.extend(near.iter().map(|f| (f.x, f.vol)));
@@ -270,7 +249,8 @@ impl<D: Dim> Reference<D> {
 #[derive(Clone, Copy, Debug)]
 pub struct Face<D: Dim> {
     /// [L] its reference position: the midpoint of a clamp particle and a body particle that
-    /// face each other.
+    /// face each other (across a periodic seam: on the body particle's side, maybe just
+    /// outside the domain).
     pub x: D::V,
     /// [L^d] the weight it takes in the fit: the clamp particle's V0.
     pub vol: f32,
@@ -294,8 +274,8 @@ pub struct FacePair<D: Dim> {
 
 /// The faces of the clamps (`[[solids]]` held by a driven group): for every body particle b,
 /// its nearest clamp particles g (within 1 % of the nearest, and no further than 1.5 dx: the
-/// clamp's first row across the face) give a face point at (X0_g + X0_b) / 2. `candidates(x)`
-/// lists the solid indices within one support of x.
+/// clamp's first row across the face) give a face point at (X0_g + X0_b) / 2, X0_g - X0_b the
+/// minimum image. `candidates(x)` lists the solid indices within one support of x.
 ///
 /// Why: the body's displacement is smooth up to the face, but the clamp's is zero behind it.
 /// A fit that reads the clamp's particles as neighbours averages the two across the face, and
@@ -320,7 +300,7 @@ fn faces<D: Dim>(
             .into_iter()
             .map(|g| g as usize)
             .filter(|&g| clamp(g))
-            .map(|g| (D::length2(x0[g] - x0[b]), g))
+            .map(|g| (D::length2(separation::<D>(p, x0[g], x0[b])), g))
             .filter(|&(r2, _)| r2 <= reach2)
             .collect();
         let Some(r2_min) = near.iter().map(|n| n.0).min_by(f32::total_cmp) else {
@@ -328,8 +308,11 @@ fn faces<D: Dim>(
         };
         for &(r2, g) in &near {
             if r2 <= 1.0201 * r2_min {
+                // The image of g nearest b: X0_g itself unless the pair crosses a periodic
+                // seam (so that elsewhere the face point is the plain midpoint, bit for bit).
+                let xg = x0[g] - ((x0[g] - x0[b]) - separation::<D>(p, x0[g], x0[b]));
                 out.push(Face {
-                    x: (x0[g] + x0[b]) * 0.5,
+                    x: (xg + x0[b]) * 0.5,
                     vol: vol[g],
                     clamp: g as u32,
                 });

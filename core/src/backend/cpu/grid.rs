@@ -8,6 +8,7 @@ use rayon::prelude::*;
 
 use crate::consts::MF_PRUNE_SLACK;
 use crate::dim::Dim;
+use crate::pairs::separation;
 use crate::params::{SphParams, MF_CELL_REACH};
 use crate::state::State;
 
@@ -34,24 +35,6 @@ pub fn cell_coords<D: Dim>(p: &SphParams, x: D::V) -> [i32; 3] {
 #[inline]
 pub fn cell_index(p: &SphParams, c: [i32; 3]) -> u32 {
     (c[0] + p.grid_dims[0] * (c[1] + p.grid_dims[1] * c[2])) as u32
-}
-
-/// The minimum-image separation r_i - r_j on periodic axes.
-#[inline]
-pub fn separation<D: Dim>(p: &SphParams, xi: D::V, xj: D::V) -> D::V {
-    let mut r = xi - xj;
-    for a in 0..D::D {
-        if p.periodic[a] != 0 {
-            let len = p.domain_max[a] - p.domain_min[a];
-            let d = D::comp(r, a);
-            if d > 0.5 * len {
-                D::set_comp(&mut r, a, d - len);
-            } else if d < -0.5 * len {
-                D::set_comp(&mut r, a, d + len);
-            }
-        }
-    }
-    r
 }
 
 impl Grid {

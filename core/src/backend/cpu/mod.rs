@@ -16,7 +16,7 @@ mod tlsph;
 
 pub use density::pressure;
 pub use forces::{cohesion_over_r, ForceSum};
-pub use grid::{cell_coords, cell_index, separation, Grid};
+pub use grid::{cell_coords, cell_index, Grid};
 pub use integrate::smooth_ramp;
 pub use monitor::{refresh_pressure, wall_force};
 pub use probes::PointSum;

@@ -1,13 +1,15 @@
 //! The total-Lagrangian solid's stages (`crate::tlsph`): the slot map after each grid
 //! build, the stress from the deformation gradient (`Solver::solid_stress`), the internal
 //! force with the hourglass control (`Solver::solid_forces`) and the displacement's drift.
-//! Twin: `cuda/tlsph.cu`; parity test `tests/cuda_parity/`.
+//! Twin: `cuda/tlsph.cu`; parity test `tests/cuda_parity/`. A pair's reference separation is
+//! the minimum image on periodic axes (`pairs::separation`, in `gradient::pair` too), its
+//! current one X0_ab + u_a - u_b (face pairs) or the minimum image of the positions.
 
 use rayon::prelude::*;
 
-use super::grid::separation;
 use super::integrate::driven_velocity;
 use crate::dim::Dim;
+use crate::pairs::separation;
 use crate::params::{SphParams, MF_KIND_SOLID};
 use crate::particle::Particle;
 use crate::state::State;
@@ -132,7 +134,7 @@ impl<D: Dim> TlBodies<D> {
                         let uc = self.disp[c];
                         let fit_sum = self.fit_sum(p, a, uc);
                         for m in r.faces_of(a) {
-                            let x0_am = r.x0[a] - m.x0;
+                            let x0_am = separation::<D>(p, r.x0[a], m.x0);
                             let u_fit = ua + apply::<D>(&fit_sum, &m.fit);
                             let eps = (uc - u_fit) * 2.0;
                             acc += hourglass::<D>(p, young, m.vol, x0_am, x0_am + (ua - uc), eps);
@@ -151,7 +153,7 @@ impl<D: Dim> TlBodies<D> {
                     acc += f * (r.vol[b] * w / p.solid_rho0);
                     if p.hourglass > 0.0 {
                         let x_ab = separation::<D>(p, pos[i as usize], pos[j as usize]);
-                        let x0_ab = r.x0[a] - r.x0[b];
+                        let x0_ab = separation::<D>(p, r.x0[a], r.x0[b]);
                         let eps = pair_error::<D>(x0_ab, ua - self.disp[b], ha, self.grad_u[b]);
                         acc += hourglass::<D>(p, young, r.vol[b], x0_ab, x_ab, eps);
                     }
