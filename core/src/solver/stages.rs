@@ -322,6 +322,7 @@ mod tests {
             [
                 "build_grid",
                 "density",
+                "solid_interface",
                 "solid_stress",
                 "density_gradient",
                 "forces_and_rates",
@@ -335,6 +336,7 @@ mod tests {
             [
                 "build_grid",
                 "density",
+                "solid_interface",
                 "solid_stress",
                 "forces",
                 "solid_forces",
