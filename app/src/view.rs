@@ -5,27 +5,30 @@
 use std::path::Path;
 
 use anyhow::Context;
-use meshfree::cli::{RenderArgs, ShownField, ViewArgs};
+use meshfree::cli::{RenderArgs, ViewArgs};
 use meshfree::output::files::SUMMARY;
 use meshfree::output::{write_vtu, RunStatus, RunSummary, Timing};
 use meshfree_core::backend::{create, Layout};
 use meshfree_core::frame;
+use meshfree_core::interop::{GlBuffers, GlSplat};
 use meshfree_core::params::SphParams;
 use meshfree_core::scene::format::{OutputFormat, Wall};
 use meshfree_core::scene::{Counts, Overrides, Scene};
-use meshfree_core::solver::{Diagnostics, GlBuffers, GlSplat, Shown, Snapshot, Solver};
+use meshfree_core::solver::{Diagnostics, Shown, Snapshot, Solver};
 use meshfree_core::step::Stepper;
 use meshfree_viewer::{
     DeviceFrame, Field, FrameData, LiveSource, Outline, Panel, ParticleBuffers, RenderOptions,
     SplatView, Status, ViewOptions,
 };
 
-pub(crate) fn field(f: ShownField) -> Field {
+/// The viewer's field for the solver's quantity (the viewer knows nothing of the solver;
+/// the registry is `Shown`).
+pub(crate) fn field(f: Shown) -> Field {
     match f {
-        ShownField::Speed => Field::Speed,
-        ShownField::Pressure => Field::Pressure,
-        ShownField::Density => Field::Density,
-        ShownField::Kind => Field::Kind,
+        Shown::Speed => Field::Speed,
+        Shown::Pressure => Field::Pressure,
+        Shown::Density => Field::Density,
+        Shown::Kind => Field::Kind,
     }
 }
 
@@ -40,7 +43,7 @@ struct Live {
     /// The walls drawn as outlines in 3D, with the time each is removed at (gates).
     outlines: Vec<(Outline, Option<f64>)>,
     /// Whether to offer the viewer a fill of its vertex buffers on the GPU
-    /// (`Solver::fill_gl`); cleared where the backend refuses (its first error is said).
+    /// (`Readback::gl_interop`); cleared where the backend refuses (its first error is said).
     device_fill: bool,
 }
 
@@ -106,7 +109,7 @@ impl Live {
 }
 
 /// The solver's quantity for a viewer field.
-fn shown(f: Field) -> Shown {
+pub(crate) fn shown(f: Field) -> Shown {
     match f {
         Field::Speed => Shown::Speed,
         Field::Pressure => Shown::Pressure,
@@ -151,7 +154,7 @@ impl LiveSource for Live {
         Ok(())
     }
 
-    /// The CUDA backend's CUDA-OpenGL interop (`Solver::fill_gl`); `None` on the CPU, or
+    /// The CUDA backend's CUDA-OpenGL interop (`Readback::gl_interop`); `None` on the CPU, or
     /// where the buffers cannot be registered (say, an EGL display on another GPU than
     /// CUDA's): then this and every later frame are uploaded from snapshots.
     fn fill_buffers(
@@ -184,9 +187,10 @@ impl LiveSource for Live {
             count: v.count,
             hidden: v.hidden,
         });
-        let r = self
-            .solver
-            .fill_gl(&gl, shown(f), hidden, fixed_range, splat.as_ref())?;
+        let r =
+            self.solver
+                .gl_interop()?
+                .fill_gl(&gl, shown(f), hidden, fixed_range, splat.as_ref());
         match r {
             Ok(g) => {
                 self.frame_meta(out);

@@ -7,25 +7,16 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 use meshfree::bad_input::BadInput;
-use meshfree::cli::{RenderArgs, ShownField, ViewArgs};
+use meshfree::cli::{RenderArgs, ViewArgs};
 use meshfree::output::frames::{kinds, values};
 use meshfree::output::RecordedRun;
 use meshfree_core::frame;
+use meshfree_core::solver::Shown;
 use meshfree_viewer::{
     Field, FrameData, LiveSource, Outline, Panel, RenderOptions, Status, ViewOptions,
 };
 
-use crate::view::{field, frame_meta, wall_outlines, window_error};
-
-/// The viewer's field as the command line names it.
-fn shown_field(f: Field) -> ShownField {
-    match f {
-        Field::Speed => ShownField::Speed,
-        Field::Pressure => ShownField::Pressure,
-        Field::Density => ShownField::Density,
-        Field::Kind => ShownField::Kind,
-    }
-}
+use crate::view::{field, frame_meta, shown, wall_outlines, window_error};
 
 /// A run's frames as the viewer draws them: the scene's dimension, domain, particle radius
 /// and box walls (gates leave at their removal time), around each frame read.
@@ -37,7 +28,7 @@ struct Recorded {
     frame: frame::FrameData,
     /// Fields asked for that the run did not write, said once each (the window draws
     /// them as zero).
-    said: Vec<ShownField>,
+    said: Vec<Shown>,
 }
 
 impl Recorded {
@@ -69,7 +60,7 @@ impl Recorded {
     }
 
     /// The shown frame for the viewer, coloured by `f`.
-    fn fill(&self, f: ShownField, out: &mut FrameData) -> Result<(), BadInput> {
+    fn fill(&self, f: Shown, out: &mut FrameData) -> Result<(), BadInput> {
         let p = self.run.scene.params();
         frame_meta(&p, self.frame.time, &self.outlines, out);
         out.positions.clear();
@@ -88,7 +79,7 @@ impl LiveSource for Recorded {
     }
 
     fn frame(&mut self, f: Field, out: &mut FrameData) {
-        let f = shown_field(f);
+        let f = shown(f);
         if let Err(e) = self.fill(f, out) {
             // A field the run did not write: drawn as zero, said once.
             if !self.said.contains(&f) {

@@ -1,5 +1,5 @@
 //! `meshfree render` with the CUDA backend draws from device memory (CUDA-OpenGL interop,
-//! `Solver::fill_gl`): the frame drawn from vertex buffers filled on the GPU and the frame
+//! `Readback::gl_interop`): the frame drawn from vertex buffers filled on the GPU and the frame
 //! drawn from a host copy (`--host-copy`) of the same state are the same image, and drawing
 //! a frame reads back 8 bytes (the colour range) or none with a fixed `--range`, where the
 //! host copy reads back every particle; the spheres of the GPU's visibility splat (from a

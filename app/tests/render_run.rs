@@ -83,7 +83,7 @@ fn the_vtu_reader_leaves_out_the_fields_the_run_did_not_write() {
         // Pressure is not there: the error names it and the fields the frame has.
         let e = values(
             &read_vtu(&path).unwrap(),
-            meshfree::cli::ShownField::Pressure,
+            meshfree_core::solver::Shown::Pressure,
             "the frame",
         )
         .unwrap_err()

@@ -10,6 +10,8 @@ pub mod consts;
 pub mod dim;
 pub mod exchange;
 pub mod frame;
+#[cfg(feature = "interop")]
+pub mod interop;
 pub mod kernel;
 pub mod monitor;
 pub mod named;

@@ -51,5 +51,6 @@ mod tests {
         names_are_serde_names::<ArtStressFrom>();
         names_are_serde_names::<WallCoupling>();
         names_are_serde_names::<NoSlip>();
+        names_are_serde_names::<crate::solver::Shown>();
     }
 }

@@ -29,7 +29,7 @@ pub use run::RunArgs;
 pub use scenes::{scene_rows, CheckArgs, SceneRow, ScenesArgs};
 pub use stability::StabilityArgs;
 pub use validate::ValidateArgs;
-pub use view::{RenderArgs, ShownField, ViewArgs};
+pub use view::{RenderArgs, ViewArgs};
 
 /// The parser of a `Named` option: its values with their help in `--help`.
 fn named<T: Named>() -> impl TypedValueParser<Value = T> {

@@ -5,16 +5,7 @@ use std::path::PathBuf;
 
 use super::named;
 use meshfree_core::backend::BackendChoice;
-
-/// What the window or the renderer shows.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
-pub enum ShownField {
-    #[default]
-    Speed,
-    Pressure,
-    Density,
-    Kind,
-}
+use meshfree_core::solver::Shown;
 
 #[derive(Debug, clap::Args)]
 pub struct ViewArgs {
@@ -27,8 +18,8 @@ pub struct ViewArgs {
     #[arg(long, value_parser = named::<BackendChoice>(), default_value = "auto")]
     pub backend: BackendChoice,
     /// The field that colours the particles (press `f` in the window to change it).
-    #[arg(long, value_enum, default_value_t = ShownField::Speed)]
-    pub field: ShownField,
+    #[arg(long, value_parser = named::<Shown>(), default_value = "speed")]
+    pub field: Shown,
     /// Solver steps per drawn frame (`+`/`-` in the window).
     #[arg(long, default_value_t = 10)]
     pub steps_per_frame: u32,
@@ -93,8 +84,8 @@ pub struct RenderArgs {
     #[arg(long, default_value = "1280x720", value_parser = parse_size)]
     pub size: (u32, u32),
     /// The field that colours the particles.
-    #[arg(long, value_enum, default_value_t = ShownField::Speed)]
-    pub field: ShownField,
+    #[arg(long, value_parser = named::<Shown>(), default_value = "speed")]
+    pub field: Shown,
     /// Draw boundary (wall) particles too (hidden by default in 3D, as in the paper).
     #[arg(long)]
     pub show_boundary: bool,

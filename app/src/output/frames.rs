@@ -14,10 +14,10 @@ use meshfree_core::frame::{Field, FrameData};
 use meshfree_core::named::Named;
 use meshfree_core::particle::Kind;
 use meshfree_core::scene::Scene;
+use meshfree_core::solver::Shown;
 
 use super::files::{self, DIAGNOSTICS, SCENE, SERIES, SUMMARY};
 use crate::bad_input::BadInput;
-use crate::cli::ShownField;
 
 /// One recorded frame: its simulated time [T] and file.
 #[derive(Clone, Debug, PartialEq)]
@@ -280,32 +280,27 @@ pub fn field_names(frame: &FrameData) -> String {
 
 /// The values that colour the particles by `field`; an error naming the missing field and
 /// the fields the frame has where the run did not write it.
-pub fn values(frame: &FrameData, field: ShownField, what: &str) -> Result<Vec<f32>, BadInput> {
-    let need = match field {
-        ShownField::Speed => Field::Velocity,
-        ShownField::Pressure => Field::Pressure,
-        ShownField::Density => Field::Density,
-        ShownField::Kind => Field::Kind,
-    };
+pub fn values(frame: &FrameData, field: Shown, what: &str) -> Result<Vec<f32>, BadInput> {
+    let need = field.source();
     if !frame.fields().has(need) {
         return Err(bad(format!(
             "{what} has no `{}` field, which --field {} needs; it has: {} (choose another \
              --field, or list `{}` in the scene's `[output] fields`)",
             need.name(),
-            format!("{field:?}").to_lowercase(),
+            field.name(),
             field_names(frame),
             need.name()
         )));
     }
     Ok(match field {
-        ShownField::Speed => frame
+        Shown::Speed => frame
             .velocity
             .iter()
             .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
             .collect(),
-        ShownField::Pressure => frame.pressure.clone(),
-        ShownField::Density => frame.density.clone(),
-        ShownField::Kind => frame.kind.iter().map(|&k| f32::from(k)).collect(),
+        Shown::Pressure => frame.pressure.clone(),
+        Shown::Density => frame.density.clone(),
+        Shown::Kind => frame.kind.iter().map(|&k| f32::from(k)).collect(),
     })
 }
 

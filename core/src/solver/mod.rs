@@ -22,7 +22,7 @@ pub use persist::Persist;
 pub use readback::{Diagnostics, ExchangeCost, PointSample, Readback};
 pub(crate) use stages::{forward_stages, stage_list};
 pub use stages::{Solver, Stage};
-pub use view::{GlBuffers, GlFill, GlSplat, Shown, Snapshot};
+pub use view::{Shown, Snapshot};
 
 /// Everything a backend needs to start: the derived parameters and the initial particles.
 #[derive(Clone, Debug)]

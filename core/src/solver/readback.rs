@@ -1,12 +1,12 @@
 //! What comes back from a solver: whole-system diagnostics, particles, frames for output,
-//! fields interpolated at points, the force on walls, the viewer's snapshot and buffers,
+//! fields interpolated at points, the force on walls, the viewer's snapshot (and its buffers, `crate::interop`),
 //! and the decomposition's cost. Nothing here changes the stepping.
 
 use serde::{Deserialize, Serialize};
 
 use crate::frame::{Fields, PendingFrame};
 use crate::particle::Particle;
-use crate::solver::{GlBuffers, GlFill, GlSplat, Shown, Snapshot};
+use crate::solver::{Shown, Snapshot};
 
 /// Whole-system numbers, cheap enough to take every output interval.
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
@@ -125,29 +125,13 @@ pub trait Readback {
         for q in self.particles() {
             out.positions.push(q.position);
             out.kinds.push(q.kind.code());
-            out.values.push(match shown {
-                Shown::Speed => q.speed(),
-                Shown::Pressure => q.pressure,
-                Shown::Density => q.density,
-                Shown::Kind => q.kind.code() as f32,
-            });
+            out.values.push(shown.of(&q));
         }
     }
-    /// Fills the viewer's vertex buffers `gl` from device memory (CUDA-OpenGL interop:
-    /// positions, quantity `shown` and kinds of the fluid, then of the solids, then of the
-    /// other kinds, each in storage order, as `snapshot` gives them), and
-    /// reduces the colour range on the device unless `fixed_range` (then nothing comes back
-    /// to the host); `hidden`'s bit k keeps kind k out of the range; with `splat`, also the
-    /// spheres' visibility (`GlSplat`). `None`: this backend has no device memory to fill
-    /// from (the viewer uploads a `snapshot`); `Err`: what failed.
-    fn fill_gl(
-        &mut self,
-        _gl: &GlBuffers,
-        _shown: Shown,
-        _hidden: u8,
-        _fixed_range: bool,
-        _splat: Option<&GlSplat>,
-    ) -> Option<Result<GlFill, String>> {
+    /// The backend's CUDA-OpenGL interop (`crate::interop`), where it fills the viewer's
+    /// buffers from device memory; `None`: the viewer uploads a `snapshot`.
+    #[cfg(feature = "interop")]
+    fn gl_interop(&mut self) -> Option<&mut dyn crate::interop::GlInterop> {
         None
     }
     /// Bytes copied from the device to the host since the solver was made (the read-backs of

@@ -1,16 +1,64 @@
-//! What the viewer asks of a solver (`Readback::snapshot`, `Readback::fill_gl`): the shown
-//! quantity, a host snapshot, and the OpenGL buffers a GPU backend fills in place.
+//! What the viewer asks of every solver (`Readback::snapshot`): the shown quantity and a host
+//! snapshot. The OpenGL buffers a GPU backend fills in place are the interop wing's
+//! (`crate::interop`, the `interop` feature).
 
 use serde::{Deserialize, Serialize};
 
-/// The particle quantity a snapshot carries for display.
+use crate::consts::{MF_SHOWN_DENSITY, MF_SHOWN_KIND, MF_SHOWN_PRESSURE, MF_SHOWN_SPEED};
+use crate::frame::Field;
+use crate::named::Named;
+use crate::particle::Particle;
+
+/// The particle quantity the viewer colours by: the one registry of them. The command
+/// line's `--field` values and their help (`Named`), the device's codes (`MF_SHOWN_*` in
+/// `cuda/sph_consts.h`, the discriminants), the output field each is computed from
+/// (`source`) and its value on the host (`of`) all come from here; the viewer's own `Field`
+/// (which knows nothing of the solver) is mapped to it in the binary's glue.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[repr(u32)]
 pub enum Shown {
     #[default]
-    Speed,
-    Pressure,
-    Density,
-    Kind,
+    Speed = MF_SHOWN_SPEED,
+    Pressure = MF_SHOWN_PRESSURE,
+    Density = MF_SHOWN_DENSITY,
+    Kind = MF_SHOWN_KIND,
+}
+
+impl Named for Shown {
+    const ALL: &'static [(Shown, &'static str, &'static str)] = &[
+        (Shown::Speed, "speed", "[L/T] the velocity's magnitude"),
+        (Shown::Pressure, "pressure", "[M L^-d L^2 T^-2] pressure"),
+        (Shown::Density, "density", "[M L^-d] density"),
+        (Shown::Kind, "kind", "0 fluid, 1 solid, 2 boundary"),
+    ];
+}
+
+impl Shown {
+    /// The device's code of this quantity (`MF_SHOWN_*`, `cuda/view.cu`).
+    pub const fn code(self) -> u32 {
+        self as u32
+    }
+
+    /// The output frame's field this quantity is computed from.
+    pub fn source(self) -> Field {
+        match self {
+            Shown::Speed => Field::Velocity,
+            Shown::Pressure => Field::Pressure,
+            Shown::Density => Field::Density,
+            Shown::Kind => Field::Kind,
+        }
+    }
+
+    /// This quantity of one particle (the host path; `cuda/view.cu` computes it alike).
+    pub fn of(self, q: &Particle) -> f32 {
+        match self {
+            Shown::Speed => q.speed(),
+            Shown::Pressure => q.pressure,
+            Shown::Density => q.density,
+            Shown::Kind => q.kind.code() as f32,
+        }
+    }
 }
 
 /// What the viewer draws: positions, kinds and one quantity, in storage order, in buffers
@@ -20,57 +68,4 @@ pub struct Snapshot {
     pub positions: Vec<[f32; 3]>,
     pub values: Vec<f32>,
     pub kinds: Vec<u8>,
-}
-
-/// The viewer's particle vertex buffers, by their OpenGL names in the context current on the
-/// calling thread, which a backend with the particles in device memory fills in place
-/// (`Readback::fill_gl`): per particle, the position as three f32 [L] (z = 0 in 2D), the
-/// shown quantity as one f32, the kind as one u8; each buffer holds `capacity` particles.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct GlBuffers {
-    pub positions: u32,
-    pub values: u32,
-    pub kinds: u32,
-    pub capacity: usize,
-}
-
-/// What `Readback::fill_gl` wrote: `count` particles, `kinds` of them of each kind class in
-/// the buffers' order (fluid, solid, every other kind), and the least and greatest shown
-/// value of the particles that set the colour range (finite, neither boundary nor hidden),
-/// where the range was reduced and any particle set it.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct GlFill {
-    pub count: usize,
-    pub kinds: [usize; 3],
-    pub range: Option<(f32, f32)>,
-    /// Whether the splat asked for was written.
-    pub splat: bool,
-}
-
-/// A visibility splat asked of `Readback::fill_gl` with the fill (the viewer's `SplatView`):
-/// of the particles `first .. first + count` of the filled buffers whose kind is not
-/// `hidden` (bit k: kind k), the nearest sphere of `radius` [L] at each pixel of a `width` x
-/// `height` perspective view, written to the OpenGL buffer `buffer`: `width * height`
-/// quadruples of `f32` (the sphere's world centre and shown value), then as many kind bytes
-/// (255 where no sphere is), pixel (X, Y) at Y width + X. `view`: the world-to-view rows
-/// (3 x 4); a pixel centre (X + 1/2, Y + 1/2) looks along (X' ray[0] + ray[1], Y' ray[2] +
-/// ray[3], -1) in view space (X', Y' the centre's coordinates).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct GlSplat {
-    pub buffer: u32,
-    pub width: u32,
-    pub height: u32,
-    pub view: [f32; 12],
-    pub ray: [f32; 4],
-    pub radius: f32,
-    pub first: usize,
-    pub count: usize,
-    pub hidden: u8,
-}
-
-impl GlSplat {
-    /// Bytes of `buffer`.
-    pub fn bytes(&self) -> usize {
-        self.width as usize * self.height as usize * 17
-    }
 }

@@ -12,7 +12,11 @@ mod kernels;
 mod launch;
 #[cfg(feature = "nccl")]
 pub mod nccl;
+mod persist;
+mod readback;
 mod subdomain;
+mod tl_buffers;
+#[cfg(feature = "interop")]
 mod view;
 
 use std::marker::PhantomData;
@@ -21,30 +25,24 @@ use cudarc::driver::{sys, CudaSlice};
 
 use crate::backend::error::BackendError;
 use crate::backend::fault;
-use crate::checkpoint::SolverCheckpoint;
 use crate::consts::{
     MF_FAULT_ESCAPED, MF_FAULT_NON_FINITE_POSITION, MF_FAULT_NON_FINITE_VELOCITY,
-    MF_FAULT_RECORD_WORDS, MF_FAULT_SLOT_SHIFT, MF_SAMPLE_FLOATS,
+    MF_FAULT_RECORD_WORDS, MF_FAULT_SLOT_SHIFT,
 };
 use crate::dim::Dim;
-use crate::frame::{Fields, FrameData, PendingFrame, Ready};
 use crate::params::{needs_density_gradient, SphParams, MF_DENSITY_CONTINUITY};
-use crate::particle::Particle;
-use crate::solver::{
-    BackendInfo, Diagnostics, Fault, GlBuffers, GlFill, GlSplat, Persist, PointSample, Readback,
-    Setup, Shown, Snapshot, Solver,
-};
+use crate::solver::{BackendInfo, Fault, Setup, Solver};
 use crate::state::State;
 
 pub use device::{device_count, driver_version, NVCC_VERSION};
 pub use subdomain::CudaHalo;
 
-use buffers::{Buffers, TlBuffers};
+use buffers::Buffers;
 use capture::Capturer;
 use device::Device;
 use kernels::{Kernels, LANE_COUNTS};
 use launch::StepGraph;
-use view::GlView;
+use tl_buffers::TlBuffers;
 
 /// Whether a usable CUDA device answers (driver, device 0, PTX in this build).
 pub fn available() -> Result<String, BackendError> {
@@ -102,8 +100,9 @@ pub struct CudaSolver<D: Dim> {
     /// Host buffers of `snapshot`, kept between frames.
     host_pos: Vec<f32>,
     host_vel: Vec<f32>,
-    /// The viewer's vertex buffers, registered at the first `fill_gl`.
-    gl_view: Option<GlView>,
+    /// The viewer's vertex buffers, registered at the first `fill_gl` (`view.rs`).
+    #[cfg(feature = "interop")]
+    gl_view: Option<view::GlView>,
     /// Bytes read back from the device so far (`Readback::device_to_host_bytes`).
     d2h: u64,
     /// The clock [T] and the key of a queued check's fault (`Buffers::time`) as last read
@@ -199,6 +198,7 @@ impl<D: Dim> CudaSolver<D> {
             probe_out: None,
             host_pos: Vec::new(),
             host_vel: Vec::new(),
+            #[cfg(feature = "interop")]
             gl_view: None,
             d2h: 0,
             clock: None,
@@ -626,281 +626,6 @@ impl<D: Dim> Solver for CudaSolver<D> {
             self.grid_current = false;
         }
         removed
-    }
-}
-
-impl<D: Dim> Readback for CudaSolver<D> {
-    fn diagnostics(&mut self) -> Diagnostics {
-        let s = &self.dev.stream;
-        let r = launch::diagnostics(&self.k, s, &self.params, &mut self.buf).and_then(|_| {
-            Ok((
-                s.clone_dtoh(&self.buf.diag_sums)?,
-                s.clone_dtoh(&self.buf.diag_max)?,
-                s.clone_dtoh(&self.buf.diag_counts)?,
-                s.clone_dtoh(&self.buf.dt.slice(..1))?,
-                s.clone_dtoh(&self.buf.time)?,
-            ))
-        });
-        let (sums, maxes, counts, dt, time) =
-            r.unwrap_or_else(|e| self.sync_err("reducing diagnostics", e));
-        self.d2h += (8 * sums.len() + 4 * maxes.len() + 4 * counts.len() + 4 + 8) as u64;
-        Diagnostics {
-            step: self.steps,
-            time: time[0],
-            dt: if self.steps == 0 { 0.0 } else { dt[0] },
-            kinetic_energy: sums[0],
-            max_speed: f32::from_bits(maxes[0]),
-            density_error: f32::from_bits(maxes[1]),
-            momentum: [sums[1], sums[2], sums[3]],
-            fluid: counts[0] as usize,
-            solid: counts[1] as usize,
-            boundary: counts[2] as usize,
-        }
-    }
-    fn particles(&mut self) -> Vec<Particle> {
-        self.download_state().to_particles()
-    }
-    /// A device-side copy into a staging set, downloaded by the frame's `wait` on a second
-    /// stream (`capture.rs`); a synchronous read-back where no staging set fits in memory.
-    fn capture(&mut self, fields: Fields) -> Box<dyn PendingFrame> {
-        let (step, time) = (self.steps, self.time());
-        if self.capturer.is_none() {
-            match Capturer::new(&self.dev.ctx) {
-                Ok(c) => self.capturer = Some(c),
-                Err(e) => self.sync_err("creating the download stream", e),
-            }
-        }
-        let c = self.capturer.as_ref().expect("created above");
-        match c.start::<D>(&self.dev.stream, &self.buf, fields, step, time) {
-            Ok(pending) => pending,
-            Err(_) => {
-                let ps = self.download_state().to_particles();
-                Box::new(Ready(FrameData::from_particles(&ps, fields, step, time)))
-            }
-        }
-    }
-    /// Copies only positions, kinds and the shown quantity (one read-back per drawn frame,
-    /// into buffers that keep their size from frame to frame).
-    fn snapshot(&mut self, shown: Shown, out: &mut Snapshot) {
-        let n = self.buf.n;
-        let vs = buffers::vstride::<D>();
-        let s = self.dev.stream.clone();
-        let c = &self.buf.cur;
-        self.host_pos.resize(n * vs, 0.0);
-        out.kinds.resize(n, 0);
-        out.values.resize(n, 0.0);
-        let r = (|| {
-            s.memcpy_dtoh(&c.pos, &mut self.host_pos)?;
-            s.memcpy_dtoh(&c.kind, &mut out.kinds)?;
-            match shown {
-                Shown::Speed => {
-                    self.host_vel.resize(n * buffers::VEL_STRIDE, 0.0);
-                    s.memcpy_dtoh(&c.vel, &mut self.host_vel)?;
-                }
-                Shown::Pressure => s.memcpy_dtoh(&c.p, &mut out.values)?,
-                Shown::Density => s.memcpy_dtoh(&c.rho, &mut out.values)?,
-                Shown::Kind => {}
-            }
-            s.synchronize()
-        })();
-        if let Err(e) = r {
-            self.sync_err("reading a snapshot back", e)
-        }
-        self.d2h += (n * (4 * vs + 1)) as u64
-            + match shown {
-                Shown::Speed => 4 * (n * buffers::VEL_STRIDE) as u64,
-                Shown::Pressure | Shown::Density => 4 * n as u64,
-                Shown::Kind => 0,
-            };
-        out.positions.clear();
-        out.positions.extend(
-            self.host_pos
-                .chunks_exact(vs)
-                .map(|x| [x[0], x[1], if vs == 4 { x[2] } else { 0.0 }]),
-        );
-        match shown {
-            Shown::Speed => {
-                for (v, x) in out
-                    .values
-                    .iter_mut()
-                    .zip(self.host_vel.chunks_exact(buffers::VEL_STRIDE))
-                {
-                    *v = x.iter().take(D::D).map(|c| c * c).sum::<f32>().sqrt();
-                }
-            }
-            Shown::Kind => {
-                for (v, k) in out.values.iter_mut().zip(&out.kinds) {
-                    *v = *k as f32;
-                }
-            }
-            Shown::Pressure | Shown::Density => {}
-        }
-    }
-    /// Registers `gl`'s buffers with CUDA at the first call (and again where they change),
-    /// then maps, fills and unmaps them (`view.rs`, `cuda/view.cu`); 8 bytes come back for
-    /// the colour range, none with `fixed_range`.
-    fn fill_gl(
-        &mut self,
-        gl: &GlBuffers,
-        shown: Shown,
-        hidden: u8,
-        fixed_range: bool,
-        splat: Option<&GlSplat>,
-    ) -> Option<Result<GlFill, String>> {
-        if !self.gl_view.as_ref().is_some_and(|v| v.serves(gl)) {
-            self.gl_view = None;
-            match GlView::register(&self.dev.stream, *gl) {
-                Ok(v) => self.gl_view = Some(v),
-                Err(e) => {
-                    return Some(Err(format!(
-                        "registering the viewer's OpenGL buffers with CUDA: {e:?}"
-                    )))
-                }
-            }
-        }
-        let v = self.gl_view.as_mut().expect("registered above");
-        let s = &self.dev.stream;
-        Some(
-            match v.fill(
-                &self.k,
-                s,
-                &self.params,
-                &self.buf,
-                shown,
-                hidden,
-                fixed_range,
-                splat,
-            ) {
-                Ok((fill, read)) => {
-                    self.d2h += read;
-                    Ok(fill)
-                }
-                Err(e) => Err(format!("filling the vertex buffers: {e}")),
-            },
-        )
-    }
-    /// The read-backs of time, dt, health checks, diagnostics, snapshots, probes, monitors,
-    /// the colour range and whole-state reads; not counted: the output frames (`capture`'s
-    /// second stream), a checkpoint's solid displacements and a subdomain's exchange sizes.
-    fn device_to_host_bytes(&self) -> Option<u64> {
-        Some(self.d2h)
-    }
-    fn wall_surface(&self) -> &[[f32; 4]] {
-        &self.wall_surface
-    }
-    /// One kernel over the points (`cuda/probes.cu`) after a grid build where the particles
-    /// moved since the last (which leaves the stepping as it was: the next step's build finds
-    /// the same order; a replayed graph first takes one single step, `advance`). Uploads the
-    /// points and reads back `MF_SAMPLE_FLOATS` floats per point, nothing per particle.
-    fn sample_points(
-        &mut self,
-        points: &[[f32; 3]],
-        include_walls: bool,
-        out: &mut Vec<PointSample>,
-    ) {
-        out.clear();
-        if points.is_empty() {
-            return;
-        }
-        if self.buf.n == 0 {
-            out.resize(points.len(), PointSample::EMPTY);
-            return;
-        }
-        if !self.grid_current {
-            self.build_grid();
-        }
-        let n = points.len();
-        let per = MF_SAMPLE_FLOATS as usize;
-        let s = self.dev.stream.clone();
-        let flat: Vec<f32> = points
-            .iter()
-            .flat_map(|x| [x[0], x[1], x[2], 0.0])
-            .collect();
-        let r = (|| {
-            if self.probe_points.as_ref().is_none_or(|b| b.len() < 4 * n) {
-                self.probe_points = Some(s.alloc_zeros::<f32>(4 * n)?);
-                self.probe_out = Some(s.alloc_zeros::<f32>(per * n)?);
-            }
-            let (pts, sums) = (
-                self.probe_points.as_mut().expect("allocated above"),
-                self.probe_out.as_mut().expect("allocated above"),
-            );
-            s.memcpy_htod(&flat, &mut *pts)?;
-            launch::sample_points(
-                &self.k,
-                &s,
-                &self.params,
-                &self.buf,
-                (&pts.slice(..4 * n), include_walls),
-                sums,
-            )?;
-            let mut host = vec![0.0f32; per * n];
-            s.memcpy_dtoh(&sums.slice(..per * n), &mut host)?;
-            s.synchronize()?;
-            Ok(host)
-        })();
-        let host = r.unwrap_or_else(|e| self.sync_err("sampling the probes", e));
-        self.d2h += 4 * host.len() as u64;
-        out.extend(host.chunks_exact(per).map(|c| PointSample {
-            pressure: c[0],
-            velocity: [c[1], c[2], c[3]],
-            density: c[4],
-            colour: c[5],
-            neighbours: c[6].to_bits(),
-        }));
-    }
-    /// Summed on the device (`cuda/monitor.cu`, `launch::wall_forces`): 3 doubles per group
-    /// come back. The grid is rebuilt and the pressures refreshed as the next step will, so
-    /// the run goes on as without the sample (its next `advance` starts with one single step:
-    /// the rebuild swapped the buffer sets its graph was captured with).
-    fn wall_forces(&mut self, groups: &[u32]) -> Vec<[f64; 3]> {
-        let f = launch::wall_forces(
-            &self.k,
-            &self.dev.stream,
-            &self.params,
-            &mut self.buf,
-            groups,
-        )
-        .unwrap_or_else(|e| self.sync_err("summing the wall forces", e));
-        self.d2h += 24 * f.len() as u64;
-        // Its grid build reordered the storage.
-        self.tl_map_slots();
-        f
-    }
-}
-
-impl<D: Dim> Persist for CudaSolver<D> {
-    fn save(&mut self) -> SolverCheckpoint {
-        let state = self.download_state();
-        let disp = self.tl_displacement().unwrap_or_default();
-        let (time, dt) = (self.time(), self.dt());
-        SolverCheckpoint::of_state(&state, time, self.steps, dt, &disp)
-    }
-    fn restore(&mut self, saved: &SolverCheckpoint) -> Result<(), String> {
-        let state = saved.to_state(&self.download_state())?;
-        let n_solid = self.tl.as_ref().map_or(0, |t| t.n_solid);
-        let disp = saved.tl_displacements::<D>(n_solid)?;
-        self.upload_state(&state);
-        let s = &self.dev.stream;
-        let written = self.tl.as_mut().map_or(Ok(()), |t| {
-            t.write_disp::<D>(s, &disp).and_then(|_| t.clear_slots(s))
-        });
-        if let Err(e) = written {
-            self.sync_err("restoring the total-Lagrangian displacements", e)
-        }
-        self.tl_map_slots();
-        self.set_clock(saved.time, saved.dt);
-        // A queued check's fault belongs to the run before the restore.
-        if let Err(e) = self
-            .dev
-            .stream
-            .memcpy_htod(&[saved.time, 0.0][..], &mut self.buf.time)
-        {
-            self.sync_err("restoring the clock", e)
-        }
-        self.steps = saved.steps;
-        self.graph = None;
-        Ok(())
     }
 }
 

@@ -10,13 +10,39 @@
 
 use cudarc::driver::{sys, CudaContext, CudaSlice, CudaStream, DriverError};
 
-use super::buffers::{Buffers, KindScans};
+use super::buffers::Buffers;
 use super::kernels::Kernels;
 use super::launch;
-use crate::consts::{MF_SHOWN_DENSITY, MF_SHOWN_KIND, MF_SHOWN_PRESSURE, MF_SHOWN_SPEED};
+use super::CudaSolver;
+use crate::consts::MF_SCAN_CELLS;
+use crate::dim::Dim;
+use crate::interop::{GlBuffers, GlFill, GlInterop, GlSplat};
 use crate::params::SphParams;
-use crate::solver::{GlBuffers, GlFill, GlSplat, Shown};
+use crate::solver::Shown;
 use std::sync::Arc;
+
+/// The scans that rank each particle among its kind (`cuda/view.cu`'s kind order): marks,
+/// per-block sums and block offsets, [0] of the fluid and [1] of the solids, for up to `cap`
+/// particles (the registered buffers' capacity).
+pub struct KindScans {
+    pub cap: usize,
+    pub mark: [CudaSlice<u32>; 2],
+    pub local: [CudaSlice<u32>; 2],
+    pub bsum: [CudaSlice<u32>; 2],
+}
+
+impl KindScans {
+    pub fn new(s: &Arc<CudaStream>, cap: usize) -> Result<KindScans, DriverError> {
+        let blocks = cap.div_ceil(MF_SCAN_CELLS as usize).max(1);
+        let z = |n: usize| s.alloc_zeros::<u32>(n.max(1));
+        Ok(KindScans {
+            cap,
+            mark: [z(cap)?, z(cap)?],
+            local: [z(cap)?, z(cap)?],
+            bsum: [z(blocks)?, z(blocks)?],
+        })
+    }
+}
 
 /// Bytes per particle of the position, value and kind buffers (`GlBuffers`).
 const BYTES: [usize; 3] = [12, 4, 1];
@@ -40,16 +66,6 @@ pub struct GlView {
 // SAFETY: the resource handles are plain driver handles, used only through `&mut self` (so
 // never from two threads at once), as cudarc's own handles are.
 unsafe impl Send for GlView {}
-
-/// The device's code for a shown quantity (`MF_SHOWN_*`).
-fn shown_code(shown: Shown) -> u32 {
-    match shown {
-        Shown::Speed => MF_SHOWN_SPEED,
-        Shown::Pressure => MF_SHOWN_PRESSURE,
-        Shown::Density => MF_SHOWN_DENSITY,
-        Shown::Kind => MF_SHOWN_KIND,
-    }
-}
 
 /// The float whose bits `ordered_bits` (`cuda/view.cu`) mapped to `u`.
 fn from_ordered(u: u32) -> f32 {
@@ -185,7 +201,7 @@ impl GlView {
                 s,
                 p,
                 b,
-                shown_code(shown),
+                shown.code(),
                 u32::from(hidden),
                 out,
                 reduce.then_some(&mut self.range),
@@ -237,6 +253,50 @@ impl Drop for GlView {
         for &r in self.res.iter().chain(splat.iter()) {
             // Nothing to do about a failure here (e.g. the GL context went first).
             let _ = launch::gl_unregister(&self.ctx, r);
+        }
+    }
+}
+
+impl<D: Dim> GlInterop for CudaSolver<D> {
+    /// Registers `gl`'s buffers with CUDA at the first call (and again where they change),
+    /// then maps, fills and unmaps them (`view.rs`, `cuda/view.cu`); 8 bytes come back for
+    /// the colour range, none with `fixed_range`.
+    fn fill_gl(
+        &mut self,
+        gl: &GlBuffers,
+        shown: Shown,
+        hidden: u8,
+        fixed_range: bool,
+        splat: Option<&GlSplat>,
+    ) -> Result<GlFill, String> {
+        if !self.gl_view.as_ref().is_some_and(|v| v.serves(gl)) {
+            self.gl_view = None;
+            match GlView::register(&self.dev.stream, *gl) {
+                Ok(v) => self.gl_view = Some(v),
+                Err(e) => {
+                    return Err(format!(
+                        "registering the viewer's OpenGL buffers with CUDA: {e:?}"
+                    ))
+                }
+            }
+        }
+        let v = self.gl_view.as_mut().expect("registered above");
+        let s = &self.dev.stream;
+        match v.fill(
+            &self.k,
+            s,
+            &self.params,
+            &self.buf,
+            shown,
+            hidden,
+            fixed_range,
+            splat,
+        ) {
+            Ok((fill, read)) => {
+                self.d2h += read;
+                Ok(fill)
+            }
+            Err(e) => Err(format!("filling the vertex buffers: {e}")),
         }
     }
 }

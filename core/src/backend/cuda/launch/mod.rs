@@ -58,6 +58,7 @@ mod integrate;
 mod passes;
 mod reduce;
 mod tlsph;
+#[cfg(feature = "interop")]
 mod view;
 
 pub use exchange::*;
@@ -66,4 +67,5 @@ pub use integrate::*;
 pub use passes::*;
 pub use reduce::*;
 pub use tlsph::*;
+#[cfg(feature = "interop")]
 pub use view::*;

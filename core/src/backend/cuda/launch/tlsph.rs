@@ -10,8 +10,9 @@ use super::{
     integrate::{clear_red, settle_step_size},
     NULL,
 };
-use crate::backend::cuda::buffers::{Buffers, TlBuffers};
+use crate::backend::cuda::buffers::Buffers;
 use crate::backend::cuda::kernels::{Family, Kernels};
+use crate::backend::cuda::tl_buffers::TlBuffers;
 use crate::params::SphParams;
 
 /// Map the total-Lagrangian solid space onto the storage after a reorder: slot[a] = the

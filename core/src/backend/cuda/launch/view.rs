@@ -7,10 +7,11 @@ use std::sync::Arc;
 use cudarc::driver::{sys, CudaContext, CudaSlice, CudaStream, DriverError, PushKernelArg};
 
 use super::{cfg, grid::scan, NULL};
-use crate::backend::cuda::buffers::{Buffers, KindScans};
+use crate::backend::cuda::buffers::Buffers;
 use crate::backend::cuda::kernels::{Family, Kernels};
+use crate::backend::cuda::view::KindScans;
+use crate::interop::GlSplat;
 use crate::params::SphParams;
-use crate::solver::GlSplat;
 
 /// `cuGraphicsGLRegisterBuffer` of `cudaGL.h`, which cudarc does not declare:
 /// `CUresult cuGraphicsGLRegisterBuffer(CUgraphicsResource* pCudaResource, GLuint buffer,
