@@ -2,7 +2,7 @@
 //! a fatbin of every `cuda/*.cu` (nvcc). It never probes a GPU.
 //!
 //! * Bindings: generated with bindgen where libclang loads; elsewhere the committed copies
-//!   (`src/params/bindings.rs`, `src/consts/bindings.rs`) are used (`tests/bindings.rs` checks
+//!   (`src/physics/params/bindings.rs`, `src/consts/bindings.rs`) are used (`tests/bindings.rs` checks
 //!   that they agree with bindgen's where libclang exists).
 //! * CUDA modules: nvcc is looked up in `NVCC`, `CUDA_HOME`/`CUDA_PATH` (`bin/nvcc`), then
 //!   `PATH`. Without nvcc the crate builds the CPU backend only and says so once;
@@ -50,7 +50,7 @@ const HEADERS: [Header; 2] = [
     Header {
         path: "cuda/sph_params.h",
         out: "sph_params.rs",
-        committed: "src/params/bindings.rs",
+        committed: "src/physics/params/bindings.rs",
         ty: Some("SphParams"),
     },
     Header {

@@ -15,18 +15,18 @@ use serde::{Deserialize, Serialize};
 
 use meshfree_core::backend::cpu::{CpuSolver, Grid};
 use meshfree_core::backend::{BackendChoice, BackendError};
-use meshfree_core::dim::{Dim, D2, D3};
 use meshfree_core::named::Named;
-use meshfree_core::params::{
+use meshfree_core::physics::dim::{Dim, D2, D3};
+use meshfree_core::physics::params::{
     self, SphParams, MF_DENSITY_CONTINUITY, MF_INTEGRATOR_LEAPFROG, MF_KIND_BOUNDARY,
 };
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::particle::{Kind, Particle};
+use meshfree_core::physics::state::State;
+use meshfree_core::scene::scheme::declare::ToParam;
+use meshfree_core::scene::scheme::{DensityForm, DiffusionForm, IntegratorChoice, KernelChoice};
 use meshfree_core::scene::Scene;
-use meshfree_core::scheme::declare::ToParam;
-use meshfree_core::scheme::{DensityForm, DiffusionForm, IntegratorChoice, KernelChoice};
+use meshfree_core::solver::step::Stepper;
 use meshfree_core::solver::{Setup, Solver};
-use meshfree_core::state::State;
-use meshfree_core::step::Stepper;
 
 /// What to run.
 #[derive(Clone, Debug, Serialize, Deserialize)]

@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use crate::nearest::NearestIndex;
 use crate::output::read_particles_csv;
-use meshfree_core::particle::Particle;
+use meshfree_core::physics::particle::Particle;
 
 /// How particles of A find their partner in B.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]

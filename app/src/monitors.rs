@@ -1,16 +1,16 @@
 //! The scene's force monitors during a run (`[[monitors]]`): when each samples next, its
 //! samples and its `<name>.csv`. The force itself is `Solver::wall_forces` (on the solver's
 //! own state; summed on the device by the CUDA backend), whose sum is
-//! `meshfree_core::monitor::wall_force`'s.
+//! `meshfree_core::measure::monitor::wall_force`'s.
 
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use meshfree_core::monitor::{BluffBody, ForceSample, MonitorSummary};
+use meshfree_core::measure::monitor::{BluffBody, ForceSample, MonitorSummary};
 use meshfree_core::scene::{format, Scene};
+use meshfree_core::solver::step::reached;
 use meshfree_core::solver::Solver;
-use meshfree_core::step::reached;
 
 use crate::output::ForcesCsv;
 

@@ -26,10 +26,10 @@ use serde::{de::DeserializeOwned, Deserialize, Serialize};
 
 use meshfree_core::backend::cpu::CpuSolver;
 use meshfree_core::backend::{BackendChoice, BackendError};
-use meshfree_core::dim::{Dim, D2, D3};
 use meshfree_core::exchange::{
     cut, halo_width, part, Call, Decomposed, Group, Rank, Reply, Slab, Status, Subdomain, Transport,
 };
+use meshfree_core::physics::dim::{Dim, D2, D3};
 use meshfree_core::scene::{Scene, SceneSource};
 use meshfree_core::solver::{BackendInfo, Setup, Solver};
 

@@ -2,7 +2,7 @@
 //! when each samples next, and its rows of `probes.csv` and `gauges.csv`. The values come
 //! from `Solver::sample_points` (interpolated on the device on the GPU: no particle
 //! read-back); a gauge's surface from the colours of its line's points,
-//! `meshfree_core::probe::surface`.
+//! `meshfree_core::measure::probe::surface`.
 //!
 //! Both files are long ("tidy") CSV, one row per point (probes) or gauge per sample, in the
 //! scene's order; a cell is empty where the value is not a number (a probe with no fluid
@@ -20,11 +20,11 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use meshfree_core::probe::{gauge_points, surface};
+use meshfree_core::measure::probe::{gauge_points, surface};
 use meshfree_core::scene::format::{Gauge, Probe, ProbeField};
 use meshfree_core::scene::Scene;
+use meshfree_core::solver::step::reached;
 use meshfree_core::solver::{PointSample, Solver};
-use meshfree_core::step::reached;
 use serde::{Deserialize, Serialize};
 
 type IoResult = Result<(), (PathBuf, std::io::Error)>;

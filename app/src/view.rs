@@ -9,13 +9,13 @@ use meshfree::cli::{RenderArgs, ViewArgs};
 use meshfree::output::files::SUMMARY;
 use meshfree::output::{write_vtu, RunStatus, RunSummary, Timing};
 use meshfree_core::backend::{create, Layout};
-use meshfree_core::frame;
 use meshfree_core::interop::{GlBuffers, GlSplat};
-use meshfree_core::params::SphParams;
+use meshfree_core::physics::params::SphParams;
 use meshfree_core::scene::format::{OutputFormat, Wall};
 use meshfree_core::scene::{Counts, Overrides, Scene};
+use meshfree_core::solver::frame;
+use meshfree_core::solver::step::Stepper;
 use meshfree_core::solver::{Diagnostics, Shown, Snapshot, Solver};
-use meshfree_core::step::Stepper;
 use meshfree_viewer::{
     DeviceFrame, Field, FrameData, LiveSource, Outline, Panel, ParticleBuffers, RenderOptions,
     SplatView, Status, ViewOptions,

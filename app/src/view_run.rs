@@ -10,7 +10,7 @@ use meshfree::bad_input::BadInput;
 use meshfree::cli::{RenderArgs, ViewArgs};
 use meshfree::output::frames::{kinds, values};
 use meshfree::output::RecordedRun;
-use meshfree_core::frame;
+use meshfree_core::solver::frame;
 use meshfree_core::solver::Shown;
 use meshfree_viewer::{
     Field, FrameData, LiveSource, Outline, Panel, RenderOptions, Status, ViewOptions,

@@ -4,7 +4,7 @@
 use meshfree::analysis::bodies::{body, BodyTracker};
 use meshfree::output::bodies_csv::BODIES_HEADER;
 use meshfree::run::{self, Progress, RunOptions};
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::particle::{Kind, Particle};
 use meshfree_core::scene::Scene;
 
 /// A lattice body of group 1 (n[a] particles along each axis at spacing 0.5), moving

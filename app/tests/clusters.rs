@@ -1,7 +1,7 @@
 //! `analysis::clusters`: connected components of fluid particles (links under a radius).
 
 use meshfree::analysis::clusters::{count_fluid_clusters, fluid_clusters};
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::particle::{Kind, Particle};
 
 fn at(x: f32, y: f32, kind: Kind) -> Particle {
     Particle {

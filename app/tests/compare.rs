@@ -2,8 +2,8 @@
 
 use meshfree::compare::{compare, compare_files, MatchBy};
 use meshfree::output::{read_particles_csv, write_particles_csv};
-use meshfree_core::frame::FrameData;
 use meshfree_core::scene::Scene;
+use meshfree_core::solver::frame::FrameData;
 
 #[test]
 fn csv_round_trips_and_compares() {
@@ -76,10 +76,10 @@ fn bad_csv_names_file_line_and_field() {
 }
 
 /// A fluid particle of id `id` at `x`.
-fn at(id: u32, x: [f32; 3]) -> meshfree_core::particle::Particle {
-    meshfree_core::particle::Particle {
+fn at(id: u32, x: [f32; 3]) -> meshfree_core::physics::particle::Particle {
+    meshfree_core::physics::particle::Particle {
         id,
-        kind: meshfree_core::particle::Kind::Fluid,
+        kind: meshfree_core::physics::particle::Kind::Fluid,
         group: 0,
         position: x,
         velocity: [0.0; 3],

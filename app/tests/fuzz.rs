@@ -13,7 +13,7 @@ use std::time::Instant;
 use meshfree_core::backend::{self, BackendChoice};
 use meshfree_core::scene::estimate::estimate;
 use meshfree_core::scene::{Scene, SceneError};
-use meshfree_core::step::Stepper;
+use meshfree_core::solver::step::Stepper;
 
 /// xorshift64*: small, seeded, the same sequence on every machine.
 struct Rng(u64);

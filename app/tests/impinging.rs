@@ -6,10 +6,10 @@
 
 use meshfree::analysis::bodies::{self, Body};
 use meshfree_core::backend::cpu_solver;
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::particle::{Kind, Particle};
 use meshfree_core::scene::{Counts, Scene};
+use meshfree_core::solver::step::Stepper;
 use meshfree_core::solver::Solver;
-use meshfree_core::step::Stepper;
 
 /// A body (particles of one group) by `analysis::bodies` in 2D measures (omega about z).
 fn body(ps: &[Particle], group: u32) -> Body {

@@ -5,9 +5,9 @@
 
 use meshfree::analysis::clusters;
 use meshfree_core::backend::cpu_solver;
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::particle::{Kind, Particle};
 use meshfree_core::scene::{Counts, Scene};
-use meshfree_core::step::Stepper;
+use meshfree_core::solver::step::Stepper;
 
 #[test]
 fn particle_count_within_5_percent_of_table_1() {

@@ -3,9 +3,9 @@
 
 use meshfree::output::{self, diagnostics, PvdSeries};
 use meshfree::run::{self, Progress, RunOptions};
-use meshfree_core::frame::{Field, Fields, FrameData};
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::particle::{Kind, Particle};
 use meshfree_core::scene::Scene;
+use meshfree_core::solver::frame::{Field, Fields, FrameData};
 use meshfree_core::solver::Diagnostics;
 
 fn particles(n: usize) -> Vec<Particle> {

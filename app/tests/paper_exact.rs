@@ -3,12 +3,12 @@
 
 use meshfree::run::{run, Progress, RunOptions};
 use meshfree_core::scene::paper_exact::{alpha_for_viscosity, ALPHA_MIN, DT_FRACTION};
-use meshfree_core::scene::{builtin_names, Scene};
-use meshfree_core::scheme::{
+use meshfree_core::scene::scheme::{
     DensityForm, DiffusionForm, IntegratorChoice, NoSlip, SolidFluidPressure, SolidInterface,
     WallCoupling,
 };
-use meshfree_core::scheme::{PAPER_BETA as BETA, PAPER_XSPH as XSPH};
+use meshfree_core::scene::scheme::{PAPER_BETA as BETA, PAPER_XSPH as XSPH};
+use meshfree_core::scene::{builtin_names, Scene};
 
 #[test]
 fn the_transform_sets_exactly_the_paper_options() {

@@ -5,7 +5,7 @@
 //! build time (`app/build.rs`; CI sets it and installs them).
 
 use meshfree::run::{self, Progress, RunOptions};
-use meshfree_core::particle::Kind;
+use meshfree_core::physics::particle::Kind;
 use meshfree_core::scene::format::OutputFormat;
 use meshfree_core::scene::Scene;
 

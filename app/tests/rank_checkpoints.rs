@@ -14,8 +14,8 @@ use std::path::{Path, PathBuf};
 use meshfree::output::checkpoint::{self, Saved};
 use meshfree::run::{self, Progress, RunError, RunOptions};
 use meshfree_core::backend::BackendChoice;
-use meshfree_core::checkpoint::SolverCheckpoint;
 use meshfree_core::scene::Scene;
+use meshfree_core::solver::checkpoint::SolverCheckpoint;
 
 mod support;
 

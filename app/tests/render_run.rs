@@ -13,7 +13,7 @@ use std::process::{Command, Output};
 
 use meshfree::output::frames::{read_frame_csv, values};
 use meshfree::output::{read_vtu, write_particles_csv, write_vtu, RecordedRun};
-use meshfree_core::frame::{Field, Fields, FrameData};
+use meshfree_core::solver::frame::{Field, Fields, FrameData};
 
 fn meshfree() -> Command {
     Command::new(env!("CARGO_BIN_EXE_meshfree"))

@@ -16,8 +16,8 @@ use std::time::{Duration, Instant};
 use meshfree::output::{checkpoint, RunStatus};
 use meshfree::run::{self, Progress, RunError, RunOptions};
 use meshfree_core::backend::BackendChoice;
-use meshfree_core::checkpoint::SolverCheckpoint;
 use meshfree_core::scene::Scene;
+use meshfree_core::solver::checkpoint::SolverCheckpoint;
 
 fn scene_text() -> String {
     let text = Scene::builtin("impinging-2d").unwrap().text;

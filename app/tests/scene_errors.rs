@@ -98,7 +98,7 @@ fn base_scene_is_valid() {
         setup
             .particles
             .iter()
-            .filter(|p| p.kind == meshfree_core::particle::Kind::Fluid)
+            .filter(|p| p.kind == meshfree_core::physics::particle::Kind::Fluid)
             .count(),
         100
     );

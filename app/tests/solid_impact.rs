@@ -10,7 +10,7 @@
 use meshfree::analysis::bodies::{body, Body};
 use meshfree_core::backend::cpu_solver;
 use meshfree_core::scene::Scene;
-use meshfree_core::step::Stepper;
+use meshfree_core::solver::step::Stepper;
 
 /// The square (group 1) at rest, the water block (group 0) to its left moving at +6.
 /// `interface` is the `[solid] interface` value (None: the default).

@@ -5,8 +5,8 @@
 //! at the scene's declared speed does not pass it.
 
 use meshfree::run::{run, Progress, RunError, RunOptions};
+use meshfree_core::scene::scheme::IntegratorChoice;
 use meshfree_core::scene::Scene;
-use meshfree_core::scheme::IntegratorChoice;
 
 fn tank(integrator: IntegratorChoice, courant: f64) -> Scene {
     let mut s = Scene::builtin("tank-2d")
@@ -115,7 +115,7 @@ fn stretched_elastic_strip_clumps_without_artificial_stress_and_not_with_it() {
         let mut setup = scene.setup().unwrap();
         stretch(&mut setup.particles);
         let mut s = meshfree_core::backend::cpu_solver(setup);
-        let mut stepper = meshfree_core::step::Stepper::default();
+        let mut stepper = meshfree_core::solver::step::Stepper::default();
         let mut worst = 0.0f64;
         for k in 1..=3 {
             stepper
@@ -143,8 +143,8 @@ fn stretched_elastic_strip_clumps_without_artificial_stress_and_not_with_it() {
 /// floor, with either wall coupling.
 #[test]
 fn fluid_thrown_at_a_wall_at_the_declared_speed_does_not_pass_it() {
-    use meshfree_core::particle::Kind;
-    use meshfree_core::scheme::WallCoupling;
+    use meshfree_core::physics::particle::Kind;
+    use meshfree_core::scene::scheme::WallCoupling;
     for coupling in [WallCoupling::Dynamic, WallCoupling::LennardJonesOnly] {
         let mut s = Scene::builtin("dam-break-2d")
             .unwrap()
@@ -159,7 +159,7 @@ fn fluid_thrown_at_a_wall_at_the_declared_speed_does_not_pass_it() {
         s.revalidate().unwrap();
         let setup = s.setup().unwrap();
         let mut solver = meshfree_core::backend::cpu_solver(setup);
-        let mut stepper = meshfree_core::step::Stepper::new(s.gates());
+        let mut stepper = meshfree_core::solver::step::Stepper::new(s.gates());
         // The block reaches the wall at x = 4 after 0.11 T; the splash is over by 0.3 T.
         let mut deepest = f32::MIN;
         for k in 1..=6 {

@@ -4,9 +4,9 @@
 //! the full run (t = 20, GPU): docs/reference/paper-scenes.md.
 
 use meshfree::run::{self, Progress, RunOptions};
-use meshfree_core::particle::Kind;
+use meshfree_core::physics::particle::Kind;
+use meshfree_core::scene::scheme::NoSlip;
 use meshfree_core::scene::{Counts, Scene};
-use meshfree_core::scheme::NoSlip;
 
 /// (name, the paper's particle count, Re).
 const SCENES: [(&str, usize, f64); 2] = [

@@ -1,12 +1,12 @@
 /*
  * meshfree: the one parameter struct, shared by every CUDA kernel (passed by value) and the
- * Rust side (bindgen turns it into `crate::params::SphParams`; the CPU backend reads it too).
+ * Rust side (bindgen turns it into `crate::physics::params::SphParams`; the CPU backend reads it too).
  *
  * C99, fixed-width scalars and fixed arrays only: no pointers, no float3, no bool.
  * Units: the scenes are dimensionless like the paper's; [L] length, [T] time, [M] mass,
  * d = `dim`. Derived fields (marked "derived") are filled by `params::derive` on the host,
  * never by hand.
- * A field that a scene key sets is named by that key (`core/src/scheme.rs` declares each):
+ * A field that a scene key sets is named by that key (`core/src/scene/scheme.rs` declares each):
  * `density_diffusion` is [fluid] density_diffusion; a [solid] key the [fluid] table also has
  * takes `solid_` (`solid_density_diffusion`).
  */

@@ -4,25 +4,25 @@
 // each reorder, the stress from the deformation gradient (Saint Venant-Kirchhoff), the
 // internal force with the hourglass control, and the displacement's drift. One thread per
 // solid particle (solid index a = its rank by id), its reference neighbours in the CSR order
-// the host built (src/tlsph/mod.rs `Reference`), so the sums run in the CPU's order; no atomics
+// the host built (src/physics/tlsph/mod.rs `Reference`), so the sums run in the CPU's order; no atomics
 // (each solid adds to its own slot). dt is read on the device (written by sph_step_size).
-// Twin: src/backend/cpu/tlsph.rs (material law and reference set-up: src/tlsph/mod.rs); parity
+// Twin: src/backend/cpu/tlsph.rs (material law and reference set-up: src/physics/tlsph/mod.rs); parity
 // test: tests/cuda_parity/.
 //
 // Layout (src/backend/cuda/buffers.rs `TlBuffers`): x0 and disp as float2 (2D) / float4 (3D,
 // w = 0) per solid; grad (H = F - I) row-major, DIM * DIM floats per solid; corr (C, the
-// reference gradient's second-order correction, src/tlsph/gradient.rs) and pk1_corr ((omega / V0) P C) as
+// reference gradient's second-order correction, src/physics/tlsph/gradient.rs) and pk1_corr ((omega / V0) P C) as
 // TL_Q columns of DIM floats per solid; face (F_a, the clamp's face points' basis sum,
-// src/tlsph/mod.rs `faces`) TL_Q floats per solid and face_clamp (the clamp particle whose
+// src/physics/tlsph/mod.rs `faces`) TL_Q floats per solid and face_clamp (the clamp particle whose
 // displacement the face takes, NONE where a has no face) one per solid; the face points within
 // a's support as a CSR (face_start, face_pts: DIM + 1 + TL_Q floats each, X0_m, V_m, then the
-// fit's value weights r_am, src/tlsph/mod.rs `FacePair`); quad (omega / V0, the strain energy's
-// quadrature weight, src/tlsph/quadrature.rs) one per solid; slot NONE (0xffffffff) for a
+// fit's value weights r_am, src/physics/tlsph/mod.rs `FacePair`); quad (omega / V0, the strain energy's
+// quadrature weight, src/physics/tlsph/quadrature.rs) one per solid; slot NONE (0xffffffff) for a
 // removed particle.
 //
 // Every reference separation X0_a - X0_b (and X0_a - X0_m of a face point) is the minimum image
 // on periodic axes (separation, device/grid.cuh), as the host's set-up took it: a body or a
-// clamp may cross the seam (src/tlsph/mod.rs).
+// clamp may cross the seam (src/physics/tlsph/mod.rs).
 #include "device/entries.cuh"
 #include "device/grid.cuh"
 #include "device/kernel.cuh"
@@ -47,7 +47,7 @@ template <int DIM> __device__ __forceinline__ void tl_mstore(float* __restrict__
 #pragma unroll
         for (int y = 0; y < DIM; ++y) a[i * DIM * DIM + x * DIM + y] = r.m[x][y];
 }
-// The quadratic basis (src/tlsph/gradient.rs): TL_Q = DIM + DIM (DIM + 1) / 2 functions of
+// The quadratic basis (src/physics/tlsph/gradient.rs): TL_Q = DIM + DIM (DIM + 1) / 2 functions of
 // s = (X0_b - X0_a) / h: s_1 .. s_DIM, then s_i s_j for i <= j.
 template <int DIM> struct TlBasis {
     static constexpr int Q = DIM + DIM * (DIM + 1) / 2;
@@ -76,7 +76,7 @@ __device__ __forceinline__ Vec<DIM> tl_apply(const float* __restrict__ c, unsign
         for (int d = 0; d < DIM; ++d) out.c[d] += c[(a * Q + m) * DIM + d] * b.p[m];
     return out;
 }
-// Solid a's face basis sum F_a (src/tlsph/mod.rs `Reference::face`) as a TlBasis.
+// Solid a's face basis sum F_a (src/physics/tlsph/mod.rs `Reference::face`) as a TlBasis.
 template <int DIM> __device__ __forceinline__ TlBasis<DIM> tl_face(const float* __restrict__ face, unsigned a) {
     TlBasis<DIM> b;
 #pragma unroll
@@ -84,7 +84,7 @@ template <int DIM> __device__ __forceinline__ TlBasis<DIM> tl_face(const float* 
     return b;
 }
 // The clamp whose displacement a's face takes, NONE where a has none or the clamp is gone
-// (src/tlsph/mod.rs `clamp_of`, as the CPU's stages read it).
+// (src/physics/tlsph/mod.rs `clamp_of`, as the CPU's stages read it).
 __device__ __forceinline__ unsigned tl_face_clamp(const unsigned* __restrict__ face_clamp,
                                                   const unsigned* __restrict__ slot, unsigned a) {
     const unsigned c = face_clamp[a];
@@ -101,7 +101,7 @@ __device__ __forceinline__ Vec<DIM> tl_pair(const SphParams& p, const Vec<DIM>& 
     return (vzero<DIM>() - x0ab) * (1.0f / p.h);
 }
 
-// The elastic constants of the Saint Venant-Kirchhoff law (src/tlsph/mod.rs `Material::of`):
+// The elastic constants of the Saint Venant-Kirchhoff law (src/physics/tlsph/mod.rs `Material::of`):
 // K = rho0_s c_s^2, mu = G, lambda = K - 2 G / 3, E = 9 K G / (3 K + G) [M L^-d L^2 T^-2].
 __device__ __forceinline__ void tl_material(const SphParams& p, float& lambda, float& mu, float& young) {
     const float k = p.solid_rho0 * p.solid_c0 * p.solid_c0;
@@ -126,8 +126,8 @@ extern "C" __global__ void __launch_bounds__(MF_BLOCK)
 
 // The stress stage of solid a (src/backend/cpu/tlsph.rs `TlBodies::stress`): the displacement
 // gradient H_a = sum_b (u_b - u_a) (x) g_ab, g_ab = V0_b w_ab C_a p(s_ab) [-] over the reference
-// neighbours present (src/tlsph/mod.rs `displacement_gradient`), the Saint Venant-Kirchhoff
-// stress (src/tlsph/mod.rs `svk`): Green strain E = (H + H^T + H^T H) / 2, S = lambda tr(E) I + 2 mu E, P = F S, J = det F; kept: H and (omega / V0) P C (quad: the energy's quadrature weight, src/tlsph/quadrature.rs);
+// neighbours present (src/physics/tlsph/mod.rs `displacement_gradient`), the Saint Venant-Kirchhoff
+// stress (src/physics/tlsph/mod.rs `svk`): Green strain E = (H + H^T + H^T H) / 2, S = lambda tr(E) I + 2 mu E, P = F S, J = det F; kept: H and (omega / V0) P C (quad: the energy's quadrature weight, src/physics/tlsph/quadrature.rs);
 // written into a's slot: the deviator sigma + p I of the Cauchy stress sigma = J^-1 P F^T,
 // p = -tr(sigma) / 3 (2D plane strain: + sigma_zz = J^-1 lambda tr(E)), into stress. The
 // slot's density and pressure stay the continuity density's and its equation of state's,
@@ -205,7 +205,7 @@ __device__ void sph_tl_stress_body(const SphParams p, unsigned n, unsigned n_sol
 #pragma unroll
     for (int x = 0; x < DIM; ++x) sigma.m[x][x] += pressure;  // the deviator sigma + p I
     tl_mstore<DIM>(grad, a, h);
-    // The energy's quadrature weight omega_a = quad_a V0_a (src/tlsph/quadrature.rs): (omega / V0) P C.
+    // The energy's quadrature weight omega_a = quad_a V0_a (src/physics/tlsph/quadrature.rs): (omega / V0) P C.
     Mat<DIM> pkw = pk1;
 #pragma unroll
     for (int x = 0; x < DIM; ++x)
@@ -232,15 +232,15 @@ MF_ENTRY2(sph_tl_stress,
 // The internal force of solid a (src/backend/cpu/tlsph.rs `TlBodies::forces`), added to the
 // force stage's acceleration of its slot [L/T^2]:
 // acc_a += (1 / rho0_s) (sum_b V0_b w_ab [P_a C_a p(s_ab) - P_b C_b p(-s_ab)] + P_a C_a F_a) (F_a: the
-// clamp's face, src/tlsph/mod.rs `faces`; src/tlsph/mod.rs:
+// clamp's face, src/physics/tlsph/mod.rs `faces`; src/physics/tlsph/mod.rs:
 // the derivative of the discrete strain energy; m_a dv_a/dt = sum_b V0_a V0_b w_ab [...],
 // V0_a / m_a = 1 / rho0_s), plus Ganzenmueller 2015's
-// hourglass control eq. (10) (src/tlsph/mod.rs `hourglass`): with eps = (H_a + H_b) X0_ab - 2 u_ab,
+// hourglass control eq. (10) (src/physics/tlsph/mod.rs `hourglass`): with eps = (H_a + H_b) X0_ab - 2 u_ab,
 // acc_a += (alpha / 2) (V0_b / rho0_s) W0_ab / |X0_ab|^2 E (eps . x_ab) x_ab / |x_ab|^2;
 // and the same over a's face points m (b -> m, V0_m, u_m = u_clamp, x_am = X0_am + u_a - u_clamp,
 // eps = 2 (u_clamp - u_fit(X0_m)), u_fit(X0_m) = u_a + sum_k r_k B_k: a's fit at the face point,
 // src/backend/cpu/tlsph.rs `TlBodies::fit_sum`), which hold the root of a thin gate on the face.
-// The hourglass term of one pair with the error eps of its separation (src/tlsph/mod.rs `hourglass`).
+// The hourglass term of one pair with the error eps of its separation (src/physics/tlsph/mod.rs `hourglass`).
 template <int DIM>
 __device__ __forceinline__ Vec<DIM> tl_hourglass(const SphParams& p, float young, float vb, float w0,
                                                  const Vec<DIM>& x0ab, const Vec<DIM>& xab, const Vec<DIM>& eps) {
@@ -334,7 +334,7 @@ __device__ __forceinline__ float tl_force_one(const SphParams& p, unsigned a, un
             for (int x = 0; x < DIM; ++x)
 #pragma unroll
                 for (int y = 0; y < DIM; ++y) hs.m[x][y] = ha.m[x][y] + hs.m[x][y];
-            // eps = (H_a + H_b) X0_ab - 2 u_ab (src/tlsph/mod.rs `pair_error`).
+            // eps = (H_a + H_b) X0_ab - 2 u_ab (src/physics/tlsph/mod.rs `pair_error`).
             const Vec<DIM> eps = mat_vec<DIM>(hs, x0ab) - (ua - vload<DIM>(disp, b)) * 2.0f;
             sum = sum + tl_hourglass<DIM>(p, young, vb, w0, x0ab, xab, eps);
         }

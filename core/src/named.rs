@@ -41,7 +41,7 @@ mod tests {
 
     #[test]
     fn backend_and_scene_choice_names_are_serde_names() {
-        use crate::scheme::*;
+        use crate::scene::scheme::*;
         names_are_serde_names::<BackendChoice>();
         names_are_serde_names::<IntegratorChoice>();
         names_are_serde_names::<KernelChoice>();

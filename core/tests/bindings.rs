@@ -11,8 +11,8 @@ const HEADERS: [(&str, &str, &str, &str); 2] = [
     (
         "cuda/sph_params.h",
         include_str!(concat!(env!("OUT_DIR"), "/sph_params.rs")),
-        "src/params/bindings.rs",
-        include_str!("../src/params/bindings.rs"),
+        "src/physics/params/bindings.rs",
+        include_str!("../src/physics/params/bindings.rs"),
     ),
     (
         "cuda/sph_consts.h",
@@ -33,7 +33,7 @@ const CONSTS_BINDINGS: &str = include_str!("../src/consts/bindings.rs");
 )]
 fn bindings_match_header() {
     assert_eq!(
-        meshfree_core::params::BINDINGS_SOURCE,
+        meshfree_core::physics::params::BINDINGS_SOURCE,
         "bindgen",
         "libclang was not found at build time; the committed bindings were used, so there is \
          nothing to compare them with"

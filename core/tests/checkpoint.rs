@@ -1,4 +1,4 @@
-//! Restarts (`Persist::save`, `Persist::restore`, `meshfree_core::checkpoint`): a solver
+//! Restarts (`Persist::save`, `Persist::restore`, `meshfree_core::solver::checkpoint`): a solver
 //! restored from a checkpoint into a fresh solver of the same scene steps on exactly as the
 //! saved one did, bit for bit on the same backend (its diagnostics too), with elastic bodies under both solid
 //! formulations and a gate opened before the save; a checkpoint of another scene is refused
@@ -6,8 +6,8 @@
 //! checkpoint continued on the GPU stays within the parity tests' tolerances of the CPU.
 
 use meshfree_core::backend::{self, BackendChoice};
-use meshfree_core::checkpoint::SolverCheckpoint;
 use meshfree_core::scene::Scene;
+use meshfree_core::solver::checkpoint::SolverCheckpoint;
 use meshfree_core::solver::{Setup, Solver};
 
 /// The built-in impinging flow (water column, gate, an elastic square and disc) at twice

@@ -4,7 +4,7 @@
 
 use meshfree_core::backend::cpu::cohesion_over_r;
 use meshfree_core::backend::cpu_solver;
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::particle::{Kind, Particle};
 use meshfree_core::solver::Solver;
 
 mod common;
@@ -59,7 +59,7 @@ fn drop(cohesion: f32, rim_speed: f32) -> meshfree_core::solver::Setup {
     p.c0 = 20.0;
     p.alpha = 0.05;
     p.cohesion = cohesion;
-    meshfree_core::params::derive(&mut p);
+    meshfree_core::physics::params::derive(&mut p);
     let mut particles = Vec::new();
     let n = (radius / dx) as i32 + 1;
     for j in -n..n {

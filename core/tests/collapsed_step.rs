@@ -4,7 +4,7 @@
 
 use meshfree_core::backend::{self, BackendChoice};
 use meshfree_core::scene::Scene;
-use meshfree_core::step::Stepper;
+use meshfree_core::solver::step::Stepper;
 
 /// The quick stability map's dam break (dx = 0.1) with the paper's forward Euler, the
 /// summation density and alpha 0.05 at Courant 0.4: its step falls to 0 at t ~ 0.17.

@@ -4,7 +4,7 @@
 mod common;
 
 use meshfree_core::backend::cpu_solver;
-use meshfree_core::particle::Kind;
+use meshfree_core::physics::particle::Kind;
 use meshfree_core::solver::{Setup, Solver};
 
 fn momentum(s: &mut dyn Solver) -> [f64; 3] {
@@ -24,7 +24,7 @@ fn momentum_is_conserved_without_walls_or_gravity() {
         p.viscosity = 1e-3;
         p.xsph = 0.3;
         p.artificial_stress = 0.3;
-        meshfree_core::params::derive(&mut p);
+        meshfree_core::physics::params::derive(&mut p);
         let pts = common::lattice(dim, p.dx, lo, hi);
         let mut ps = Vec::new();
         let centre = [0.25; 3];
@@ -71,7 +71,7 @@ fn momentum_is_conserved_without_walls_or_gravity() {
 }
 
 /// Radius of gyration and centroid of the particles of `group`.
-fn gyration(ps: &[meshfree_core::particle::Particle]) -> ([f64; 3], f64) {
+fn gyration(ps: &[meshfree_core::physics::particle::Particle]) -> ([f64; 3], f64) {
     let n = ps.len() as f64;
     let mut c = [0.0f64; 3];
     for q in ps {
@@ -102,7 +102,7 @@ fn spinning_elastic_disc_in_free_fall_keeps_its_shape() {
     p.solid_c0 = 30.0;
     p.shear_modulus = 2.0e5;
     p.alpha = 0.1;
-    meshfree_core::params::derive(&mut p);
+    meshfree_core::physics::params::derive(&mut p);
     let centre = [1.0, 1.6];
     let radius = 0.2;
     let omega = 5.0; // rad/T

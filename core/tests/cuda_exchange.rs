@@ -17,9 +17,9 @@ mod common;
 
 use meshfree_core::backend::cuda::CudaSolver;
 use meshfree_core::backend::{self, BackendChoice};
-use meshfree_core::dim::{D2, D3};
 use meshfree_core::exchange::{balanced, longest_axis, Decomposed};
-use meshfree_core::particle::Particle;
+use meshfree_core::physics::dim::{D2, D3};
+use meshfree_core::physics::particle::Particle;
 use meshfree_core::scene::Scene;
 
 use common::edited_scene as scene;

@@ -8,12 +8,12 @@
 
 use meshfree_core::backend::cpu::CpuSolver;
 use meshfree_core::backend::cpu_solver;
-use meshfree_core::dim::D2;
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::dim::D2;
+use meshfree_core::physics::particle::{Kind, Particle};
+use meshfree_core::scene::scheme::DiffusionForm;
 use meshfree_core::scene::Scene;
-use meshfree_core::scheme::DiffusionForm;
+use meshfree_core::solver::step::Stepper;
 use meshfree_core::solver::Solver;
-use meshfree_core::step::Stepper;
 
 const DX: f64 = 0.05;
 

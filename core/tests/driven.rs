@@ -4,9 +4,9 @@
 //! holds the cantilever it is bonded to (`same_body`).
 
 use meshfree_core::backend::cpu_solver;
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::particle::{Kind, Particle};
 use meshfree_core::scene::Scene;
-use meshfree_core::step::Stepper;
+use meshfree_core::solver::step::Stepper;
 
 const PISTON: &str = r#"
 dimension = 2

@@ -9,7 +9,7 @@ mod common;
 
 use meshfree_core::backend::{self, BackendChoice};
 use meshfree_core::exchange::{balanced, halo_width, longest_axis, Slab};
-use meshfree_core::particle::Particle;
+use meshfree_core::physics::particle::Particle;
 use meshfree_core::solver::Persist;
 use meshfree_core::solver::Readback;
 
@@ -277,8 +277,8 @@ fn total_lagrangian_bodies_are_refused_with_the_reason() {
 #[test]
 fn moving_the_cuts_keeps_the_run_exact_and_balances_the_load() {
     use meshfree_core::backend::cpu::CpuSolver;
-    use meshfree_core::dim::D2;
     use meshfree_core::exchange::{Decomposed, Refused};
+    use meshfree_core::physics::dim::D2;
     let sc = scene("dam-break-2d", &[("spacing = 0.02", "spacing = 0.03")]);
     let gates: Vec<u32> = sc.gates().iter().map(|g| g.0).collect();
     let mut setup = sc.setup().unwrap();
@@ -313,8 +313,8 @@ fn moving_the_cuts_keeps_the_run_exact_and_balances_the_load() {
 #[test]
 fn pieces_saved_per_rank_restore_each_rank_or_gather_into_another_count() {
     use meshfree_core::backend::cpu::CpuSolver;
-    use meshfree_core::dim::D2;
     use meshfree_core::exchange::{Decomposed, Refused};
+    use meshfree_core::physics::dim::D2;
     let sc = scene("dam-break-2d", &[("spacing = 0.02", "spacing = 0.03")]);
     let gates: Vec<u32> = sc.gates().iter().map(|g| g.0).collect();
     let mut setup = sc.setup().unwrap();

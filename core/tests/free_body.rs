@@ -7,9 +7,9 @@
 //! docs/reference/accuracy.md.)
 
 use meshfree_core::backend::{self, BackendChoice};
-use meshfree_core::particle::Kind;
+use meshfree_core::physics::particle::Kind;
 use meshfree_core::scene::Scene;
-use meshfree_core::step::Stepper;
+use meshfree_core::solver::step::Stepper;
 
 const G: f64 = 9.81;
 const T: f64 = 0.03;

@@ -5,7 +5,7 @@
 //! rejects the ramp where the kick does not come first.
 
 use meshfree_core::backend::cpu_solver;
-use meshfree_core::particle::Kind;
+use meshfree_core::physics::particle::Kind;
 use meshfree_core::scene::Scene;
 
 /// [T] the ramp; [T] the fixed step; [L/T] the inflow velocity.

@@ -67,7 +67,7 @@ fn positions(integrator: &str, steps: u32) -> Vec<[f32; 3]> {
     s.check().expect("a healthy run");
     s.particles()
         .iter()
-        .filter(|q| q.kind == meshfree_core::particle::Kind::Fluid)
+        .filter(|q| q.kind == meshfree_core::physics::particle::Kind::Fluid)
         .map(|q| q.position)
         .collect()
 }

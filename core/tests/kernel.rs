@@ -2,8 +2,8 @@
 //! zero gradient sum on a lattice.
 mod common;
 
-use meshfree_core::kernel;
-use meshfree_core::params::{MF_KERNEL_CUBIC_SPLINE, MF_KERNEL_WENDLAND_C2};
+use meshfree_core::physics::kernel;
+use meshfree_core::physics::params::{MF_KERNEL_CUBIC_SPLINE, MF_KERNEL_WENDLAND_C2};
 
 fn each_kernel(mut f: impl FnMut(i32, i32)) {
     for k in [MF_KERNEL_CUBIC_SPLINE as i32, MF_KERNEL_WENDLAND_C2 as i32] {
@@ -13,10 +13,10 @@ fn each_kernel(mut f: impl FnMut(i32, i32)) {
     }
 }
 
-fn params_for(kernel: i32, dim: i32) -> meshfree_core::params::SphParams {
+fn params_for(kernel: i32, dim: i32) -> meshfree_core::physics::params::SphParams {
     let mut p = common::params(dim, 0.1, [0.0; 3], [1.0; 3], [0; 3]);
     p.kernel = kernel;
-    meshfree_core::params::derive(&mut p);
+    meshfree_core::physics::params::derive(&mut p);
     p
 }
 

@@ -1,4 +1,4 @@
-//! Force monitors (`src/monitor.rs`): the Strouhal estimator on synthetic signals, the
+//! Force monitors (`src/measure/monitor.rs`): the Strouhal estimator on synthetic signals, the
 //! end-of-run statistics, the wall force against the CPU force stage, and on a resting tank
 //! (the fluid's weight).
 
@@ -6,15 +6,15 @@ mod common;
 
 use meshfree_core::backend::cpu::CpuSolver;
 use meshfree_core::backend::cpu_solver;
-use meshfree_core::dim::{Dim, D2};
-use meshfree_core::monitor::{
+use meshfree_core::measure::monitor::{
     band_rms, dominant_frequency, wall_force, BluffBody, Coefficients, ForceSample, MonitorSummary,
 };
-use meshfree_core::particle::Kind;
+use meshfree_core::physics::dim::{Dim, D2};
+use meshfree_core::physics::particle::Kind;
 use meshfree_core::scene::Scene;
+use meshfree_core::solver::step::Stepper;
 use meshfree_core::solver::Readback;
 use meshfree_core::solver::Solver;
-use meshfree_core::step::Stepper;
 
 /// Uniform noise in [-0.5, 0.5) from a xorshift generator seeded with `seed`.
 fn noise(mut seed: u64) -> impl FnMut() -> f64 {

@@ -9,7 +9,7 @@
 mod common;
 
 use meshfree_core::backend::{self, BackendChoice};
-use meshfree_core::particle::Particle;
+use meshfree_core::physics::particle::Particle;
 use meshfree_core::scene::Scene;
 
 use common::edited_scene as scene;

@@ -2,10 +2,10 @@
 mod common;
 
 use meshfree_core::backend::cpu::Grid;
-use meshfree_core::dim::{Dim, D2, D3};
-use meshfree_core::pairs::separation;
-use meshfree_core::particle::{Kind, Particle};
-use meshfree_core::state::State;
+use meshfree_core::physics::dim::{Dim, D2, D3};
+use meshfree_core::physics::pairs::separation;
+use meshfree_core::physics::particle::{Kind, Particle};
+use meshfree_core::physics::state::State;
 
 fn scattered(dim: usize, n: usize, lo: [f32; 3], hi: [f32; 3]) -> Vec<Particle> {
     let mut seed = 0x9e3779b97f4a7c15u64;

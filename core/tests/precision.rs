@@ -5,9 +5,9 @@
 mod common;
 
 use meshfree_core::backend::cpu::{pressure, CpuSolver};
-use meshfree_core::dim::D2;
-use meshfree_core::params::{self, MF_KIND_SOLID};
-use meshfree_core::particle::Kind;
+use meshfree_core::physics::dim::D2;
+use meshfree_core::physics::params::{self, MF_KIND_SOLID};
+use meshfree_core::physics::particle::Kind;
 use meshfree_core::solver::{Setup, Solver};
 
 /// A periodic block of aluminium-like solid (rho0_s = 2700, c_s = 5000 m/s) in uniform slow

@@ -3,10 +3,10 @@
 //! block's top (`scene/generate.rs`), and whose free surface is that top.
 
 use meshfree_core::backend::cpu::{pressure, CpuSolver};
-use meshfree_core::dim::{Dim, D2, D3};
-use meshfree_core::kernel;
-use meshfree_core::particle::Kind;
-use meshfree_core::probe::{line_points, surface};
+use meshfree_core::measure::probe::{line_points, surface};
+use meshfree_core::physics::dim::{Dim, D2, D3};
+use meshfree_core::physics::kernel;
+use meshfree_core::physics::particle::Kind;
 use meshfree_core::scene::Scene;
 use meshfree_core::solver::Readback;
 use meshfree_core::solver::{PointSample, Solver};

@@ -4,7 +4,7 @@
 //! now 0.44 s), a linear one about a second. That the particles are the same as before is
 //! held by `scenes.rs` and the built-in scenes' counts.
 
-use meshfree_core::particle::Kind;
+use meshfree_core::physics::particle::Kind;
 use meshfree_core::scene::{Counts, Scene};
 
 /// tank-2d's text up to its objects, at spacing `dx` (the wall strength scaled with it).

@@ -28,7 +28,7 @@ fn the_estimate_bounds_every_builtin_scene_closely_and_counts_its_cells() {
 }
 
 /// tank-2d changed by `edit`, validated again: the refused field and the reason.
-fn refused(edit: impl FnOnce(&mut meshfree_core::scheme::SceneFile)) -> (String, String) {
+fn refused(edit: impl FnOnce(&mut meshfree_core::scene::scheme::SceneFile)) -> (String, String) {
     let mut scene = Scene::builtin("tank-2d").unwrap();
     edit(&mut scene.file);
     match scene.revalidate() {

@@ -1,7 +1,7 @@
 //! The built-in scenes: they parse, generate the documented particle counts, equal the
 //! files in `scenes/`, and start with the right masses, spacing and hydrostatic pressure.
 
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::particle::{Kind, Particle};
 use meshfree_core::scene::{self, Counts, Scene};
 
 fn counts(name: &str) -> Counts {

@@ -1,16 +1,16 @@
-//! The registry of the scheme's keys (`meshfree_core::scheme`, issue #18): every field of the
+//! The registry of the scheme's keys (`meshfree_core::scene::scheme`, issue #18): every field of the
 //! parameter struct is a key's or listed as set from the scene or derived; every key writes
 //! the field it declares and reads its declared default; every switch has a paper value and
 //! `--paper-exact` sets every one of them; the committed reference is current.
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use meshfree_core::params::SphParams;
+use meshfree_core::physics::params::SphParams;
 use meshfree_core::scene::paper_exact::{ALPHA_MIN, DT_FRACTION};
-use meshfree_core::scene::{builtin_names, Overrides, Scene, SceneFile, SceneSource};
-use meshfree_core::scheme::{
+use meshfree_core::scene::scheme::{
     self, reference, Key, KeyDefault, Paper, Param, DERIVED, FROM_RUN, FROM_SCENE,
 };
+use meshfree_core::scene::{builtin_names, Overrides, Scene, SceneFile, SceneSource};
 
 /// The fields of the parameter struct with their values, from its `Debug` form
 /// (`SphParams { dim: 2, periodic: [0, 0, 0], ... }`).
@@ -342,7 +342,7 @@ fn the_readme_lists_what_a_scene_cannot_express_yet() {
     let readme = std::fs::read_to_string(path).unwrap();
     assert!(
         readme.contains("## What it cannot do yet") && readme.contains(reference::CANNOT_YET),
-        "README.md's \"What it cannot do yet\" differs from core/src/scheme/reference.rs's \
+        "README.md's \"What it cannot do yet\" differs from core/src/scene/scheme/reference.rs's \
          CANNOT_YET: copy it there"
     );
 }
@@ -351,7 +351,7 @@ fn the_readme_lists_what_a_scene_cannot_express_yet() {
 fn total_lagrangian_refuses_the_artificial_stress() {
     let mut s = example();
     let solid = s.file.solid.as_mut().unwrap();
-    solid.formulation = meshfree_core::scheme::SolidFormulation::TotalLagrangian;
+    solid.formulation = meshfree_core::scene::scheme::SolidFormulation::TotalLagrangian;
     solid.artificial_stress = 0.3;
     let e = format!("{:#}", s.revalidate().unwrap_err());
     assert!(e.contains("solid.formulation"), "{e}");

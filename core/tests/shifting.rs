@@ -6,10 +6,10 @@
 
 use meshfree_core::backend::cpu::shift_velocity;
 use meshfree_core::backend::cpu_solver;
-use meshfree_core::dim::D2;
-use meshfree_core::particle::Kind;
+use meshfree_core::physics::dim::D2;
+use meshfree_core::physics::particle::Kind;
 use meshfree_core::scene::Scene;
-use meshfree_core::step::Stepper;
+use meshfree_core::solver::step::Stepper;
 
 /// A periodic 1 x 1 box of resting fluid at spacing 0.05.
 fn periodic_box(shifting: f64) -> Scene {
@@ -96,7 +96,7 @@ fn a_resting_tank_with_shifting_stays_at_rest() {
     let mut stepper = Stepper::new(scene.gates());
     stepper.advance_to(s.as_mut(), 0.5).expect("healthy run");
     let end = s.particles();
-    let top = |ps: &[meshfree_core::particle::Particle]| {
+    let top = |ps: &[meshfree_core::physics::particle::Particle]| {
         ps.iter()
             .filter(|q| q.kind == Kind::Fluid)
             .map(|q| q.position[1])
@@ -146,7 +146,7 @@ fn a_free_surface_particle_is_not_shifted() {
 #[test]
 fn a_background_pressure_adds_to_the_equation_of_state() {
     use meshfree_core::backend::cpu::pressure;
-    use meshfree_core::params::{MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID};
+    use meshfree_core::physics::params::{MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID};
     let mut scene = periodic_box(0.0);
     scene.file.fluid.background_pressure = 3.0;
     scene.revalidate().unwrap();

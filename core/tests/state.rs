@@ -3,9 +3,9 @@
 mod common;
 
 use meshfree_core::backend::cpu::{artificial_stress, jacobi_eigen};
-use meshfree_core::dim::{Dim, D2, D3};
-use meshfree_core::particle::{Kind, Particle};
-use meshfree_core::state::State;
+use meshfree_core::physics::dim::{Dim, D2, D3};
+use meshfree_core::physics::particle::{Kind, Particle};
+use meshfree_core::physics::state::State;
 
 fn sample(dim: usize) -> Vec<Particle> {
     let mut seed = 7u64;

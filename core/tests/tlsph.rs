@@ -1,4 +1,4 @@
-//! The total-Lagrangian solid (`meshfree_core::tlsph`, `[solid] formulation =
+//! The total-Lagrangian solid (`meshfree_core::physics::tlsph`, `[solid] formulation =
 //! "total-lagrangian"`): the corrected reference gradient is exact for a linear field (the
 //! surface included), a rigid rotation is stress-free, a uniform stretch gives the
 //! Saint Venant-Kirchhoff stress and a restoring force, and the solver runs it.
@@ -7,12 +7,12 @@ mod common;
 
 use glam::{Mat2, Vec2, Vec3A};
 use meshfree_core::backend::cpu::CpuSolver;
-use meshfree_core::dim::{Dim, D2, D3};
-use meshfree_core::params::{SphParams, MF_SOLID_TOTAL_LAGRANGIAN};
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::dim::{Dim, D2, D3};
+use meshfree_core::physics::params::{SphParams, MF_SOLID_TOTAL_LAGRANGIAN};
+use meshfree_core::physics::particle::{Kind, Particle};
+use meshfree_core::physics::tlsph::quadrature::QUAD_RANGE;
+use meshfree_core::physics::tlsph::{svk, Material, Reference};
 use meshfree_core::solver::{Setup, Solver};
-use meshfree_core::tlsph::quadrature::QUAD_RANGE;
-use meshfree_core::tlsph::{svk, Material, Reference};
 
 fn tl_params(dim: i32) -> SphParams {
     let mut p = common::params(dim, 0.1, [-2.0; 3], [2.0; 3], [0; 3]);
@@ -539,9 +539,9 @@ fn steps_run_and_conserve_momentum() {
     for euler in [false, true] {
         let mut p = tl_params(2);
         p.integrator = if euler {
-            meshfree_core::params::MF_INTEGRATOR_EULER as i32
+            meshfree_core::physics::params::MF_INTEGRATOR_EULER as i32
         } else {
-            meshfree_core::params::MF_INTEGRATOR_SYMPLECTIC_EULER as i32
+            meshfree_core::physics::params::MF_INTEGRATOR_SYMPLECTIC_EULER as i32
         };
         if euler {
             p.alpha = 0.5;

@@ -15,11 +15,11 @@
 //! cantilevers of half the span, `clamp_seam` one cantilever of the whole span.
 
 use meshfree_core::backend::cpu_solver;
-use meshfree_core::dim::D2;
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::dim::D2;
+use meshfree_core::physics::particle::{Kind, Particle};
+use meshfree_core::physics::tlsph::Reference;
 use meshfree_core::scene::Scene;
-use meshfree_core::step::Stepper;
-use meshfree_core::tlsph::Reference;
+use meshfree_core::solver::step::Stepper;
 
 /// [L] the period, the clamp's length, the plate's thickness, the spacing: 20 x 4 particles,
 /// of which 4 x 4 are the clamp.

@@ -1,10 +1,10 @@
-//! The void metric (`src/voids.rs`): a lattice (one particle per cell) without and with
+//! The void metric (`src/measure/voids.rs`): a lattice (one particle per cell) without and with
 //! holes of known size, in the middle and across a periodic corner, and the fluid region of
 //! a scene with a cylinder.
 
-use meshfree_core::particle::Particle;
+use meshfree_core::measure::voids::{VoidMeter, VoidSample, VoidSummary};
+use meshfree_core::physics::particle::Particle;
 use meshfree_core::scene::Scene;
-use meshfree_core::voids::{VoidMeter, VoidSample, VoidSummary};
 
 /// A 4 x 4 periodic box of fluid at dx = 0.1: a 40 x 40 lattice at (i + 1/2) dx, one
 /// particle per cell.
@@ -111,7 +111,7 @@ fn an_empty_box_reads_as_the_search_limit() {
     let meter = VoidMeter::new(&scene.file, &particles);
     let s = meter.measure(&particles[..1], 0.0);
     assert_eq!(s.empty_fraction, 1599.0 / 1600.0);
-    let cap = 2.0 * meshfree_core::voids::MAX_RADIUS_DX as f64;
+    let cap = 2.0 * meshfree_core::measure::voids::MAX_RADIUS_DX as f64;
     assert!(
         (s.largest_void_dx - cap).abs() < 1e-3,
         "{}",

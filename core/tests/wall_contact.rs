@@ -1,10 +1,10 @@
 //! `[solid] wall_contact`: a body and the walls meet (default), or skip each other, both
-//! ways (`wall_contact`, `meets` in src/pairs.rs).
+//! ways (`wall_contact`, `meets` in src/physics/pairs.rs).
 
 use meshfree_core::backend::{self, BackendChoice};
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::particle::{Kind, Particle};
 use meshfree_core::scene::Scene;
-use meshfree_core::step::Stepper;
+use meshfree_core::solver::step::Stepper;
 
 /// A 10 x 4 elastic block standing on the floor of a dynamic-wall tank (no fluid, no
 /// gravity) and moving into it at 0.5 m/s; the state after 0.01 s (half a spacing).

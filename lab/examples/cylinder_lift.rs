@@ -4,7 +4,7 @@
 //! statistics over the second half (`cylinder::summary`: St, mean Cd, the rms lift in the
 //! band around St; and the raw rms Cl), and the smoothed lift's rms per quarter of the
 //! record, which shows whether the shedding has saturated; and the void metric every
-//! `cylinder::VOID_EVERY_UD` (`meshfree_core::voids`).
+//! `cylinder::VOID_EVERY_UD` (`meshfree_core::measure::voids`).
 //!
 //! `cargo run --release -p meshfree-lab --example cylinder_lift -- OUT_DIR BACKEND
 //! NAME:D_OVER_DX:T_END_UD:VARIANT ...`, VARIANT `confined` (validate's scheme) or
@@ -21,9 +21,9 @@
 //! largest void / 2 dx: s <= 1 meets every target.
 
 use meshfree_core::backend::BackendChoice;
-use meshfree_core::monitor::{BluffBody, Coefficients};
+use meshfree_core::measure::monitor::{BluffBody, Coefficients};
+use meshfree_core::scene::scheme::NoSlip;
 use meshfree_core::scene::Scene;
-use meshfree_core::scheme::NoSlip;
 use meshfree_lab::validate::cylinder::{
     self, blockage_epsilon, confined, CD_REF, CL_RMS_REF, D, KICK, MAX_VOID_DX, SAMPLE_UD, U,
 };

@@ -10,7 +10,7 @@
 //! `cargo run --release -p meshfree-lab --example street_forces -- RUN_DIR ...`, each
 //! RUN_DIR a run's output (scene.toml, forces.csv, summary.json).
 
-use meshfree_core::monitor::ForceSample;
+use meshfree_core::measure::monitor::ForceSample;
 use meshfree_core::scene::Scene;
 use meshfree_lab::validate::cylinder::{blockage_epsilon, strouhal_fits, summary_for};
 use std::path::Path;

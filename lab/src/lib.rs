@@ -2,7 +2,7 @@
 //! analytic solutions), `stability` (maps of stable / inaccurate / failed runs over two swept
 //! parameters), `chart` (error against wall time, the Pareto front) and the plots they draw;
 //! `lbm`, a small lattice Boltzmann solver, the grid-based reference for the vortex streets.
-//! Every case steps through the solver's one stepping path, `meshfree_core::step`.
+//! Every case steps through the solver's one stepping path, `meshfree_core::solver::step`.
 /// `eprintln!` for the lab's progress notes that never panics: a closed pipe or a hung-up
 /// terminal on standard error must not stop a validation or a sweep (issue #52).
 #[macro_export]

@@ -7,7 +7,7 @@
 //! (`[solid] density_diffusion`, the oscillating-plate case's 0.02) keeps it down too.
 
 use meshfree_core::backend::cpu::CpuSolver;
-use meshfree_core::dim::D2;
+use meshfree_core::physics::dim::D2;
 use meshfree_core::scene::Scene;
 use meshfree_core::solver::Readback;
 use meshfree_core::solver::Solver;
@@ -30,7 +30,7 @@ fn pressure_noise(solid: &str) -> f64 {
         &r,
         dx,
         t_end,
-        meshfree_core::scheme::SolidFormulation::Jaumann,
+        meshfree_core::scene::scheme::SolidFormulation::Jaumann,
     )
     .replace(
         &format!("density_diffusion = {:e}\n", plate::SOLID_DIFFUSION),

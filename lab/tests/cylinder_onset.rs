@@ -132,6 +132,6 @@ fn the_kick_is_even_about_the_wake_axis() {
     // Walls keep zero velocity.
     assert!(ps
         .iter()
-        .filter(|p| p.kind == meshfree_core::particle::Kind::Boundary)
+        .filter(|p| p.kind == meshfree_core::physics::particle::Kind::Boundary)
         .all(|p| p.velocity == [0.0; 3]));
 }

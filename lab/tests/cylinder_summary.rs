@@ -1,7 +1,7 @@
 //! `validate`'s cylinder statistics on a synthetic force record (issue #23): the rms lift
 //! is the shedding's, not the moving average's.
 
-use meshfree_core::monitor::ForceSample;
+use meshfree_core::measure::monitor::ForceSample;
 use meshfree_lab::validate::cylinder::{summary, D, SAMPLE_UD, U};
 
 /// A lift of amplitude 0.33 at St 0.18 (Cl's published Re 100 amplitude, the shedding

@@ -6,10 +6,10 @@
 mod common;
 
 use meshfree_core::backend::cpu_solver;
-use meshfree_core::particle::Kind;
+use meshfree_core::physics::particle::Kind;
+use meshfree_core::scene::scheme::NoSlip;
 use meshfree_core::scene::Scene;
-use meshfree_core::scheme::NoSlip;
-use meshfree_core::step::Stepper;
+use meshfree_core::solver::step::Stepper;
 use meshfree_lab::validate::poiseuille::{self, Walls, MORRIS, WALL_VELOCITY};
 
 /// The wall surface of the Poiseuille plates ("box" walls, periodic in x): every particle of

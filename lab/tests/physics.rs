@@ -2,11 +2,11 @@
 //! at rest with hydrostatic pressure; a dam-break surge front tracks Martin & Moyce (1952).
 
 use meshfree_core::backend::cpu_solver;
-use meshfree_core::params::SphParams;
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::params::SphParams;
+use meshfree_core::physics::particle::{Kind, Particle};
 use meshfree_core::scene::Scene;
+use meshfree_core::solver::step::Stepper;
 use meshfree_core::solver::Solver;
-use meshfree_core::step::Stepper;
 use meshfree_lab::validate::dam_break::{surge_front, wall_height, FRONT_DEPTH};
 
 /// A built-in scene at another spacing.

@@ -2,7 +2,7 @@
 //! report files and plots are written and the JSON report reads back.
 
 use meshfree_core::backend::BackendChoice;
-use meshfree_core::scheme::IntegratorChoice;
+use meshfree_core::scene::scheme::IntegratorChoice;
 use meshfree_lab::validate::{self, Options, Report, Tier};
 
 #[test]

@@ -6,7 +6,7 @@
 use glam::{DMat3, DVec3};
 use serde::{Deserialize, Serialize};
 
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::particle::{Kind, Particle};
 
 /// One body at one instant. Vectors have three components (z = 0 in 2D).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::particle::{Kind, Particle};
 
 /// The link radius in units of the particle spacing.
 pub const DEFAULT_FACTOR: f32 = 1.5;

@@ -9,8 +9,8 @@ use clap::Subcommand;
 use super::named;
 use crate::run::Progress;
 use meshfree_core::backend::BackendChoice;
+use meshfree_core::scene::scheme::IntegratorChoice;
 use meshfree_core::scene::Scene;
-use meshfree_core::scheme::IntegratorChoice;
 
 #[derive(Debug, clap::Args)]
 #[command(args_conflicts_with_subcommands = true)]

@@ -56,7 +56,7 @@ const CHECK_GENERATES_UP_TO: f64 = 2e6;
 
 pub(super) fn scenes(a: ScenesArgs) -> anyhow::Result<()> {
     if a.reference {
-        crate::out!("{}", meshfree_core::scheme::reference::markdown())?;
+        crate::out!("{}", meshfree_core::scene::scheme::reference::markdown())?;
         return Ok(());
     }
     let rows = scene_rows()?;

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use super::named;
 use meshfree_core::backend::BackendChoice;
-use meshfree_core::scheme::IntegratorChoice;
+use meshfree_core::scene::scheme::IntegratorChoice;
 
 #[derive(Debug, clap::Args)]
 pub struct ValidateArgs {

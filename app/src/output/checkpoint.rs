@@ -31,7 +31,7 @@ use std::path::Path;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
-use meshfree_core::checkpoint::SolverCheckpoint;
+use meshfree_core::solver::checkpoint::SolverCheckpoint;
 
 mod pieces;
 pub use pieces::{

@@ -1,11 +1,11 @@
 //! `<monitor>.csv` (default `forces.csv`): one row per sample of a force monitor
-//! (`meshfree_core::monitor`), flushed as written.
+//! (`meshfree_core::measure::monitor`), flushed as written.
 
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
 
-use meshfree_core::monitor::ForceSample;
+use meshfree_core::measure::monitor::ForceSample;
 
 /// The header line (without the newline) of a bluff body's monitor (with reference
 /// scales); Fz is zero in 2D. The time column is `time`, as in the other CSV files.

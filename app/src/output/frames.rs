@@ -10,10 +10,10 @@
 
 use std::path::{Path, PathBuf};
 
-use meshfree_core::frame::{Field, FrameData};
 use meshfree_core::named::Named;
-use meshfree_core::particle::Kind;
+use meshfree_core::physics::particle::Kind;
 use meshfree_core::scene::Scene;
+use meshfree_core::solver::frame::{Field, FrameData};
 use meshfree_core::solver::Shown;
 
 use super::files::{self, DIAGNOSTICS, SCENE, SERIES, SUMMARY};

@@ -7,8 +7,8 @@ use std::fmt::Write as _;
 use std::io;
 use std::path::Path;
 
-use meshfree_core::frame::{Field, Fields, FrameData};
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::particle::{Kind, Particle};
+use meshfree_core::solver::frame::{Field, Fields, FrameData};
 
 pub const HEADER: &str = "id,kind,x,y,z,vx,vy,vz,density,pressure";
 

@@ -3,11 +3,11 @@
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::bodies::BodySummary;
-use meshfree_core::monitor::MonitorSummary;
+use meshfree_core::measure::monitor::MonitorSummary;
+use meshfree_core::measure::voids::VoidSummary;
 use meshfree_core::scene::format::OutputFormat;
 use meshfree_core::scene::Counts;
 use meshfree_core::solver::{Diagnostics, Fault};
-use meshfree_core::voids::VoidSummary;
 
 /// How the run ended (`Running` while it runs: a run killed outright leaves that).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -54,7 +54,7 @@ pub struct RunSummary {
     /// `[output] clusters` asks.
     #[serde(default)]
     pub fluid_clusters: Option<usize>,
-    /// The void metric over the outputs (`meshfree_core::voids`): the share of the fluid
+    /// The void metric over the outputs (`meshfree_core::measure::voids`): the share of the fluid
     /// region's cells of side dx with no particle, and the largest empty circle (sphere) in
     /// dx. Measured where the scene's `[output] voids` asks.
     #[serde(default)]

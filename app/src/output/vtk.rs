@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use meshfree_core::frame::{Field, Fields, FrameData};
+use meshfree_core::solver::frame::{Field, Fields, FrameData};
 
 /// VTK's cell type of a single point.
 const VTK_VERTEX: u8 = 1;

@@ -9,7 +9,7 @@
 use std::io::Read as _;
 use std::path::Path;
 
-use meshfree_core::frame::FrameData;
+use meshfree_core::solver::frame::FrameData;
 
 /// One `<DataArray .../>` of the head.
 struct Tag {

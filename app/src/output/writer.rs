@@ -5,7 +5,7 @@
 //! download on the second stream), write the particle file (`[output] format`) and then
 //! rewrite `particles.pvd`, append the row of `diagnostics.csv`, count the fluid clusters
 //! into `clusters.csv` where `[output] clusters` asks, measure the void metric into
-//! `voids.csv` where `[output] voids` asks (`meshfree_core::voids`, on the host from the
+//! `voids.csv` where `[output] voids` asks (`meshfree_core::measure::voids`, on the host from the
 //! frame), measure the elastic bodies into `bodies.csv`, and call the run's observer. The channel holds one frame: a run whose
 //! writer falls behind waits at the next output (the run reports that wait as output wait).
 //! The first failure (a full disk, an unwritable directory) stops the thread; the run sees
@@ -17,10 +17,10 @@ use std::path::{Path, PathBuf};
 use std::sync::mpsc;
 use std::time::Instant;
 
-use meshfree_core::frame::{Fields, FrameData, PendingFrame};
+use meshfree_core::measure::voids::{VoidMeter, VoidSummary};
 use meshfree_core::scene::format::OutputFormat;
+use meshfree_core::solver::frame::{Fields, FrameData, PendingFrame};
 use meshfree_core::solver::Diagnostics;
-use meshfree_core::voids::{VoidMeter, VoidSummary};
 use serde::{Deserialize, Serialize};
 
 use super::{BodiesCsv, DiagnosticsCsv, PvdSeries};

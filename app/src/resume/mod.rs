@@ -22,7 +22,7 @@ use serde::{Deserialize, Serialize};
 
 use meshfree_core::scene::format::OutputFormat;
 use meshfree_core::scene::Scene;
-use meshfree_core::step::StepperState;
+use meshfree_core::solver::step::StepperState;
 
 use crate::monitors::MonitorsState;
 use crate::output::checkpoint::{self, Saved};

@@ -9,7 +9,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use meshfree_core::step::reached;
+use meshfree_core::solver::step::reached;
 
 use super::context::{Ctx, RunFailure};
 use super::event::Event;

@@ -8,8 +8,8 @@ use std::sync::mpsc;
 use std::thread::ScopedJoinHandle;
 use std::time::Instant;
 
+use meshfree_core::solver::step::{reached, Stepper};
 use meshfree_core::solver::{Diagnostics, Fault, Solver};
-use meshfree_core::step::{reached, Stepper};
 
 use super::ending::Stop;
 use super::lines::Lines;

@@ -2,7 +2,7 @@
 //! due after a batch, and tells its part of a checkpoint's run state and of the summary.
 //! The events themselves and their order are `events.rs`'s.
 
-use meshfree_core::step::reached;
+use meshfree_core::solver::step::reached;
 
 use super::context::{Ctx, RunFailure};
 use crate::output::RunSummary;

@@ -3,7 +3,7 @@
 //!
 //! Order of work: apply overrides and validate, generate particles, build the solver, and
 //! only then create the output directory (a scene that fails validation writes nothing):
-//! `setup.rs`. Then the run is a loop of `meshfree_core::step::Stepper` batches, each to the
+//! `setup.rs`. Then the run is a loop of `meshfree_core::solver::step::Stepper` batches, each to the
 //! earliest of the run's events and its end (the stepper opens the gates on time and checks
 //! the health every `step::CHECK_EVERY` steps); after each batch every event that is due
 //! fires, in a fixed order (`events.rs`): the outputs (`outputs.rs`: a health check and an

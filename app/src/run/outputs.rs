@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use meshfree_core::frame::Fields;
+use meshfree_core::solver::frame::Fields;
 use meshfree_core::solver::Diagnostics;
 
 use super::context::{Ctx, RunFailure};

@@ -7,13 +7,13 @@ use std::io::Write as _;
 use std::time::Instant;
 
 use meshfree_core::backend;
-use meshfree_core::frame::{Field, Fields};
+use meshfree_core::measure::voids::VoidMeter;
 use meshfree_core::named::Named;
 use meshfree_core::scene::format::OutputFormat;
 use meshfree_core::scene::{Counts, Overrides, Scene};
+use meshfree_core::solver::frame::{Field, Fields};
+use meshfree_core::solver::step::Stepper;
 use meshfree_core::solver::{BackendInfo, Solver};
-use meshfree_core::step::Stepper;
-use meshfree_core::voids::VoidMeter;
 
 use super::context::Clock;
 use super::lines::Lines;

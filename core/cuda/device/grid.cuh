@@ -28,7 +28,7 @@ __device__ __forceinline__ void hist_one(const SphParams& p, unsigned i, Vec<DIM
     cell[i] = k;
     atomicAdd(&count[k], 1u);
 }
-// Minimum-image r_i - r_j on periodic axes (twin: src/pairs.rs `separation`; tlsph.cu takes
+// Minimum-image r_i - r_j on periodic axes (twin: src/physics/pairs.rs `separation`; tlsph.cu takes
 // it for the reference separations X0_a - X0_b too); PERIODIC = false: the scene has none (the
 // neighbour loops test that once, not per candidate: see neighbour_loop).
 template <int DIM, bool PERIODIC = true>

@@ -1,4 +1,4 @@
-// Smoothing kernels, eqs. (1)-(4): W and (dW/dr) / r. Twin: src/kernel.rs; parity test:
+// Smoothing kernels, eqs. (1)-(4): W and (dW/dr) / r. Twin: src/physics/kernel.rs; parity test:
 // tests/cuda_parity/.
 #pragma once
 #include "sph_params.h"
@@ -27,7 +27,7 @@ __device__ __forceinline__ void kernel_wf(const SphParams& p, float r, float& w,
     f = p.kernel_norm / (p.h * p.h) * sf;
 }
 // The q = r / h at which |dW/dr| peaks (2/3 cubic spline, 1/2 Wendland C2) [-]: closer,
-// |grad W| falls as r falls. Twin: `gradient_peak_q` in src/kernel.rs.
+// |grad W| falls as r falls. Twin: `gradient_peak_q` in src/physics/kernel.rs.
 __device__ __forceinline__ float kernel_gradient_peak_q(const SphParams& p) {
     return p.kernel == MF_KERNEL_WENDLAND_C2 ? 0.5f : 2.0f / 3.0f;
 }

@@ -1,4 +1,4 @@
-// Twin: src/pairs.rs; parity test: tests/cuda_parity/.
+// Twin: src/physics/pairs.rs; parity test: tests/cuda_parity/.
 // The pair predicates the stages share: whether a neighbour enters a particle's sums
 // (couples), whether two kinds meet at all (meets), whether two particles are one body
 // (same_body).

@@ -1,6 +1,6 @@
 // What one particle's kind and group make of the parameters: its pressure (equation of
 // state), sound speed, rest density, and whether it is driven. Twins: `pressure` in
-// src/backend/cpu/density.rs, SphParams::sound_speed / rest_density in src/params/mod.rs,
+// src/backend/cpu/density.rs, SphParams::sound_speed / rest_density in src/physics/params/mod.rs,
 // `driven_velocity` in src/backend/cpu/integrate.rs, `SphParams::owns`; parity test:
 // tests/cuda_parity/.
 #pragma once
@@ -57,7 +57,7 @@ __device__ __forceinline__ bool wall_at_rest(const SphParams& p, unsigned char k
 // Whether this solver owns a particle at coordinate c [L] of the slab's axis: always in one
 // domain (own_slab = 0); in a subdomain of a decomposed run (crate::exchange) own_lo <= c <
 // own_hi. The step size's extremes and the wall forces count only owned particles, so that
-// each particle counts once over the subdomains. Twin: SphParams::owns (src/params/mod.rs).
+// each particle counts once over the subdomains. Twin: SphParams::owns (src/physics/params/mod.rs).
 __device__ __forceinline__ bool owns(const SphParams& p, float c) {
     return p.own_slab == 0 || (c >= p.own_lo && c < p.own_hi);
 }

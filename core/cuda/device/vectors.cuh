@@ -1,5 +1,5 @@
 // Vectors and tensors for DIM = 2/3 (`Vec`, `Mat`) and the fast division and norm of the
-// pair sums. Twin: src/dim.rs (glam's Vec2 / Vec3A, Mat2 / Mat3A); parity test:
+// pair sums. Twin: src/physics/dim.rs (glam's Vec2 / Vec3A, Mat2 / Mat3A); parity test:
 // tests/cuda_parity/.
 #pragma once
 

@@ -5,7 +5,7 @@ use crate::consts::{
     MF_DENSITY_SANE_HIGH, MF_DENSITY_SANE_LOW, MF_FAULT_DENSITY_RANGE, MF_FAULT_ESCAPED,
     MF_FAULT_NON_FINITE_DENSITY, MF_FAULT_NON_FINITE_POSITION, MF_FAULT_NON_FINITE_VELOCITY,
 };
-use crate::particle::Kind;
+use crate::physics::particle::Kind;
 use crate::solver::Fault;
 
 /// Why a solver could not be built.

@@ -10,7 +10,7 @@ pub mod cuda;
 mod error;
 pub use error::{fault, BackendError};
 
-use crate::dim::{D2, D3};
+use crate::physics::dim::{D2, D3};
 use crate::solver::{Setup, Solver};
 
 /// Which backend to run on.

@@ -5,10 +5,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::checkpoint::{Piece, SolverCheckpoint};
 use crate::exchange::{ExchangeStats, Rank, Slab, Subdomain, Transport};
-use crate::frame::{FrameData, PendingFrame};
-use crate::particle::Particle;
+use crate::physics::particle::Particle;
+use crate::solver::checkpoint::{Piece, SolverCheckpoint};
+use crate::solver::frame::{FrameData, PendingFrame};
 use crate::solver::{
     BackendInfo, Diagnostics, Fault, Persist, PointSample, Readback, Shown, Snapshot, Solver, Stage,
 };
@@ -27,7 +27,7 @@ pub enum Call {
     Check,
     Diagnostics,
     Particles,
-    Capture(crate::frame::Fields),
+    Capture(crate::solver::frame::Fields),
     Snapshot(Shown),
     SamplePoints {
         points: Vec<[f32; 3]>,

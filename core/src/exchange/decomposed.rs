@@ -3,15 +3,15 @@
 //! and `Reply`): threads of this process (`Threads`: `--decompose N`, `--gpus N`) or other
 //! processes (`meshfree run --mpi`).
 
-use crate::checkpoint::{Piece, SolverCheckpoint};
 use crate::exchange::call::unexpected;
 use crate::exchange::{
     balanced, halo_width, longest_axis, Call, ExchangeStats, Group, InProcess, Rank, Reply, Slab,
     Status, Subdomain, Threads, Transport,
 };
-use crate::frame::{Fields, FrameData, PendingFrame};
-use crate::params::SphParams;
-use crate::particle::Particle;
+use crate::physics::params::SphParams;
+use crate::physics::particle::Particle;
+use crate::solver::checkpoint::{Piece, SolverCheckpoint};
+use crate::solver::frame::{Fields, FrameData, PendingFrame};
 use crate::solver::{
     forward_stages, stage_list, BackendInfo, Diagnostics, ExchangeCost, Fault, Persist,
     PointSample, Readback, Setup, Shown, Snapshot, Solver, Stage,
@@ -47,7 +47,7 @@ pub fn refusal(setup: &Setup, n: usize) -> Option<String> {
     if n == 0 {
         return Some("--decompose takes 1 or more subdomains".into());
     }
-    if crate::tlsph::total_lagrangian(&setup.params) && setup.has_solids() {
+    if crate::physics::tlsph::total_lagrangian(&setup.params) && setup.has_solids() {
         return Some(
             "total-Lagrangian bodies cannot be decomposed yet (their reference neighbour \
              lists span the whole body): run on one domain, or with [solid] formulation = \

@@ -5,11 +5,11 @@
 
 use std::time::{Duration, Instant};
 
-use crate::checkpoint::SolverCheckpoint;
 use crate::exchange::{Slab, Subdomain, Transport};
-use crate::frame::{Fields, PendingFrame};
-use crate::params::SphParams;
-use crate::particle::Particle;
+use crate::physics::params::SphParams;
+use crate::physics::particle::Particle;
+use crate::solver::checkpoint::SolverCheckpoint;
+use crate::solver::frame::{Fields, PendingFrame};
 use crate::solver::{
     forward_stages, stage_list, BackendInfo, Diagnostics, Fault, Persist, PointSample, Readback,
     Shown, Snapshot, Solver, Stage,

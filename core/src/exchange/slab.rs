@@ -1,7 +1,7 @@
 //! Slabs: the subdomains of a decomposed run, intervals of one axis, and how wide a halo
 //! must be for a subdomain's owned particles to step exactly as in one domain.
 
-use crate::params::{SphParams, MF_DENSITY_SUMMATION, MF_INTEGRATOR_EULER};
+use crate::physics::params::{SphParams, MF_DENSITY_SUMMATION, MF_INTEGRATOR_EULER};
 
 /// The particles with `lo <= x[axis] < hi` [L]. The first slab of a non-periodic axis starts
 /// at -inf and the last ends at +inf, so that every particle, one that left the domain too,
@@ -95,12 +95,12 @@ pub fn passes(p: &SphParams) -> u32 {
     if p.density_form as u32 == MF_DENSITY_SUMMATION {
         n += 1;
     }
-    if crate::params::needs_density_gradient(p) {
+    if crate::physics::params::needs_density_gradient(p) {
         n += 1;
     }
     // The bodies' particles read the fluid's pressures of the density pass
     // (`Solver::solid_interface`) before the force pass reads theirs.
-    if p.own_solids != 0 && crate::pairs::extrapolated(p) {
+    if p.own_solids != 0 && crate::physics::pairs::extrapolated(p) {
         n += 1;
     }
     n

@@ -1,7 +1,7 @@
 //! What a backend adds to its `Solver` to serve as one subdomain of a decomposed run.
 
-use crate::checkpoint::SolverCheckpoint;
 use crate::exchange::Slab;
+use crate::solver::checkpoint::SolverCheckpoint;
 use crate::solver::Solver;
 
 /// A solver that holds one slab's particles (`set_owned`) and, during a step, copies of the

@@ -7,8 +7,8 @@
 //! covers are left out; `tests/scene_limits.rs` holds it against the built-in scenes.
 
 use super::format::{SolidObject, Wall};
-use crate::params::MF_CELL_REACH;
-use crate::scheme::SceneFile;
+use crate::physics::params::MF_CELL_REACH;
+use crate::scene::scheme::SceneFile;
 
 /// Particle ids are u32 (`Particle::id`), one value kept for "none".
 pub const MAX_PARTICLES: f64 = (u32::MAX - 1) as f64;

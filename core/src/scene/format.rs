@@ -1,7 +1,7 @@
 //! The scene file format: serde structs for TOML (`#[serde(deny_unknown_fields)]` on every
 //! table, string-tagged enums in kebab-case). The scheme's tables (`[discretisation]`,
 //! `[time]`, `[fluid]`, `[solid]`, `[boundary]`) and their choices are declared in
-//! `crate::scheme`, key by key, with the whole file's struct `SceneFile`; this file holds
+//! `crate::scene::scheme`, key by key, with the whole file's struct `SceneFile`; this file holds
 //! the scene's geometry and objects. Every key, its default and the paper's value: `docs/reference/scene.md`
 //! (`meshfree scenes --reference`).
 //!
@@ -9,8 +9,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::frame::{Field, Fields};
 use crate::named::Named;
+use crate::solver::frame::{Field, Fields};
 
 /// Coordinate axis names.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -346,7 +346,7 @@ pub struct Output {
     /// The particle files. Default "vtu".
     #[serde(default)]
     pub format: OutputFormat,
-    /// The particle fields (`crate::frame::Field`'s names). Default: position, velocity,
+    /// The particle fields (`crate::solver::frame::Field`'s names). Default: position, velocity,
     /// density, pressure, kind, id, group, and stress where the scene has solids. Position
     /// is always written.
     #[serde(default)]
@@ -355,7 +355,7 @@ pub struct Output {
     /// and summary.json's `fluid_clusters` (on the writer thread). Default false.
     #[serde(default)]
     pub clusters: bool,
-    /// Measure the void metric at each output (`crate::voids`: the share of the fluid
+    /// Measure the void metric at each output (`crate::measure::voids`: the share of the fluid
     /// region's cells of side dx with no particle, and the largest empty circle or sphere,
     /// in dx) into `voids.csv` and summary.json's `voids` (on the writer thread, from the
     /// frame). For flows that fill their domain. Default false.

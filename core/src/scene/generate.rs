@@ -30,8 +30,8 @@ use rayon::prelude::*;
 
 use super::format::*;
 use super::spatial::{BoxIndex, Grid, Tiles, P3, PARALLEL_FROM};
-use crate::particle::{Kind, Particle};
-use crate::scheme::*;
+use crate::physics::particle::{Kind, Particle};
+use crate::scene::scheme::*;
 
 /// [spacings] the tile of `Tiles` and the bin of `BoxIndex`: a few spacings, so that a
 /// one-particle object reads a few dozen candidates.

@@ -1,10 +1,10 @@
 //! Scenes: TOML files (or the built-ins in `scenes/*.toml`) that describe a simulation.
 //!
 //! Every key with its default, the paper's value and its check is in
-//! `docs/reference/scene.md`, generated from `crate::scheme` (the scheme's tables) and
+//! `docs/reference/scene.md`, generated from `crate::scene::scheme` (the scheme's tables) and
 //! `format.rs` (geometry and objects) by `meshfree scenes --reference`; the built-in scenes
 //! comment each value with its reason. `format.rs`: the serde structs of the geometry and
-//! objects (`SceneFile` itself is `crate::scheme`'s); `validate.rs`: the
+//! objects (`SceneFile` itself is `crate::scene::scheme`'s); `validate.rs`: the
 //! checks serde cannot make; `generate.rs`: how shapes become particles and how overlaps are
 //! resolved (through the spatial indices of `spatial.rs`); `paper_exact.rs`: the map to the
 //! paper's own scheme; `input_limits.rs`: what a file may cost to read; `estimate.rs`: its
@@ -16,17 +16,18 @@ pub mod format;
 mod generate;
 pub mod input_limits;
 pub mod paper_exact;
+pub mod scheme;
 mod spatial;
 mod tagged_field;
 mod validate;
 
 use std::path::{Path, PathBuf};
 
-pub use crate::scheme::SceneFile;
+pub use crate::scene::scheme::SceneFile;
 pub use error::SceneError;
 
-use crate::params::{self, SphParams};
-use crate::particle::{Kind, Particle};
+use crate::physics::params::{self, SphParams};
+use crate::physics::particle::{Kind, Particle};
 use crate::solver::Setup;
 
 /// The built-in scenes: (name, TOML text). The files in `scenes/` are these.
@@ -375,7 +376,7 @@ fn scene_params(s: &SceneFile) -> SphParams {
             p.domain_max[a] = dx as f32;
         }
     }
-    crate::scheme::write_params(s, &mut p);
+    crate::scene::scheme::write_params(s, &mut p);
     if let Some(b) = &s.inflow {
         p.inflow = 1;
         p.inflow_axis = b.axis.index() as i32;

@@ -1,5 +1,5 @@
 //! `--paper-exact`: a scene mapped to the paper's own scheme, for comparison with the
-//! original code. Every switch of `crate::scheme` takes its paper value: summation density
+//! original code. Every switch of `crate::scene::scheme` takes its paper value: summation density
 //! (eq. (8)), forward Euler at a fixed step (eq. (19)), artificial viscosity only (eq.
 //! (10)), XSPH (eq. (18)), walls by the Lennard-Jones force alone (eq. (17)), an elastic
 //! body's whole stress across every pair (eq. (16)), and none of the terms beyond the paper
@@ -11,7 +11,7 @@
 //! (alpha = 0, 0 < beta < 1) blows a resting tank up, and alpha has a floor.
 
 use super::{Scene, SceneError};
-use crate::scheme;
+use crate::scene::scheme;
 
 /// What `with_paper_exact` appends to a scene's name (and the run to its default output
 /// directory).
@@ -35,7 +35,7 @@ impl Scene {
     /// The scene in the paper's own scheme (see the module docs); named `<name>-paper-exact`
     /// so that its output does not overwrite the default run's. Every switch with a fixed
     /// paper value takes it (`scheme::set_paper`); the two computed from the scene
-    /// (`Paper::From` in `crate::scheme`) are set here: the step, and alpha, into which a
+    /// (`Paper::From` in `crate::scene::scheme`) are set here: the step, and alpha, into which a
     /// laminar viscosity goes as the artificial viscosity of the same effective nu (kept
     /// above `ALPHA_MIN`).
     pub fn with_paper_exact(&self) -> Result<Scene, SceneError> {

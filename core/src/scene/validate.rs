@@ -2,11 +2,11 @@
 //! ordering of corners, positive sizes, objects inside the domain, materials present, and
 //! enough neighbour-grid cells on periodic axes, numbers single precision holds
 //! (`scheme::single_precision`), sizes the solver can index (`estimate`); the keys of the scheme's tables are checked
-//! as `crate::scheme` declares them. The first failure is returned.
+//! as `crate::scene::scheme` declares them. The first failure is returned.
 
 use super::format::*;
 use super::SceneError;
-use crate::scheme::*;
+use crate::scene::scheme::*;
 
 type R = Result<(), SceneError>;
 
@@ -157,9 +157,9 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
         }
     }
 
-    // Every key of the scheme's tables (crate::scheme): ranges, and the checks of a key
+    // Every key of the scheme's tables (crate::scene::scheme): ranges, and the checks of a key
     // against the rest of the scene.
-    crate::scheme::validate(s).map_err(|(field, reason)| c.err(field, reason))?;
+    crate::scene::scheme::validate(s).map_err(|(field, reason)| c.err(field, reason))?;
 
     let d = &s.discretisation;
     let h = d.h_factor * d.spacing;
@@ -446,7 +446,7 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
         }
     }
     if let Some(fields) = &s.output.fields {
-        if fields.contains(&crate::frame::Field::Stress) && s.solids.is_empty() {
+        if fields.contains(&crate::solver::frame::Field::Stress) && s.solids.is_empty() {
             return Err(c.err(
                 "output.fields",
                 "`stress` is a field of solid particles and the scene has no [[solids]]",

@@ -10,12 +10,15 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::params::{SphParams, MF_NO_SLIP_WALL_VELOCITY};
-use crate::particle::{Kind, Particle};
+use crate::physics::params::{SphParams, MF_NO_SLIP_WALL_VELOCITY};
+use crate::physics::particle::{Kind, Particle};
 
+pub mod checkpoint;
+pub mod frame;
 mod persist;
 mod readback;
 mod stages;
+pub mod step;
 mod view;
 
 pub use persist::Persist;

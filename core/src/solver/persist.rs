@@ -1,12 +1,12 @@
-//! Persistence: the state a restart needs (`crate::checkpoint`), whole or as one piece per
+//! Persistence: the state a restart needs (`crate::solver::checkpoint`), whole or as one piece per
 //! rank of a decomposed run.
 
-use crate::checkpoint::{Piece, SolverCheckpoint};
+use crate::solver::checkpoint::{Piece, SolverCheckpoint};
 
 /// Save and restore (`Solver`'s supertrait): `meshfree run --resume` continues bit for bit
 /// on the same backend and build.
 pub trait Persist {
-    /// The state a restart needs (`crate::checkpoint`), at this step boundary (a
+    /// The state a restart needs (`crate::solver::checkpoint`), at this step boundary (a
     /// read-back on the GPU).
     fn save(&mut self) -> SolverCheckpoint;
     /// Continue from `saved`, taken by `save` from a solver of the same scene on either

@@ -4,8 +4,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::frame::{Fields, PendingFrame};
-use crate::particle::Particle;
+use crate::physics::particle::Particle;
+use crate::solver::frame::{Fields, PendingFrame};
 use crate::solver::{Shown, Snapshot};
 
 /// Whole-system numbers, cheap enough to take every output interval.
@@ -64,7 +64,7 @@ pub struct PointSample {
     pub density: f32,
     /// [-] the fluid's colour sum_j W(x - x_j) m_j / rho_j over fluid particles only
     /// (whatever the walls): about 1 inside the fluid, 1/2 on its free surface, 0 outside
-    /// (the free-surface gauges, `crate::probe`).
+    /// (the free-surface gauges, `crate::measure::probe`).
     pub colour: f32,
     /// Particles in the interpolation (fluid, and walls where asked).
     pub neighbours: u32,
@@ -87,7 +87,7 @@ pub trait Readback {
     fn diagnostics(&mut self) -> Diagnostics;
     /// All particles, ordered by id (a read-back on the GPU).
     fn particles(&mut self) -> Vec<Particle>;
-    /// Start copying `fields` of every particle for an output (`crate::frame`): returns
+    /// Start copying `fields` of every particle for an output (`crate::solver::frame`): returns
     /// at once where the backend can copy in the background (CUDA), and the frame's `wait`
     /// delivers it in storage order with the ids.
     fn capture(&mut self, fields: Fields) -> Box<dyn PendingFrame>;
@@ -112,7 +112,7 @@ pub trait Readback {
     /// particles exert on the boundary particles of each scene group of `groups`, in their
     /// order (`[[monitors]]`): the force stage's wall pair terms, F = - sum_i m_i a_i(from
     /// the group's walls), eqs. (7), (9), (10), (16), (17) and the laminar viscosity, at the
-    /// current positions and densities (`crate::monitor`, whose `wall_force` on a particle
+    /// current positions and densities (`crate::measure::monitor`, whose `wall_force` on a particle
     /// read-back is the reference: `tests/monitor.rs`, `tests/cuda_parity/`). Each backend
     /// sums on its own state, leaving the run as it would be without the sample.
     fn wall_forces(&mut self, groups: &[u32]) -> Vec<[f64; 3]>;

@@ -5,7 +5,7 @@
 //! forwarding of `exchange::Rank` and `exchange::Decomposed`. A new stage is a line here
 //! plus its CPU and CUDA code; `tests` below walk the list.
 
-use crate::params::{SphParams, MF_INTEGRATOR_EULER};
+use crate::physics::params::{SphParams, MF_INTEGRATOR_EULER};
 use crate::solver::{BackendInfo, Fault, Persist, Readback};
 
 /// The one list of the solver's stages, handed to the macro `$then` (a callback, so that the
@@ -28,7 +28,7 @@ macro_rules! stage_list {
             /// nothing).
             SolidInterface: fn solid_interface(&mut self) {}
             /// The total-Lagrangian bodies' stress (`[solid] formulation =
-            /// "total-lagrangian"`, `crate::tlsph`): the deformation gradient from the
+            /// "total-lagrangian"`, `crate::physics::tlsph`): the deformation gradient from the
             /// displacements, the Saint Venant-Kirchhoff stress, and the deviator of its
             /// Cauchy stress written into S, where the force stage reads it (the particle's
             /// density and pressure stay the continuity density's, the interface's).
@@ -202,10 +202,10 @@ pub trait Solver: Readback + Persist + Send {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::checkpoint::SolverCheckpoint;
-    use crate::frame::{Fields, PendingFrame};
-    use crate::params::MF_INTEGRATOR_LEAPFROG;
-    use crate::particle::Particle;
+    use crate::physics::params::MF_INTEGRATOR_LEAPFROG;
+    use crate::physics::particle::Particle;
+    use crate::solver::checkpoint::SolverCheckpoint;
+    use crate::solver::frame::{Fields, PendingFrame};
     use crate::solver::{Diagnostics, PointSample};
 
     /// A solver that only records which stage methods ran, in order.

@@ -5,9 +5,9 @@
 use serde::{Deserialize, Serialize};
 
 use crate::consts::{MF_SHOWN_DENSITY, MF_SHOWN_KIND, MF_SHOWN_PRESSURE, MF_SHOWN_SPEED};
-use crate::frame::Field;
 use crate::named::Named;
-use crate::particle::Particle;
+use crate::physics::particle::Particle;
+use crate::solver::frame::Field;
 
 /// The particle quantity the viewer colours by: the one registry of them. The command
 /// line's `--field` values and their help (`Named`), the device's codes (`MF_SHOWN_*` in

@@ -1,12 +1,12 @@
 //! Small particle sets built directly (no scene file), for the unit-level tests.
 #![allow(dead_code)]
 
-use meshfree_core::params::{
+use meshfree_core::physics::params::{
     self, SphParams, MF_DENSITY_CONTINUITY, MF_INTEGRATOR_SYMPLECTIC_EULER,
 };
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::particle::{Kind, Particle};
+use meshfree_core::scene::scheme::NoSlip;
 use meshfree_core::scene::Scene;
-use meshfree_core::scheme::NoSlip;
 
 /// Parameters for spacing `dx` in `dim` dimensions over the box [lo, hi].
 pub fn params(dim: i32, dx: f32, lo: [f32; 3], hi: [f32; 3], periodic: [i32; 3]) -> SphParams {

@@ -106,7 +106,7 @@ fn same_particles(what: &str, frame: &[Particle], read: &[Particle]) {
 /// was downloaded; two frames in flight at once; a frame dropped unread gives its staging
 /// set back; and the CPU backend's capture likewise.
 fn capture_is_a_snapshot<D: Dim>(dim: usize, v: Variant) {
-    use meshfree_core::frame::{Field, Fields};
+    use meshfree_core::solver::frame::{Field, Fields};
     let all = Fields::all();
     let setup = scene(dim, v);
     let mut g = gpu::<D>(&setup);

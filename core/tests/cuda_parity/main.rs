@@ -32,19 +32,19 @@ mod common;
 
 use meshfree_core::backend::cpu::{self, CpuSolver};
 use meshfree_core::backend::cuda::CudaSolver;
-use meshfree_core::dim::{Dim, D2, D3};
-use meshfree_core::monitor;
-use meshfree_core::params::{
+use meshfree_core::measure::monitor;
+use meshfree_core::physics::dim::{Dim, D2, D3};
+use meshfree_core::physics::params::{
     self, SphParams, MF_DENSITY_CONTINUITY, MF_DENSITY_SUMMATION, MF_DIFFUSION_ANTUONO,
     MF_DIFFUSION_FOURTAKAS, MF_DIFFUSION_MOLTENI, MF_INTEGRATOR_EULER, MF_SOLID_TOTAL_LAGRANGIAN,
 };
-use meshfree_core::params::{
+use meshfree_core::physics::params::{
     MF_INTEGRATOR_LEAPFROG, MF_INTEGRATOR_SYMPLECTIC_EULER, MF_KIND_BOUNDARY,
     MF_SOLID_FLUID_PRESSURE_EXTRAPOLATED, MF_SOLID_FLUID_PRESSURE_OWN,
 };
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::particle::{Kind, Particle};
+use meshfree_core::physics::state::State;
 use meshfree_core::solver::{PointSample, Setup, Solver};
-use meshfree_core::state::State;
 
 mod compare;
 mod setups;

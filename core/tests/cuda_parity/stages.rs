@@ -69,7 +69,7 @@ fn stages_2d_bodies_in_contact_lj_walls_whole_stress() {
 }
 
 /// `bodies_in_contact` where bodies and walls skip each other (`[solid] wall_contact =
-/// false`, `wall_contact`; `meets` in src/pairs.rs / pairs.cuh): the solid layer on
+/// false`, `wall_contact`; `meets` in src/physics/pairs.rs / pairs.cuh): the solid layer on
 /// the wall feels no Lennard-Jones force or wall pressure, and neither enters the other's
 /// density (summation in V_2D_A, the walls' continuity in V_3D_B).
 fn bodies_skipping_walls(dim: usize, v: Variant) -> Setup {

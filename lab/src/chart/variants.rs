@@ -2,8 +2,8 @@
 //! its reason, where it does not apply to the case's scheme or changes nothing in it.
 
 use crate::validate::cylinder;
+use meshfree_core::scene::scheme::{DensityForm, DiffusionForm, IntegratorChoice, KernelChoice};
 use meshfree_core::scene::Scene;
-use meshfree_core::scheme::{DensityForm, DiffusionForm, IntegratorChoice, KernelChoice};
 
 /// The reason a variant that resolves to the case's default scheme is skipped: its point
 /// would repeat the default's number.

@@ -9,7 +9,7 @@
 
 use super::Lattice;
 use meshfree_core::backend::cpu::smooth_ramp;
-use meshfree_core::monitor::ForceSample;
+use meshfree_core::measure::monitor::ForceSample;
 
 /// A street in scene units (any consistent units; the built-ins' are dimensionless).
 #[derive(Clone, Debug)]

@@ -13,10 +13,10 @@ use std::time::Instant;
 use super::sweep::Base;
 use crate::validate::dam_break;
 use meshfree_core::backend::{self, BackendChoice};
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::particle::{Kind, Particle};
 use meshfree_core::scene::Scene;
+use meshfree_core::solver::step::Stepper;
 use meshfree_core::solver::{BackendInfo, Fault};
-use meshfree_core::step::Stepper;
 
 /// A measured run: the error, or the blow-up that stopped it.
 pub struct Measured {

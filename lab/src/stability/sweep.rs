@@ -4,8 +4,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::Tier;
+use meshfree_core::scene::scheme::{DensityForm, IntegratorChoice, WallCoupling};
 use meshfree_core::scene::Scene;
-use meshfree_core::scheme::{DensityForm, IntegratorChoice, WallCoupling};
 
 /// The base scene of a map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -27,7 +27,7 @@
 //! theoretical periods is run.
 //!
 //! Both solid formulations run (`[solid] formulation`): the paper's Jaumann rate and the
-//! total-Lagrangian one (`meshfree_core::tlsph`), each with its own rows.
+//! total-Lagrangian one (`meshfree_core::physics::tlsph`), each with its own rows.
 //!
 //! Quick tier: t / dx = 5 and L / t = 5 (CPU, seconds; a quarter of the steps per period of
 //! L / t = 10): the total-Lagrangian ratio within 0.15 of the theory, the Jaumann ratio
@@ -40,7 +40,7 @@
 use super::{convergence, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::named::Named;
-use meshfree_core::scheme::SolidFormulation;
+use meshfree_core::scene::scheme::SolidFormulation;
 
 pub const NAME: &str = "cantilever";
 pub const DESCRIPTION: &str = "Cantilever under its own weight, 2D plane strain, L = 1, t = 0.1, rho = 2700, \

@@ -1,6 +1,6 @@
 //! Flow past a circular cylinder at Re = 100 with a small blockage (issue #6): a periodic
 //! 40 x 24 channel (blockage D / H = 0.083) held at U by an inflow band, Re set by the
-//! Morris viscosity. Strouhal number (DFT peak of the lift, `meshfree_core::monitor`) against
+//! Morris viscosity. Strouhal number (DFT peak of the lift, `meshfree_core::measure::monitor`) against
 //! Roshko (1954) and Williamson (1988), mean drag against the published Re 100 values
 //! (refdata/cylinder_flow_reference.json, cylinder_strouhal_vs_Re.csv).
 //!
@@ -11,7 +11,7 @@
 //! resolution, the finest against the literature, and the observed order of convergence
 //! of both (`super::convergence`). `cylinder_onset.rs` reuses `simulate` at other Re.
 //!
-//! The full tier also measures the void metric (`meshfree_core::voids`: empty cells of
+//! The full tier also measures the void metric (`meshfree_core::measure::voids`: empty cells of
 //! side dx in the fluid region, the largest empty circle in dx) from a read-back every
 //! `VOID_EVERY_UD`, and compares St, Cd and the rms lift with the unconfined values after
 //! the blockage correction of Allen & Vincenti (1944) (`blockage_epsilon`).
@@ -27,11 +27,11 @@
 
 use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
-use meshfree_core::monitor::{band_rms, BluffBody, Coefficients, ForceSample, BAND_REL};
-use meshfree_core::particle::Kind;
+use meshfree_core::measure::monitor::{band_rms, BluffBody, Coefficients, ForceSample, BAND_REL};
+use meshfree_core::measure::voids::{VoidMeter, VoidSummary};
+use meshfree_core::physics::particle::Kind;
+use meshfree_core::scene::scheme::NoSlip;
 use meshfree_core::scene::Scene;
-use meshfree_core::scheme::NoSlip;
-use meshfree_core::voids::{VoidMeter, VoidSummary};
 
 pub const NAME: &str = "cylinder";
 pub const DESCRIPTION: &str = "Flow past a cylinder, Re = 100, D = 2, U = 1, rho0 = 1, c0 = 10, periodic \
@@ -157,7 +157,7 @@ pub fn scene(d_over_dx: f64, re: f64, t_end_ud: f64) -> anyhow::Result<Scene> {
 /// rear on the wake axis. v is even in y - yc, the symmetry of the shedding mode (the
 /// mirror-symmetric steady wake has v odd), so the kick seeds the mode that grows above
 /// Re_c and decays below it, instead of waiting for round-off to break the symmetry.
-pub fn kick(particles: &mut [meshfree_core::particle::Particle], amplitude: f64) {
+pub fn kick(particles: &mut [meshfree_core::physics::particle::Particle], amplitude: f64) {
     let (x0, y0, w) = (XC + 1.5 * D, YC, 0.5 * D);
     for p in particles.iter_mut().filter(|p| p.kind == Kind::Fluid) {
         let r2 = (p.position[0] as f64 - x0).powi(2) + (p.position[1] as f64 - y0).powi(2);

@@ -25,8 +25,8 @@
 use super::cylinder::{self, smooth, D, SAMPLE_UD, U};
 use super::{line_fit, Check, Ctx, RunInfo};
 use crate::plot::{plot, Figure, Series};
-use meshfree_core::monitor::ForceSample;
-use meshfree_core::monitor::{band_rms, BAND_REL};
+use meshfree_core::measure::monitor::ForceSample;
+use meshfree_core::measure::monitor::{band_rms, BAND_REL};
 
 pub const NAME: &str = "cylinder-onset";
 pub const DESCRIPTION: &str = "Onset of shedding: the cylinder case's channel (blockage 0.083) and scheme (shifting, background pressure, Morris walls, ramped start) at D / dx = 20, \

@@ -16,9 +16,9 @@
 
 use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
-use meshfree_core::kernel;
-use meshfree_core::params::SphParams;
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::kernel;
+use meshfree_core::physics::params::SphParams;
+use meshfree_core::physics::particle::{Kind, Particle};
 
 pub const NAME: &str = "dam-break";
 pub const DESCRIPTION: &str =

@@ -29,7 +29,7 @@
 //! every halving of dx. 0.05 and 0.1 both run to 0.4 s (docs/reference/accuracy.md has both).
 //!
 //! Both solid formulations run (`[solid] formulation`): the paper's Jaumann rate with the
-//! artificial stress above, and the total-Lagrangian one (`meshfree_core::tlsph`, no
+//! artificial stress above, and the total-Lagrangian one (`meshfree_core::physics::tlsph`, no
 //! artificial stress, the hourglass control at its default); the latter's rows are
 //! informational unless they pass the same bounds.
 //!
@@ -43,8 +43,8 @@
 use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::named::Named;
-use meshfree_core::particle::Particle;
-use meshfree_core::scheme::SolidFormulation;
+use meshfree_core::physics::particle::Particle;
+use meshfree_core::scene::scheme::SolidFormulation;
 
 pub const NAME: &str = "gate";
 pub const DESCRIPTION: &str = "Elastic gate (Antoci, Gallati & Sibilla 2007): water 0.1 x 0.14 behind a rubber \

@@ -16,7 +16,7 @@
 
 use super::{convergence, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
-use meshfree_core::particle::{Kind, Particle};
+use meshfree_core::physics::particle::{Kind, Particle};
 
 pub const NAME: &str = "hydrostatic-tank";
 pub const DESCRIPTION: &str =

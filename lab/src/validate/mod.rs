@@ -42,11 +42,11 @@ use serde::{Deserialize, Serialize};
 
 use meshfree_core::backend::{self, BackendChoice};
 use meshfree_core::named::Named;
+use meshfree_core::scene::scheme::declare::ToParam;
+use meshfree_core::scene::scheme::IntegratorChoice;
 use meshfree_core::scene::{Counts, Scene};
-use meshfree_core::scheme::declare::ToParam;
-use meshfree_core::scheme::IntegratorChoice;
+use meshfree_core::solver::step::Stepper;
 use meshfree_core::solver::{BackendInfo, Setup, Solver};
-use meshfree_core::step::Stepper;
 
 /// Quick (coarse, robust, for the test suite) or full (three resolutions, literature).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -18,7 +18,7 @@
 //! per cycle; the diffusion keeps it down (docs/reference/accuracy.md, oscillating plate).
 //!
 //! Both solid formulations run (`[solid] formulation`): the paper's Jaumann rate with the
-//! terms above, and the total-Lagrangian one (`meshfree_core::tlsph`), which needs neither
+//! terms above, and the total-Lagrangian one (`meshfree_core::physics::tlsph`), which needs neither
 //! the artificial stress nor the density diffusion (no tensile instability; its density is
 //! rho0 / det F) and takes the hourglass control at its default. The issue's target for the
 //! latter: the frequency within 2 % at H / dx = 8. Its rows are informational unless they
@@ -36,7 +36,7 @@
 use super::{convergence, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::named::Named;
-use meshfree_core::scheme::SolidFormulation;
+use meshfree_core::scene::scheme::SolidFormulation;
 
 pub const NAME: &str = "plate";
 pub const DESCRIPTION: &str = "Oscillating cantilever plate (Gray, Monaghan & Swift 2001), 2D plane strain, \
@@ -227,7 +227,7 @@ fn simulate(
         }
     }
     anyhow::ensure!(!tip.is_empty(), "no tip particle at dx = {dx}");
-    let y_tip = |ps: &[meshfree_core::particle::Particle]| {
+    let y_tip = |ps: &[meshfree_core::physics::particle::Particle]| {
         tip.iter()
             .map(|&id| ps[id as usize].position[1] as f64)
             .sum::<f64>()

@@ -16,7 +16,7 @@
 
 use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
-use meshfree_core::particle::Kind;
+use meshfree_core::physics::particle::Kind;
 
 pub const NAME: &str = "poiseuille";
 pub const DESCRIPTION: &str =

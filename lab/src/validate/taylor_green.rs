@@ -19,7 +19,7 @@
 
 use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
-use meshfree_core::particle::Kind;
+use meshfree_core::physics::particle::Kind;
 use meshfree_core::scene::Scene;
 
 pub const NAME: &str = "taylor-green";

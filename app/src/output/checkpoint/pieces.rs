@@ -8,8 +8,8 @@ use std::path::{Path, PathBuf};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
-use meshfree_core::checkpoint::{Piece, SolverCheckpoint};
 use meshfree_core::exchange::Slab;
+use meshfree_core::solver::checkpoint::{Piece, SolverCheckpoint};
 use meshfree_core::solver::Solver;
 
 use super::{read_file, write, write_file};

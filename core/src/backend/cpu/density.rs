@@ -3,13 +3,13 @@
 use rayon::prelude::*;
 
 use super::grid::Grid;
-use crate::dim::Dim;
-use crate::kernel;
-use crate::pairs::{couples, meets};
-use crate::params::{
+use crate::physics::dim::Dim;
+use crate::physics::kernel;
+use crate::physics::pairs::{couples, meets};
+use crate::physics::params::{
     SphParams, MF_DENSITY_SUMMATION, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID,
 };
-use crate::state::State;
+use crate::physics::state::State;
 
 /// Pressure from density: Tait eq. (9) plus the background pressure `background_pressure` for
 /// fluid and dynamic wall particles, P = c_s^2 (rho - rho0_s) for solids (Gray & Monaghan

@@ -4,12 +4,14 @@
 use rayon::prelude::*;
 
 use super::grid::Grid;
-use crate::dim::Dim;
-use crate::kernel;
-use crate::pairs::{couples, extrapolated_pair, meets, same_body};
-use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID, MF_NO_SLIP_MORRIS};
-use crate::state::State;
-use crate::tlsph::total_lagrangian;
+use crate::physics::dim::Dim;
+use crate::physics::kernel;
+use crate::physics::pairs::{couples, extrapolated_pair, meets, same_body};
+use crate::physics::params::{
+    SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID, MF_NO_SLIP_MORRIS,
+};
+use crate::physics::state::State;
+use crate::physics::tlsph::total_lagrangian;
 
 /// Lennard-Jones boundary force per unit mass, eq. (17): C0 [(r0/r)^p1 - (r0/r)^p2] r_ij/r,
 /// acting for r < r0 (repulsive), or within the support where the scene asks for the
@@ -138,7 +140,7 @@ pub fn wall_pair_stress<D: Dim>(
 
 /// The acceleration of particle i summed over its neighbours, as the force stage takes it:
 /// `new`, then `add` for every neighbour j != i in the neighbour loop's order; `acc` is the
-/// sum. The force monitors (`crate::monitor`) take the wall pairs from it one by one. Twin:
+/// sum. The force monitors (`crate::measure::monitor`) take the wall pairs from it one by one. Twin:
 /// `ForceSum` in `cuda/forces.cuh`.
 pub struct ForceSum<'a, D: Dim> {
     s: &'a State<D>,

@@ -7,10 +7,10 @@
 use rayon::prelude::*;
 
 use crate::consts::MF_PRUNE_SLACK;
-use crate::dim::Dim;
-use crate::pairs::separation;
-use crate::params::{SphParams, MF_CELL_REACH};
-use crate::state::State;
+use crate::physics::dim::Dim;
+use crate::physics::pairs::separation;
+use crate::physics::params::{SphParams, MF_CELL_REACH};
+use crate::physics::state::State;
 
 /// Cell ranges of the sorted storage: particles of cell `c` are slots
 /// `cell_start[c] .. cell_end[c]`.

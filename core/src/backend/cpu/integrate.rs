@@ -3,12 +3,12 @@
 
 use rayon::prelude::*;
 
-use crate::dim::Dim;
-use crate::params::{
+use crate::physics::dim::Dim;
+use crate::physics::params::{
     SphParams, MF_INTEGRATOR_EULER, MF_INTEGRATOR_LEAPFROG, MF_KIND_BOUNDARY, MF_KIND_FLUID,
     MF_KIND_SOLID,
 };
-use crate::state::State;
+use crate::physics::state::State;
 
 /// Wrap a position into the domain on periodic axes.
 #[inline]

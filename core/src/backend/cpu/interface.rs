@@ -8,10 +8,10 @@
 use rayon::prelude::*;
 
 use super::grid::Grid;
-use crate::dim::Dim;
-use crate::kernel;
-use crate::params::{SphParams, MF_KIND_FLUID, MF_KIND_SOLID};
-use crate::state::State;
+use crate::physics::dim::Dim;
+use crate::physics::kernel;
+use crate::physics::params::{SphParams, MF_KIND_FLUID, MF_KIND_SOLID};
+use crate::physics::state::State;
 
 /// The Tait density of pressure `pr` [M L^-d L^2 T^-2], eq. (9) inverted (less the background
 /// pressure), held at 0.1 rho0 or more (the health check's floor): a pressure below the

@@ -26,15 +26,15 @@ pub use stress::{artificial_stress, jacobi_eigen};
 pub use tlsph::TlBodies;
 
 use crate::backend::fault;
-use crate::checkpoint::SolverCheckpoint;
-use crate::dim::Dim;
-use crate::frame::{Fields, FrameData, PendingFrame, Ready};
-use crate::params::{needs_density_gradient, SphParams, MF_DENSITY_CONTINUITY};
-use crate::particle::Particle;
+use crate::physics::dim::Dim;
+use crate::physics::params::{needs_density_gradient, SphParams, MF_DENSITY_CONTINUITY};
+use crate::physics::particle::Particle;
+use crate::physics::state::State;
+use crate::solver::checkpoint::SolverCheckpoint;
+use crate::solver::frame::{Fields, FrameData, PendingFrame, Ready};
 use crate::solver::{
     BackendInfo, Diagnostics, Fault, Persist, PointSample, Readback, Setup, Solver,
 };
-use crate::state::State;
 
 /// The whole state in host memory, worked on by rayon.
 pub struct CpuSolver<D: Dim> {
@@ -54,7 +54,7 @@ pub struct CpuSolver<D: Dim> {
     /// force stage reads; None until that stage ran since the last sort, or where the bodies
     /// meet the fluid at their own pressure.
     iface: Option<Vec<[f32; 2]>>,
-    /// The total-Lagrangian bodies (`crate::tlsph`); `None` under the Jaumann rate or
+    /// The total-Lagrangian bodies (`crate::physics::tlsph`); `None` under the Jaumann rate or
     /// without solids.
     tl: Option<TlBodies<D>>,
     time: f64,
@@ -82,7 +82,7 @@ impl<D: Dim> CpuSolver<D> {
         if p.own_solids != 0 {
             state = state.with_solid_arrays(p.artificial_stress > 0.0);
         }
-        let tl = (crate::tlsph::total_lagrangian(&p) && setup.has_solids())
+        let tl = (crate::physics::tlsph::total_lagrangian(&p) && setup.has_solids())
             .then(|| TlBodies::new(&p, &setup.particles));
         CpuSolver {
             params: p,
@@ -169,7 +169,7 @@ impl<D: Dim> Solver for CpuSolver<D> {
         rates::rates(&self.params, self.dt, &self.grid, grad_rho, &mut self.state);
     }
     fn solid_interface(&mut self) {
-        if self.has_solids() && crate::pairs::extrapolated(&self.params) {
+        if self.has_solids() && crate::physics::pairs::extrapolated(&self.params) {
             self.iface = Some(interface::solid_interface(
                 &self.params,
                 &self.grid,
@@ -183,12 +183,13 @@ impl<D: Dim> Solver for CpuSolver<D> {
         }
     }
     fn forces(&mut self) {
-        let iface = (self.has_solids() && crate::pairs::extrapolated(&self.params)).then(|| {
-            self.iface
-                .as_deref()
-                .filter(|f| f.len() == self.state.len())
-                .expect("the interface stage runs before the forces (Solver::step)")
-        });
+        let iface =
+            (self.has_solids() && crate::physics::pairs::extrapolated(&self.params)).then(|| {
+                self.iface
+                    .as_deref()
+                    .filter(|f| f.len() == self.state.len())
+                    .expect("the interface stage runs before the forces (Solver::step)")
+            });
         forces::forces(
             &self.params,
             &self.grid,

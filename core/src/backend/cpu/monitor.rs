@@ -1,5 +1,5 @@
 //! Force monitors on the solver's own state: the force the fluid and solids exert on the
-//! wall particles of one scene group (`Readback::wall_forces`; `crate::monitor` for the
+//! wall particles of one scene group (`Readback::wall_forces`; `crate::measure::monitor` for the
 //! read-back path and the statistics). Twin: `cuda/monitor.cu`; parity test
 //! `tests/cuda_parity/`.
 //!
@@ -14,10 +14,10 @@
 use super::density::pressure;
 use super::forces::ForceSum;
 use super::grid::Grid;
-use crate::dim::Dim;
-use crate::pairs::couples;
-use crate::params::{SphParams, MF_KIND_BOUNDARY};
-use crate::state::State;
+use crate::physics::dim::Dim;
+use crate::physics::pairs::couples;
+use crate::physics::params::{SphParams, MF_KIND_BOUNDARY};
+use crate::physics::state::State;
 
 /// The pressures the next force stage takes: the equation of state, eq. (9) (the solid
 /// pressure law for solids), of the density each particle carries now, for every particle

@@ -10,11 +10,11 @@ use rayon::prelude::*;
 
 use super::density::pressure;
 use super::grid::Grid;
-use crate::dim::Dim;
-use crate::kernel;
-use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID};
+use crate::physics::dim::Dim;
+use crate::physics::kernel;
+use crate::physics::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID};
+use crate::physics::state::State;
 use crate::solver::PointSample;
-use crate::state::State;
 
 /// The sums of one point, neighbour by neighbour. Twin: `PointSum` in
 /// `cuda/device/probes.cuh`.

@@ -10,15 +10,15 @@ use rayon::prelude::*;
 
 use super::grid::Grid;
 use crate::consts::{MF_MOMENT_DET_MIN, MF_SHIFT_ANTI_CLUMP, MF_SHIFT_SURFACE_MARGIN};
-use crate::dim::Dim;
-use crate::kernel;
-use crate::pairs::{couples, extrapolated_pair, meets, same_body};
-use crate::params::{
+use crate::physics::dim::Dim;
+use crate::physics::kernel;
+use crate::physics::pairs::{couples, extrapolated_pair, meets, same_body};
+use crate::physics::params::{
     needs_density_gradient, SphParams, MF_DIFFUSION_FOURTAKAS, MF_INTEGRATOR_LEAPFROG,
     MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID,
 };
-use crate::state::State;
-use crate::tlsph::total_lagrangian;
+use crate::physics::state::State;
+use crate::physics::tlsph::total_lagrangian;
 
 /// The particle shifting velocity [L/T] of a fluid particle, added to its XSPH velocity so
 /// that the drift moves it by dt dv (Lind et al. 2012, J. Comput. Phys. 231, 1499; the
@@ -287,7 +287,7 @@ pub fn rates<D: Dim>(
 #[cfg(test)]
 mod tests {
     use super::midpoint_pair;
-    use crate::dim::D2;
+    use crate::physics::dim::D2;
     use glam::Vec2;
 
     /// The leapfrog's midpoint moves a pair by half_dt v_ij, except in the kernel's core

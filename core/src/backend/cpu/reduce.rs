@@ -10,11 +10,11 @@ use crate::consts::{
     MF_FAULT_NON_FINITE_DENSITY, MF_FAULT_NON_FINITE_POSITION, MF_FAULT_NON_FINITE_VELOCITY,
     MF_VISCOUS_DT,
 };
-use crate::dim::Dim;
-use crate::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID};
-use crate::particle::Kind;
+use crate::physics::dim::Dim;
+use crate::physics::params::{SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID};
+use crate::physics::particle::Kind;
+use crate::physics::state::State;
 use crate::solver::Diagnostics;
-use crate::state::State;
 
 /// The step size [T] from the largest speed [L/T], acceleration [L/T^2] and sound speed:
 /// courant * min(h / (c + |v|max), sqrt(h / |a|max)), and `MF_VISCOUS_DT` h^2 / nu (0.125)

@@ -6,9 +6,9 @@
 use rayon::prelude::*;
 
 use crate::consts::{MF_JACOBI_OFF_MIN, MF_JACOBI_PIVOT_MIN, MF_JACOBI_SWEEPS};
-use crate::dim::Dim;
-use crate::params::{SphParams, MF_KIND_SOLID};
-use crate::state::State;
+use crate::physics::dim::Dim;
+use crate::physics::params::{SphParams, MF_KIND_SOLID};
+use crate::physics::state::State;
 
 /// The artificial stress R of every solid particle (zero elsewhere), from sigma = -P I + S,
 /// eq. (11), at the current time level, or from S alone where the scene says so

@@ -1,10 +1,10 @@
 //! The CPU solver as one subdomain of a decomposed run (`crate::exchange`): halos are host
 //! arrays (`State`), cut from and appended to the storage. Tests: `tests/exchange.rs`.
 
-use crate::checkpoint::SolverCheckpoint;
-use crate::dim::Dim;
 use crate::exchange::{Slab, Subdomain};
-use crate::state::State;
+use crate::physics::dim::Dim;
+use crate::physics::state::State;
+use crate::solver::checkpoint::SolverCheckpoint;
 
 use super::{reduce, step_size, CpuSolver};
 

@@ -1,4 +1,4 @@
-//! The total-Lagrangian solid's stages (`crate::tlsph`): the slot map after each grid
+//! The total-Lagrangian solid's stages (`crate::physics::tlsph`): the slot map after each grid
 //! build, the stress from the deformation gradient (`Solver::solid_stress`), the internal
 //! force with the hourglass control (`Solver::solid_forces`) and the displacement's drift.
 //! Twin: `cuda/tlsph.cu`; parity test `tests/cuda_parity/`. A pair's reference separation is
@@ -8,16 +8,16 @@
 use rayon::prelude::*;
 
 use super::integrate::driven_velocity;
-use crate::dim::Dim;
-use crate::pairs::separation;
-use crate::params::{SphParams, MF_KIND_SOLID};
-use crate::particle::Particle;
-use crate::state::State;
-use crate::tlsph::gradient::{apply, basis, pair, Q_MAX};
-use crate::tlsph::{hourglass, pair_error, svk, Corr, Material, Reference, NONE};
+use crate::physics::dim::Dim;
+use crate::physics::pairs::separation;
+use crate::physics::params::{SphParams, MF_KIND_SOLID};
+use crate::physics::particle::Particle;
+use crate::physics::state::State;
+use crate::physics::tlsph::gradient::{apply, basis, pair, Q_MAX};
+use crate::physics::tlsph::{hourglass, pair_error, svk, Corr, Material, Reference, NONE};
 
 /// The bodies' reference configuration and what the stages keep per solid particle, in
-/// solid space (`crate::tlsph`).
+/// solid space (`crate::physics::tlsph`).
 #[derive(Clone, Debug)]
 pub struct TlBodies<D: Dim> {
     pub reference: Reference<D>,
@@ -102,7 +102,7 @@ impl<D: Dim> TlBodies<D> {
 
     /// The internal force: acc_a += (1 / rho0_s) (sum_b V0_b w_ab [P_a C_a p(s_ab) -
     /// P_b C_b p(-s_ab)] + P_a C_a F_a) (F_a: the clamp's face, `tlsph::faces`;
-    /// `crate::tlsph`: m_a dv_a/dt = sum_b V0_a V0_b w_ab [...], V0_a / m_a = 1 / rho0_s) plus
+    /// `crate::physics::tlsph`: m_a dv_a/dt = sum_b V0_a V0_b w_ab [...], V0_a / m_a = 1 / rho0_s) plus
     /// the hourglass control (`hourglass`) over the neighbours and the face points, added to
     /// the force stage's sum (which skipped the pairs of one body: `ForceSum`). [L/T^2]
     pub fn forces(&self, p: &SphParams, s: &mut State<D>) {

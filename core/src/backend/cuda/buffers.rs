@@ -13,9 +13,9 @@ use cudarc::driver::{
 use rayon::prelude::*;
 
 use crate::consts::{MF_BLOCK, MF_FAULT_RECORD_WORDS, MF_SCAN_CELLS};
-use crate::dim::Dim;
-use crate::params::MF_KIND_BOUNDARY;
-use crate::state::{SolidState, State};
+use crate::physics::dim::Dim;
+use crate::physics::params::MF_KIND_BOUNDARY;
+use crate::physics::state::{SolidState, State};
 
 /// Floats per stored vector.
 pub fn vstride<D: Dim>() -> usize {

@@ -1,4 +1,4 @@
-//! Output frames off the stepping path (`Readback::capture`, `crate::frame`).
+//! Output frames off the stepping path (`Readback::capture`, `crate::solver::frame`).
 //!
 //! At an output the solver's stream copies the chosen fields of the current arrays into a
 //! staging set on the device (device-to-device, well under a millisecond for millions of
@@ -19,8 +19,8 @@ use cudarc::driver::{
 };
 
 use super::buffers::{nsym, sym_slots, vstride, Buffers, VEL_STRIDE};
-use crate::dim::Dim;
-use crate::frame::{Field, Fields, FrameData, PendingFrame};
+use crate::physics::dim::Dim;
+use crate::solver::frame::{Field, Fields, FrameData, PendingFrame};
 
 /// Staging sets in flight at most.
 const SETS: usize = 2;

@@ -10,7 +10,7 @@ use cudarc::driver::{CudaFunction, DriverError};
 use super::device::Device;
 use crate::backend::error::BackendError;
 use crate::consts::MF_LANES_MAX;
-use crate::params::{lean_scheme, SphParams};
+use crate::physics::params::{lean_scheme, SphParams};
 
 /// Lane counts with kernel entries, in index order: the powers of two from 1 to
 /// `MF_LANES_MAX` (`MF_LANES_EACH` in `cuda/sph_consts.h`).

@@ -29,10 +29,10 @@ use crate::consts::{
     MF_FAULT_ESCAPED, MF_FAULT_NON_FINITE_POSITION, MF_FAULT_NON_FINITE_VELOCITY,
     MF_FAULT_RECORD_WORDS, MF_FAULT_SLOT_SHIFT,
 };
-use crate::dim::Dim;
-use crate::params::{needs_density_gradient, SphParams, MF_DENSITY_CONTINUITY};
+use crate::physics::dim::Dim;
+use crate::physics::params::{needs_density_gradient, SphParams, MF_DENSITY_CONTINUITY};
+use crate::physics::state::State;
 use crate::solver::{BackendInfo, Fault, Setup, Solver};
-use crate::state::State;
 
 pub use device::{device_count, driver_version, NVCC_VERSION};
 pub use subdomain::CudaHalo;
@@ -178,9 +178,9 @@ impl<D: Dim> CudaSolver<D> {
         .map_err(|e| oom(n, e))?;
         k.lanes = lanes_for(D::D, whole);
         // The total-Lagrangian bodies' reference configuration, set up on the host by the
-        // shared code (`crate::tlsph`) and uploaded once.
-        let tl = if crate::tlsph::total_lagrangian(&p) && setup.has_solids() {
-            let r = crate::tlsph::Reference::<D>::new(&p, &setup.particles);
+        // shared code (`crate::physics::tlsph`) and uploaded once.
+        let tl = if crate::physics::tlsph::total_lagrangian(&p) && setup.has_solids() {
+            let r = crate::physics::tlsph::Reference::<D>::new(&p, &setup.particles);
             Some(TlBuffers::new(&dev.stream, &r).map_err(|e| oom(n, e))?)
         } else {
             None
@@ -286,7 +286,7 @@ impl<D: Dim> CudaSolver<D> {
         key: u64,
         (step, time): (u64, f64),
         id: u32,
-        kind: crate::particle::Kind,
+        kind: crate::physics::particle::Kind,
         x: [f32; 3],
         v: [f32; 3],
         rho: f32,
@@ -587,7 +587,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
             .clone_dtoh(&self.buf.fault_rec)
             .unwrap_or_else(|e| self.sync_err("reading the health check's fault", e));
         let f = |w: u32| f32::from_bits(w);
-        let kind = crate::particle::Kind::from_code(r[1] as u8)
+        let kind = crate::physics::particle::Kind::from_code(r[1] as u8)
             .expect("sph_check_record writes a particle's kind code");
         let step = u64::from(r[9]) | (u64::from(r[10]) << 32);
         let time = f64::from_bits(u64::from(r[11]) | (u64::from(r[12]) << 32));
@@ -632,9 +632,9 @@ impl<D: Dim> Solver for CudaSolver<D> {
 /// The CUDA solver in the scene's dimension, or why there is none.
 pub fn create(setup: Setup) -> Result<Box<dyn Solver>, BackendError> {
     if setup.params.dim == 2 {
-        Ok(Box::new(CudaSolver::<crate::dim::D2>::new(setup)?))
+        Ok(Box::new(CudaSolver::<crate::physics::dim::D2>::new(setup)?))
     } else {
-        Ok(Box::new(CudaSolver::<crate::dim::D3>::new(setup)?))
+        Ok(Box::new(CudaSolver::<crate::physics::dim::D3>::new(setup)?))
     }
 }
 
@@ -647,11 +647,11 @@ pub fn decomposed(setup: Setup, n: usize) -> Result<Box<dyn Solver>, BackendErro
     let whole = setup.particles.len();
     Ok(if setup.params.dim == 2 {
         Box::new(Decomposed::new(setup, n, |s| {
-            CudaSolver::<crate::dim::D2>::new_subdomain(s, whole, 0)
+            CudaSolver::<crate::physics::dim::D2>::new_subdomain(s, whole, 0)
         })?)
     } else {
         Box::new(Decomposed::new(setup, n, |s| {
-            CudaSolver::<crate::dim::D3>::new_subdomain(s, whole, 0)
+            CudaSolver::<crate::physics::dim::D3>::new_subdomain(s, whole, 0)
         })?)
     })
 }

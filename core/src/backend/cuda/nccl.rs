@@ -17,8 +17,8 @@ use cudarc::driver::{CudaSlice, CudaStream};
 use cudarc::nccl::{Comm, ReduceOp};
 
 use crate::backend::error::BackendError;
-use crate::dim::{Dim, D2, D3};
 use crate::exchange::{Decomposed, Transport};
+use crate::physics::dim::{Dim, D2, D3};
 use crate::solver::{Setup, Solver};
 
 use super::{CudaHalo, CudaSolver};

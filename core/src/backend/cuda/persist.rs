@@ -1,8 +1,8 @@
 //! The CUDA solver's checkpoints (`Persist`): the state and the total-Lagrangian
 //! displacements read back, and written again with the clock on restore.
 
-use crate::checkpoint::SolverCheckpoint;
-use crate::dim::Dim;
+use crate::physics::dim::Dim;
+use crate::solver::checkpoint::SolverCheckpoint;
 use crate::solver::{Persist, Solver};
 
 use super::CudaSolver;

@@ -4,9 +4,9 @@
 //! implementation in `backend/cpu/mod.rs`; parity test `tests/cuda_parity/`.
 
 use crate::consts::MF_SAMPLE_FLOATS;
-use crate::dim::Dim;
-use crate::frame::{Fields, FrameData, PendingFrame, Ready};
-use crate::particle::Particle;
+use crate::physics::dim::Dim;
+use crate::physics::particle::Particle;
+use crate::solver::frame::{Fields, FrameData, PendingFrame, Ready};
 use crate::solver::{Diagnostics, PointSample, Readback, Shown, Snapshot, Solver};
 
 use super::buffers;

@@ -27,11 +27,11 @@ use cudarc::driver::CudaSlice;
 use super::buffers::{nsym, vstride, Buffers};
 use super::launch::{self, Select};
 use super::{oom, CudaSolver};
-use crate::checkpoint::SolverCheckpoint;
-use crate::dim::Dim;
 use crate::exchange::{Slab, Subdomain};
-use crate::params::{needs_density_gradient, MF_DENSITY_CONTINUITY};
-use crate::state::State;
+use crate::physics::dim::Dim;
+use crate::physics::params::{needs_density_gradient, MF_DENSITY_CONTINUITY};
+use crate::physics::state::State;
+use crate::solver::checkpoint::SolverCheckpoint;
 
 /// Copies of particles on their way to another subdomain, on the device: `n` records of
 /// `words.len() / n` 32-bit words each (`halo_words`), back to back in the sender's

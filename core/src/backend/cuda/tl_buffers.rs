@@ -7,10 +7,10 @@ use std::sync::Arc;
 use cudarc::driver::{CudaSlice, CudaStream, DriverError};
 
 use super::buffers::{flat_v, unflat_v, vstride, Alloc};
-use crate::dim::Dim;
+use crate::physics::dim::Dim;
 
 /// The total-Lagrangian bodies on the device (`cuda/tlsph.cu`), in solid space (index a =
-/// the solid particle's rank by id, `crate::tlsph::Reference`): the reference configuration,
+/// the solid particle's rank by id, `crate::physics::tlsph::Reference`): the reference configuration,
 /// uploaded once, and what the stages keep per solid particle. Not reordered by the grid;
 /// `slot` maps solid space onto the storage after each reorder (`sph_tl_slots`).
 pub struct TlBuffers {
@@ -54,8 +54,8 @@ pub struct TlBuffers {
 }
 
 /// Corrections -> Q = `basis_len(D)` columns of D floats each, column after column.
-fn corr_columns<D: Dim>(c: &[crate::tlsph::Corr<D>]) -> Vec<f32> {
-    let q = crate::tlsph::gradient::basis_len(D::D);
+fn corr_columns<D: Dim>(c: &[crate::physics::tlsph::Corr<D>]) -> Vec<f32> {
+    let q = crate::physics::tlsph::gradient::basis_len(D::D);
     c.iter()
         .flat_map(|x| {
             x[..q]
@@ -70,12 +70,12 @@ impl TlBuffers {
     /// slot `NONE` (the first `sph_tl_slots` fills them).
     pub fn new<D: Dim>(
         s: &Arc<CudaStream>,
-        r: &crate::tlsph::Reference<D>,
+        r: &crate::physics::tlsph::Reference<D>,
     ) -> Result<TlBuffers, DriverError> {
         let n = r.len();
         let vs = vstride::<D>();
         let dd = D::D * D::D;
-        let dq = D::D * crate::tlsph::gradient::basis_len(D::D);
+        let dq = D::D * crate::physics::tlsph::gradient::basis_len(D::D);
         let mut a = Alloc { s, bytes: 0 };
         let mut t = TlBuffers {
             n_solid: n,
@@ -137,7 +137,10 @@ impl TlBuffers {
     /// Every slot `NONE` (before the map of a storage whose set of solids changed).
     pub fn clear_slots(&mut self, s: &Arc<CudaStream>) -> Result<(), DriverError> {
         if self.n_solid > 0 {
-            s.memcpy_htod(&vec![crate::tlsph::NONE; self.n_solid], &mut self.slot)?;
+            s.memcpy_htod(
+                &vec![crate::physics::tlsph::NONE; self.n_solid],
+                &mut self.slot,
+            )?;
         }
         Ok(())
     }

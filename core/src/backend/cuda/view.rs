@@ -15,9 +15,9 @@ use super::kernels::Kernels;
 use super::launch;
 use super::CudaSolver;
 use crate::consts::MF_SCAN_CELLS;
-use crate::dim::Dim;
 use crate::interop::{GlBuffers, GlFill, GlInterop, GlSplat};
-use crate::params::SphParams;
+use crate::physics::dim::Dim;
+use crate::physics::params::SphParams;
 use crate::solver::Shown;
 use std::sync::Arc;
 

@@ -8,7 +8,7 @@ use cudarc::driver::{CudaSlice, CudaStream, DriverError, PushKernelArg};
 use super::{cfg, grid::scan, NULL};
 use crate::backend::cuda::buffers::Buffers;
 use crate::backend::cuda::kernels::{Family, Kernels};
-use crate::params::SphParams;
+use crate::physics::params::SphParams;
 
 /// Which particles a subdomain's selection marks (`sph_exchange_mark`).
 #[derive(Clone, Copy, Debug)]

@@ -9,7 +9,7 @@ use super::{cfg, NULL};
 use crate::backend::cuda::buffers::{self, Buffers};
 use crate::backend::cuda::kernels::{Family, Kernels};
 use crate::consts::{MF_SCAN_BLOCK, MF_SCAN_CELLS};
-use crate::params::{SphParams, MF_DENSITY_CONTINUITY};
+use crate::physics::params::{SphParams, MF_DENSITY_CONTINUITY};
 
 /// The two-pass exclusive scan of `n_scan` words of `input` into `local` (per block) and
 /// `bsum` (the blocks' totals, then their offsets): `Family::ScanLocal` over

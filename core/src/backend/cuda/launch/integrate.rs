@@ -8,7 +8,7 @@ use cudarc::driver::{CudaStream, PushKernelArg};
 use super::{cfg, NULL};
 use crate::backend::cuda::buffers::Buffers;
 use crate::backend::cuda::kernels::{Family, Kernel, Kernels};
-use crate::params::SphParams;
+use crate::physics::params::SphParams;
 
 pub fn step_size(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     // SAFETY: the arguments of `Family::StepSize`; red holds 3 words.

@@ -11,7 +11,7 @@ use cudarc::driver::{DeviceRepr, LaunchConfig};
 use super::buffers::Buffers;
 use super::kernels::Scheme;
 use crate::consts::MF_BLOCK;
-use crate::params::SphParams;
+use crate::physics::params::SphParams;
 
 // SAFETY: SphParams is the bindgen image of the C struct in `cuda/sph_params.h` (repr(C),
 // plain integers and floats, no pointers); kernels take it by value. `tests/cuda_parity/`

@@ -8,7 +8,7 @@ use cudarc::driver::{CudaStream, PushKernelArg};
 use super::{cfg, grid::stamps, integrate::clear_red, scheme, NULL};
 use crate::backend::cuda::buffers::Buffers;
 use crate::backend::cuda::kernels::{Family, Kernels};
-use crate::params::SphParams;
+use crate::physics::params::SphParams;
 
 pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     if b.n == 0 || std::mem::take(&mut b.eos_done) {
@@ -39,7 +39,7 @@ pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers)
 /// forces pass (alone or fused) reads: the interface stage; nothing without solids or where
 /// the bodies meet the fluid at their own pressure.
 pub fn solid_interface(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
-    if !crate::pairs::extrapolated(p) {
+    if !crate::physics::pairs::extrapolated(p) {
         return;
     }
     let Some(e) = b.iface.as_mut().filter(|_| b.n > 0) else {
@@ -168,7 +168,9 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     opt!(l, &b.art);
     opt!(
         l,
-        b.iface.as_ref().filter(|_| crate::pairs::extrapolated(p))
+        b.iface
+            .as_ref()
+            .filter(|_| crate::physics::pairs::extrapolated(p))
     );
     l.arg(&c.id);
     opt!(l, &b.wall_surface);

@@ -9,7 +9,7 @@ use super::{cfg, grid::build_grid, integrate::settle_step_size, NULL};
 use crate::backend::cuda::buffers::Buffers;
 use crate::backend::cuda::kernels::{Family, Kernels};
 use crate::consts::{MF_BLOCK, MF_LANES_MAX, MF_SAMPLE_FLOATS};
-use crate::params::SphParams;
+use crate::physics::params::SphParams;
 
 /// Most blocks of one wall group's pass (`sph_wall_force_*`): its threads stride over the
 /// storage, so any grid covers it; this bounds the partial sums of a large system (a few

@@ -13,7 +13,7 @@ use super::{
 use crate::backend::cuda::buffers::Buffers;
 use crate::backend::cuda::kernels::{Family, Kernels};
 use crate::backend::cuda::tl_buffers::TlBuffers;
-use crate::params::SphParams;
+use crate::physics::params::SphParams;
 
 /// Map the total-Lagrangian solid space onto the storage after a reorder: slot[a] = the
 /// storage slot of solid a (`cuda/tlsph.cu`, twin `TlBodies::map_slots`).

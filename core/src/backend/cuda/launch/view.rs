@@ -11,7 +11,7 @@ use crate::backend::cuda::buffers::Buffers;
 use crate::backend::cuda::kernels::{Family, Kernels};
 use crate::backend::cuda::view::KindScans;
 use crate::interop::GlSplat;
-use crate::params::SphParams;
+use crate::physics::params::SphParams;
 
 /// `cuGraphicsGLRegisterBuffer` of `cudaGL.h`, which cudarc does not declare:
 /// `CUresult cuGraphicsGLRegisterBuffer(CUgraphicsResource* pCudaResource, GLuint buffer,

@@ -14,10 +14,10 @@
 //! the Tait / solid EOS of the read-back density, as the next force stage would take them.
 
 use crate::backend::cpu::{self, Grid};
-use crate::dim::{Dim, D2, D3};
-use crate::params::SphParams;
-use crate::particle::{Kind, Particle};
-use crate::state::State;
+use crate::physics::dim::{Dim, D2, D3};
+use crate::physics::params::SphParams;
+use crate::physics::particle::{Kind, Particle};
+use crate::physics::state::State;
 
 /// The force [M L T^-2] that fluid and solid particles exert on the boundary particles of
 /// scene group `group`, as three numbers (z = 0 in 2D), from `particles` (any order).

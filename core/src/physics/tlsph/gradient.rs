@@ -26,10 +26,10 @@
 //! d floats per solid particle (`Corr`).
 
 use crate::consts::MF_MOMENT_DET_MIN;
-use crate::dim::Dim;
-use crate::kernel;
-use crate::pairs::separation;
-use crate::params::SphParams;
+use crate::physics::dim::Dim;
+use crate::physics::kernel;
+use crate::physics::pairs::separation;
+use crate::physics::params::SphParams;
 
 /// The most basis functions (3D: 3 linear + 6 quadratic).
 pub const Q_MAX: usize = 9;

@@ -687,7 +687,7 @@ pub(crate) fn validate(s: &SceneFile) -> Result<(), (String, String)> {
 /// Write every key's header field. A scene without solids (walls) reads as a `[solid]`
 /// (`[boundary]`) of its defaults, the solid's required values mirroring the fluid's
 /// density and sound speed (nothing divides by zero) with no shear modulus (no C0).
-pub fn write_params(s: &SceneFile, p: &mut crate::params::SphParams) {
+pub fn write_params(s: &SceneFile, p: &mut crate::physics::params::SphParams) {
     s.discretisation.write_params(s, p);
     s.time.write_params(s, p);
     s.fluid.write_params(s, p);

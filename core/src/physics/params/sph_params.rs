@@ -1,6 +1,6 @@
 //! `SphParams` and the `MF_*` constants of `cuda/sph_params.h`, as bindgen makes them (the
 //! committed copy `bindings.rs` where libclang is missing; `core/build.rs`). Its own file, so
-//! that the kernel (`crate::kernel`) can read the struct without depending on `derive`.
+//! that the kernel (`crate::physics::kernel`) can read the struct without depending on `derive`.
 #![allow(
     non_upper_case_globals,
     non_camel_case_types,

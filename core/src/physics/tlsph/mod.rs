@@ -36,11 +36,11 @@ pub mod cells;
 pub mod gradient;
 pub mod quadrature;
 
-use crate::dim::Dim;
-use crate::kernel;
-use crate::pairs::{same_body, separation};
-use crate::params::{SphParams, MF_KIND_SOLID, MF_SOLID_TOTAL_LAGRANGIAN};
-use crate::particle::{Kind, Particle};
+use crate::physics::dim::Dim;
+use crate::physics::kernel;
+use crate::physics::pairs::{same_body, separation};
+use crate::physics::params::{SphParams, MF_KIND_SOLID, MF_SOLID_TOTAL_LAGRANGIAN};
+use crate::physics::particle::{Kind, Particle};
 pub use gradient::Corr;
 use gradient::Q_MAX;
 

@@ -9,7 +9,7 @@
 //! refuses a missing required one with serde's own words (`missing field `end``).
 
 use super::SceneFile;
-use crate::params::SphParams;
+use crate::physics::params::SphParams;
 
 /// One key of a scheme table (`[discretisation]`, `[time]`, `[fluid]`, `[solid]`,
 /// `[boundary]`), as declared in `scheme.rs`.
@@ -324,26 +324,26 @@ macro_rules! choice {
                 (
                     $name::$first,
                     $first_text,
-                    $crate::scheme::declare::trim(concat!($($first_doc),*)),
+                    $crate::scene::scheme::declare::trim(concat!($($first_doc),*)),
                 ),
                 $((
                     $name::$variant,
                     $text,
-                    $crate::scheme::declare::trim(concat!($($vdoc),*)),
+                    $crate::scene::scheme::declare::trim(concat!($($vdoc),*)),
                 ),)*
             ];
         }
 
-        impl $crate::scheme::declare::ToParam<i32> for $name {
+        impl $crate::scene::scheme::declare::ToParam<i32> for $name {
             fn to_param(&self) -> i32 {
                 match self {
-                    $name::$first => $crate::params::$first_const as i32,
-                    $($name::$variant => $crate::params::$constant as i32,)*
+                    $name::$first => $crate::physics::params::$first_const as i32,
+                    $($name::$variant => $crate::physics::params::$constant as i32,)*
                 }
             }
         }
 
-        impl $crate::scheme::declare::KeyType for $name {
+        impl $crate::scene::scheme::declare::KeyType for $name {
             const KIND: &'static str = "one of";
             fn choices() -> Vec<(&'static str, &'static str)> {
                 <$name as $crate::named::Named>::ALL
@@ -386,7 +386,7 @@ macro_rules! table {
     ) => {
         $(#[doc = $doc])*
         #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-        #[serde(try_from = "<Self as crate::scheme::declare::Table>::Raw")]
+        #[serde(try_from = "<Self as crate::scene::scheme::declare::Table>::Raw")]
         pub struct $name {
             $(
                 $(#[doc = $fdoc])*
@@ -419,32 +419,32 @@ macro_rules! table {
             }
         }
 
-        impl $crate::scheme::declare::Table for $name {
+        impl $crate::scene::scheme::declare::Table for $name {
             const NAME: &'static str = stringify!($at);
-            const KEYS: &'static [$crate::scheme::declare::Key] = &[$(
-                $crate::scheme::declare::Key {
+            const KEYS: &'static [$crate::scene::scheme::declare::Key] = &[$(
+                $crate::scene::scheme::declare::Key {
                     path: concat!(stringify!($at), ".", stringify!($field)),
-                    doc: $crate::scheme::declare::trim(concat!($($fdoc),*)),
+                    doc: $crate::scene::scheme::declare::trim(concat!($($fdoc),*)),
                     ty: stringify!($ty),
-                    kind: <$ty as $crate::scheme::declare::KeyType>::KIND,
-                    choices: <$ty as $crate::scheme::declare::KeyType>::choices,
+                    kind: <$ty as $crate::scene::scheme::declare::KeyType>::KIND,
+                    choices: <$ty as $crate::scene::scheme::declare::KeyType>::choices,
                     default: table!(@default $ty, $default),
                     paper: table!(@paper $ty, $paper),
                     check: table!(@check $check),
                     param: table!(@param $param),
                     get: |s| {
-                        <$name as $crate::scheme::declare::Table>::of(s)
-                            .and_then(|t| $crate::scheme::declare::to_value(&t.$field))
+                        <$name as $crate::scene::scheme::declare::Table>::of(s)
+                            .and_then(|t| $crate::scene::scheme::declare::to_value(&t.$field))
                     },
                     set: |s, v| {
-                        let t = <$name as $crate::scheme::declare::Table>::of_mut(s)
+                        let t = <$name as $crate::scene::scheme::declare::Table>::of_mut(s)
                             .ok_or_else(|| format!("the scene has no [{}] table", stringify!($at)))?;
                         t.$field = v.try_into().map_err(|e: toml::de::Error| e.to_string())?;
                         Ok(())
                     },
                     set_paper: table!(@set_paper $name $field $ty, $paper),
                     validate: |s| {
-                        let Some(t) = <$name as $crate::scheme::declare::Table>::of(s) else {
+                        let Some(t) = <$name as $crate::scene::scheme::declare::Table>::of(s) else {
                             return Ok(());
                         };
                         table!(@validate s t $field $check)
@@ -452,17 +452,17 @@ macro_rules! table {
                 },
             )*];
             type Raw = $at::Raw;
-            fn of(s: &$crate::scheme::SceneFile) -> Option<&Self> {
+            fn of(s: &$crate::scene::scheme::SceneFile) -> Option<&Self> {
                 table!(@of s $at $($optional)?)
             }
-            fn of_mut(s: &mut $crate::scheme::SceneFile) -> Option<&mut Self> {
+            fn of_mut(s: &mut $crate::scene::scheme::SceneFile) -> Option<&mut Self> {
                 table!(@of_mut s $at $($optional)?)
             }
             #[allow(unused_variables)]
             fn write_params(
                 &self,
-                s: &$crate::scheme::SceneFile,
-                p: &mut $crate::params::SphParams,
+                s: &$crate::scene::scheme::SceneFile,
+                p: &mut $crate::physics::params::SphParams,
             ) {
                 $(table!(@write s p self $field $param);)*
             }
@@ -483,35 +483,35 @@ macro_rules! table {
         $raw.$field.unwrap_or_else(|| $value)
     };
 
-    (@default $ty:ty, [required]) => { $crate::scheme::declare::KeyDefault::Required };
+    (@default $ty:ty, [required]) => { $crate::scene::scheme::declare::KeyDefault::Required };
     (@default $ty:ty, [absent $why:literal]) => {
-        $crate::scheme::declare::KeyDefault::Absent($why)
+        $crate::scene::scheme::declare::KeyDefault::Absent($why)
     };
     (@default $ty:ty, [$value:expr, $why:literal]) => {
-        $crate::scheme::declare::KeyDefault::Value {
+        $crate::scene::scheme::declare::KeyDefault::Value {
             value: || {
                 let v: $ty = $value;
-                $crate::scheme::declare::to_value(&v).expect("a default is a value")
+                $crate::scene::scheme::declare::to_value(&v).expect("a default is a value")
             },
             why: $why,
         }
     };
 
     (@paper $ty:ty, [is $value:expr, $why:literal]) => {
-        $crate::scheme::declare::Paper::Is {
+        $crate::scene::scheme::declare::Paper::Is {
             value: || {
                 let v: $ty = $value;
-                $crate::scheme::declare::to_value(&v).expect("a paper value is a value")
+                $crate::scene::scheme::declare::to_value(&v).expect("a paper value is a value")
             },
             why: $why,
         }
     };
-    (@paper $ty:ty, [from $why:literal]) => { $crate::scheme::declare::Paper::From($why) };
-    (@paper $ty:ty, [scene $why:literal]) => { $crate::scheme::declare::Paper::Scene($why) };
+    (@paper $ty:ty, [from $why:literal]) => { $crate::scene::scheme::declare::Paper::From($why) };
+    (@paper $ty:ty, [scene $why:literal]) => { $crate::scene::scheme::declare::Paper::Scene($why) };
 
     (@set_paper $name:ident $field:ident $ty:ty, [is $value:expr, $why:literal]) => {
         Some(|s| {
-            if let Some(t) = <$name as $crate::scheme::declare::Table>::of_mut(s) {
+            if let Some(t) = <$name as $crate::scene::scheme::declare::Table>::of_mut(s) {
                 let v: $ty = $value;
                 t.$field = v;
             }
@@ -520,37 +520,37 @@ macro_rules! table {
     (@set_paper $name:ident $field:ident $ty:ty, [$($other:tt)*]) => { None };
 
     (@check [$rule:ident $(($usual:literal))?]) => {
-        $crate::scheme::declare::Check {
-            rule: $crate::scheme::declare::Rule::$rule $(($usual))?,
+        $crate::scene::scheme::declare::Check {
+            rule: $crate::scene::scheme::declare::Rule::$rule $(($usual))?,
             needs: None,
         }
     };
     (@check [$rule:ident $(($usual:literal))?; $needs:path, $what:literal]) => {
-        $crate::scheme::declare::Check {
-            rule: $crate::scheme::declare::Rule::$rule $(($usual))?,
+        $crate::scene::scheme::declare::Check {
+            rule: $crate::scene::scheme::declare::Rule::$rule $(($usual))?,
             needs: Some($what),
         }
     };
 
     (@validate $s:ident $t:ident $field:ident [$rule:ident $(($usual:literal))?]) => {
-        $crate::scheme::declare::Rule::$rule $(($usual))?
-            .check($crate::scheme::declare::KeyType::number(&$t.$field))
+        $crate::scene::scheme::declare::Rule::$rule $(($usual))?
+            .check($crate::scene::scheme::declare::KeyType::number(&$t.$field))
     };
     (@validate $s:ident $t:ident $field:ident
         [$rule:ident $(($usual:literal))?; $needs:path, $what:literal]) => {{
-        $crate::scheme::declare::Rule::$rule $(($usual))?
-            .check($crate::scheme::declare::KeyType::number(&$t.$field))?;
+        $crate::scene::scheme::declare::Rule::$rule $(($usual))?
+            .check($crate::scene::scheme::declare::KeyType::number(&$t.$field))?;
         $needs($s, &$t.$field)
     }};
 
-    (@param [p . $pf:ident]) => { $crate::scheme::declare::Param::Field(stringify!($pf)) };
+    (@param [p . $pf:ident]) => { $crate::scene::scheme::declare::Param::Field(stringify!($pf)) };
     (@param [p . $pf:ident = $conv:expr]) => {
-        $crate::scheme::declare::Param::Field(stringify!($pf))
+        $crate::scene::scheme::declare::Param::Field(stringify!($pf))
     };
-    (@param [none $why:literal]) => { $crate::scheme::declare::Param::None($why) };
+    (@param [none $why:literal]) => { $crate::scene::scheme::declare::Param::None($why) };
 
     (@write $s:ident $p:ident $t:ident $field:ident [p . $pf:ident]) => {
-        $p.$pf = $crate::scheme::declare::ToParam::to_param(&$t.$field);
+        $p.$pf = $crate::scene::scheme::declare::ToParam::to_param(&$t.$field);
     };
     (@write $s:ident $p:ident $t:ident $field:ident [p . $pf:ident = $conv:expr]) => {
         $p.$pf = ($conv)($s, &$t.$field);

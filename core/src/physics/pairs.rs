@@ -4,10 +4,10 @@
 //! share: whether a neighbour enters a particle's sums (`couples`), whether two kinds meet at
 //! all (`meets`), and whether two particles count as one body (`same_body`); and the pair's
 //! separation on periodic axes (`separation`), which the neighbour grid and the
-//! total-Lagrangian reference configuration (`crate::tlsph`) both take.
+//! total-Lagrangian reference configuration (`crate::physics::tlsph`) both take.
 
-use crate::dim::Dim;
-use crate::params::{
+use crate::physics::dim::Dim;
+use crate::physics::params::{
     SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID, MF_SOLID_FLUID_PRESSURE_EXTRAPOLATED,
 };
 

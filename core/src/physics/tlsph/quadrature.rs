@@ -1,5 +1,5 @@
 //! The quadrature of the total-Lagrangian body's strain energy: the weight omega_a with which
-//! each particle's energy density enters E = sum_a omega_a psi(F_a) (`crate::tlsph`).
+//! each particle's energy density enters E = sum_a omega_a psi(F_a) (`crate::physics::tlsph`).
 //!
 //! With omega_a = V0_a, the particle's volume, the sum is the midpoint rule over the
 //! particles' cells, which misses (dx^2 / 24) lap psi per unit volume (the integral of the
@@ -29,9 +29,9 @@
 //! speed more than 1.22 times the one the time step allows for) is not used: its body (the
 //! particles of one group) keeps the midpoint rule, omega = V0.
 
-use crate::dim::Dim;
-use crate::params::SphParams;
-use crate::tlsph::gradient;
+use crate::physics::dim::Dim;
+use crate::physics::params::SphParams;
+use crate::physics::tlsph::gradient;
 
 /// The bounds of omega / V0 within which a body's quadrature is used (see above) [-].
 pub const QUAD_RANGE: (f32, f32) = (0.5, 1.5);

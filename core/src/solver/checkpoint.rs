@@ -17,9 +17,9 @@
 //! stage's sums visit the neighbours in the (cell, id) order of the next grid build, which
 //! the positions alone fix.
 
-use crate::dim::Dim;
 use crate::exchange::Slab;
-use crate::state::{SolidState, State};
+use crate::physics::dim::Dim;
+use crate::physics::state::{SolidState, State};
 
 /// One rank's share of a decomposed solver's state (`Persist::save_pieces`): the slab it
 /// owns and its particles (all of them in that slab: between steps a rank holds its owned

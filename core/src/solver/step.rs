@@ -72,13 +72,15 @@ fn collapsed_step(solver: &mut dyn Solver, dt: f64, floor: f64) -> Fault {
     let fastest = solver
         .particles()
         .into_iter()
-        .filter(|q| q.kind != crate::particle::Kind::Boundary)
+        .filter(|q| q.kind != crate::physics::particle::Kind::Boundary)
         .max_by(|a, b| {
-            let s = |q: &crate::particle::Particle| q.velocity.iter().map(|v| v * v).sum::<f32>();
+            let s = |q: &crate::physics::particle::Particle| {
+                q.velocity.iter().map(|v| v * v).sum::<f32>()
+            };
             s(a).total_cmp(&s(b))
         });
     let c = p.c0.max(if d.solid > 0 {
-        p.sound_speed(crate::params::MF_KIND_SOLID as u8)
+        p.sound_speed(crate::physics::params::MF_KIND_SOLID as u8)
     } else {
         0.0
     }) as f64;

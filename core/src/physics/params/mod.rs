@@ -3,7 +3,7 @@
 pub mod sph_params;
 pub use sph_params::*;
 
-use crate::kernel;
+use crate::physics::kernel;
 
 /// Where the Rust bindings came from in this build: "bindgen" or "committed".
 pub const BINDINGS_SOURCE: &str = env!("MESHFREE_BINDINGS_SOURCE");

@@ -4,7 +4,7 @@
 //! `w` is W [L^-d]; `f` is (dW/dr) / r [L^-(d+2)], so that grad_i W_ij = f(r) r_ij with
 //! r_ij = r_i - r_j (no division by r, finite at r = 0).
 
-use crate::params::sph_params::{SphParams, MF_KERNEL_WENDLAND_C2};
+use crate::physics::params::sph_params::{SphParams, MF_KERNEL_WENDLAND_C2};
 use std::f32::consts::PI;
 
 /// Normalisation sigma_d of the kernel in `dim` dimensions (W = sigma_d / h^d w(q)).

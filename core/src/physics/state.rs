@@ -5,8 +5,8 @@
 //! Arrays are allocated only where a scene needs them: `drho` only with the continuity
 //! density, the stress arrays only where there are solid particles.
 
-use crate::dim::Dim;
-use crate::particle::{Kind, Particle};
+use crate::physics::dim::Dim;
+use crate::physics::particle::{Kind, Particle};
 
 use rayon::prelude::*;
 

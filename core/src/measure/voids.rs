@@ -23,8 +23,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::particle::{Kind, Particle};
-use crate::scheme::SceneFile;
+use crate::physics::particle::{Kind, Particle};
+use crate::scene::scheme::SceneFile;
 
 /// Sample points per dx along each axis: 4 in 2D (16 per cell), 2 in 3D (8 per cell).
 pub fn subdivision(dim: u32) -> usize {

@@ -10,7 +10,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::named::Named;
-use crate::particle::{Kind, Particle};
+use crate::physics::particle::{Kind, Particle};
 
 /// A particle field of an output frame. Names as in the scene's `[output] fields`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]

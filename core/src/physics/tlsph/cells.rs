@@ -13,8 +13,8 @@
 use std::collections::HashMap;
 use std::marker::PhantomData;
 
-use crate::dim::Dim;
-use crate::params::SphParams;
+use crate::physics::dim::Dim;
+use crate::physics::params::SphParams;
 
 /// Points (by their index in the list they came from) filed by cell.
 pub struct Cells<D: Dim> {

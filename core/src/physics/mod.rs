@@ -1,0 +1,12 @@
+//! The physics every backend shares: dimensions (`dim`), the smoothing kernels (`kernel`),
+//! one particle (`particle`) and the struct-of-arrays state (`state`), the parameter struct
+//! the kernels read (`params`), the pair terms of the equations (`pairs`) and the
+//! total-Lagrangian solid's reference configuration (`tlsph`).
+
+pub mod dim;
+pub mod kernel;
+pub mod pairs;
+pub mod params;
+pub mod particle;
+pub mod state;
+pub mod tlsph;
