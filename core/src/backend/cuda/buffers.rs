@@ -12,6 +12,7 @@ use cudarc::driver::{
 };
 use rayon::prelude::*;
 
+use super::handover::{By, Handover, Mark};
 use crate::consts::{MF_BLOCK, MF_FAULT_RECORD_WORDS, MF_SCAN_CELLS};
 use crate::physics::dim::Dim;
 use crate::physics::params::MF_KIND_BOUNDARY;
@@ -102,16 +103,11 @@ pub struct Buffers {
     /// neighbour passes skip a wall's candidate rows of walls at rest. Only in 3D
     /// (`Buffers::new`).
     pub stamp: Option<CudaSlice<u8>>,
-    /// Set by a grid build that stamped `stamp` (`launch::build_grid`: in 3D at one lane per
-    /// particle; at several, in the small systems, whose kernels last as long as their
-    /// longest warps, earlier forms of the test made the 3D 10,174-particle block 5-13 %
-    /// slower), cleared with `pairs_recorded` by whatever moves or replaces particles: the
-    /// passes read the stamps only while it holds.
-    pub stamped: bool,
     // scalars
     /// The forces pass's maxima (max |v|, max |a|, max c as float bits), zero before the
     /// pass: cleared by `sph_step_size`, or, after a kick or drift-kick that took the step
-    /// size from them (`dt_pending`), by the next grid build's scatter (`red_stale` until).
+    /// size from them (`Mark::StepSizeDue`), by the next grid build's scatter (`Mark::RedStale`
+    /// until).
     pub red: CudaSlice<u32>,
     /// [T] this step's dt, and the last completed step's (written by the drift; 0 before the
     /// first step): the leapfrog's kick spans their mean (`kick_span` in cuda/integrate.cu).
@@ -149,32 +145,8 @@ pub struct Buffers {
     particle_bytes: usize,
     /// Flips at each swap of `cur` and `alt` (a captured graph is bound to one assignment).
     pub swapped: bool,
-    /// Set by a grid build that applied the equation of state (continuity density without
-    /// artificial stress); the density pass that follows takes it and launches nothing.
-    pub eos_done: bool,
-    /// Set by the drift, which files every particle in its cell (`cell`, `count`) for
-    /// the next grid build; that build takes it and skips its own pass.
-    pub hist_done: bool,
-    /// Set by `Solver::time_step`: the step size is due from `red`. The kick or the
-    /// drift-kick that follows takes it (one launch fewer a step); anything else that reads
-    /// dt or writes red first runs `sph_step_size` (`launch::settle_step_size`).
-    pub dt_pending: bool,
-    /// Set by the kick or drift-kick that took the step size from `red`, which they leave
-    /// as it is; cleared by the grid build, whose scatter zeroes `red`. A forces pass that
-    /// finds it set (no grid build between: a test's order) zeroes `red` first.
-    pub red_stale: bool,
-    /// Set by a forces pass of one lane per particle, which records in `alt`'s `vel` and
-    /// `pos` the accepted candidates of every particle with rates (`PairBits` in
-    /// `cuda/device/neighbours.cuh`); a rates pass of one lane takes them from there instead
-    /// of testing the candidates while it holds. `alt` is free between two grid builds: its
-    /// arrays are only ever written (the grid's reorder and a subdomain's compaction fill
-    /// them, then swap them in; `unpack` uses `alt.stress` alone), never read as a set, and
-    /// nothing between the forces and the rates pass writes them (the step size, the kick,
-    /// a subdomain's exchange of the step size's extremes, the total-Lagrangian forces, the
-    /// density gradients). Cleared by whatever moves a particle, changes the count or the
-    /// grid, or writes `alt`: the grid build, the drift (and drift-kick), `write_state`,
-    /// `reserve`, a subdomain's `unpack` and `compact`.
-    pub pairs_recorded: bool,
+    /// What one launch left for a later one of the step (`handover.rs`).
+    pub handover: Handover,
 }
 
 /// A subdomain's selection of particles (`cuda/exchange.cu`): a mark per slot and the
@@ -373,12 +345,7 @@ impl Buffers {
             bytes: 0,
             particle_bytes,
             swapped: false,
-            eos_done: false,
-            hist_done: false,
-            dt_pending: false,
-            red_stale: false,
-            pairs_recorded: false,
-            stamped: false,
+            handover: Handover::default(),
         };
         b.bytes = a.bytes;
         b.write_state(s, state)?;
@@ -404,8 +371,7 @@ impl Buffers {
             return Ok(false);
         }
         let cap = need.max(self.cap) + need.max(self.cap) / 8;
-        self.pairs_recorded = false;
-        self.stamped = false;
+        self.handover.moved();
         let held = Held {
             solids: self.cur.stress.is_some(),
             drho: self.drho.is_some(),
@@ -437,7 +403,7 @@ impl Buffers {
         self.particle_bytes = a.bytes;
         self.cap = cap;
         // The cells the last drift filed went with the old `cell` array.
-        if std::mem::take(&mut self.hist_done) {
+        if self.handover.take(Mark::CellsFiled, By::Storage) {
             s.memset_zeros(&mut self.count)?;
         }
         Ok(true)
@@ -477,10 +443,9 @@ impl Buffers {
             self.kinds[usize::from(k.min(MF_KIND_BOUNDARY as u8))] += 1;
         }
         // What a drift, a grid build or a forces pass derived from the old state goes with it.
-        self.eos_done = false;
-        self.pairs_recorded = false;
-        self.stamped = false;
-        if std::mem::take(&mut self.hist_done) {
+        self.handover.take(Mark::EosApplied, By::Storage);
+        self.handover.moved();
+        if self.handover.take(Mark::CellsFiled, By::Storage) {
             s.memset_zeros(&mut self.count)?;
         }
         let c = &mut self.cur;

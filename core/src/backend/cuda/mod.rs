@@ -8,6 +8,7 @@
 mod buffers;
 mod capture;
 mod device;
+mod handover;
 mod kernels;
 mod launch;
 #[cfg(feature = "nccl")]
@@ -40,6 +41,7 @@ pub use subdomain::CudaHalo;
 use buffers::Buffers;
 use capture::Capturer;
 use device::Device;
+use handover::{By, Mark};
 use kernels::{Kernels, LANE_COUNTS};
 use launch::StepGraph;
 use tl_buffers::TlBuffers;
@@ -324,21 +326,21 @@ impl<D: Dim> CudaSolver<D> {
     /// Whether the last grid build applied the equation of state (continuity density without
     /// artificial stress), leaving the density pass nothing to do. For parity tests.
     pub fn grid_applied_eos(&self) -> bool {
-        self.buf.eos_done
+        self.buf.handover.holds(Mark::EosApplied, By::Solver)
     }
 
     /// Whether the next rates pass takes its candidates from the forces pass's record of
-    /// accepted ones (`Buffers::pairs_recorded`, one lane per particle) instead of testing
+    /// accepted ones (`Mark::PairsRecorded`, one lane per particle) instead of testing
     /// them. For parity tests.
     pub fn rates_replay_pairs(&self) -> bool {
-        self.buf.pairs_recorded && self.k.lanes == 1
+        self.buf.handover.holds(Mark::PairsRecorded, By::Solver) && self.k.lanes == 1
     }
 
     /// Whether the neighbour passes skip, for a dynamic wall, the candidate rows of walls at
     /// rest alone now (the last grid build stamped the cells near moving particles:
-    /// `Buffers::stamped`). For parity tests.
+    /// `Mark::Stamped`). For parity tests.
     pub fn skips_walls_at_rest(&self) -> bool {
-        self.buf.stamped
+        self.buf.handover.holds(Mark::Stamped, By::Solver)
     }
 
     /// The step size of the last `time_step` [T] (read back).
@@ -477,10 +479,12 @@ impl<D: Dim> Solver for CudaSolver<D> {
         }
     }
     /// Due from the forces pass's maxima: the kick or the drift-kick that follows takes it
-    /// (`Buffers::dt_pending`; anything else runs `sph_step_size` first).
+    /// (`Mark::StepSizeDue`; anything else runs `sph_step_size` first).
     fn time_step(&mut self) {
         launch::settle_step_size(&self.k, &self.dev.stream, &self.params, &mut self.buf);
-        self.buf.dt_pending = true;
+        self.buf
+            .handover
+            .leave(Mark::StepSizeDue, true, By::TimeStep);
     }
     fn kick(&mut self) {
         launch::kick(&self.k, &self.dev.stream, &self.params, &mut self.buf);
@@ -508,11 +512,13 @@ impl<D: Dim> Solver for CudaSolver<D> {
     fn advance(&mut self, steps: u64) {
         let mut left = steps;
         if self.graphs && left >= 2 {
-            // A graph starts from the cell counts a drift leaves (`hist_done`: not so after
+            // A graph starts from the cell counts a drift leaves (`Mark::CellsFiled`: not so after
             // an upload) and from the buffer assignment it was captured with (not so after an
             // odd number of single steps): single steps until both hold (two at most).
-            let ready =
-                |s: &Self| s.buf.hist_done && s.graph.as_ref().is_none_or(|g| g.1 == s.buf.swapped);
+            let ready = |s: &Self| {
+                s.buf.handover.holds(Mark::CellsFiled, By::Solver)
+                    && s.graph.as_ref().is_none_or(|g| g.1 == s.buf.swapped)
+            };
             while left > 0 && !ready(self) {
                 self.step();
                 left -= 1;

@@ -25,6 +25,7 @@
 use cudarc::driver::CudaSlice;
 
 use super::buffers::{nsym, vstride, Buffers};
+use super::handover::{By, Mark};
 use super::launch::{self, Select};
 use super::{oom, CudaSolver};
 use crate::exchange::{Slab, Subdomain};
@@ -147,7 +148,7 @@ impl<D: Dim> Subdomain for CudaSolver<D> {
         let r = (|| {
             // The cells the last drift filed do not count the new particles: the grid
             // build files them all again.
-            if std::mem::take(&mut self.buf.hist_done) {
+            if self.buf.handover.take(Mark::CellsFiled, By::Storage) {
                 s.memset_zeros(&mut self.buf.count)?;
             }
             self.buf.reserve::<D>(&s, need)?;
@@ -174,7 +175,7 @@ impl<D: Dim> Subdomain for CudaSolver<D> {
             if kept < n {
                 launch::compact(&self.k, &s, &mut self.buf, kept);
                 // The cells the drift filed are those of the old slots.
-                if std::mem::take(&mut self.buf.hist_done) {
+                if self.buf.handover.take(Mark::CellsFiled, By::Storage) {
                     s.memset_zeros(&mut self.buf.count)?;
                 }
             }
@@ -208,6 +209,7 @@ impl<D: Dim> Subdomain for CudaSolver<D> {
         if let Err(err) = self.dev.stream.memcpy_htod(&bits[..], &mut self.buf.red) {
             self.sync_err("writing the agreed extremes", err)
         }
+        self.buf.handover.take(Mark::StepSizeDue, By::StepSize);
         launch::step_size(&self.k, &self.dev.stream, &self.params, &mut self.buf);
     }
 

@@ -153,8 +153,7 @@ pub fn unpack(
     (words, planes): (usize, usize),
     halos: &[(usize, &CudaSlice<u32>)],
 ) {
-    b.pairs_recorded = false;
-    b.stamped = false;
+    b.handover.moved();
     let n0 = b.n;
     let n1 = n0 + halos.iter().map(|h| h.0).sum::<usize>();
     assert!(n1 <= b.cap, "unpack: {n1} particles, room for {}", b.cap);
@@ -215,8 +214,7 @@ pub fn unpack(
 /// Keep the `kept` particles the last `select` marked, in storage order: moved into the
 /// other persistent set, which becomes the current one. Sets `b.n`.
 pub fn compact(k: &Kernels, s: &Arc<CudaStream>, b: &mut Buffers, kept: usize) {
-    b.pairs_recorded = false;
-    b.stamped = false;
+    b.handover.moved();
     let x = b.scratch.as_ref().expect("compact follows a select");
     let (n, kept32) = (b.n as u32, kept as u32);
     let (c, a) = (&b.cur, &mut b.alt);

@@ -7,6 +7,7 @@ use cudarc::driver::{CudaSlice, CudaStream, CudaViewMut, LaunchConfig, PushKerne
 
 use super::{cfg, NULL};
 use crate::backend::cuda::buffers::{self, Buffers};
+use crate::backend::cuda::handover::{By, Mark};
 use crate::backend::cuda::kernels::{Family, Kernels};
 use crate::consts::{MF_SCAN_BLOCK, MF_SCAN_CELLS};
 use crate::physics::params::{SphParams, MF_DENSITY_CONTINUITY};
@@ -66,7 +67,7 @@ pub(super) fn scan(
 }
 
 /// The last grid build's stamps of the cells near moving particles, where it wrote them
-/// (`Buffers::stamped`), for the neighbour passes' skip of a wall's rows of walls at rest.
+/// (`Mark::Stamped`), for the neighbour passes' skip of a wall's rows of walls at rest.
 pub(super) fn stamps(stamp: &Option<CudaSlice<u8>>, stamped: bool) -> Option<&CudaSlice<u8>> {
     stamp.as_ref().filter(|_| stamped)
 }
@@ -76,8 +77,7 @@ pub(super) fn stamps(stamp: &Option<CudaSlice<u8>>, stamped: bool) -> Option<&Cu
 /// ranges; then the two persistent buffer sets are swapped.
 pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     // The reorder writes alt and the cells change: the forces pass's record goes.
-    b.pairs_recorded = false;
-    b.stamped = false;
+    b.handover.moved();
     let n = b.n as u32;
     let nc = b.n_cells as u32;
     // The scan runs over n_cells + 1 counts (the last, 0, closes the last cell's range).
@@ -89,7 +89,7 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     // here. SAFETY: the arguments of `Family::GridHist` (kernels.rs); pos holds n vectors,
     // cell n, count n_cells + 1 (zero: counted down by the last scatter, cleared by
     // write_state or at allocation).
-    if !std::mem::take(&mut b.hist_done) {
+    if !b.handover.take(Mark::CellsFiled, By::GridBuild) {
         let kh = k.get(Family::GridHist);
         kh.check(unsafe {
             s.launch_builder(&kh.f)
@@ -109,9 +109,10 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     // aligned allocations).
     scan(k, s, n_scan, &b.count, &mut local, &mut b.bsum);
     // The cells near moving particles are stamped (and a wall's rows of walls at rest
-    // skipped) in 3D at one lane (`Buffers::stamped`).
-    b.stamped = b.stamp.is_some() && k.lanes == 1;
-    let mut stamp = b.stamp.as_mut().filter(|_| b.stamped);
+    // skipped) in 3D at one lane (`Mark::Stamped`).
+    let stamped = b.stamp.is_some() && k.lanes == 1;
+    b.handover.leave(Mark::Stamped, stamped, By::GridBuild);
+    let mut stamp = b.stamp.as_mut().filter(|_| stamped);
     let mut epoch = stamp.as_mut().map(|st| st.slice_mut(b.n_cells..));
     // SAFETY: the arguments of `Family::GridScatter`; cell and order hold n entries, red 3
     // (zeroed: the step size's maxima, which no pass holds during a grid build); epoch null
@@ -129,7 +130,7 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
         opt!(l, epoch.as_mut());
         l.launch(cfg(b.n)).map(|_| ())
     });
-    b.red_stale = false;
+    b.handover.take(Mark::RedStale, By::GridBuild);
     // Continuity density without artificial stress: the reorder applies the equation of
     // state and the density pass has nothing left to do (`density` skips it).
     let eos = p.density_form as u32 == MF_DENSITY_CONTINUITY && b.art.is_none();
@@ -171,7 +172,7 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
         let threads = b.n.max(b.n_cells + 1);
         kg.check(unsafe { l.launch(cfg(threads)).map(|_| ()) });
     }
-    b.eos_done = eos;
+    b.handover.leave(Mark::EosApplied, eos, By::GridBuild);
     std::mem::swap(&mut b.cur, &mut b.alt);
     b.swapped = !b.swapped;
 }

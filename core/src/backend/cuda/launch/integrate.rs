@@ -7,6 +7,7 @@ use cudarc::driver::{CudaStream, PushKernelArg};
 
 use super::{cfg, NULL};
 use crate::backend::cuda::buffers::Buffers;
+use crate::backend::cuda::handover::{By, Mark};
 use crate::backend::cuda::kernels::{Family, Kernel, Kernels};
 use crate::physics::params::SphParams;
 
@@ -21,23 +22,22 @@ pub fn step_size(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
             .launch(cfg(1))
             .map(|_| ())
     });
-    b.dt_pending = false;
 }
 
-/// `step_size` where it is pending (`Buffers::dt_pending`): before anything but the kick
-/// or the drift-kick that would take it.
+/// `step_size` where it is due (`Mark::StepSizeDue`): before anything but the kick or the
+/// drift-kick that would take it.
 pub fn settle_step_size(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
-    if b.dt_pending {
+    if b.handover.take(Mark::StepSizeDue, By::StepSize) {
         step_size(k, s, p, b);
     }
 }
 
 /// Before a pass that folds into `red`: the pending step size settled, and `red` zeroed
 /// where a kick or drift-kick left it and no grid build cleared it since
-/// (`Buffers::red_stale`).
+/// (`Mark::RedStale`).
 pub(super) fn clear_red(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     settle_step_size(k, s, p, b);
-    if std::mem::take(&mut b.red_stale) {
+    if b.handover.take(Mark::RedStale, By::Forces) {
         if let Err(e) = s.memset_zeros(&mut b.red) {
             panic!("CUDA error while clearing the step size's maxima: {e:?}")
         }
@@ -45,7 +45,7 @@ pub(super) fn clear_red(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut
 }
 
 /// v += dt a (dt read on the device, or taken from the forces pass's maxima where the step
-/// size is pending: `Buffers::dt_pending`); v = inflow_velocity in the inflow band (under a
+/// size is due: `Mark::StepSizeDue`); v = inflow_velocity in the inflow band (under a
 /// ramped start, `inflow_ramp`, its share at the device clock's time, and the rest
 /// accelerated with it); the driven group's velocity set.
 pub fn kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
@@ -54,13 +54,17 @@ pub fn kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
         return;
     }
     let n = b.n as u32;
+    let due = b.handover.take(Mark::StepSizeDue, By::Kick);
+    if due {
+        b.handover.leave(Mark::RedStale, true, By::Kick);
+    }
     let c = &mut b.cur;
     // SAFETY: the arguments of `Family::Kick`; dt_dev holds 2 floats; red null or the 3
     // maxima of the forces pass; time the device clock (1 double).
     let kk = k.get(Family::Kick);
     let mut l = s.launch_builder(&kk.f);
     l.arg(p).arg(&n).arg(&mut b.dt);
-    opt!(l, b.dt_pending.then_some(&b.red));
+    opt!(l, due.then_some(&b.red));
     l.arg(&b.time)
         .arg(&c.kind)
         .arg(&c.group)
@@ -68,8 +72,6 @@ pub fn kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
         .arg(&mut c.vel)
         .arg(&b.acc);
     kk.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
-    b.red_stale |= b.dt_pending;
-    b.dt_pending = false;
 }
 
 /// x += dt (v + xsph), rho += dt d rho/dt, S += dt dS/dt, time += dt (all on the device).
@@ -79,7 +81,7 @@ pub fn drift(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
 }
 
 /// The forward Euler's drift then kick in one kernel (`Solver::drift_kick`), which takes
-/// the step size itself where it is pending (`Buffers::dt_pending`).
+/// the step size itself where it is due (`Mark::StepSizeDue`).
 pub fn drift_kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     drift_with(k.get(Family::DriftKick), true, s, p, b);
 }
@@ -87,8 +89,13 @@ pub fn drift_kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
 /// Launches sph_drift (`kick` false) or sph_drift_kick (true), which take the same arguments
 /// but for the kick's accelerations, and marks the cells filed for the next grid build.
 fn drift_with(f: &Kernel, kick: bool, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
-    b.pairs_recorded = false;
-    b.stamped = false;
+    b.handover.moved();
+    let by = if kick { By::DriftKick } else { By::Drift };
+    // The drift-kick takes a due step size from red, as the kick does.
+    let due = kick && b.handover.take(Mark::StepSizeDue, By::DriftKick);
+    if due {
+        b.handover.leave(Mark::RedStale, true, By::DriftKick);
+    }
     let n = b.n as u32;
     let c = &mut b.cur;
     // SAFETY: the arguments of `Family::Drift` or, with `kick`, `Family::DriftKick` (the
@@ -98,9 +105,7 @@ fn drift_with(f: &Kernel, kick: bool, s: &Arc<CudaStream>, p: &SphParams, b: &mu
     let mut l = s.launch_builder(&f.f);
     l.arg(p).arg(&n).arg(&mut b.dt);
     if kick {
-        opt!(l, b.dt_pending.then_some(&b.red));
-        b.red_stale |= b.dt_pending;
-        b.dt_pending = false;
+        opt!(l, due.then_some(&b.red));
     }
     l.arg(&mut b.time)
         .arg(&c.kind)
@@ -117,5 +122,5 @@ fn drift_with(f: &Kernel, kick: bool, s: &Arc<CudaStream>, p: &SphParams, b: &mu
     }
     l.arg(&mut b.cell).arg(&mut b.count);
     f.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
-    b.hist_done = true;
+    b.handover.leave(Mark::CellsFiled, true, by);
 }

@@ -7,11 +7,12 @@ use cudarc::driver::{CudaStream, PushKernelArg};
 
 use super::{cfg, grid::stamps, integrate::clear_red, scheme, NULL};
 use crate::backend::cuda::buffers::Buffers;
+use crate::backend::cuda::handover::{By, Mark};
 use crate::backend::cuda::kernels::{Family, Kernels};
 use crate::physics::params::SphParams;
 
 pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
-    if b.n == 0 || std::mem::take(&mut b.eos_done) {
+    if b.n == 0 || b.handover.take(Mark::EosApplied, By::Density) {
         return;
     }
     let n = b.n as u32;
@@ -98,18 +99,19 @@ pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     }
     let n = b.n as u32;
     let (kr, lanes) = (k.neighbour(Family::Rates, scheme(p, b)), k.lanes);
-    let replay = b.pairs_recorded && lanes == 1;
+    let replay = b.handover.holds(Mark::PairsRecorded, By::Rates) && lanes == 1;
+    let stamped = b.handover.holds(Mark::Stamped, By::Rates);
     let c = &b.cur;
     // SAFETY: the arguments of `Family::Rates` (every scheme's; stamp as for the forces
     // pass); dt_dev holds 2 floats (the kick wrote this step's dt in its first); drho null
     // without the continuity density; stress and rate null without solids (the fluid-only
     // schemes read neither); grad_rho null unless `needs_density_gradient`; pair_a and
     // pair_b null, or the record of the forces pass at these positions
-    // (`Buffers::pairs_recorded`: alt's vel and pos, 4 and vstride words per particle),
+    // (`Mark::PairsRecorded`: alt's vel and pos, 4 and vstride words per particle),
     // which the kernel only reads.
     let mut l = s.launch_builder(&kr.f);
     l.arg(p).arg(&n).arg(&b.dt).arg(&b.cell_start);
-    opt!(l, stamps(&b.stamp, b.stamped));
+    opt!(l, stamps(&b.stamp, stamped));
     l.arg(&c.pos)
         .arg(&c.vel)
         .arg(&c.rho)
@@ -149,6 +151,7 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
         Family::Forces
     };
     let (kf, lanes) = (k.neighbour(family, scheme(p, b)), k.lanes);
+    let stamped = b.handover.holds(Mark::Stamped, By::Forces);
     let c = &b.cur;
     // SAFETY: the arguments of `Family::Forces` or, fused, `Family::ForcesRates` (iface:
     // null, or 2 floats per particle from this step's interface stage; stamp:
@@ -158,10 +161,10 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     // particle by id - wall_first_id); red holds 3 words; grad_rho, drho and rate may be
     // null, as for the rates kernel; unfused, pair_a and pair_b: alt's vel and pos, 4 and
     // vstride words per particle, which no stage reads between two grid builds (the
-    // record of accepted candidates, `Buffers::pairs_recorded`).
+    // record of accepted candidates, `Mark::PairsRecorded`).
     let mut l = s.launch_builder(&kf.f);
     l.arg(p).arg(&n).arg(&b.cell_start);
-    opt!(l, stamps(&b.stamp, b.stamped));
+    opt!(l, stamps(&b.stamp, stamped));
     l.arg(&c.pos).arg(&c.vel).arg(&c.rho).arg(&c.p);
     l.arg(&c.kind).arg(&c.group);
     opt!(l, &c.stress);
@@ -186,5 +189,7 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     kf.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
     // At one lane the forces kernel records the accepted candidates of every particle with
     // rates, for a rates pass before anything moves the particles or writes alt.
-    b.pairs_recorded |= !fused && lanes == 1;
+    if !fused && lanes == 1 {
+        b.handover.leave(Mark::PairsRecorded, true, By::Forces);
+    }
 }

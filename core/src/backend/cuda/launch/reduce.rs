@@ -7,6 +7,7 @@ use cudarc::driver::{CudaSlice, CudaStream, CudaView, DriverError, LaunchConfig,
 
 use super::{cfg, grid::build_grid, integrate::settle_step_size, NULL};
 use crate::backend::cuda::buffers::Buffers;
+use crate::backend::cuda::handover::{By, Mark};
 use crate::backend::cuda::kernels::{Family, Kernels};
 use crate::consts::{MF_BLOCK, MF_LANES_MAX, MF_SAMPLE_FLOATS};
 use crate::physics::params::SphParams;
@@ -35,7 +36,7 @@ pub fn wall_forces(
     }
     build_grid(k, s, p, b);
     let n = b.n as u32;
-    if !b.eos_done {
+    if !b.handover.holds(Mark::EosApplied, By::WallForces) {
         let c = &mut b.cur;
         // SAFETY: the arguments of `Family::MonitorEos` (kernels.rs); rho_dev null without
         // solids; vel is written only in its w slots.
