@@ -38,7 +38,7 @@
 //! of the error at E = 7e10.
 
 use super::check::{convergence, Check, RunInfo};
-use super::{Ctx, Sim, Tier};
+use super::ctx::{Ctx, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::named::Named;
 use meshfree_core::scheme::SolidFormulation;

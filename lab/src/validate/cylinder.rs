@@ -26,8 +26,8 @@
 //! chart keeps the solver's defaults.
 
 use super::check::{convergence, Check, RunInfo};
+use super::ctx::{Ctx, Sim, Tier};
 use super::refdata::{csv_rows, refdata};
-use super::{Ctx, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::monitor::{band_rms, BluffBody, Coefficients, ForceSample, BAND_REL};
 use meshfree_core::particle::Kind;

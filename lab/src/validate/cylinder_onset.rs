@@ -23,8 +23,8 @@
 //! on an H100, days on two CPU cores); the quick tier skips it (`Case::quick`).
 
 use super::check::{line_fit, Check, RunInfo};
+use super::ctx::Ctx;
 use super::cylinder::{self, smooth, D, SAMPLE_UD, U};
-use super::Ctx;
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::monitor::ForceSample;
 use meshfree_core::monitor::{band_rms, BAND_REL};

@@ -15,8 +15,8 @@
 //! differ by up to 10 % late in the run. The tolerance is 15 %.
 
 use super::check::{convergence, Check, RunInfo};
+use super::ctx::{Ctx, Sim, Tier};
 use super::refdata::{csv_rows, refdata};
-use super::{Ctx, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::kernel;
 use meshfree_core::params::SphParams;

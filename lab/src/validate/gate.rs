@@ -41,8 +41,8 @@
 //! its time, RMS of x(t) against the experiment, peak y, and the observed order of the RMS.
 
 use super::check::{convergence, Check, RunInfo};
+use super::ctx::{Ctx, Sim, Tier};
 use super::refdata::{csv_rows, refdata};
-use super::{Ctx, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::named::Named;
 use meshfree_core::particle::Particle;

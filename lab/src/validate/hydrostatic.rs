@@ -15,7 +15,7 @@
 //! 1.6 dx; docs/reference/accuracy.md, "Hydrostatic tank: the diagnosis").
 
 use super::check::{convergence, Check, RunInfo};
-use super::{Ctx, Sim, Tier};
+use super::ctx::{Ctx, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::particle::{Kind, Particle};
 

@@ -34,33 +34,23 @@ pub mod poiseuille;
 pub mod taylor_green;
 
 mod check;
+mod ctx;
 mod refdata;
 
 pub use check::{convergence, line_fit, Check, RunInfo};
+pub use ctx::{Ctx, Sim, Tier};
 pub use refdata::{csv_rows, refdata};
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Context;
 use serde::{Deserialize, Serialize};
 
-use meshfree_core::backend::{self, BackendChoice};
+use meshfree_core::backend::BackendChoice;
 use meshfree_core::named::Named;
-use meshfree_core::scene::{Counts, Scene};
-use meshfree_core::scheme::declare::ToParam;
 use meshfree_core::scheme::IntegratorChoice;
-use meshfree_core::solver::{Setup, Solver};
-use meshfree_core::step::Stepper;
-
-/// Quick (coarse, robust, for the test suite) or full (three resolutions, literature).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Tier {
-    Quick,
-    Full,
-}
 
 /// What `run` does.
 #[derive(Clone, Debug)]
@@ -77,48 +67,6 @@ pub struct Options {
     pub courant: Option<f64>,
     /// Run every case with this integrator instead of its own, to compare them.
     pub integrator: Option<IntegratorChoice>,
-}
-
-/// What a case gets.
-pub struct Ctx<'a> {
-    pub tier: Tier,
-    pub backend: BackendChoice,
-    /// `Options::courant`.
-    pub courant: Option<f64>,
-    /// `Options::integrator`.
-    pub integrator: Option<IntegratorChoice>,
-    /// Where the case writes its plots.
-    pub out_dir: &'a Path,
-    pub verbose: bool,
-    /// Changes every scene the case builds, after the case's own changes, before it runs
-    /// (the scene is revalidated): a perturbed scheme, to show that a check can fail
-    /// (`tests/perturbed.rs`). None: the case as written (`run` sets none).
-    pub edit: Option<&'a dyn Fn(&mut Scene)>,
-}
-
-impl Ctx<'_> {
-    /// The case's scene from its TOML text `text` (named `origin` in errors), with `edit`
-    /// applied.
-    pub fn scene(&self, text: &str, origin: &str) -> anyhow::Result<Scene> {
-        let mut scene = Scene::from_toml(text, origin)?;
-        self.perturb(&mut scene)?;
-        Ok(scene)
-    }
-
-    /// Apply `edit`, if any, to a scene the case has finished changing, and revalidate it.
-    pub fn perturb(&self, scene: &mut Scene) -> anyhow::Result<()> {
-        if let Some(edit) = self.edit {
-            edit(scene);
-            scene.revalidate()?;
-        }
-        Ok(())
-    }
-
-    pub fn log(&self, line: &str) {
-        if self.verbose {
-            crate::note!("  {line}");
-        }
-    }
 }
 
 /// One validation case.
@@ -203,59 +151,6 @@ impl Report {
             .filter(|c| c.pass && c.comparison != "informational")
             .count();
         (pass, checks, info)
-    }
-}
-
-/// A solver with the scene's gates, stepped to given times with health checks.
-pub struct Sim {
-    pub solver: Box<dyn Solver>,
-    stepper: Stepper,
-    pub counts: Counts,
-    started: Instant,
-    resolution: String,
-}
-
-impl Sim {
-    pub fn new(
-        ctx: &Ctx,
-        setup: Setup,
-        gates: Vec<(u32, f64)>,
-        resolution: String,
-    ) -> anyhow::Result<Sim> {
-        let counts = Counts::of(&setup.particles);
-        let mut setup = setup;
-        // Another integrator runs at its own default Courant number unless one is given.
-        if let Some(i) = ctx.integrator {
-            setup.params.integrator = i.to_param();
-            setup.params.courant = i.default_courant() as f32;
-        }
-        if let Some(c) = ctx.courant {
-            setup.params.courant = c as f32;
-        }
-        let solver = backend::create(ctx.backend, backend::Layout::One, setup)?;
-        Ok(Sim {
-            solver,
-            stepper: Stepper::new(gates),
-            counts,
-            started: Instant::now(),
-            resolution,
-        })
-    }
-
-    /// Step until the clock reaches `t` (the last step may pass it by less than one dt),
-    /// removing gates whose time came; a blow-up is an error.
-    pub fn advance_to(&mut self, t: f64) -> anyhow::Result<()> {
-        self.stepper.advance_to(self.solver.as_mut(), t)?;
-        Ok(())
-    }
-
-    pub fn info(&self) -> RunInfo {
-        RunInfo {
-            resolution: self.resolution.clone(),
-            particles: self.counts.total,
-            wall_seconds: self.started.elapsed().as_secs_f64(),
-            info: self.solver.info(),
-        }
     }
 }
 

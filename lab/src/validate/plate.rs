@@ -34,8 +34,8 @@
 //! on the finest, and the observed order of the period error.
 
 use super::check::{convergence, Check, RunInfo};
+use super::ctx::{Ctx, Sim, Tier};
 use super::refdata::refdata;
-use super::{Ctx, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::named::Named;
 use meshfree_core::scheme::SolidFormulation;

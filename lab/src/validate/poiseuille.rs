@@ -15,8 +15,8 @@
 //! Morris's: L = 1 mm, nu = 1e-6 m^2/s, F = 2e-4 m/s^2, v_max = F L^2 / (8 nu) = 2.5e-5 m/s.
 
 use super::check::{convergence, Check, RunInfo};
+use super::ctx::{Ctx, Sim, Tier};
 use super::refdata::{csv_rows, refdata};
-use super::{Ctx, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::particle::Kind;
 

@@ -18,8 +18,8 @@
 //! "Particle shifting").
 
 use super::check::{convergence, line_fit, Check, RunInfo};
+use super::ctx::{Ctx, Sim, Tier};
 use super::refdata::{csv_rows, refdata};
-use super::{Ctx, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::particle::Kind;
 use meshfree_core::scene::Scene;
