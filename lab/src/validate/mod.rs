@@ -11,9 +11,7 @@
 //! against tolerances from the literature and reports the observed order of convergence.
 //! A case that cannot say anything in seconds (`Case::quick` false: `cylinder-onset`, a
 //! sweep of Reynolds numbers to t U / D = 120) runs in the full tier only.
-//! Every row says its `basis`: "literature" (tolerance from the publications or the
-//! reference file's recommendation), "regression" (a looser quick-tier bound that catches
-//! breakage, not a claim of accuracy) or "convergence" (observed order, must be positive).
+//! Every row says its `basis` (`check.rs`): "literature", "regression" or "convergence".
 //!
 //! A check is one that can fail (issue #51): its quick-tier tolerance is today's error times
 //! 1.5 to 3, or a physical bound where that is tighter, and its note says which and by what
@@ -22,6 +20,14 @@
 //! checks then fail. A row the tier's resolution cannot make a check of (the coarse Jaumann
 //! cantilever at 1.8 x the theory, which a doubled shear modulus brings closer) is
 //! informational, reported and never failing, and its note starts with why.
+//!
+//! This file declares the modules and holds the entry point, `run`. The cases import the
+//! library beside them, never this file:
+//! - `check.rs`: `Check` rows, `RunInfo`, the observed order of convergence;
+//! - `ctx.rs`: what a case gets, `Tier`, `Ctx`, and `Sim` to step its scenes;
+//! - `refdata.rs`: the reference files, compiled in, and their CSV rows;
+//! - `registry.rs`: the list of cases, `CASES`, in report order;
+//! - `report.rs`: `Report`, written as `report.json` and `report.md`.
 
 pub mod cantilever;
 pub mod cylinder;
@@ -36,20 +42,21 @@ pub mod taylor_green;
 mod check;
 mod ctx;
 mod refdata;
+mod registry;
+mod report;
 
 pub use check::{convergence, line_fit, Check, RunInfo};
 pub use ctx::{Ctx, Sim, Tier};
 pub use refdata::{csv_rows, refdata};
+pub use registry::{Case, CASES};
+pub use report::{machine, markdown, Report};
 
-use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Context;
-use serde::{Deserialize, Serialize};
 
 use meshfree_core::backend::BackendChoice;
-use meshfree_core::named::Named;
 use meshfree_core::scheme::IntegratorChoice;
 
 /// What `run` does.
@@ -69,145 +76,9 @@ pub struct Options {
     pub integrator: Option<IntegratorChoice>,
 }
 
-/// One validation case.
-pub struct Case {
-    pub name: &'static str,
-    pub description: &'static str,
-    pub run: fn(&Ctx) -> anyhow::Result<Vec<Check>>,
-    /// false: full tier only (the quick tier skips it, e.g. a run that needs t U / D ~ 100).
-    pub quick: bool,
-}
-
-/// The registry, in report order.
-pub const CASES: &[Case] = &[
-    Case {
-        name: hydrostatic::NAME,
-        description: hydrostatic::DESCRIPTION,
-        run: hydrostatic::run,
-        quick: true,
-    },
-    Case {
-        name: dam_break::NAME,
-        description: dam_break::DESCRIPTION,
-        run: dam_break::run,
-        quick: true,
-    },
-    Case {
-        name: poiseuille::NAME,
-        description: poiseuille::DESCRIPTION,
-        run: poiseuille::run,
-        quick: true,
-    },
-    Case {
-        name: taylor_green::NAME,
-        description: taylor_green::DESCRIPTION,
-        run: taylor_green::run,
-        quick: true,
-    },
-    Case {
-        name: cylinder::NAME,
-        description: cylinder::DESCRIPTION,
-        run: cylinder::run,
-        quick: true,
-    },
-    Case {
-        name: cylinder_onset::NAME,
-        description: cylinder_onset::DESCRIPTION,
-        run: cylinder_onset::run,
-        quick: false,
-    },
-    Case {
-        name: plate::NAME,
-        description: plate::DESCRIPTION,
-        run: plate::run,
-        quick: true,
-    },
-    Case {
-        name: cantilever::NAME,
-        description: cantilever::DESCRIPTION,
-        run: cantilever::run,
-        quick: true,
-    },
-    Case {
-        name: gate::NAME,
-        description: gate::DESCRIPTION,
-        run: gate::run,
-        quick: true,
-    },
-];
-
-impl Report {
-    /// (checks that pass, checks, informational rows): informational rows are no checks.
-    pub fn counts(&self) -> (usize, usize, usize) {
-        let info = self
-            .checks
-            .iter()
-            .filter(|c| c.comparison == "informational")
-            .count();
-        let checks = self.checks.len() - info;
-        let pass = self
-            .checks
-            .iter()
-            .filter(|c| c.pass && c.comparison != "informational")
-            .count();
-        (pass, checks, info)
-    }
-}
-
-/// The whole validation result.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Report {
-    pub tier: Tier,
-    pub machine: String,
-    /// The day of the run, `YYYY-MM-DD` (UTC).
-    #[serde(default)]
-    pub date: String,
-    /// The build's commit (`meshfree_core::build_info::COMMIT`).
-    #[serde(default)]
-    pub commit: String,
-    /// The Courant number every case ran at instead of its own (`Options::courant`).
-    #[serde(default)]
-    pub courant: Option<f64>,
-    /// The integrator every case ran with instead of its own (`Options::integrator`).
-    #[serde(default)]
-    pub integrator: Option<IntegratorChoice>,
-    pub wall_seconds: f64,
-    pub pass: bool,
-    pub checks: Vec<Check>,
-}
-
-/// The CPU model and core count, for the report.
-pub fn machine() -> String {
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|t| {
-            t.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|s| s.trim().to_string())
-        })
-        .unwrap_or_else(|| std::env::consts::ARCH.to_string());
-    format!(
-        "{cpu}, {} threads ({} build)",
-        rayon::current_num_threads(),
-        if cfg!(debug_assertions) {
-            "debug"
-        } else {
-            "release"
-        }
-    )
-}
-
 /// Run the selected cases and write `report.md`, `report.json` and the plots to `out_dir`.
 pub fn run(options: &Options) -> anyhow::Result<Report> {
-    for c in &options.cases {
-        if !CASES.iter().any(|k| k.name == c) {
-            anyhow::bail!(
-                "unknown validation case `{c}`; known: {}",
-                CASES.iter().map(|k| k.name).collect::<Vec<_>>().join(", ")
-            );
-        }
-    }
+    registry::ensure_known(&options.cases)?;
     std::fs::create_dir_all(&options.out_dir)
         .with_context(|| format!("creating {}", options.out_dir.display()))?;
     let started = Instant::now();
@@ -279,105 +150,6 @@ pub fn run(options: &Options) -> anyhow::Result<Report> {
         pass: checks.iter().all(|c| c.pass),
         checks,
     };
-    let json = options.out_dir.join("report.json");
-    std::fs::write(&json, serde_json::to_string_pretty(&report)? + "\n")
-        .with_context(|| format!("writing {}", json.display()))?;
-    let md = options.out_dir.join("report.md");
-    std::fs::write(&md, markdown(&report)).with_context(|| format!("writing {}", md.display()))?;
+    report.write(&options.out_dir)?;
     Ok(report)
-}
-
-fn num(x: Option<f64>) -> String {
-    match x {
-        Some(x) if x.is_finite() => format!("{x:.4}"),
-        Some(_) => "-".into(),
-        None => "curve".into(),
-    }
-}
-
-/// The report as a Markdown table per case.
-pub fn markdown(r: &Report) -> String {
-    let mut s = String::new();
-    let _ = writeln!(s, "# meshfree validation report ({:?} tier)\n", r.tier);
-    let _ = writeln!(
-        s,
-        "Machine: {}. Build {}, run {}. Total wall time {:.1} s. Result: **{}** ({} of {} checks pass; \
-         {} more rows informational).\n",
-        r.machine,
-        r.commit,
-        r.date,
-        r.wall_seconds,
-        if r.pass { "PASS" } else { "FAIL" },
-        r.counts().0,
-        r.counts().1,
-        r.counts().2
-    );
-    if let Some(c) = r.courant {
-        let _ = writeln!(
-            s,
-            "Every case ran at Courant number {c} instead of its own.\n"
-        );
-    }
-    if let Some(i) = r.integrator {
-        let _ = writeln!(
-            s,
-            "Every case ran with the {} integrator instead of its own.\n",
-            i.name()
-        );
-    }
-    let _ = writeln!(
-        s,
-        "Basis: *literature* = tolerance from the publications or the reference file's \
-         recommendation; *regression* = looser quick-tier bound that catches breakage; \
-         *convergence* = observed order, must be positive. Rows marked *info:* are \
-         informational: reported, never failing; each row's note says why.\n"
-    );
-    for case in CASES {
-        let rows: Vec<&Check> = r.checks.iter().filter(|c| c.case == case.name).collect();
-        if rows.is_empty() {
-            continue;
-        }
-        let _ = writeln!(s, "## {}\n\n{}\n", case.name, case.description);
-        let _ = writeln!(
-            s,
-            "| quantity | reference | measured | error | tolerance | pass | basis | resolution | particles | wall s | backend | device |"
-        );
-        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|");
-        for c in &rows {
-            let _ = writeln!(
-                s,
-                "| {} | {} | {} | {} | {} {} | {} | {} | {} | {} | {:.1} | {} | {} |",
-                c.quantity,
-                num(c.reference),
-                num(Some(c.measured)),
-                num(Some(c.error)),
-                match c.comparison.as_str() {
-                    "error > tolerance" => ">",
-                    "informational" => "info:",
-                    _ => "<=",
-                },
-                c.tolerance,
-                if c.pass { "yes" } else { "**NO**" },
-                c.basis,
-                c.resolution,
-                c.particles,
-                c.wall_seconds,
-                c.backend,
-                c.device
-            );
-        }
-        let _ = writeln!(s);
-        for c in &rows {
-            if !c.note.is_empty() || !c.source.is_empty() {
-                let _ = writeln!(s, "- *{}*: reference: {}. {}", c.quantity, c.source, c.note);
-            }
-        }
-        let mut plots: Vec<&str> = rows.iter().filter_map(|c| c.plot.as_deref()).collect();
-        plots.dedup();
-        for p in plots {
-            let _ = writeln!(s, "\n![{p}]({p})");
-        }
-        let _ = writeln!(s);
-    }
-    s
 }
