@@ -37,7 +37,8 @@
 //! 9, 17, 5 % against the theory at every E on the finest, the spread, and the observed order
 //! of the error at E = 7e10.
 
-use super::{convergence, Check, Ctx, RunInfo, Sim, Tier};
+use super::check::{convergence, Check, RunInfo};
+use super::ctx::{Ctx, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::named::Named;
 use meshfree_core::scene::scheme::SolidFormulation;

@@ -9,7 +9,7 @@
 //! t U / D = 120, each started with a small antisymmetric kick (`kick`) so the shedding
 //! starts within t U / D ~ 30 instead of growing from round-off; St and Cd at every
 //! resolution, the finest against the literature, and the observed order of convergence
-//! of both (`super::convergence`). `cylinder_onset.rs` reuses `simulate` at other Re.
+//! of both (`check::convergence`). `cylinder_onset.rs` reuses `simulate` at other Re.
 //!
 //! The full tier also measures the void metric (`meshfree_core::measure::voids`: empty cells of
 //! side dx in the fluid region, the largest empty circle in dx) from a read-back every
@@ -25,7 +25,9 @@
 //! could not tell Re 35 from Re 70 (docs/reference/accuracy.md, "Cylinder, Re 100"). The speed-vs-accuracy
 //! chart keeps the solver's defaults.
 
-use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
+use super::check::{convergence, Check, RunInfo};
+use super::ctx::{Ctx, Sim, Tier};
+use super::refdata::{csv_rows, refdata};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::measure::monitor::{band_rms, BluffBody, Coefficients, ForceSample, BAND_REL};
 use meshfree_core::measure::voids::{VoidMeter, VoidSummary};

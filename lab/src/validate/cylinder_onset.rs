@@ -22,8 +22,9 @@
 //! amplitude at most half Re 70's), and Re_c reported against 46-49. Full tier only (about 4e10 particle-steps: about 200 s
 //! on an H100, days on two CPU cores); the quick tier skips it (`Case::quick`).
 
+use super::check::{line_fit, Check, RunInfo};
+use super::ctx::Ctx;
 use super::cylinder::{self, smooth, D, SAMPLE_UD, U};
-use super::{line_fit, Check, Ctx, RunInfo};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::measure::monitor::ForceSample;
 use meshfree_core::measure::monitor::{band_rms, BAND_REL};

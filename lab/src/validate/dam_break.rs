@@ -14,7 +14,9 @@
 //! fronts lie within about 10-15 % of them, and the two digitisations of Koshizuka & Oka
 //! differ by up to 10 % late in the run. The tolerance is 15 %.
 
-use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
+use super::check::{convergence, Check, RunInfo};
+use super::ctx::{Ctx, Sim, Tier};
+use super::refdata::{csv_rows, refdata};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::physics::kernel;
 use meshfree_core::physics::params::SphParams;

@@ -40,7 +40,9 @@
 //! bending (halved gravity and a doubled shear modulus stay inside those bounds). Full tier (GPU): 2, 4 and 8 particles across to t = 0.4 s: peak x and
 //! its time, RMS of x(t) against the experiment, peak y, and the observed order of the RMS.
 
-use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
+use super::check::{convergence, Check, RunInfo};
+use super::ctx::{Ctx, Sim, Tier};
+use super::refdata::{csv_rows, refdata};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::named::Named;
 use meshfree_core::physics::particle::Particle;

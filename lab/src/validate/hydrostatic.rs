@@ -14,7 +14,8 @@
 //! the resting cubic-spline lattice pairs at dx = H/80 (nearest neighbours at 0.3 dx, drift
 //! 1.6 dx; docs/reference/accuracy.md, "Hydrostatic tank: the diagnosis").
 
-use super::{convergence, Check, Ctx, RunInfo, Sim, Tier};
+use super::check::{convergence, Check, RunInfo};
+use super::ctx::{Ctx, Sim, Tier};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::physics::particle::{Kind, Particle};
 

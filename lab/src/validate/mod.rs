@@ -11,9 +11,7 @@
 //! against tolerances from the literature and reports the observed order of convergence.
 //! A case that cannot say anything in seconds (`Case::quick` false: `cylinder-onset`, a
 //! sweep of Reynolds numbers to t U / D = 120) runs in the full tier only.
-//! Every row says its `basis`: "literature" (tolerance from the publications or the
-//! reference file's recommendation), "regression" (a looser quick-tier bound that catches
-//! breakage, not a claim of accuracy) or "convergence" (observed order, must be positive).
+//! Every row says its `basis` (`check.rs`): "literature", "regression" or "convergence".
 //!
 //! A check is one that can fail (issue #51): its quick-tier tolerance is today's error times
 //! 1.5 to 3, or a physical bound where that is tighter, and its note says which and by what
@@ -22,6 +20,14 @@
 //! checks then fail. A row the tier's resolution cannot make a check of (the coarse Jaumann
 //! cantilever at 1.8 x the theory, which a doubled shear modulus brings closer) is
 //! informational, reported and never failing, and its note starts with why.
+//!
+//! This file declares the modules and holds the entry point, `run`. The cases import the
+//! library beside them, never this file:
+//! - `check.rs`: `Check` rows, `RunInfo`, the observed order of convergence;
+//! - `ctx.rs`: what a case gets, `Tier`, `Ctx`, and `Sim` to step its scenes;
+//! - `refdata.rs`: the reference files, compiled in, and their CSV rows;
+//! - `registry.rs`: the list of cases, `CASES`, in report order;
+//! - `report.rs`: `Report`, written as `report.json` and `report.md`.
 
 pub mod cantilever;
 pub mod cylinder;
@@ -33,28 +39,25 @@ pub mod plate;
 pub mod poiseuille;
 pub mod taylor_green;
 
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+mod check;
+mod ctx;
+mod refdata;
+mod registry;
+mod report;
+
+pub use check::{convergence, line_fit, Check, RunInfo};
+pub use ctx::{Ctx, Sim, Tier};
+pub use refdata::{csv_rows, refdata};
+pub use registry::{Case, CASES};
+pub use report::{machine, markdown, Report};
+
+use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Context;
-use serde::{Deserialize, Serialize};
 
-use meshfree_core::backend::{self, BackendChoice};
-use meshfree_core::named::Named;
-use meshfree_core::scene::scheme::declare::ToParam;
+use meshfree_core::backend::BackendChoice;
 use meshfree_core::scene::scheme::IntegratorChoice;
-use meshfree_core::scene::{Counts, Scene};
-use meshfree_core::solver::step::Stepper;
-use meshfree_core::solver::{BackendInfo, Setup, Solver};
-
-/// Quick (coarse, robust, for the test suite) or full (three resolutions, literature).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Tier {
-    Quick,
-    Full,
-}
 
 /// What `run` does.
 #[derive(Clone, Debug)]
@@ -73,436 +76,9 @@ pub struct Options {
     pub integrator: Option<IntegratorChoice>,
 }
 
-/// What a case gets.
-pub struct Ctx<'a> {
-    pub tier: Tier,
-    pub backend: BackendChoice,
-    /// `Options::courant`.
-    pub courant: Option<f64>,
-    /// `Options::integrator`.
-    pub integrator: Option<IntegratorChoice>,
-    /// Where the case writes its plots.
-    pub out_dir: &'a Path,
-    pub verbose: bool,
-    /// Changes every scene the case builds, after the case's own changes, before it runs
-    /// (the scene is revalidated): a perturbed scheme, to show that a check can fail
-    /// (`tests/perturbed.rs`). None: the case as written (`run` sets none).
-    pub edit: Option<&'a dyn Fn(&mut Scene)>,
-}
-
-impl Ctx<'_> {
-    /// The case's scene from its TOML text `text` (named `origin` in errors), with `edit`
-    /// applied.
-    pub fn scene(&self, text: &str, origin: &str) -> anyhow::Result<Scene> {
-        let mut scene = Scene::from_toml(text, origin)?;
-        self.perturb(&mut scene)?;
-        Ok(scene)
-    }
-
-    /// Apply `edit`, if any, to a scene the case has finished changing, and revalidate it.
-    pub fn perturb(&self, scene: &mut Scene) -> anyhow::Result<()> {
-        if let Some(edit) = self.edit {
-            edit(scene);
-            scene.revalidate()?;
-        }
-        Ok(())
-    }
-
-    pub fn log(&self, line: &str) {
-        if self.verbose {
-            crate::note!("  {line}");
-        }
-    }
-}
-
-/// One validation case.
-pub struct Case {
-    pub name: &'static str,
-    pub description: &'static str,
-    pub run: fn(&Ctx) -> anyhow::Result<Vec<Check>>,
-    /// false: full tier only (the quick tier skips it, e.g. a run that needs t U / D ~ 100).
-    pub quick: bool,
-}
-
-/// The registry, in report order.
-pub const CASES: &[Case] = &[
-    Case {
-        name: hydrostatic::NAME,
-        description: hydrostatic::DESCRIPTION,
-        run: hydrostatic::run,
-        quick: true,
-    },
-    Case {
-        name: dam_break::NAME,
-        description: dam_break::DESCRIPTION,
-        run: dam_break::run,
-        quick: true,
-    },
-    Case {
-        name: poiseuille::NAME,
-        description: poiseuille::DESCRIPTION,
-        run: poiseuille::run,
-        quick: true,
-    },
-    Case {
-        name: taylor_green::NAME,
-        description: taylor_green::DESCRIPTION,
-        run: taylor_green::run,
-        quick: true,
-    },
-    Case {
-        name: cylinder::NAME,
-        description: cylinder::DESCRIPTION,
-        run: cylinder::run,
-        quick: true,
-    },
-    Case {
-        name: cylinder_onset::NAME,
-        description: cylinder_onset::DESCRIPTION,
-        run: cylinder_onset::run,
-        quick: false,
-    },
-    Case {
-        name: plate::NAME,
-        description: plate::DESCRIPTION,
-        run: plate::run,
-        quick: true,
-    },
-    Case {
-        name: cantilever::NAME,
-        description: cantilever::DESCRIPTION,
-        run: cantilever::run,
-        quick: true,
-    },
-    Case {
-        name: gate::NAME,
-        description: gate::DESCRIPTION,
-        run: gate::run,
-        quick: true,
-    },
-];
-
-/// One measured quantity against its reference.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Check {
-    pub case: String,
-    pub quantity: String,
-    /// The reference and where it comes from.
-    pub source: String,
-    /// The reference value (null where the reference is a whole curve).
-    pub reference: Option<f64>,
-    pub measured: f64,
-    /// The number compared with `tolerance` (see `comparison`).
-    pub error: f64,
-    pub tolerance: f64,
-    /// "error <= tolerance" or "error > tolerance" (orders of convergence).
-    pub comparison: String,
-    pub pass: bool,
-    /// "literature", "regression" or "convergence" (see the module docs).
-    pub basis: String,
-    /// e.g. "dx = 0.05" or "dx = 0.05, 0.025, 0.0125".
-    pub resolution: String,
-    pub particles: usize,
-    pub wall_seconds: f64,
-    pub backend: String,
-    pub device: String,
-    pub plot: Option<String>,
-    pub note: String,
-}
-
-/// A finished simulation's bookkeeping, for the `Check` rows.
-#[derive(Clone, Debug)]
-pub struct RunInfo {
-    pub resolution: String,
-    pub particles: usize,
-    pub wall_seconds: f64,
-    pub info: BackendInfo,
-}
-
-impl Report {
-    /// (checks that pass, checks, informational rows): informational rows are no checks.
-    pub fn counts(&self) -> (usize, usize, usize) {
-        let info = self
-            .checks
-            .iter()
-            .filter(|c| c.comparison == "informational")
-            .count();
-        let checks = self.checks.len() - info;
-        let pass = self
-            .checks
-            .iter()
-            .filter(|c| c.pass && c.comparison != "informational")
-            .count();
-        (pass, checks, info)
-    }
-}
-
-impl Check {
-    /// A row with `error <= tolerance`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn within(
-        case: &str,
-        quantity: &str,
-        source: &str,
-        reference: Option<f64>,
-        measured: f64,
-        error: f64,
-        tolerance: f64,
-        basis: &str,
-        run: &RunInfo,
-    ) -> Check {
-        Check {
-            case: case.into(),
-            quantity: quantity.into(),
-            source: source.into(),
-            reference,
-            measured,
-            error,
-            tolerance,
-            comparison: "error <= tolerance".into(),
-            pass: error.is_finite() && error <= tolerance,
-            basis: basis.into(),
-            resolution: run.resolution.clone(),
-            particles: run.particles,
-            wall_seconds: run.wall_seconds,
-            backend: run.info.backend.clone(),
-            device: run.info.device.clone(),
-            plot: None,
-            note: String::new(),
-        }
-    }
-
-    pub fn with_plot(mut self, plot: &str) -> Check {
-        self.plot = Some(plot.into());
-        self
-    }
-
-    /// Reported, never failing (e.g. an order of convergence against an experiment).
-    pub fn informational(mut self) -> Check {
-        self.pass = true;
-        self.comparison = "informational".into();
-        self
-    }
-
-    /// Passes when `error > tolerance` instead (e.g. a quantity that must exceed a threshold).
-    pub fn must_exceed(mut self) -> Check {
-        self.comparison = "error > tolerance".into();
-        self.pass = self.error.is_finite() && self.error > self.tolerance;
-        self
-    }
-
-    pub fn with_note(mut self, note: impl Into<String>) -> Check {
-        self.note = note.into();
-        self
-    }
-}
-
-/// The least-squares line y = slope x + intercept through `pts`: (slope, intercept), None
-/// with fewer than two distinct x.
-pub fn line_fit(pts: &[(f64, f64)]) -> Option<(f64, f64)> {
-    let n = pts.len() as f64;
-    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
-    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    (pts.len() >= 2 && sxx > 0.0).then(|| (sxy / sxx, my - sxy / sxx * mx))
-}
-
-/// The observed order of convergence: the least-squares slope of log(error) against
-/// log(dx), as a row that passes when it is positive (the error shrinks with dx).
-pub fn convergence(
-    case: &str,
-    quantity: &str,
-    dx: &[f64],
-    errors: &[f64],
-    runs: &[RunInfo],
-) -> Check {
-    let pts: Vec<(f64, f64)> = dx
-        .iter()
-        .zip(errors)
-        .filter(|(_, e)| **e > 0.0 && e.is_finite())
-        .map(|(d, e)| (d.ln(), e.ln()))
-        .collect();
-    let order = line_fit(&pts).map_or(f64::NAN, |(slope, _)| slope);
-    let last = runs.last().expect("at least one run");
-    let resolution = dx
-        .iter()
-        .map(|d| format!("{d}"))
-        .collect::<Vec<_>>()
-        .join(", ");
-    let errs = errors
-        .iter()
-        .map(|e| format!("{e:.4}"))
-        .collect::<Vec<_>>()
-        .join(", ");
-    Check {
-        case: case.into(),
-        quantity: format!("observed order of convergence of {quantity}"),
-        source: "slope of log(error) vs log(dx)".into(),
-        reference: None,
-        measured: order,
-        error: order,
-        tolerance: 0.0,
-        comparison: "error > tolerance".into(),
-        pass: order.is_finite() && order > 0.0,
-        basis: "convergence".into(),
-        resolution: format!("dx = {resolution}"),
-        particles: runs.iter().map(|r| r.particles).sum(),
-        wall_seconds: runs.iter().map(|r| r.wall_seconds).sum(),
-        backend: last.info.backend.clone(),
-        device: last.info.device.clone(),
-        plot: None,
-        note: format!("errors {errs}"),
-    }
-}
-
-/// A solver with the scene's gates, stepped to given times with health checks.
-pub struct Sim {
-    pub solver: Box<dyn Solver>,
-    stepper: Stepper,
-    pub counts: Counts,
-    started: Instant,
-    resolution: String,
-}
-
-impl Sim {
-    pub fn new(
-        ctx: &Ctx,
-        setup: Setup,
-        gates: Vec<(u32, f64)>,
-        resolution: String,
-    ) -> anyhow::Result<Sim> {
-        let counts = Counts::of(&setup.particles);
-        let mut setup = setup;
-        // Another integrator runs at its own default Courant number unless one is given.
-        if let Some(i) = ctx.integrator {
-            setup.params.integrator = i.to_param();
-            setup.params.courant = i.default_courant() as f32;
-        }
-        if let Some(c) = ctx.courant {
-            setup.params.courant = c as f32;
-        }
-        let solver = backend::create(ctx.backend, backend::Layout::One, setup)?;
-        Ok(Sim {
-            solver,
-            stepper: Stepper::new(gates),
-            counts,
-            started: Instant::now(),
-            resolution,
-        })
-    }
-
-    /// Step until the clock reaches `t` (the last step may pass it by less than one dt),
-    /// removing gates whose time came; a blow-up is an error.
-    pub fn advance_to(&mut self, t: f64) -> anyhow::Result<()> {
-        self.stepper.advance_to(self.solver.as_mut(), t)?;
-        Ok(())
-    }
-
-    pub fn info(&self) -> RunInfo {
-        RunInfo {
-            resolution: self.resolution.clone(),
-            particles: self.counts.total,
-            wall_seconds: self.started.elapsed().as_secs_f64(),
-            info: self.solver.info(),
-        }
-    }
-}
-
-/// Read `name` from `refdata/` (compiled in, so the binary runs anywhere).
-pub fn refdata(name: &str) -> &'static str {
-    match name {
-        "dambreak_martin_moyce_n1_surge_and_height.csv" => {
-            include_str!("../../../refdata/dambreak_martin_moyce_n1_surge_and_height.csv")
-        }
-        "dambreak_koshizuka_oka_1996_surge_front.csv" => {
-            include_str!("../../../refdata/dambreak_koshizuka_oka_1996_surge_front.csv")
-        }
-        "analytic_poiseuille_couette_startup_profiles.csv" => {
-            include_str!("../../../refdata/analytic_poiseuille_couette_startup_profiles.csv")
-        }
-        "cylinder_strouhal_vs_Re.csv" => {
-            include_str!("../../../refdata/cylinder_strouhal_vs_Re.csv")
-        }
-        "analytic_taylor_green_decay.csv" => {
-            include_str!("../../../refdata/analytic_taylor_green_decay.csv")
-        }
-        "elastic_gray2001_oscillating_plate.json" => {
-            include_str!("../../../refdata/elastic_gray2001_oscillating_plate.json")
-        }
-        "fsi_antoci2007_elastic_gate.json" => {
-            include_str!("../../../refdata/fsi_antoci2007_elastic_gate.json")
-        }
-        "fsi_antoci2007_elastic_gate.csv" => {
-            include_str!("../../../refdata/fsi_antoci2007_elastic_gate.csv")
-        }
-        _ => panic!("unknown refdata file {name}"),
-    }
-}
-
-/// The rows of a refdata CSV (comment lines starting with '#' and the header skipped).
-pub fn csv_rows(text: &str) -> Vec<Vec<String>> {
-    text.lines()
-        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
-        .skip(1)
-        .map(|l| l.split(',').map(|f| f.trim().to_string()).collect())
-        .collect()
-}
-
-/// The whole validation result.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Report {
-    pub tier: Tier,
-    pub machine: String,
-    /// The day of the run, `YYYY-MM-DD` (UTC).
-    #[serde(default)]
-    pub date: String,
-    /// The build's commit (`meshfree_core::build_info::COMMIT`).
-    #[serde(default)]
-    pub commit: String,
-    /// The Courant number every case ran at instead of its own (`Options::courant`).
-    #[serde(default)]
-    pub courant: Option<f64>,
-    /// The integrator every case ran with instead of its own (`Options::integrator`).
-    #[serde(default)]
-    pub integrator: Option<IntegratorChoice>,
-    pub wall_seconds: f64,
-    pub pass: bool,
-    pub checks: Vec<Check>,
-}
-
-/// The CPU model and core count, for the report.
-pub fn machine() -> String {
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|t| {
-            t.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|s| s.trim().to_string())
-        })
-        .unwrap_or_else(|| std::env::consts::ARCH.to_string());
-    format!(
-        "{cpu}, {} threads ({} build)",
-        rayon::current_num_threads(),
-        if cfg!(debug_assertions) {
-            "debug"
-        } else {
-            "release"
-        }
-    )
-}
-
 /// Run the selected cases and write `report.md`, `report.json` and the plots to `out_dir`.
 pub fn run(options: &Options) -> anyhow::Result<Report> {
-    for c in &options.cases {
-        if !CASES.iter().any(|k| k.name == c) {
-            anyhow::bail!(
-                "unknown validation case `{c}`; known: {}",
-                CASES.iter().map(|k| k.name).collect::<Vec<_>>().join(", ")
-            );
-        }
-    }
+    registry::ensure_known(&options.cases)?;
     std::fs::create_dir_all(&options.out_dir)
         .with_context(|| format!("creating {}", options.out_dir.display()))?;
     let started = Instant::now();
@@ -538,25 +114,11 @@ pub fn run(options: &Options) -> anyhow::Result<Report> {
         let t0 = Instant::now();
         match (case.run)(&ctx) {
             Ok(rows) => checks.extend(rows),
-            Err(e) => checks.push(Check {
-                case: case.name.into(),
-                quantity: "run".into(),
-                source: String::new(),
-                reference: None,
-                measured: f64::NAN,
-                error: f64::NAN,
-                tolerance: 0.0,
-                comparison: "completes".into(),
-                pass: false,
-                basis: "regression".into(),
-                resolution: String::new(),
-                particles: 0,
-                wall_seconds: t0.elapsed().as_secs_f64(),
-                backend: String::new(),
-                device: String::new(),
-                plot: None,
-                note: format!("{e:#}"),
-            }),
+            Err(e) => checks.push(Check::did_not_complete(
+                case.name,
+                t0.elapsed().as_secs_f64(),
+                format!("{e:#}"),
+            )),
         }
         if options.verbose {
             for c in checks.iter().filter(|c| c.case == case.name) {
@@ -588,105 +150,6 @@ pub fn run(options: &Options) -> anyhow::Result<Report> {
         pass: checks.iter().all(|c| c.pass),
         checks,
     };
-    let json = options.out_dir.join("report.json");
-    std::fs::write(&json, serde_json::to_string_pretty(&report)? + "\n")
-        .with_context(|| format!("writing {}", json.display()))?;
-    let md = options.out_dir.join("report.md");
-    std::fs::write(&md, markdown(&report)).with_context(|| format!("writing {}", md.display()))?;
+    report.write(&options.out_dir)?;
     Ok(report)
-}
-
-fn num(x: Option<f64>) -> String {
-    match x {
-        Some(x) if x.is_finite() => format!("{x:.4}"),
-        Some(_) => "-".into(),
-        None => "curve".into(),
-    }
-}
-
-/// The report as a Markdown table per case.
-pub fn markdown(r: &Report) -> String {
-    let mut s = String::new();
-    let _ = writeln!(s, "# meshfree validation report ({:?} tier)\n", r.tier);
-    let _ = writeln!(
-        s,
-        "Machine: {}. Build {}, run {}. Total wall time {:.1} s. Result: **{}** ({} of {} checks pass; \
-         {} more rows informational).\n",
-        r.machine,
-        r.commit,
-        r.date,
-        r.wall_seconds,
-        if r.pass { "PASS" } else { "FAIL" },
-        r.counts().0,
-        r.counts().1,
-        r.counts().2
-    );
-    if let Some(c) = r.courant {
-        let _ = writeln!(
-            s,
-            "Every case ran at Courant number {c} instead of its own.\n"
-        );
-    }
-    if let Some(i) = r.integrator {
-        let _ = writeln!(
-            s,
-            "Every case ran with the {} integrator instead of its own.\n",
-            i.name()
-        );
-    }
-    let _ = writeln!(
-        s,
-        "Basis: *literature* = tolerance from the publications or the reference file's \
-         recommendation; *regression* = looser quick-tier bound that catches breakage; \
-         *convergence* = observed order, must be positive. Rows marked *info:* are \
-         informational: reported, never failing; each row's note says why.\n"
-    );
-    for case in CASES {
-        let rows: Vec<&Check> = r.checks.iter().filter(|c| c.case == case.name).collect();
-        if rows.is_empty() {
-            continue;
-        }
-        let _ = writeln!(s, "## {}\n\n{}\n", case.name, case.description);
-        let _ = writeln!(
-            s,
-            "| quantity | reference | measured | error | tolerance | pass | basis | resolution | particles | wall s | backend | device |"
-        );
-        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|");
-        for c in &rows {
-            let _ = writeln!(
-                s,
-                "| {} | {} | {} | {} | {} {} | {} | {} | {} | {} | {:.1} | {} | {} |",
-                c.quantity,
-                num(c.reference),
-                num(Some(c.measured)),
-                num(Some(c.error)),
-                match c.comparison.as_str() {
-                    "error > tolerance" => ">",
-                    "informational" => "info:",
-                    _ => "<=",
-                },
-                c.tolerance,
-                if c.pass { "yes" } else { "**NO**" },
-                c.basis,
-                c.resolution,
-                c.particles,
-                c.wall_seconds,
-                c.backend,
-                c.device
-            );
-        }
-        let _ = writeln!(s);
-        for c in &rows {
-            if !c.note.is_empty() || !c.source.is_empty() {
-                let _ = writeln!(s, "- *{}*: reference: {}. {}", c.quantity, c.source, c.note);
-            }
-        }
-        let mut plots: Vec<&str> = rows.iter().filter_map(|c| c.plot.as_deref()).collect();
-        plots.dedup();
-        for p in plots {
-            let _ = writeln!(s, "\n![{p}]({p})");
-        }
-        let _ = writeln!(s);
-    }
-    s
 }

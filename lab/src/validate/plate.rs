@@ -33,7 +33,9 @@
 //! the total-Lagrangian rows checks. Full tier (GPU): H / dx = 8, 16, 32, 3.5 periods, the JSON's tolerances
 //! on the finest, and the observed order of the period error.
 
-use super::{convergence, Check, Ctx, RunInfo, Sim, Tier};
+use super::check::{convergence, Check, RunInfo};
+use super::ctx::{Ctx, Sim, Tier};
+use super::refdata::refdata;
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::named::Named;
 use meshfree_core::scene::scheme::SolidFormulation;
@@ -79,7 +81,7 @@ fn num(v: &serde_json::Value, path: &[&str]) -> f64 {
 
 pub fn reference() -> Reference {
     let v: serde_json::Value =
-        serde_json::from_str(super::refdata("elastic_gray2001_oscillating_plate.json"))
+        serde_json::from_str(refdata("elastic_gray2001_oscillating_plate.json"))
             .expect("plate reference JSON");
     Reference {
         l: num(&v, &["geometry", "L_m"]),

@@ -14,7 +14,9 @@
 //! `refdata/analytic_poiseuille_couette_startup_profiles.csv` before use. Parameters are
 //! Morris's: L = 1 mm, nu = 1e-6 m^2/s, F = 2e-4 m/s^2, v_max = F L^2 / (8 nu) = 2.5e-5 m/s.
 
-use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
+use super::check::{convergence, Check, RunInfo};
+use super::ctx::{Ctx, Sim, Tier};
+use super::refdata::{csv_rows, refdata};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::physics::particle::Kind;
 

@@ -17,7 +17,9 @@
 //! shift here with C x c0 / U = 10 C, and no C passes both tiers (docs/reference/accuracy.md,
 //! "Particle shifting").
 
-use super::{convergence, csv_rows, refdata, Check, Ctx, RunInfo, Sim, Tier};
+use super::check::{convergence, line_fit, Check, RunInfo};
+use super::ctx::{Ctx, Sim, Tier};
+use super::refdata::{csv_rows, refdata};
 use crate::plot::{plot, Figure, Series};
 use meshfree_core::physics::particle::Kind;
 use meshfree_core::scene::Scene;
@@ -138,7 +140,7 @@ fn simulate_edited(
         .filter(|s| s.0 >= fit_from - 1e-9)
         .map(|s| (s.0, s.1.ln()))
         .collect();
-    let rate = super::line_fit(&pts).map_or(f64::NAN, |(slope, _)| slope);
+    let rate = line_fit(&pts).map_or(f64::NAN, |(slope, _)| slope);
     Ok(Outcome {
         n,
         samples,
