@@ -255,7 +255,7 @@ table! {
             default: [1.3, "a support 2h = 2.6 dx: about 21 neighbours in 2D, 74 in 3D"],
             paper: [scene "the paper does not give h"],
             check: [Positive],
-            param: [p.h = |s: &SceneFile, f: &f64| (f * s.discretisation.spacing) as f32],
+            param: [p.h = |s: &SceneFile, _: &f64| s.discretisation.h() as f32],
         },
         /// The smoothing kernel, eqs. (1)-(4).
         kernel: KernelChoice {
@@ -264,6 +264,16 @@ table! {
             check: [Any],
             param: [p.kernel],
         },
+    }
+}
+
+impl Discretisation {
+    /// \[L\] The smoothing length h = `h_factor` x `spacing`: the h of the kernel W(r, h),
+    /// eqs. (1)-(4) (the paper's "radius of influence"); every built-in kernel's support is
+    /// 2h (`kernel.rs`). The one place it is computed: the solver's `SphParams::h`, the
+    /// scene's checks and estimates and `--paper-exact`'s step all take it from here.
+    pub fn h(&self) -> f64 {
+        self.h_factor * self.spacing
     }
 }
 

@@ -117,7 +117,7 @@ pub fn estimate(s: &SceneFile) -> Estimate {
             }
         };
     }
-    let support = 2.0 * s.discretisation.h_factor * dx;
+    let support = 2.0 * s.discretisation.h();
     let cells = (0..dim)
         .map(|a| {
             let len = s.domain.max[a] - s.domain.min[a];
