@@ -125,14 +125,14 @@ pub struct BenchRow {
     /// GPUs the subdomains ran on (`--gpus`); 1 otherwise (0 on the CPU).
     #[serde(default = "one")]
     pub gpus: usize,
-    /// [us] the halo exchange and step-size agreement per timed step (the slowest rank);
+    /// \[us\] the halo exchange and step-size agreement per timed step (the slowest rank);
     /// 0 for one domain.
     #[serde(default)]
     pub exchange_us_per_step: f64,
     /// Halo bytes received per timed step, over all subdomains; 0 for one domain.
     #[serde(default)]
     pub halo_bytes_per_step: f64,
-    /// [us] of `exchange_us_per_step`, the transport's send and receive (NCCL between
+    /// \[us\] of `exchange_us_per_step`, the transport's send and receive (NCCL between
     /// GPUs), the wait for the slower rank included.
     #[serde(default)]
     pub transfer_us_per_step: f64,

@@ -33,7 +33,7 @@ struct Active {
     path: PathBuf,
 }
 
-/// The monitors' part of a checkpoint: per monitor, the next sample time [T] and the
+/// The monitors' part of a checkpoint: per monitor, the next sample time \[T\] and the
 /// samples so far (the summary's statistics take them all), and the length of each CSV.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct MonitorsState {

@@ -89,7 +89,7 @@ pub enum Span {
     Full,
     /// This fraction (0, 1] of the scene's end time.
     Fraction(f64),
-    /// This end time [T] for every scene.
+    /// This end time \[T\] for every scene.
     Time(f64),
 }
 
@@ -114,16 +114,16 @@ pub struct PaperBenchRow {
     pub backend: String,
     pub device: String,
     pub steps: u64,
-    /// [T] reached.
+    /// \[T\] reached.
     pub simulated_time: f64,
-    /// [T] the scene's own end time (what the whole run would reach).
+    /// \[T\] the scene's own end time (what the whole run would reach).
     pub scene_end_time: f64,
-    /// Whole run: set-up, steps and output [s].
+    /// Whole run: set-up, steps and output \[s\].
     pub wall_s: f64,
-    /// Stepping alone, per step [ms].
+    /// Stepping alone, per step \[ms\].
     pub ms_per_step: f64,
     /// `wall_s`, or for a run short of `scene_end_time`, set-up plus `ms_per_step` times
-    /// the steps of the whole run estimated as steps x end time / time reached [s].
+    /// the steps of the whole run estimated as steps x end time / time reached \[s\].
     pub full_run_s: f64,
     /// True where `full_run_s` is such an estimate (also for a run that failed short of
     /// the end: the table then says where it failed).
@@ -258,7 +258,7 @@ fn file_err(path: &Path, e: impl std::fmt::Display) -> PaperBenchError {
     }
 }
 
-/// A row from a run's summary; `scene_end_time` is the scene's own end time [T].
+/// A row from a run's summary; `scene_end_time` is the scene's own end time \[T\].
 pub fn measured_row(
     scene: &str,
     scene_end_time: f64,

@@ -29,7 +29,7 @@ use serde::{Deserialize, Serialize};
 
 type IoResult = Result<(), (PathBuf, std::io::Error)>;
 
-/// The probes' part of a checkpoint: each probe's and gauge's next sample time [T], and
+/// The probes' part of a checkpoint: each probe's and gauge's next sample time \[T\], and
 /// the length of each CSV.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct ProbesState {

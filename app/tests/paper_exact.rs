@@ -16,7 +16,7 @@ fn the_transform_sets_exactly_the_paper_options() {
         let s = Scene::builtin(name).unwrap();
         let p = s.with_paper_exact().unwrap();
         let f = &s.file;
-        let h = f.discretisation.spacing * f.discretisation.h_factor;
+        let h = f.discretisation.h();
         let c = f.solid.as_ref().map_or(f.fluid.sound_speed, |m| {
             m.sound_speed.max(f.fluid.sound_speed)
         });

@@ -28,7 +28,7 @@ pub trait GlInterop {
 
 /// The viewer's particle vertex buffers, by their OpenGL names in the context current on the
 /// calling thread, which a backend with the particles in device memory fills in place
-/// (`GlInterop::fill_gl`): per particle, the position as three f32 [L] (z = 0 in 2D), the
+/// (`GlInterop::fill_gl`): per particle, the position as three f32 \[L\] (z = 0 in 2D), the
 /// shown quantity as one f32, the kind as one u8; each buffer holds `capacity` particles.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct GlBuffers {
@@ -53,12 +53,13 @@ pub struct GlFill {
 
 /// A visibility splat asked of `GlInterop::fill_gl` with the fill (the viewer's `SplatView`):
 /// of the particles `first .. first + count` of the filled buffers whose kind is not
-/// `hidden` (bit k: kind k), the nearest sphere of `radius` [L] at each pixel of a `width` x
+/// `hidden` (bit k: kind k), the nearest sphere of `radius` \[L\] at each pixel of a `width` x
 /// `height` perspective view, written to the OpenGL buffer `buffer`: `width * height`
 /// quadruples of `f32` (the sphere's world centre and shown value), then as many kind bytes
 /// (255 where no sphere is), pixel (X, Y) at Y width + X. `view`: the world-to-view rows
-/// (3 x 4); a pixel centre (X + 1/2, Y + 1/2) looks along (X' ray[0] + ray[1], Y' ray[2] +
-/// ray[3], -1) in view space (X', Y' the centre's coordinates).
+/// (3 x 4); a pixel centre (X + 1/2, Y + 1/2) looks along
+/// `(X' ray[0] + ray[1], Y' ray[2] + ray[3], -1)` in view space (X', Y' the centre's
+/// coordinates).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GlSplat {
     pub buffer: u32,

@@ -43,7 +43,7 @@ pub const FRAME_PREFIX: &str = "particles_";
 /// A decomposed run's checkpoint pieces are `checkpoint-step<S>-rank<R>of<N>.bin`.
 pub const CHECKPOINT_PIECE_PREFIX: &str = "checkpoint-";
 
-/// [bytes] the longest name an object may give a file (`<name>.csv` stays well within the
+/// \[bytes\] the longest name an object may give a file (`<name>.csv` stays well within the
 /// 255 bytes every file system takes).
 pub const MAX_STEM: usize = 100;
 

@@ -273,7 +273,7 @@ fn assert_paper_exact(s: &Scene, what: &str) {
         }
     }
     let f = &s.file;
-    let h = f.discretisation.spacing * f.discretisation.h_factor;
+    let h = f.discretisation.h();
     let c = f.solid.as_ref().map_or(f.fluid.sound_speed, |m| {
         m.sound_speed.max(f.fluid.sound_speed)
     });

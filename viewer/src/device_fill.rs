@@ -39,8 +39,8 @@ impl ParticleBuffers {
 /// written to the OpenGL buffer `buffer`: `width * height` quadruples of `f32` (the sphere's
 /// world centre and value), then as many kind bytes (255 where no sphere is), the pixel
 /// (X, Y) at Y width + X. `view`: the world-to-view matrix's rows (3 x 4); the pixel centre at
-/// window position (X', Y') looks along (X' ray[0] + ray[1], Y' ray[2] + ray[3], -1) in view
-/// space. A pixel's sphere is the nearest one whose ray-cast hits it (the sprites' test).
+/// window position (X', Y') looks along `(X' ray[0] + ray[1], Y' ray[2] + ray[3], -1)` in
+/// view space. A pixel's sphere is the nearest one whose ray-cast hits it (the sprites' test).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SplatView {
     pub buffer: u32,

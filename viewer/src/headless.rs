@@ -48,7 +48,8 @@ impl std::fmt::Debug for HeadlessRenderer {
 }
 
 fn make_context(device: &Device) -> Result<(Display, PossiblyCurrentContext), String> {
-    // SAFETY: no raw display handle is passed.
+    // SAFETY: no raw display handle is passed (glutin asks only that one given be valid);
+    // the device comes from `Device::query_devices`.
     let display = unsafe { Display::with_device(device, None) }.map_err(|e| e.to_string())?;
     let template = ConfigTemplateBuilder::new()
         .with_surface_type(ConfigSurfaceTypes::empty())
@@ -67,7 +68,8 @@ fn make_context(device: &Device) -> Result<(Display, PossiblyCurrentContext), St
             .with_context_api(ContextApi::OpenGl(version))
             .with_profile(GlProfile::Core)
             .build(None);
-        // SAFETY: config comes from this display.
+        // SAFETY: the attributes carry no raw window handle (`build(None)`), the one thing
+        // glutin asks to be valid; config comes from this display.
         match unsafe { display.create_context(&config, &attrs) } {
             Ok(ctx) => {
                 let ctx = ctx.make_current_surfaceless().map_err(|e| e.to_string())?;
@@ -96,12 +98,17 @@ impl HeadlessRenderer {
                 .unwrap_or("unnamed device");
             match make_context(device) {
                 Ok((display, context)) => {
-                    // SAFETY: the context is current on this thread.
+                    // SAFETY: the context is current on this thread (`make_context` made it
+                    // so), and the loader is its display's, so every function loaded is that
+                    // context's.
                     let gl = unsafe {
                         glow::Context::from_loader_function_cstr(|s: &CStr| {
                             display.get_proc_address(s)
                         })
                     };
+                    // SAFETY: the context rule (renderer.rs): `gl` was just loaded from the
+                    // context current on this thread; the strings are queried, no object
+                    // named.
                     let gl_renderer = unsafe {
                         format!(
                             "{} ({})",
@@ -141,6 +148,10 @@ impl HeadlessRenderer {
                 return Ok(fbo);
             }
         }
+        // SAFETY: the context rule (renderer.rs): `self.gl` is loaded from `_context`,
+        // current on this thread since `new` (`HeadlessRenderer` is not `Send`); the old
+        // FBO and renderbuffers are this renderer's, deleted once (taken out of `self.fbo`).
+        // w and h are at most 16384 (the callers' check), so the casts to i32 keep them.
         unsafe {
             if let Some((fbo, c, d, _, _)) = self.fbo.take() {
                 gl.delete_framebuffer(fbo);
@@ -197,12 +208,16 @@ impl HeadlessRenderer {
         let fbo = self.target(w, h)?;
         self.renderer.upload(&self.gl, frame)?;
         let gl = &self.gl;
+        // SAFETY: the context rule (renderer.rs), as in `target`: fbo is this renderer's,
+        // just made complete there.
         unsafe {
             gl.bind_framebuffer(glow::FRAMEBUFFER, Some(fbo));
             gl.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
         }
         self.renderer.draw(gl, frame, opts);
         let img = Image::read_gl(gl, Some(fbo), glow::COLOR_ATTACHMENT0, w, h);
+        // SAFETY: the context rule (renderer.rs): binding the default framebuffer (none,
+        // in a surfaceless context) and reading the error flag name no object.
         unsafe {
             gl.bind_framebuffer(glow::FRAMEBUFFER, None);
             let err = gl.get_error();
@@ -260,6 +275,8 @@ impl HeadlessRenderer {
             ..opts.clone()
         };
         let gl = &self.gl;
+        // SAFETY: the context rule (renderer.rs), as in `target`: fbo is this renderer's,
+        // just made complete there.
         unsafe {
             gl.bind_framebuffer(glow::FRAMEBUFFER, Some(fbo));
             gl.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
@@ -268,9 +285,12 @@ impl HeadlessRenderer {
         let img = if read {
             Some(Image::read_gl(gl, Some(fbo), glow::COLOR_ATTACHMENT0, w, h))
         } else {
+            // SAFETY: the context rule (renderer.rs); glFinish takes no arguments.
             unsafe { gl.finish() };
             None
         };
+        // SAFETY: the context rule (renderer.rs): binding the default framebuffer (none,
+        // in a surfaceless context) and reading the error flag name no object.
         unsafe {
             gl.bind_framebuffer(glow::FRAMEBUFFER, None);
             let err = gl.get_error();
@@ -303,6 +323,9 @@ impl Drop for HeadlessRenderer {
     fn drop(&mut self) {
         self.renderer.destroy(&self.gl);
         if let Some((fbo, c, d, _, _)) = self.fbo.take() {
+            // SAFETY: the context rule (renderer.rs): the context is still current (the
+            // `_context` field drops after this), and the FBO and renderbuffers are this
+            // renderer's, deleted once (taken out of `self.fbo`).
             unsafe {
                 self.gl.delete_framebuffer(fbo);
                 self.gl.delete_renderbuffer(c);

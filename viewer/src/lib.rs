@@ -193,9 +193,9 @@ pub struct FrameData {
 /// An axis-aligned box drawn as an outline (its 12 edges) in 3D.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Outline {
-    /// Lower corner [L].
+    /// Lower corner \[L\].
     pub min: [f32; 3],
-    /// Upper corner [L].
+    /// Upper corner \[L\].
     pub max: [f32; 3],
 }
 

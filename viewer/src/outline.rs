@@ -51,6 +51,8 @@ pub(crate) fn edges(o: &Outline) -> [[Vec3; 2]; 12] {
 impl Outlines {
     pub(crate) fn new(gl: &glow::Context) -> Result<Outlines, ViewerError> {
         let e = |m: String| ViewerError::Gl(m);
+        // SAFETY: the context rule (renderer.rs; every object named is created here); the
+        // two attributes lie within the 24-byte (6-float) stride of an edge.
         unsafe {
             let prog = compile(gl, OUTLINE_VS, OUTLINE_FS)?;
             let vao = gl.create_vertex_array().map_err(e)?;
@@ -74,6 +76,8 @@ impl Outlines {
     }
 
     pub(crate) fn destroy(&self, gl: &glow::Context) {
+        // SAFETY: the context rule (renderer.rs): these objects are this struct's, deleted
+        // only here, once.
         unsafe {
             gl.delete_program(self.prog);
             gl.delete_buffer(self.vbo);
@@ -98,40 +102,49 @@ impl Outlines {
                     .extend_from_slice(&[a.x, a.y, a.z, c.x, c.y, c.z]);
             }
         }
-        let bytes: &[u8] = std::slice::from_raw_parts(
-            self.edges.as_ptr().cast::<u8>(),
-            std::mem::size_of_val(self.edges.as_slice()),
-        );
-        gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.vbo));
-        gl.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STREAM_DRAW);
-        gl.bind_buffer(glow::ARRAY_BUFFER, None);
-        gl.use_program(Some(self.prog));
-        let loc = |n: &str| gl.get_uniform_location(self.prog, n);
-        gl.uniform_matrix_4_f32_slice(
-            loc("u_view_proj").as_ref(),
-            false,
-            &view_proj.to_cols_array(),
-        );
-        gl.uniform_2_f32(loc("u_viewport").as_ref(), viewport.0, viewport.1);
-        gl.uniform_1_f32(loc("u_width").as_ref(), width);
-        gl.uniform_4_f32(
-            loc("u_color").as_ref(),
-            COLOR[0],
-            COLOR[1],
-            COLOR[2],
-            COLOR[3],
-        );
-        gl.enable(glow::DEPTH_TEST);
-        gl.depth_func(glow::LEQUAL);
-        gl.depth_mask(false);
-        gl.enable(glow::BLEND);
-        gl.blend_func(glow::SRC_ALPHA, glow::ONE_MINUS_SRC_ALPHA);
-        gl.bind_vertex_array(Some(self.vao));
-        gl.draw_arrays_instanced(glow::TRIANGLES, 0, 6, (self.edges.len() / 6) as i32);
-        gl.bind_vertex_array(None);
-        gl.disable(glow::BLEND);
-        gl.depth_mask(true);
-        gl.depth_func(glow::LESS);
+        // SAFETY: the bytes of the live `edges` (its pointer and its size in bytes, borrowed
+        // for as long as `bytes`): f32 has no padding and every byte may be read as a u8.
+        let bytes: &[u8] = unsafe {
+            std::slice::from_raw_parts(
+                self.edges.as_ptr().cast::<u8>(),
+                std::mem::size_of_val(self.edges.as_slice()),
+            )
+        };
+        // SAFETY: the context rule (this fn's contract; the program, buffer and VAO are
+        // this struct's); the buffer is given `bytes` whole, and the instanced draw takes
+        // edges.len() / 6 edges, the ones just written.
+        unsafe {
+            gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.vbo));
+            gl.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STREAM_DRAW);
+            gl.bind_buffer(glow::ARRAY_BUFFER, None);
+            gl.use_program(Some(self.prog));
+            let loc = |n: &str| gl.get_uniform_location(self.prog, n);
+            gl.uniform_matrix_4_f32_slice(
+                loc("u_view_proj").as_ref(),
+                false,
+                &view_proj.to_cols_array(),
+            );
+            gl.uniform_2_f32(loc("u_viewport").as_ref(), viewport.0, viewport.1);
+            gl.uniform_1_f32(loc("u_width").as_ref(), width);
+            gl.uniform_4_f32(
+                loc("u_color").as_ref(),
+                COLOR[0],
+                COLOR[1],
+                COLOR[2],
+                COLOR[3],
+            );
+            gl.enable(glow::DEPTH_TEST);
+            gl.depth_func(glow::LEQUAL);
+            gl.depth_mask(false);
+            gl.enable(glow::BLEND);
+            gl.blend_func(glow::SRC_ALPHA, glow::ONE_MINUS_SRC_ALPHA);
+            gl.bind_vertex_array(Some(self.vao));
+            gl.draw_arrays_instanced(glow::TRIANGLES, 0, 6, (self.edges.len() / 6) as i32);
+            gl.bind_vertex_array(None);
+            gl.disable(glow::BLEND);
+            gl.depth_mask(true);
+            gl.depth_func(glow::LESS);
+        }
     }
 }
 

@@ -1,6 +1,23 @@
 //! The one renderer shared by the live window and the headless path: sphere
 //! impostors for the particles, a colour bar and text overlay. It draws into
 //! whatever framebuffer is bound (the window's, or the headless FBO).
+//!
+//! ## GL calls and `unsafe`
+//!
+//! glow's calls are `unsafe`: the GL API must be used validly ([`glow::HasContext`]). For
+//! every call of this crate that rests on one rule, which the `SAFETY` comments call *the
+//! context rule*: the `glow::Context` passed is the one loaded from the context that is
+//! current on this thread, and the GL objects named are that context's and alive. It holds
+//! because the two owners of a context, [`crate::HeadlessRenderer`] and the window's `Gfx`,
+//! make their context current on the thread that creates them and keep it so (nothing here
+//! makes another current or releases it; the glutin context they hold is not `Send`, so
+//! they stay on that thread), and pass only their own `glow::Context` to the [`Renderer`]
+//! they made and its parts; and each part (`Sprites`, `Splat`, `Surface`, `Outlines`, the
+//! programs, `GpuTimers`) names only objects it created there, deleted once, in its
+//! `destroy`, which the owner calls last, before the context goes. One thread holds one
+//! such context at a time (a second `HeadlessRenderer` on the same thread would make its
+//! own current). The crate's `unsafe fn`s that take `gl` ask the context rule of their
+//! caller; what else a block needs (sizes, bindings) its comment says.
 
 use glow::HasContext;
 
@@ -89,34 +106,38 @@ unsafe fn texture(
     data: &[u8],
     filter: u32,
 ) -> Result<glow::Texture, ViewerError> {
-    let t = gl.create_texture().map_err(gl_err)?;
-    gl.bind_texture(glow::TEXTURE_2D, Some(t));
-    gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
-    gl.tex_image_2d(
-        glow::TEXTURE_2D,
-        0,
-        internal as i32,
-        w as i32,
-        h as i32,
-        0,
-        format,
-        glow::UNSIGNED_BYTE,
-        Some(data),
-    );
-    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MIN_FILTER, filter as i32);
-    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAG_FILTER, filter as i32);
-    gl.tex_parameter_i32(
-        glow::TEXTURE_2D,
-        glow::TEXTURE_WRAP_S,
-        glow::CLAMP_TO_EDGE as i32,
-    );
-    gl.tex_parameter_i32(
-        glow::TEXTURE_2D,
-        glow::TEXTURE_WRAP_T,
-        glow::CLAMP_TO_EDGE as i32,
-    );
-    gl.bind_texture(glow::TEXTURE_2D, None);
-    Ok(t)
+    // SAFETY: the context rule (this fn's contract); `data` is the w x h image in `format`
+    // bytes that the caller made for it, read at unpack alignment 1 (set here).
+    unsafe {
+        let t = gl.create_texture().map_err(gl_err)?;
+        gl.bind_texture(glow::TEXTURE_2D, Some(t));
+        gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
+        gl.tex_image_2d(
+            glow::TEXTURE_2D,
+            0,
+            internal as i32,
+            w as i32,
+            h as i32,
+            0,
+            format,
+            glow::UNSIGNED_BYTE,
+            Some(data),
+        );
+        gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MIN_FILTER, filter as i32);
+        gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAG_FILTER, filter as i32);
+        gl.tex_parameter_i32(
+            glow::TEXTURE_2D,
+            glow::TEXTURE_WRAP_S,
+            glow::CLAMP_TO_EDGE as i32,
+        );
+        gl.tex_parameter_i32(
+            glow::TEXTURE_2D,
+            glow::TEXTURE_WRAP_T,
+            glow::CLAMP_TO_EDGE as i32,
+        );
+        gl.bind_texture(glow::TEXTURE_2D, None);
+        Ok(t)
+    }
 }
 
 fn f32_bytes(v: &[f32]) -> &[u8] {
@@ -190,6 +211,10 @@ impl Renderer {
         gl: &glow::Context,
         tex_buffer: Option<TexBufferFn>,
     ) -> Result<Renderer, ViewerError> {
+        // SAFETY: the context rule (the caller's context, current on this thread; every
+        // object named is created here). The textures get the colour map's 256 RGBA texels
+        // and the font atlas's fw x fh bytes, as `colormap_table` and `font::atlas` make
+        // them; the overlay's attributes lie within its OV_STRIDE floats a vertex.
         unsafe {
             let particle_prog = SpriteProgram::new(gl, SphereFs::Shaded)?;
             let overlay_prog = compile(gl, OVERLAY_VS, OVERLAY_FS)?;
@@ -233,6 +258,8 @@ impl Renderer {
 
     /// Frees the GL objects (the context must be current).
     pub(crate) fn destroy(&self, gl: &glow::Context) {
+        // SAFETY: the context rule: these objects are this renderer's, deleted only here
+        // (its owner calls `destroy` once, before the context goes).
         unsafe {
             self.particle_prog.delete(gl);
             gl.delete_program(self.overlay_prog);
@@ -250,6 +277,8 @@ impl Renderer {
 
     /// The mean GPU time of each pass drawn since the last call ([`GpuTimers::take`]).
     pub(crate) fn take_pass_times(&mut self, gl: &glow::Context) -> Vec<PassTime> {
+        // SAFETY: the context rule: the caller's context is the one the timers' queries
+        // were made in (the renderer's).
         unsafe { self.timers.take(gl) }
     }
 
@@ -379,6 +408,10 @@ impl Renderer {
         let bg = opts.background;
         let mut drew_splat = false;
 
+        // SAFETY: the context rule (the caller's context, whose framebuffer is bound; the
+        // programs, textures and buffers named are this renderer's); the sprite and splat
+        // draws read at most `capacity` particles (`SpriteView`'s first and count are
+        // clamped there) and the splat's buffer is the one sized for this view.
         unsafe {
             let target = gl.get_parameter_framebuffer(glow::DRAW_FRAMEBUFFER_BINDING);
             self.timers.collect(gl);
@@ -499,6 +532,7 @@ impl Renderer {
                 }
             }
         }
+        // SAFETY: the context rule, as above; the overlay's buffer is this renderer's.
         unsafe {
             self.flush_overlay(gl, w as f32, h as f32);
             gl.disable(glow::BLEND);
@@ -613,24 +647,29 @@ impl Renderer {
         if self.verts.is_empty() {
             return;
         }
-        gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.overlay_vbo));
-        let bytes = f32_bytes(&self.verts);
-        if bytes.len() > self.overlay_capacity {
-            gl.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::DYNAMIC_DRAW);
-            self.overlay_capacity = bytes.len();
-        } else {
-            gl.buffer_sub_data_u8_slice(glow::ARRAY_BUFFER, 0, bytes);
+        // SAFETY: the context rule (this fn's contract); the buffer is (re)allocated to
+        // at least `bytes.len()` before a sub-data write of `bytes` at 0, and the draw
+        // takes the verts.len() / OV_STRIDE whole vertices just written.
+        unsafe {
+            gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.overlay_vbo));
+            let bytes = f32_bytes(&self.verts);
+            if bytes.len() > self.overlay_capacity {
+                gl.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::DYNAMIC_DRAW);
+                self.overlay_capacity = bytes.len();
+            } else {
+                gl.buffer_sub_data_u8_slice(glow::ARRAY_BUFFER, 0, bytes);
+            }
+            gl.bind_buffer(glow::ARRAY_BUFFER, None);
+            let p = self.overlay_prog;
+            gl.use_program(Some(p));
+            gl.uniform_2_f32(gl.get_uniform_location(p, "u_screen").as_ref(), w, h);
+            gl.uniform_1_i32(gl.get_uniform_location(p, "u_font").as_ref(), 0);
+            gl.active_texture(glow::TEXTURE0);
+            gl.bind_texture(glow::TEXTURE_2D, Some(self.font_tex));
+            gl.bind_vertex_array(Some(self.overlay_vao));
+            gl.draw_arrays(glow::TRIANGLES, 0, (self.verts.len() / OV_STRIDE) as i32);
+            gl.bind_vertex_array(None);
         }
-        gl.bind_buffer(glow::ARRAY_BUFFER, None);
-        let p = self.overlay_prog;
-        gl.use_program(Some(p));
-        gl.uniform_2_f32(gl.get_uniform_location(p, "u_screen").as_ref(), w, h);
-        gl.uniform_1_i32(gl.get_uniform_location(p, "u_font").as_ref(), 0);
-        gl.active_texture(glow::TEXTURE0);
-        gl.bind_texture(glow::TEXTURE_2D, Some(self.font_tex));
-        gl.bind_vertex_array(Some(self.overlay_vao));
-        gl.draw_arrays(glow::TRIANGLES, 0, (self.verts.len() / OV_STRIDE) as i32);
-        gl.bind_vertex_array(None);
     }
 }
 

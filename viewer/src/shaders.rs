@@ -86,7 +86,8 @@ impl SpriteProgram {
         which: SphereFs,
     ) -> Result<SpriteProgram, ViewerError> {
         let fs = sphere_fs(which);
-        let build = |defines: &[&str]| {
+        // SAFETY: the context rule (this fn's contract), which `compile` asks.
+        let build = |defines: &[&str]| unsafe {
             compile(
                 gl,
                 &with_defines(&with_colour(PARTICLE_VS), defines),
@@ -97,15 +98,21 @@ impl SpriteProgram {
         match build(&["SPRITE_FS", "SPRITE_QUADS"]) {
             Ok(quads) => Ok(SpriteProgram { points, quads }),
             Err(e) => {
-                gl.delete_program(points);
+                // SAFETY: the context rule (this fn's contract); `points` was made just
+                // above and is deleted once, here.
+                unsafe { gl.delete_program(points) };
                 Err(e)
             }
         }
     }
 
     pub(crate) unsafe fn delete(&self, gl: &glow::Context) {
-        gl.delete_program(self.points);
-        gl.delete_program(self.quads);
+        // SAFETY: the context rule (this fn's contract): the two programs are this pass's,
+        // deleted once (by its owner's `destroy`).
+        unsafe {
+            gl.delete_program(self.points);
+            gl.delete_program(self.quads);
+        }
     }
 }
 
@@ -115,32 +122,36 @@ pub(crate) unsafe fn compile(
     vs: &str,
     fs: &str,
 ) -> Result<glow::Program, ViewerError> {
-    let prog = gl.create_program().map_err(gl_err)?;
-    let mut shaders = Vec::new();
-    for (kind, src) in [(glow::VERTEX_SHADER, vs), (glow::FRAGMENT_SHADER, fs)] {
-        let s = gl.create_shader(kind).map_err(gl_err)?;
-        gl.shader_source(s, src);
-        gl.compile_shader(s);
-        if !gl.get_shader_compile_status(s) {
-            let log = gl.get_shader_info_log(s);
-            gl.delete_shader(s);
-            gl.delete_program(prog);
-            return Err(gl_err(format!("shader compile: {log}")));
+    // SAFETY: the context rule (this fn's contract; every object named is created here and
+    // the shaders deleted once, after the link or on failure).
+    unsafe {
+        let prog = gl.create_program().map_err(gl_err)?;
+        let mut shaders = Vec::new();
+        for (kind, src) in [(glow::VERTEX_SHADER, vs), (glow::FRAGMENT_SHADER, fs)] {
+            let s = gl.create_shader(kind).map_err(gl_err)?;
+            gl.shader_source(s, src);
+            gl.compile_shader(s);
+            if !gl.get_shader_compile_status(s) {
+                let log = gl.get_shader_info_log(s);
+                gl.delete_shader(s);
+                gl.delete_program(prog);
+                return Err(gl_err(format!("shader compile: {log}")));
+            }
+            gl.attach_shader(prog, s);
+            shaders.push(s);
         }
-        gl.attach_shader(prog, s);
-        shaders.push(s);
+        gl.link_program(prog);
+        for s in shaders {
+            gl.detach_shader(prog, s);
+            gl.delete_shader(s);
+        }
+        if !gl.get_program_link_status(prog) {
+            let log = gl.get_program_info_log(prog);
+            gl.delete_program(prog);
+            return Err(gl_err(format!("program link: {log}")));
+        }
+        Ok(prog)
     }
-    gl.link_program(prog);
-    for s in shaders {
-        gl.detach_shader(prog, s);
-        gl.delete_shader(s);
-    }
-    if !gl.get_program_link_status(prog) {
-        let log = gl.get_program_info_log(prog);
-        gl.delete_program(prog);
-        return Err(gl_err(format!("program link: {log}")));
-    }
-    Ok(prog)
 }
 
 /// The uniforms of the particle vertex shader (`shaders/particle.vert`), which every
@@ -163,17 +174,29 @@ pub(crate) struct ParticleUniforms {
 impl ParticleUniforms {
     /// Sets them on `prog` (in use) and binds the colour map to texture unit 0.
     pub(crate) unsafe fn set(&self, gl: &glow::Context, prog: glow::Program, cmap: glow::Texture) {
-        let loc = |n: &str| gl.get_uniform_location(prog, n);
-        gl.uniform_matrix_4_f32_slice(loc("u_view").as_ref(), false, &self.view.to_cols_array());
-        gl.uniform_matrix_4_f32_slice(loc("u_proj").as_ref(), false, &self.proj.to_cols_array());
-        gl.uniform_1_f32(loc("u_radius").as_ref(), self.radius.max(1e-9));
-        gl.uniform_2_f32(loc("u_range").as_ref(), self.range.0, self.range.1);
-        gl.uniform_1_i32(loc("u_hidden").as_ref(), self.hidden);
-        gl.uniform_1_i32(loc("u_grey_boundary").as_ref(), self.grey_boundary as i32);
-        gl.uniform_1_i32(loc("u_ortho").as_ref(), self.ortho as i32);
-        gl.uniform_1_f32(loc("u_px_scale").as_ref(), self.px_scale);
-        gl.uniform_1_i32(loc("u_cmap").as_ref(), 0);
-        gl.active_texture(glow::TEXTURE0);
-        gl.bind_texture(glow::TEXTURE_2D, Some(cmap));
+        // SAFETY: the context rule (this fn's contract: prog and cmap are the caller's, of
+        // this context); the matrices are 16 floats each, as the uniforms' mat4.
+        unsafe {
+            let loc = |n: &str| gl.get_uniform_location(prog, n);
+            gl.uniform_matrix_4_f32_slice(
+                loc("u_view").as_ref(),
+                false,
+                &self.view.to_cols_array(),
+            );
+            gl.uniform_matrix_4_f32_slice(
+                loc("u_proj").as_ref(),
+                false,
+                &self.proj.to_cols_array(),
+            );
+            gl.uniform_1_f32(loc("u_radius").as_ref(), self.radius.max(1e-9));
+            gl.uniform_2_f32(loc("u_range").as_ref(), self.range.0, self.range.1);
+            gl.uniform_1_i32(loc("u_hidden").as_ref(), self.hidden);
+            gl.uniform_1_i32(loc("u_grey_boundary").as_ref(), self.grey_boundary as i32);
+            gl.uniform_1_i32(loc("u_ortho").as_ref(), self.ortho as i32);
+            gl.uniform_1_f32(loc("u_px_scale").as_ref(), self.px_scale);
+            gl.uniform_1_i32(loc("u_cmap").as_ref(), 0);
+            gl.active_texture(glow::TEXTURE0);
+            gl.bind_texture(glow::TEXTURE_2D, Some(cmap));
+        }
     }
 }

@@ -71,6 +71,7 @@ impl Splat {
         gl: &glow::Context,
         tex_buffer: Option<TexBufferFn>,
     ) -> Result<Splat, ViewerError> {
+        // SAFETY: the context rule (renderer.rs; every object named is created here).
         unsafe {
             let prog = compile(gl, FULLSCREEN_VS, &sphere_fs(SphereFs::Splat))?;
             let max_texels = gl.get_parameter_i32(glow::MAX_TEXTURE_BUFFER_SIZE).max(0) as usize;
@@ -91,6 +92,8 @@ impl Splat {
     }
 
     pub(crate) fn destroy(&self, gl: &glow::Context) {
+        // SAFETY: the context rule (renderer.rs): these objects are this struct's, deleted
+        // only here, once.
         unsafe {
             gl.delete_program(self.prog);
             if let Some(b) = self.buffer {
@@ -148,6 +151,10 @@ impl Splat {
         let tex_buffer = self
             .tex_buffer
             .ok_or_else(|| gl_err("no glTexBuffer".to_string()))?;
+        // SAFETY: the context rule (renderer.rs): the buffer and textures are this
+        // struct's; the buffer gets new storage (no data read). `tex_buffer` is the
+        // glTexBuffer loaded from this context (`tex_buffer_fn`), called with a buffer
+        // texture of it bound to GL_TEXTURE_BUFFER and a buffer of it.
         unsafe {
             let b = match self.buffer {
                 Some(b) => b,
@@ -165,7 +172,6 @@ impl Splat {
                 gl.bind_buffer(glow::TEXTURE_BUFFER, None);
                 for (t, format) in [(self.centres, glow::RGBA32F), (self.kinds, glow::R8UI)] {
                     gl.bind_texture(glow::TEXTURE_BUFFER, Some(t));
-                    // SAFETY: the context's glTexBuffer, its texture and buffer bound.
                     tex_buffer(glow::TEXTURE_BUFFER, format, b.0.get());
                 }
                 gl.bind_texture(glow::TEXTURE_BUFFER, None);
@@ -191,30 +197,36 @@ impl Splat {
         let Some(sv) = self.done else {
             return;
         };
-        gl.use_program(Some(self.prog));
-        u.set(gl, self.prog, cmap);
-        let loc = |n: &str| gl.get_uniform_location(self.prog, n);
-        gl.uniform_4_f32_slice(loc("u_ray").as_ref(), &sv.ray);
-        gl.uniform_3_f32_slice(loc("u_background").as_ref(), &background);
-        gl.uniform_1_i32(loc("u_px").as_ref(), 1);
-        gl.uniform_1_i32(loc("u_pk").as_ref(), 2);
-        gl.uniform_1_i32(loc("u_width").as_ref(), self.size.0 as i32);
-        gl.uniform_1_i32(
-            loc("u_kinds_at").as_ref(),
-            16 * (self.size.0 * self.size.1) as i32,
-        );
-        gl.active_texture(glow::TEXTURE1);
-        gl.bind_texture(glow::TEXTURE_BUFFER, Some(self.centres));
-        gl.active_texture(glow::TEXTURE2);
-        gl.bind_texture(glow::TEXTURE_BUFFER, Some(self.kinds));
-        gl.active_texture(glow::TEXTURE0);
-        gl.bind_vertex_array(Some(self.vao));
-        gl.draw_arrays(glow::TRIANGLES, 0, 3);
-        gl.bind_vertex_array(None);
-        for unit in [glow::TEXTURE2, glow::TEXTURE1] {
-            gl.active_texture(unit);
-            gl.bind_texture(glow::TEXTURE_BUFFER, None);
+        // SAFETY: the context rule (this fn's contract; the program, textures and VAO are
+        // this struct's). The shader fetches texels of the buffer textures only, which
+        // cover the buffer sized for `self.size` (`resize`); the draw of 3 vertices reads no
+        // attribute (the empty VAO).
+        unsafe {
+            gl.use_program(Some(self.prog));
+            u.set(gl, self.prog, cmap);
+            let loc = |n: &str| gl.get_uniform_location(self.prog, n);
+            gl.uniform_4_f32_slice(loc("u_ray").as_ref(), &sv.ray);
+            gl.uniform_3_f32_slice(loc("u_background").as_ref(), &background);
+            gl.uniform_1_i32(loc("u_px").as_ref(), 1);
+            gl.uniform_1_i32(loc("u_pk").as_ref(), 2);
+            gl.uniform_1_i32(loc("u_width").as_ref(), self.size.0 as i32);
+            gl.uniform_1_i32(
+                loc("u_kinds_at").as_ref(),
+                16 * (self.size.0 * self.size.1) as i32,
+            );
+            gl.active_texture(glow::TEXTURE1);
+            gl.bind_texture(glow::TEXTURE_BUFFER, Some(self.centres));
+            gl.active_texture(glow::TEXTURE2);
+            gl.bind_texture(glow::TEXTURE_BUFFER, Some(self.kinds));
+            gl.active_texture(glow::TEXTURE0);
+            gl.bind_vertex_array(Some(self.vao));
+            gl.draw_arrays(glow::TRIANGLES, 0, 3);
+            gl.bind_vertex_array(None);
+            for unit in [glow::TEXTURE2, glow::TEXTURE1] {
+                gl.active_texture(unit);
+                gl.bind_texture(glow::TEXTURE_BUFFER, None);
+            }
+            gl.active_texture(glow::TEXTURE0);
         }
-        gl.active_texture(glow::TEXTURE0);
     }
 }

@@ -74,6 +74,8 @@ pub(crate) struct SpriteView {
 
 impl Sprites {
     pub(crate) fn new(gl: &glow::Context) -> Result<Sprites, ViewerError> {
+        // SAFETY: the context rule (renderer.rs; every object named is created here); the
+        // two queries write 2 values each, the slices' lengths.
         unsafe {
             let mut range = [0.0f32; 2];
             gl.get_parameter_f32_slice(glow::POINT_SIZE_RANGE, &mut range);
@@ -104,6 +106,8 @@ impl Sprites {
     }
 
     pub(crate) fn destroy(&self, gl: &glow::Context) {
+        // SAFETY: the context rule (renderer.rs): these objects are this struct's, deleted
+        // only here, once.
         unsafe {
             for b in [self.pos, self.val, self.kind] {
                 gl.delete_buffer(b);
@@ -128,22 +132,29 @@ impl Sprites {
 
     /// Points the bound VAO's attributes at particle `first` (instance or vertex 0 reads it).
     unsafe fn point_attributes(&self, gl: &glow::Context, first: usize) {
-        for (i, (b, n, ty, bytes)) in self.attributes().into_iter().enumerate() {
-            gl.bind_buffer(glow::ARRAY_BUFFER, Some(b));
-            gl.vertex_attrib_pointer_f32(
-                i as u32,
-                n,
-                ty,
-                false,
-                bytes as i32,
-                (first * bytes) as i32,
-            );
+        // SAFETY: the context rule (this fn's contract, with one of this struct's VAOs
+        // bound); an attribute pointer is an offset into the buffer, not read until a draw,
+        // and the draws read particles below `capacity` only (`draw`).
+        unsafe {
+            for (i, (b, n, ty, bytes)) in self.attributes().into_iter().enumerate() {
+                gl.bind_buffer(glow::ARRAY_BUFFER, Some(b));
+                gl.vertex_attrib_pointer_f32(
+                    i as u32,
+                    n,
+                    ty,
+                    false,
+                    bytes as i32,
+                    (first * bytes) as i32,
+                );
+            }
         }
     }
 
     /// Grows the buffers to hold `n` (they never shrink) and returns their names.
     pub(crate) fn buffers(&mut self, gl: &glow::Context, n: usize) -> ParticleBuffers {
         if n > self.capacity {
+            // SAFETY: the context rule (renderer.rs); the buffers are this struct's, given
+            // new storage of n particles' bytes each (no data read).
             unsafe {
                 for (b, _, _, bytes) in self.attributes() {
                     gl.bind_buffer(glow::ARRAY_BUFFER, Some(b));
@@ -167,6 +178,10 @@ impl Sprites {
             return;
         }
         self.buffers(gl, kind.len());
+        // SAFETY: the context rule (renderer.rs); the buffers hold at least kind.len()
+        // particles (grown just above), and the callers give pos and val for as many
+        // (renderer.rs `upload`: 12 and 4 bytes for each kind byte), so each write of
+        // `data` at offset 0 lies within its buffer.
         unsafe {
             for (b, data) in [(self.pos, pos), (self.val, val), (self.kind, kind)] {
                 gl.bind_buffer(glow::ARRAY_BUFFER, Some(b));
@@ -199,66 +214,71 @@ impl Sprites {
         if count == 0 {
             return;
         }
-        let ray = pixel_ray(u, v.size);
-        // The guard band: half the widest point, within the largest viewport.
-        let room = (self.max_viewport.0 - w).min(self.max_viewport.1 - h) / 2;
-        let guard = ((0.5 * self.point_max).ceil() as i32).min(room);
-        let point_max = self.point_max.min((2 * guard) as f32);
-        let points = !v.quads_only && point_max >= 2.0;
-        let quads = !points
-            || match widest_sprite_px(u, v.bounds.0, v.bounds.1) {
-                Some(px) => px > point_max,
-                None => true,
+        // SAFETY: the context rule (this fn's contract; the programs and VAOs are the
+        // caller's and this struct's); the draws take particles first .. first + count,
+        // within `capacity` (clamped above), so no attribute reads past its buffer.
+        unsafe {
+            let ray = pixel_ray(u, v.size);
+            // The guard band: half the widest point, within the largest viewport.
+            let room = (self.max_viewport.0 - w).min(self.max_viewport.1 - h) / 2;
+            let guard = ((0.5 * self.point_max).ceil() as i32).min(room);
+            let point_max = self.point_max.min((2 * guard) as f32);
+            let points = !v.quads_only && point_max >= 2.0;
+            let quads = !points
+                || match widest_sprite_px(u, v.bounds.0, v.bounds.1) {
+                    Some(px) => px > point_max,
+                    None => true,
+                };
+            // Puts `p` in use with its uniforms, all but u_clip_scale (set by each draw below).
+            let start = |p: glow::Program| {
+                gl.use_program(Some(p));
+                u.set(gl, p, cmap);
+                for &(name, value) in extra {
+                    gl.uniform_1_f32(gl.get_uniform_location(p, name).as_ref(), value);
+                }
+                let loc = move |n: &str| gl.get_uniform_location(p, n);
+                gl.uniform_4_f32_slice(loc("u_ray").as_ref(), &ray);
+                gl.uniform_1_i32(loc("u_split").as_ref(), (points && quads) as i32);
+                gl.uniform_1_f32(loc("u_point_max").as_ref(), point_max);
+                loc
             };
-        // Puts `p` in use with its uniforms, all but u_clip_scale (set by each draw below).
-        let start = |p: glow::Program| {
-            gl.use_program(Some(p));
-            u.set(gl, p, cmap);
-            for &(name, value) in extra {
-                gl.uniform_1_f32(gl.get_uniform_location(p, name).as_ref(), value);
+            if points {
+                let loc = start(prog.points);
+                gl.uniform_2_f32(
+                    loc("u_clip_scale").as_ref(),
+                    w as f32 / (w + 2 * guard) as f32,
+                    h as f32 / (h + 2 * guard) as f32,
+                );
+                gl.viewport(-guard, -guard, w + 2 * guard, h + 2 * guard);
+                gl.enable(glow::SCISSOR_TEST);
+                gl.scissor(0, 0, w, h);
+                gl.enable(glow::PROGRAM_POINT_SIZE);
+                gl.bind_vertex_array(Some(self.points_vao));
+                self.in_order(first, count, v.reverse, |at, n| {
+                    gl.draw_arrays(glow::POINTS, at as i32, n as i32);
+                });
+                gl.disable(glow::PROGRAM_POINT_SIZE);
+                gl.disable(glow::SCISSOR_TEST);
+                gl.viewport(0, 0, w, h);
             }
-            let loc = move |n: &str| gl.get_uniform_location(p, n);
-            gl.uniform_4_f32_slice(loc("u_ray").as_ref(), &ray);
-            gl.uniform_1_i32(loc("u_split").as_ref(), (points && quads) as i32);
-            gl.uniform_1_f32(loc("u_point_max").as_ref(), point_max);
-            loc
-        };
-        if points {
-            let loc = start(prog.points);
-            gl.uniform_2_f32(
-                loc("u_clip_scale").as_ref(),
-                w as f32 / (w + 2 * guard) as f32,
-                h as f32 / (h + 2 * guard) as f32,
-            );
-            gl.viewport(-guard, -guard, w + 2 * guard, h + 2 * guard);
-            gl.enable(glow::SCISSOR_TEST);
-            gl.scissor(0, 0, w, h);
-            gl.enable(glow::PROGRAM_POINT_SIZE);
-            gl.bind_vertex_array(Some(self.points_vao));
-            self.in_order(first, count, v.reverse, |at, n| {
-                gl.draw_arrays(glow::POINTS, at as i32, n as i32);
-            });
-            gl.disable(glow::PROGRAM_POINT_SIZE);
-            gl.disable(glow::SCISSOR_TEST);
-            gl.viewport(0, 0, w, h);
+            if quads {
+                let loc = start(prog.quads);
+                gl.uniform_2_f32(loc("u_clip_scale").as_ref(), 1.0, 1.0);
+                gl.bind_vertex_array(Some(self.vao));
+                // Attributes with a divisor start at the pointer: moved per chunk.
+                self.in_order(first, count, v.reverse, |at, n| {
+                    if at != 0 {
+                        self.point_attributes(gl, at);
+                    }
+                    gl.draw_arrays_instanced(glow::TRIANGLE_STRIP, 0, 4, n as i32);
+                    if at != 0 {
+                        self.point_attributes(gl, 0);
+                    }
+                });
+            }
+            gl.bind_buffer(glow::ARRAY_BUFFER, None);
+            gl.bind_vertex_array(None);
         }
-        if quads {
-            let loc = start(prog.quads);
-            gl.uniform_2_f32(loc("u_clip_scale").as_ref(), 1.0, 1.0);
-            gl.bind_vertex_array(Some(self.vao));
-            // Attributes with a divisor start at the pointer: moved per chunk.
-            self.in_order(first, count, v.reverse, |at, n| {
-                if at != 0 {
-                    self.point_attributes(gl, at);
-                }
-                gl.draw_arrays_instanced(glow::TRIANGLE_STRIP, 0, 4, n as i32);
-                if at != 0 {
-                    self.point_attributes(gl, 0);
-                }
-            });
-        }
-        gl.bind_buffer(glow::ARRAY_BUFFER, None);
-        gl.bind_vertex_array(None);
     }
 
     /// Calls `f(at, n)` over the particles `first` .. `first + count`: one call, or with

@@ -116,50 +116,55 @@ unsafe fn make_target(
     internal: u32,
     mipmaps: bool,
 ) -> Result<Target, ViewerError> {
-    let tex = gl.create_texture().map_err(gl_err)?;
-    gl.bind_texture(glow::TEXTURE_2D, Some(tex));
-    gl.tex_image_2d(
-        glow::TEXTURE_2D,
-        0,
-        internal as i32,
-        w as i32,
-        h as i32,
-        0,
-        glow::RED,
-        glow::FLOAT,
-        None,
-    );
-    let (min, mag) = if mipmaps {
-        (glow::LINEAR_MIPMAP_LINEAR, glow::LINEAR)
-    } else {
-        (glow::NEAREST, glow::NEAREST)
-    };
-    for (k, v) in [
-        (glow::TEXTURE_MIN_FILTER, min),
-        (glow::TEXTURE_MAG_FILTER, mag),
-        (glow::TEXTURE_WRAP_S, glow::CLAMP_TO_EDGE),
-        (glow::TEXTURE_WRAP_T, glow::CLAMP_TO_EDGE),
-    ] {
-        gl.tex_parameter_i32(glow::TEXTURE_2D, k, v as i32);
+    // SAFETY: the context rule (this fn's contract; the texture and framebuffer named are
+    // created here); the image is given no data (`None`), only its storage.
+    unsafe {
+        let tex = gl.create_texture().map_err(gl_err)?;
+        gl.bind_texture(glow::TEXTURE_2D, Some(tex));
+        gl.tex_image_2d(
+            glow::TEXTURE_2D,
+            0,
+            internal as i32,
+            w as i32,
+            h as i32,
+            0,
+            glow::RED,
+            glow::FLOAT,
+            None,
+        );
+        let (min, mag) = if mipmaps {
+            (glow::LINEAR_MIPMAP_LINEAR, glow::LINEAR)
+        } else {
+            (glow::NEAREST, glow::NEAREST)
+        };
+        for (k, v) in [
+            (glow::TEXTURE_MIN_FILTER, min),
+            (glow::TEXTURE_MAG_FILTER, mag),
+            (glow::TEXTURE_WRAP_S, glow::CLAMP_TO_EDGE),
+            (glow::TEXTURE_WRAP_T, glow::CLAMP_TO_EDGE),
+        ] {
+            gl.tex_parameter_i32(glow::TEXTURE_2D, k, v as i32);
+        }
+        gl.bind_texture(glow::TEXTURE_2D, None);
+        let fbo = gl.create_framebuffer().map_err(gl_err)?;
+        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(fbo));
+        gl.framebuffer_texture_2d(
+            glow::FRAMEBUFFER,
+            glow::COLOR_ATTACHMENT0,
+            glow::TEXTURE_2D,
+            Some(tex),
+            0,
+        );
+        gl.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
+        complete(gl)?;
+        Ok(Target { fbo, tex })
     }
-    gl.bind_texture(glow::TEXTURE_2D, None);
-    let fbo = gl.create_framebuffer().map_err(gl_err)?;
-    gl.bind_framebuffer(glow::FRAMEBUFFER, Some(fbo));
-    gl.framebuffer_texture_2d(
-        glow::FRAMEBUFFER,
-        glow::COLOR_ATTACHMENT0,
-        glow::TEXTURE_2D,
-        Some(tex),
-        0,
-    );
-    gl.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
-    complete(gl)?;
-    Ok(Target { fbo, tex })
 }
 
 /// Whether the bound framebuffer is complete.
 unsafe fn complete(gl: &glow::Context) -> Result<(), ViewerError> {
-    let status = gl.check_framebuffer_status(glow::FRAMEBUFFER);
+    // SAFETY: the context rule (this fn's contract); the query names no object.
+    let status = unsafe { gl.check_framebuffer_status(glow::FRAMEBUFFER) };
     if status != glow::FRAMEBUFFER_COMPLETE {
         return Err(gl_err(format!(
             "surface framebuffer incomplete: 0x{status:x}"
@@ -170,54 +175,67 @@ unsafe fn complete(gl: &glow::Context) -> Result<(), ViewerError> {
 
 impl Target {
     unsafe fn destroy(&self, gl: &glow::Context) {
-        gl.delete_framebuffer(self.fbo);
-        gl.delete_texture(self.tex);
+        // SAFETY: the context rule (this fn's contract): the target's own objects, deleted
+        // once (its owner, `Targets`, is dropped after).
+        unsafe {
+            gl.delete_framebuffer(self.fbo);
+            gl.delete_texture(self.tex);
+        }
     }
 }
 
 impl Targets {
     unsafe fn new(gl: &glow::Context, size: (u32, u32)) -> Result<Targets, ViewerError> {
-        let ds = reduced(size, DEPTH_DIV);
-        let depth = make_target(gl, ds, glow::R32F, false)?;
-        let depth_buffer = gl.create_renderbuffer().map_err(gl_err)?;
-        gl.bind_renderbuffer(glow::RENDERBUFFER, Some(depth_buffer));
-        gl.renderbuffer_storage(
-            glow::RENDERBUFFER,
-            glow::DEPTH_COMPONENT32F,
-            ds.0 as i32,
-            ds.1 as i32,
-        );
-        gl.bind_renderbuffer(glow::RENDERBUFFER, None);
-        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(depth.fbo));
-        gl.framebuffer_renderbuffer(
-            glow::FRAMEBUFFER,
-            glow::DEPTH_ATTACHMENT,
-            glow::RENDERBUFFER,
-            Some(depth_buffer),
-        );
-        complete(gl)?;
-        Ok(Targets {
-            size,
-            depth,
-            depth_buffer,
-            blur: [
-                make_target(gl, ds, glow::R32F, false)?,
-                make_target(gl, ds, glow::R32F, false)?,
-            ],
-            thickness: make_target(gl, reduced(size, THICKNESS_DIV), glow::R16F, true)?,
-        })
+        // SAFETY: the context rule (this fn's contract; every object named is created
+        // here); the renderbuffer is given storage only.
+        unsafe {
+            let ds = reduced(size, DEPTH_DIV);
+            let depth = make_target(gl, ds, glow::R32F, false)?;
+            let depth_buffer = gl.create_renderbuffer().map_err(gl_err)?;
+            gl.bind_renderbuffer(glow::RENDERBUFFER, Some(depth_buffer));
+            gl.renderbuffer_storage(
+                glow::RENDERBUFFER,
+                glow::DEPTH_COMPONENT32F,
+                ds.0 as i32,
+                ds.1 as i32,
+            );
+            gl.bind_renderbuffer(glow::RENDERBUFFER, None);
+            gl.bind_framebuffer(glow::FRAMEBUFFER, Some(depth.fbo));
+            gl.framebuffer_renderbuffer(
+                glow::FRAMEBUFFER,
+                glow::DEPTH_ATTACHMENT,
+                glow::RENDERBUFFER,
+                Some(depth_buffer),
+            );
+            complete(gl)?;
+            Ok(Targets {
+                size,
+                depth,
+                depth_buffer,
+                blur: [
+                    make_target(gl, ds, glow::R32F, false)?,
+                    make_target(gl, ds, glow::R32F, false)?,
+                ],
+                thickness: make_target(gl, reduced(size, THICKNESS_DIV), glow::R16F, true)?,
+            })
+        }
     }
 
     unsafe fn destroy(&self, gl: &glow::Context) {
-        for t in [&self.depth, &self.thickness, &self.blur[0], &self.blur[1]] {
-            t.destroy(gl);
+        // SAFETY: the context rule (this fn's contract): the targets' own objects, deleted
+        // once (the caller drops the `Targets` after).
+        unsafe {
+            for t in [&self.depth, &self.thickness, &self.blur[0], &self.blur[1]] {
+                t.destroy(gl);
+            }
+            gl.delete_renderbuffer(self.depth_buffer);
         }
-        gl.delete_renderbuffer(self.depth_buffer);
     }
 }
 
 impl Surface {
     pub(crate) fn new(gl: &glow::Context) -> Result<Surface, ViewerError> {
+        // SAFETY: the context rule (renderer.rs; every object named is created here).
         unsafe {
             Ok(Surface {
                 depth_prog: SpriteProgram::new(gl, SphereFs::SurfaceDepth)?,
@@ -232,6 +250,8 @@ impl Surface {
     }
 
     pub(crate) fn destroy(&self, gl: &glow::Context) {
+        // SAFETY: the context rule (renderer.rs): these objects are this struct's, deleted
+        // only here, once.
         unsafe {
             self.depth_prog.delete(gl);
             self.thickness_prog.delete(gl);
@@ -249,11 +269,14 @@ impl Surface {
     unsafe fn targets(&mut self, gl: &glow::Context, size: (u32, u32)) -> Option<&Targets> {
         if self.targets.as_ref().is_some_and(|t| t.size != size) {
             if let Some(t) = self.targets.take() {
-                t.destroy(gl);
+                // SAFETY: the context rule (this fn's contract); the targets are taken out
+                // of `self`, so destroyed once.
+                unsafe { t.destroy(gl) };
             }
         }
         if self.targets.is_none() {
-            match Targets::new(gl, size) {
+            // SAFETY: the context rule (this fn's contract).
+            match unsafe { Targets::new(gl, size) } {
                 Ok(t) => self.targets = Some(t),
                 Err(e) => {
                     // Said once; the frame is then drawn without the fluid.
@@ -288,132 +311,143 @@ impl Surface {
             self.shade_prog,
             self.empty_vao,
         );
-        let Some(t) = self.targets(gl, (w, h)) else {
-            gl.bind_framebuffer(glow::FRAMEBUFFER, target);
-            return;
-        };
-        let mut u = v.uniforms;
-        u.radius *= SPHERE_SCALE;
-        u.hidden = !1; // every kind but the fluid
+        // SAFETY: the context rule (this fn's contract: `target` is the caller's
+        // framebuffer of this context, or the default one; the programs, VAO and targets
+        // are this struct's). The sprite draws take the caller's `v.sprites`, which
+        // `Sprites::draw` clamps to its buffers; the full-screen passes draw 3 vertices from
+        // the empty VAO (no attributes read).
+        unsafe {
+            let Some(t) = self.targets(gl, (w, h)) else {
+                gl.bind_framebuffer(glow::FRAMEBUFFER, target);
+                return;
+            };
+            let mut u = v.uniforms;
+            u.radius *= SPHERE_SCALE;
+            u.hidden = !1; // every kind but the fluid
 
-        // 1a. The eye distance of the nearest sphere: depth-tested, front to back.
-        timers.pass(gl, "surface depth");
-        let (ud, depth_view) = at_size(&u, &v.sprites, reduced((w, h), DEPTH_DIV));
-        let (dw, dh) = depth_view.size;
-        gl.viewport(0, 0, dw as i32, dh as i32);
-        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.depth.fbo));
-        gl.clear_buffer_f32_slice(glow::COLOR, 0, &[NO_FLUID, 0.0, 0.0, 0.0]);
-        gl.clear_buffer_f32_slice(glow::DEPTH, 0, &[1.0]);
-        gl.enable(glow::DEPTH_TEST);
-        gl.depth_func(glow::LESS);
-        gl.depth_mask(true);
-        gl.disable(glow::BLEND);
-        sprites.draw(gl, &depth_prog, &ud, &depth_view, cmap, &[]);
-        gl.disable(glow::DEPTH_TEST);
+            // 1a. The eye distance of the nearest sphere: depth-tested, front to back.
+            timers.pass(gl, "surface depth");
+            let (ud, depth_view) = at_size(&u, &v.sprites, reduced((w, h), DEPTH_DIV));
+            let (dw, dh) = depth_view.size;
+            gl.viewport(0, 0, dw as i32, dh as i32);
+            gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.depth.fbo));
+            gl.clear_buffer_f32_slice(glow::COLOR, 0, &[NO_FLUID, 0.0, 0.0, 0.0]);
+            gl.clear_buffer_f32_slice(glow::DEPTH, 0, &[1.0]);
+            gl.enable(glow::DEPTH_TEST);
+            gl.depth_func(glow::LESS);
+            gl.depth_mask(true);
+            gl.disable(glow::BLEND);
+            sprites.draw(gl, &depth_prog, &ud, &depth_view, cmap, &[]);
+            gl.disable(glow::DEPTH_TEST);
 
-        // 1b. Every sphere's chord, summed.
-        timers.pass(gl, "surface thickness");
-        let (ut, thick_view) = at_size(&u, &v.sprites, reduced((w, h), THICKNESS_DIV));
-        let (tw, th) = thick_view.size;
-        gl.viewport(0, 0, tw as i32, th as i32);
-        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.thickness.fbo));
-        gl.clear_buffer_f32_slice(glow::COLOR, 0, &[0.0; 4]);
-        gl.enable(glow::BLEND);
-        gl.blend_func(glow::ONE, glow::ONE);
-        // Particle volume spacing^3 over the drawn sphere's volume.
-        let fill = v.spacing.powi(3) / (4.0 / 3.0 * std::f32::consts::PI * u.radius.powi(3));
-        sprites.draw(
-            gl,
-            &thickness_prog,
-            &ut,
-            &thick_view,
-            cmap,
-            &[("u_fill", fill)],
-        );
-        gl.disable(glow::BLEND);
-        // The thickness's mipmaps: the shading reads it averaged over about a particle
-        // spacing, so that the spheres' chords do not show as discs.
-        timers.pass(gl, "thickness mipmaps");
-        gl.bind_texture(glow::TEXTURE_2D, Some(t.thickness.tex));
-        gl.generate_mipmap(glow::TEXTURE_2D);
-        gl.bind_texture(glow::TEXTURE_2D, None);
+            // 1b. Every sphere's chord, summed.
+            timers.pass(gl, "surface thickness");
+            let (ut, thick_view) = at_size(&u, &v.sprites, reduced((w, h), THICKNESS_DIV));
+            let (tw, th) = thick_view.size;
+            gl.viewport(0, 0, tw as i32, th as i32);
+            gl.bind_framebuffer(glow::FRAMEBUFFER, Some(t.thickness.fbo));
+            gl.clear_buffer_f32_slice(glow::COLOR, 0, &[0.0; 4]);
+            gl.enable(glow::BLEND);
+            gl.blend_func(glow::ONE, glow::ONE);
+            // Particle volume spacing^3 over the drawn sphere's volume.
+            let fill = v.spacing.powi(3) / (4.0 / 3.0 * std::f32::consts::PI * u.radius.powi(3));
+            sprites.draw(
+                gl,
+                &thickness_prog,
+                &ut,
+                &thick_view,
+                cmap,
+                &[("u_fill", fill)],
+            );
+            gl.disable(glow::BLEND);
+            // The thickness's mipmaps: the shading reads it averaged over about a particle
+            // spacing, so that the spheres' chords do not show as discs.
+            timers.pass(gl, "thickness mipmaps");
+            gl.bind_texture(glow::TEXTURE_2D, Some(t.thickness.tex));
+            gl.generate_mipmap(glow::TEXTURE_2D);
+            gl.bind_texture(glow::TEXTURE_2D, None);
 
-        // 2. Bilateral smoothing of the distance, ping-pong between the blur targets.
-        gl.viewport(0, 0, dw as i32, dh as i32);
-        gl.use_program(Some(blur_prog));
-        gl.bind_vertex_array(Some(empty_vao));
-        let loc = |n: &str| gl.get_uniform_location(blur_prog, n);
-        gl.uniform_1_i32(loc("u_depth").as_ref(), 0);
-        gl.uniform_1_f32(loc("u_world_radius").as_ref(), BLUR_SPACINGS * v.spacing);
-        gl.uniform_1_f32(loc("u_px_scale").as_ref(), ud.px_scale);
-        gl.uniform_1_f32(
-            loc("u_depth_sigma").as_ref(),
-            DEPTH_SIGMA_SPACINGS * v.spacing,
-        );
-        gl.uniform_1_i32(loc("u_max_px").as_ref(), BLUR_MAX_PX / DEPTH_DIV as i32);
-        gl.active_texture(glow::TEXTURE0);
-        let mut src = t.depth.tex;
-        for k in 0..BLUR_ITERATIONS {
-            for (dst, dir) in [(&t.blur[0], (1, 0)), (&t.blur[1], (0, 1))] {
-                timers.pass(gl, BLUR_PASSES[2 * k + dir.1 as usize]);
-                gl.bind_framebuffer(glow::FRAMEBUFFER, Some(dst.fbo));
-                gl.bind_texture(glow::TEXTURE_2D, Some(src));
-                gl.uniform_2_i32(loc("u_dir").as_ref(), dir.0, dir.1);
-                gl.draw_arrays(glow::TRIANGLES, 0, 3);
-                src = dst.tex;
+            // 2. Bilateral smoothing of the distance, ping-pong between the blur targets.
+            gl.viewport(0, 0, dw as i32, dh as i32);
+            gl.use_program(Some(blur_prog));
+            gl.bind_vertex_array(Some(empty_vao));
+            let loc = |n: &str| gl.get_uniform_location(blur_prog, n);
+            gl.uniform_1_i32(loc("u_depth").as_ref(), 0);
+            gl.uniform_1_f32(loc("u_world_radius").as_ref(), BLUR_SPACINGS * v.spacing);
+            gl.uniform_1_f32(loc("u_px_scale").as_ref(), ud.px_scale);
+            gl.uniform_1_f32(
+                loc("u_depth_sigma").as_ref(),
+                DEPTH_SIGMA_SPACINGS * v.spacing,
+            );
+            gl.uniform_1_i32(loc("u_max_px").as_ref(), BLUR_MAX_PX / DEPTH_DIV as i32);
+            gl.active_texture(glow::TEXTURE0);
+            let mut src = t.depth.tex;
+            for k in 0..BLUR_ITERATIONS {
+                for (dst, dir) in [(&t.blur[0], (1, 0)), (&t.blur[1], (0, 1))] {
+                    timers.pass(gl, BLUR_PASSES[2 * k + dir.1 as usize]);
+                    gl.bind_framebuffer(glow::FRAMEBUFFER, Some(dst.fbo));
+                    gl.bind_texture(glow::TEXTURE_2D, Some(src));
+                    gl.uniform_2_i32(loc("u_dir").as_ref(), dir.0, dir.1);
+                    gl.draw_arrays(glow::TRIANGLES, 0, 3);
+                    src = dst.tex;
+                }
             }
-        }
 
-        // 3. Shade over the target, depth-tested against what it holds.
-        timers.pass(gl, "shade");
-        gl.viewport(0, 0, w as i32, h as i32);
-        gl.bind_framebuffer(glow::FRAMEBUFFER, target);
-        gl.enable(glow::DEPTH_TEST);
-        gl.depth_func(glow::LESS);
-        gl.enable(glow::BLEND);
-        gl.blend_func(glow::ONE, glow::SRC1_COLOR);
-        gl.use_program(Some(shade_prog));
-        let loc = |n: &str| gl.get_uniform_location(shade_prog, n);
-        gl.uniform_1_i32(loc("u_depth").as_ref(), 0);
-        gl.uniform_1_i32(loc("u_thickness").as_ref(), 1);
-        gl.uniform_2_f32(loc("u_view_size").as_ref(), w as f32, h as f32);
-        // View pixels per distance texel on each axis (the sizes rounded up).
-        gl.uniform_2_f32(
-            loc("u_depth_div").as_ref(),
-            w as f32 / dw as f32,
-            h as f32 / dh as f32,
-        );
-        gl.uniform_matrix_4_f32_slice(loc("u_proj").as_ref(), false, &u.proj.to_cols_array());
-        let to_world = Mat3::from_mat4(u.view).transpose();
-        gl.uniform_matrix_3_f32_slice(loc("u_to_world").as_ref(), false, &to_world.to_cols_array());
-        gl.uniform_2_f32(
-            loc("u_tan_half").as_ref(),
-            1.0 / u.proj.x_axis.x,
-            1.0 / u.proj.y_axis.y,
-        );
-        let light = Vec3::from(LIGHT).normalize();
-        gl.uniform_3_f32(loc("u_light").as_ref(), light.x, light.y, light.z);
-        let len = 0.25 * v.scene_size.max(1e-9);
-        gl.uniform_3_f32(
-            loc("u_absorb").as_ref(),
-            ABSORB[0] / len,
-            ABSORB[1] / len,
-            ABSORB[2] / len,
-        );
-        gl.uniform_3_f32(loc("u_water").as_ref(), WATER[0], WATER[1], WATER[2]);
-        gl.uniform_1_f32(loc("u_spacing_px").as_ref(), v.spacing * ut.px_scale);
-        gl.uniform_1_f32(loc("u_edge_dz").as_ref(), DEPTH_SIGMA_SPACINGS * v.spacing);
-        gl.active_texture(glow::TEXTURE1);
-        gl.bind_texture(glow::TEXTURE_2D, Some(t.thickness.tex));
-        gl.active_texture(glow::TEXTURE0);
-        gl.bind_texture(glow::TEXTURE_2D, Some(src));
-        gl.draw_arrays(glow::TRIANGLES, 0, 3);
-        timers.end(gl);
-        gl.disable(glow::BLEND);
-        gl.active_texture(glow::TEXTURE1);
-        gl.bind_texture(glow::TEXTURE_2D, None);
-        gl.active_texture(glow::TEXTURE0);
-        gl.bind_texture(glow::TEXTURE_2D, None);
-        gl.bind_vertex_array(None);
+            // 3. Shade over the target, depth-tested against what it holds.
+            timers.pass(gl, "shade");
+            gl.viewport(0, 0, w as i32, h as i32);
+            gl.bind_framebuffer(glow::FRAMEBUFFER, target);
+            gl.enable(glow::DEPTH_TEST);
+            gl.depth_func(glow::LESS);
+            gl.enable(glow::BLEND);
+            gl.blend_func(glow::ONE, glow::SRC1_COLOR);
+            gl.use_program(Some(shade_prog));
+            let loc = |n: &str| gl.get_uniform_location(shade_prog, n);
+            gl.uniform_1_i32(loc("u_depth").as_ref(), 0);
+            gl.uniform_1_i32(loc("u_thickness").as_ref(), 1);
+            gl.uniform_2_f32(loc("u_view_size").as_ref(), w as f32, h as f32);
+            // View pixels per distance texel on each axis (the sizes rounded up).
+            gl.uniform_2_f32(
+                loc("u_depth_div").as_ref(),
+                w as f32 / dw as f32,
+                h as f32 / dh as f32,
+            );
+            gl.uniform_matrix_4_f32_slice(loc("u_proj").as_ref(), false, &u.proj.to_cols_array());
+            let to_world = Mat3::from_mat4(u.view).transpose();
+            gl.uniform_matrix_3_f32_slice(
+                loc("u_to_world").as_ref(),
+                false,
+                &to_world.to_cols_array(),
+            );
+            gl.uniform_2_f32(
+                loc("u_tan_half").as_ref(),
+                1.0 / u.proj.x_axis.x,
+                1.0 / u.proj.y_axis.y,
+            );
+            let light = Vec3::from(LIGHT).normalize();
+            gl.uniform_3_f32(loc("u_light").as_ref(), light.x, light.y, light.z);
+            let len = 0.25 * v.scene_size.max(1e-9);
+            gl.uniform_3_f32(
+                loc("u_absorb").as_ref(),
+                ABSORB[0] / len,
+                ABSORB[1] / len,
+                ABSORB[2] / len,
+            );
+            gl.uniform_3_f32(loc("u_water").as_ref(), WATER[0], WATER[1], WATER[2]);
+            gl.uniform_1_f32(loc("u_spacing_px").as_ref(), v.spacing * ut.px_scale);
+            gl.uniform_1_f32(loc("u_edge_dz").as_ref(), DEPTH_SIGMA_SPACINGS * v.spacing);
+            gl.active_texture(glow::TEXTURE1);
+            gl.bind_texture(glow::TEXTURE_2D, Some(t.thickness.tex));
+            gl.active_texture(glow::TEXTURE0);
+            gl.bind_texture(glow::TEXTURE_2D, Some(src));
+            gl.draw_arrays(glow::TRIANGLES, 0, 3);
+            timers.end(gl);
+            gl.disable(glow::BLEND);
+            gl.active_texture(glow::TEXTURE1);
+            gl.bind_texture(glow::TEXTURE_2D, None);
+            gl.active_texture(glow::TEXTURE0);
+            gl.bind_texture(glow::TEXTURE_2D, None);
+            gl.bind_vertex_array(None);
+        }
     }
 }

@@ -239,7 +239,8 @@ impl<'a> App<'a> {
                 .with_context_api(ContextApi::OpenGl(version))
                 .with_profile(GlProfile::Core)
                 .build(Some(handle));
-            // SAFETY: the config and the window handle come from this display.
+            // SAFETY: the raw window handle is `window`'s, which is alive and outlives the
+            // context (`Gfx` drops it last); the config comes from this display.
             match unsafe { display.create_context(&config, &ca) } {
                 Ok(c) => {
                     context = Some(c);
@@ -253,7 +254,8 @@ impl<'a> App<'a> {
         let sattrs = window
             .build_surface_attributes(Default::default())
             .map_err(win_err)?;
-        // SAFETY: the surface attributes come from this window.
+        // SAFETY: the surface attributes hold `window`'s raw handle, alive and outliving
+        // the surface (`Gfx` drops the surface first, the window last).
         let surface =
             unsafe { display.create_window_surface(&config, &sattrs) }.map_err(win_err)?;
         let context = context.make_current(&surface).map_err(win_err)?;

@@ -14,7 +14,7 @@ pub struct Body {
     pub group: u32,
     /// Number of particles.
     pub n: usize,
-    /// [L] mass-weighted centroid.
+    /// \[L\] mass-weighted centroid.
     pub centroid: [f32; 3],
     /// [L/T] velocity of the centroid (total momentum / total mass).
     pub velocity: [f32; 3],
@@ -22,7 +22,7 @@ pub struct Body {
     /// and L the angular momentum of the particles' velocities relative to the centroid's.
     /// In 2D only z: omega_z = L_z / I_z.
     pub omega: [f32; 3],
-    /// [L] radius of gyration about the centroid, sqrt(sum m |x - c|^2 / sum m): grows
+    /// \[L\] radius of gyration about the centroid, sqrt(sum m |x - c|^2 / sum m): grows
     /// where a body comes apart even though its size (below) does not.
     pub rg: f32,
     /// [L^d] sum of m_i / rho_i: the body's area (2D) or volume (3D).

@@ -17,7 +17,7 @@ pub struct ChartArgs {
     /// Where to run (repeatable: `--backend cpu --backend cuda` puts both on the charts).
     #[arg(long, value_parser = named::<BackendChoice>(), default_values = ["auto"])]
     pub backend: Vec<BackendChoice>,
-    /// Output directory for chart-<case>.png, chart.csv and chart.json.
+    /// Output directory for `chart-<case>.png`, `chart.csv` and `chart.json`.
     #[arg(long, value_name = "DIR", default_value = "out/chart")]
     pub out: PathBuf,
 }

@@ -24,7 +24,7 @@ pub struct RunArgs {
     /// Where to run: `auto` takes CUDA where a driver and a device answer, else the CPU.
     #[arg(long, value_parser = named::<BackendChoice>(), default_value = "auto")]
     pub backend: BackendChoice,
-    /// Output directory [default: out/<scene file's stem>, out/<name> for a built-in].
+    /// Output directory (default: `out/<scene file's stem>`, `out/<name>` for a built-in).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Refuse the scene if it may hold more particles than this (estimated before anything

@@ -24,7 +24,7 @@ pub struct ViewArgs {
     #[arg(long, default_value_t = 10)]
     pub steps_per_frame: u32,
     /// Where the final particles and summary.json go when the window closes
-    /// [default: out/<scene name>].
+    /// (default: `out/<scene name>`).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Use only the paper's own equations: summation density, forward Euler at a fixed

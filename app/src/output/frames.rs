@@ -19,7 +19,7 @@ use meshfree_core::solver::Shown;
 use super::files::{self, DIAGNOSTICS, SCENE, SERIES, SUMMARY};
 use crate::bad_input::BadInput;
 
-/// One recorded frame: its simulated time [T] and file.
+/// One recorded frame: its simulated time \[T\] and file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RecordedFrame {
     pub time: f64,

@@ -34,7 +34,7 @@ pub struct RunSummary {
     /// Initial particle numbers by kind.
     pub particles: Counts,
     pub steps: u64,
-    /// [T]
+    /// \[T\]
     pub simulated_time: f64,
     pub wall_seconds: f64,
     /// Particles x steps / wall seconds (particles counted at the start).
@@ -80,7 +80,7 @@ pub struct RunSummary {
     /// volume) and of radius of gyration over the outputs (`analysis::bodies`).
     #[serde(default)]
     pub bodies: Vec<BodySummary>,
-    /// The simulated time [T] of the last checkpoint (`checkpoint.bin`, from which `meshfree
+    /// The simulated time \[T\] of the last checkpoint (`checkpoint.bin`, from which `meshfree
     /// run --resume` continues); none where the run wrote none.
     #[serde(default)]
     pub checkpoint_time: Option<f64>,
@@ -89,13 +89,13 @@ pub struct RunSummary {
     /// (`output::files`).
     #[serde(default)]
     pub files: Vec<String>,
-    /// The times [T] of the checkpoints this run was resumed from, in order (empty for a
+    /// The times \[T\] of the checkpoints this run was resumed from, in order (empty for a
     /// run in one go). The counts and timings cover the whole run, every part of it.
     #[serde(default)]
     pub resumed_from: Vec<f64>,
 }
 
-/// How a run's wall time split [s]. The writer works while the solver steps, so
+/// How a run's wall time split \[s\]. The writer works while the solver steps, so
 /// `setup + stepping + output_wait` is the part of `total` the outputs could not hide, and
 /// `writer` (its busy time) overlaps `stepping`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]

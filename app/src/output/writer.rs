@@ -47,7 +47,7 @@ pub struct FrameJob {
 }
 
 /// A checkpoint's last part: given the writer's state (after every frame queued before
-/// it landed), write the file (`crate::resume`). Returns its simulated time [T] and its
+/// it landed), write the file (`crate::resume`). Returns its simulated time \[T\] and its
 /// size in bytes.
 pub type CheckpointJob = Box<dyn FnOnce(WriterState) -> Result<(f64, u64), Failure> + Send>;
 
@@ -66,7 +66,7 @@ pub struct WriterState {
     pub busy_seconds: f64,
     pub download_seconds: f64,
     pub last_clusters: Option<usize>,
-    /// `particles.pvd`'s entries: (time [T], file).
+    /// `particles.pvd`'s entries: (time \[T\], file).
     pub series: Vec<(f64, String)>,
     pub bodies: Vec<BodySummary>,
     /// The void metric so far, where measured.
@@ -82,13 +82,13 @@ pub struct Config {
     pub format: OutputFormat,
     /// The fields the particle files carry.
     pub fields: Fields,
-    /// [L] the cluster count's link radius, where the scene asks for clusters.
+    /// \[L\] the cluster count's link radius, where the scene asks for clusters.
     pub cluster_radius: Option<f32>,
     /// The void metric's cells and fluid region, where the scene asks for it.
     pub voids: Option<VoidMeter>,
     /// The elastic bodies (empty without solids).
     pub bodies: BodyTracker,
-    /// [M] every particle's mass by id (the bodies' measures weigh by mass; frames carry
+    /// \[M\] every particle's mass by id (the bodies' measures weigh by mass; frames carry
     /// no mass). Empty without bodies.
     pub masses: Vec<f32>,
 }
@@ -99,10 +99,10 @@ pub struct Report {
     pub frames: usize,
     /// Bytes of particle files.
     pub bytes: u64,
-    /// [s] time the writer spent waiting for copies, encoding and writing (overlapped with
+    /// \[s\] time the writer spent waiting for copies, encoding and writing (overlapped with
     /// the stepping).
     pub busy_seconds: f64,
-    /// [s] the part of `busy_seconds` spent waiting for the frames' copies (on a GPU, the
+    /// \[s\] the part of `busy_seconds` spent waiting for the frames' copies (on a GPU, the
     /// downloads).
     pub download_seconds: f64,
     /// The cluster count of the last output, where counted.
@@ -110,7 +110,7 @@ pub struct Report {
     pub bodies: Vec<BodySummary>,
     /// The void metric over the outputs, where measured.
     pub voids: Option<VoidSummary>,
-    /// The last checkpoint written: its simulated time [T] and size in bytes.
+    /// The last checkpoint written: its simulated time \[T\] and size in bytes.
     pub checkpoint: Option<(f64, u64)>,
 }
 

@@ -44,15 +44,15 @@ pub struct RunState {
     pub backend: String,
     /// `digest` of the scene text (`scene.toml`).
     pub scene_digest: String,
-    /// [T] the run's end time (the scene's, or `--t-end`).
+    /// \[T\] the run's end time (the scene's, or `--t-end`).
     pub t_end: f64,
-    /// [T] the run's output interval (the scene's, or `--output-interval`).
+    /// \[T\] the run's output interval (the scene's, or `--output-interval`).
     pub output_interval: f64,
     /// The particle files' format (the scene's, or `--format`).
     pub format: OutputFormat,
-    /// [T] the next output's time.
+    /// \[T\] the next output's time.
     pub next_output: f64,
-    /// [T] the next checkpoint's time (`[output] checkpoint_interval`), if any.
+    /// \[T\] the next checkpoint's time (`[output] checkpoint_interval`), if any.
     pub next_checkpoint: Option<f64>,
     pub stepper: StepperState,
     pub monitors: MonitorsState,
@@ -61,7 +61,7 @@ pub struct RunState {
     pub writer: WriterState,
     /// The run's timings so far (every part, where it was resumed before).
     pub timing: Timing,
-    /// The checkpoint times [T] the run was resumed from before.
+    /// The checkpoint times \[T\] the run was resumed from before.
     pub resumed_from: Vec<f64>,
 }
 

@@ -102,7 +102,7 @@ pub struct RunOptions {
     /// One subdomain on each of this many GPUs, through NCCL (`backend::Layout::Gpus`);
     /// None: `decompose` or one domain.
     pub gpus: Option<usize>,
-    /// [s] of wall time between checkpoints besides those of `[output]
+    /// \[s\] of wall time between checkpoints besides those of `[output]
     /// checkpoint_interval` and the stop's (`run --checkpoint-every`); None: none by wall
     /// time.
     pub checkpoint_wall: Option<f64>,

@@ -3,7 +3,7 @@
 
 use crate::physics::params::{SphParams, MF_DENSITY_SUMMATION, MF_INTEGRATOR_EULER};
 
-/// The particles with `lo <= x[axis] < hi` [L]. The first slab of a non-periodic axis starts
+/// The particles with `lo <= x[axis] < hi` \[L\]. The first slab of a non-periodic axis starts
 /// at -inf and the last ends at +inf, so that every particle, one that left the domain too,
 /// has one owner.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -18,7 +18,7 @@ impl Slab {
         c >= self.lo && c < self.hi
     }
 
-    /// The distance [L] along the axis from coordinate `c` to the slab: 0 inside; on a
+    /// The distance \[L\] along the axis from coordinate `c` to the slab: 0 inside; on a
     /// periodic axis spanning `periodic` = (min, max) the shorter way round (the outer
     /// slabs' infinite bounds taken as the domain's).
     pub fn gap(&self, c: f32, periodic: Option<(f32, f32)>) -> f32 {
@@ -51,7 +51,7 @@ pub fn longest_axis(p: &SphParams) -> usize {
     (0..p.dim as usize).fold(0, |best, a| if len(a) > len(best) { a } else { best })
 }
 
-/// `n` slabs of `axis` holding about equal numbers of the coordinates `coords` [L]. The
+/// `n` slabs of `axis` holding about equal numbers of the coordinates `coords` \[L\]. The
 /// outer bounds are -inf and +inf (on a periodic axis too, where positions stay inside the
 /// domain, so that rounding at its ends loses no particle). A slab may be narrower than the
 /// halo: its neighbours' halos then reach past it, to the ranks beyond, which the exchange
@@ -106,7 +106,7 @@ pub fn passes(p: &SphParams) -> u32 {
     n
 }
 
-/// The halo's width [L]: a particle owned at the end of a step moved there from at most a
+/// The halo's width \[L\]: a particle owned at the end of a step moved there from at most a
 /// support radius away (one step moves a particle by a small fraction of h), and its update
 /// read particles up to `passes` supports further out.
 pub fn halo_width(p: &SphParams) -> f32 {

@@ -17,7 +17,7 @@ pub trait Subdomain: Solver + Sized {
     /// From now on own the particles in `slab` (`SphParams::own_slab`): the step size's
     /// extremes and the wall forces count only these.
     fn set_owned(&mut self, slab: Slab);
-    /// Copies of this solver's particles within `width` [L] of `target` along its axis
+    /// Copies of this solver's particles within `width` \[L\] of `target` along its axis
     /// (`Slab::gap`, the shorter way round on a periodic axis spanning `periodic`), in
     /// storage order; `None` where there is none.
     fn halo(
@@ -42,7 +42,7 @@ pub trait Subdomain: Solver + Sized {
     /// Take the step size from the extremes of every subdomain, as `time_step` takes it
     /// from its own (`backend::cpu::step_size`).
     fn set_step(&mut self, extremes: [f32; 3]);
-    /// Device memory this subdomain holds [bytes], its spare capacity included (0 on the
+    /// Device memory this subdomain holds \[bytes\], its spare capacity included (0 on the
     /// CPU).
     fn device_bytes(&self) -> usize {
         0

@@ -89,7 +89,7 @@ fn wall_force_d<D: Dim>(
 /// One sample of a monitor.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ForceSample {
-    /// [T]
+    /// \[T\]
     pub t: f64,
     /// [M L T^-2]
     pub force: [f64; 3],
@@ -198,7 +198,7 @@ pub const BAND_REL: f64 = 0.5;
 pub struct BluffBody {
     /// [L/T] U.
     pub velocity: f64,
-    /// [L] D.
+    /// \[L\] D.
     pub length: f64,
     /// D / H, H the domain's extent along y (the lift axis).
     pub blockage_ratio: f64,
@@ -217,7 +217,7 @@ pub struct MonitorSummary {
     /// [M L T^-2] (per unit depth in 2D) the largest |F| over the record.
     #[serde(default)]
     pub peak_force: f64,
-    /// [T] when it came.
+    /// \[T\] when it came.
     #[serde(default)]
     pub peak_time: f64,
     /// [M L T^-1] (per unit depth in 2D) the integral of F over the record (trapezoids).
@@ -231,7 +231,7 @@ pub struct MonitorSummary {
 /// A bluff body's coefficients, Cd = Fx / (0.5 rho0 U^2 D^(d-1)) and Cl likewise with Fy.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Coefficients {
-    /// [T] the statistics below are over t >= window_start: the second half of the record.
+    /// \[T\] the statistics below are over t >= window_start: the second half of the record.
     pub window_start: f64,
     /// f D / U from the lift's dominant frequency (`dominant_frequency`); None when the
     /// window holds too few samples or the lift is constant.

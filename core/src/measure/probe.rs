@@ -13,14 +13,14 @@ pub const SURFACE_COLOUR: f32 = 0.5;
 /// Where a gauge's line meets the free surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Surface {
-    /// [L] (z = 0 in 2D).
+    /// \[L\] (z = 0 in 2D).
     pub position: [f64; 3],
-    /// [L] from the line's start.
+    /// \[L\] from the line's start.
     pub distance: f64,
 }
 
 /// The points of the line `start` -> `end` (`dim` numbers each), both ends included, at
-/// most `step` [L] apart and evenly spaced: ceil(length / step) + 1 of them.
+/// most `step` \[L\] apart and evenly spaced: ceil(length / step) + 1 of them.
 pub fn line_points(start: &[f64], end: &[f64], step: f64, dim: usize) -> Vec<[f64; 3]> {
     let mut a = [0.0; 3];
     let mut b = [0.0; 3];
@@ -36,7 +36,7 @@ pub fn line_points(start: &[f64], end: &[f64], step: f64, dim: usize) -> Vec<[f6
         .collect()
 }
 
-/// The points of gauge `g` in a scene of spacing `spacing` [L] (its `step`, default half the
+/// The points of gauge `g` in a scene of spacing `spacing` \[L\] (its `step`, default half the
 /// spacing).
 pub fn gauge_points(g: &Gauge, spacing: f64, dim: usize) -> Vec<[f64; 3]> {
     line_points(&g.start, &g.end, g.step.unwrap_or(0.5 * spacing), dim)

@@ -10,7 +10,7 @@
 //!   kind). A lattice holds one particle per cell; a disordered but even distribution
 //!   leaves some cells empty and doubles up others, so this is a measure of disorder as
 //!   well as of voids.
-//! * The **largest void** [dx]: the diameter of the largest circle (sphere) with its centre
+//! * The **largest void** \[dx\]: the diameter of the largest circle (sphere) with its centre
 //!   in the region and no particle inside, i.e. twice the largest distance from a point of
 //!   the region to its nearest particle, over dx. Measured at the points of a sub-lattice
 //!   of spacing dx / `SUBDIVISION` (cell corners and centres among them), so it reads low by
@@ -35,18 +35,18 @@ pub fn subdivision(dim: u32) -> usize {
     }
 }
 
-/// [dx] the search radius for the nearest particle: a void wider than 2 x this reads as
+/// \[dx\] the search radius for the nearest particle: a void wider than 2 x this reads as
 /// 2 x this.
 pub const MAX_RADIUS_DX: usize = 16;
 
 /// One measurement.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct VoidSample {
-    /// [T]
+    /// \[T\]
     pub time: f64,
     /// [-] share of the fluid region's cells with no particle.
     pub empty_fraction: f64,
-    /// [dx] diameter of the largest empty circle (sphere) centred in the fluid region.
+    /// \[dx\] diameter of the largest empty circle (sphere) centred in the fluid region.
     pub largest_void_dx: f64,
 }
 
@@ -57,7 +57,7 @@ pub struct VoidSummary {
     pub outputs: usize,
     /// Cells of side dx in the fluid region.
     pub region_cells: usize,
-    /// [dx] the largest void over every output, and the time [T] of that output.
+    /// \[dx\] the largest void over every output, and the time \[T\] of that output.
     pub largest_void_dx: f64,
     pub largest_void_time: f64,
     /// [-] the largest and the mean empty fraction over the outputs.

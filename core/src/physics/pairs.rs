@@ -11,7 +11,7 @@ use crate::physics::params::{
     SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID, MF_SOLID_FLUID_PRESSURE_EXTRAPOLATED,
 };
 
-/// The minimum-image separation r_i - r_j [L]: on a periodic axis of length len the image
+/// The minimum-image separation r_i - r_j \[L\]: on a periodic axis of length len the image
 /// of j nearest i, |r| <= len / 2 (for |x_i - x_j| < 3 len / 2, as for positions inside the
 /// domain and points within a support of one).
 #[inline]

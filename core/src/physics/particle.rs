@@ -45,7 +45,7 @@ pub struct Particle {
     pub kind: Kind,
     /// The scene object (fluid block, solid body, wall, gate) the particle came from.
     pub group: u32,
-    /// [L]
+    /// \[L\]
     pub position: [f32; 3],
     /// [L/T]
     pub velocity: [f32; 3],
@@ -53,7 +53,7 @@ pub struct Particle {
     pub density: f32,
     /// [M L^-d L^2 T^-2]
     pub pressure: f32,
-    /// [M]
+    /// \[M\]
     pub mass: f32,
     /// Deviatoric stress S^{ab} of a solid particle, eq. (11): (xx, yy, zz, xy, xz, yz).
     /// Zero for fluid and boundary particles.

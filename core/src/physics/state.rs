@@ -20,9 +20,9 @@ pub struct State<D: Dim> {
     /// `Kind` codes (`MF_KIND_*`).
     pub kind: Vec<u8>,
     pub group: Vec<u32>,
-    /// [M]
+    /// \[M\]
     pub mass: Vec<f32>,
-    /// [L]
+    /// \[L\]
     pub pos: Vec<D::V>,
     /// [L/T]
     pub vel: Vec<D::V>,

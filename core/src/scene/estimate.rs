@@ -14,16 +14,16 @@ use crate::scene::scheme::SceneFile;
 pub const MAX_PARTICLES: f64 = (u32::MAX - 1) as f64;
 /// The neighbour grid's cell count is an i32 (`SphParams::n_cells`).
 pub const MAX_CELLS: f64 = i32::MAX as f64;
-/// [bytes] host memory per particle while a run starts: the generated `Particle`s, the
+/// \[bytes\] host memory per particle while a run starts: the generated `Particle`s, the
 /// state's arrays and the set-up's neighbour search (the peak, measured on the 3D scenes
 /// within a factor 1.5).
 pub const HOST_BYTES_PER_PARTICLE: f64 = 400.0;
-/// [bytes] host memory per neighbour-grid cell: the CPU backend's `Grid` (`cell_start` and
+/// \[bytes\] host memory per neighbour-grid cell: the CPU backend's `Grid` (`cell_start` and
 /// `cell_end`, a u32 each, `backend/cpu/grid.rs`), which force monitors also build on the
 /// host under every backend (`monitor.rs`). The grid spans the whole domain, wherever the
 /// particles are.
 pub const HOST_BYTES_PER_CELL: f64 = 8.0;
-/// [bytes] device memory per neighbour-grid cell under the CUDA backend: `count`, the
+/// \[bytes\] device memory per neighbour-grid cell under the CUDA backend: `count`, the
 /// scan's `local` and `cell_start` (a u32 each) and, in 3D, the 1-byte `stamp`
 /// (`backend/cuda/buffers.rs`). Allocated on the GPU, which refuses what it cannot hold.
 pub const DEVICE_BYTES_PER_CELL: f64 = 13.0;
@@ -46,18 +46,18 @@ pub struct Estimate {
 }
 
 impl Estimate {
-    /// [bytes] host memory a run needs at its start: its particles
+    /// \[bytes\] host memory a run needs at its start: its particles
     /// (`HOST_BYTES_PER_PARTICLE`) and its neighbour grid (`HOST_BYTES_PER_CELL`).
     pub fn host_bytes(&self) -> f64 {
         self.particles * HOST_BYTES_PER_PARTICLE + self.grid_host_bytes()
     }
 
-    /// [bytes] the neighbour grid's part of `host_bytes`.
+    /// \[bytes\] the neighbour grid's part of `host_bytes`.
     pub fn grid_host_bytes(&self) -> f64 {
         self.cells * HOST_BYTES_PER_CELL
     }
 
-    /// [bytes] the neighbour grid's memory on a GPU (`DEVICE_BYTES_PER_CELL`).
+    /// \[bytes\] the neighbour grid's memory on a GPU (`DEVICE_BYTES_PER_CELL`).
     pub fn grid_device_bytes(&self) -> f64 {
         self.cells * DEVICE_BYTES_PER_CELL
     }
@@ -117,7 +117,7 @@ pub fn estimate(s: &SceneFile) -> Estimate {
             }
         };
     }
-    let support = 2.0 * s.discretisation.h_factor * dx;
+    let support = 2.0 * s.discretisation.h();
     let cells = (0..dim)
         .map(|a| {
             let len = s.domain.max[a] - s.domain.min[a];
@@ -130,7 +130,7 @@ pub fn estimate(s: &SceneFile) -> Estimate {
     }
 }
 
-/// [bytes] the memory this process may still take, and what limits it: the least of the
+/// \[bytes\] the memory this process may still take, and what limits it: the least of the
 /// machine's available memory (Linux: `MemAvailable` of /proc/meminfo), the room left
 /// under the address-space limit (`ulimit -v`, RLIMIT_AS: the soft limit of
 /// /proc/self/limits less this process's `VmSize`) and the room left under its cgroup's
@@ -159,17 +159,17 @@ pub fn memory_limit() -> Option<(f64, &'static str)> {
         .min_by(|a, b| a.0.total_cmp(&b.0))
 }
 
-/// [bytes] the machine's available memory; `None` where it cannot tell.
+/// \[bytes\] the machine's available memory; `None` where it cannot tell.
 pub fn available_memory() -> Option<f64> {
     meminfo_available(&std::fs::read_to_string("/proc/meminfo").ok()?)
 }
 
-/// [bytes] `MemAvailable` of a /proc/meminfo text.
+/// \[bytes\] `MemAvailable` of a /proc/meminfo text.
 pub fn meminfo_available(meminfo: &str) -> Option<f64> {
     kib_field(meminfo, "MemAvailable:")
 }
 
-/// [bytes] `VmSize` (the address space in use) of a /proc/self/status text.
+/// \[bytes\] `VmSize` (the address space in use) of a /proc/self/status text.
 pub fn vm_size(status: &str) -> Option<f64> {
     kib_field(status, "VmSize:")
 }
@@ -180,7 +180,7 @@ fn kib_field(text: &str, name: &str) -> Option<f64> {
     Some(kib * 1024.0)
 }
 
-/// [bytes] the soft address-space limit of a /proc/self/limits text; `None` where
+/// \[bytes\] the soft address-space limit of a /proc/self/limits text; `None` where
 /// unlimited.
 pub fn address_space_limit(limits: &str) -> Option<f64> {
     let line = limits
@@ -192,7 +192,7 @@ pub fn address_space_limit(limits: &str) -> Option<f64> {
     soft.parse().ok()
 }
 
-/// [bytes] a cgroup limit less its usage, from the texts of its limit file and usage
+/// \[bytes\] a cgroup limit less its usage, from the texts of its limit file and usage
 /// file; `None` where unlimited (`max`, or v1's 2^63 rounded to pages).
 pub fn cgroup_headroom(limit: &str, usage: Option<&str>) -> Option<f64> {
     let limit: f64 = limit.trim().parse().ok()?;

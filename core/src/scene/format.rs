@@ -38,12 +38,12 @@ impl Axis {
 #[serde(deny_unknown_fields)]
 pub struct Inflow {
     pub axis: Axis,
-    /// [L] band limits along `axis`.
+    /// \[L\] band limits along `axis`.
     pub min: f64,
     pub max: f64,
     /// [L/T] `dimension` numbers.
     pub velocity: Vec<f64>,
-    /// [T] T_r, default 0 (the mean flow from the start). > 0: a start from rest: the
+    /// \[T\] T_r, default 0 (the mean flow from the start). > 0: a start from rest: the
     /// generator takes `velocity` off the fluid's initial velocity, and the kick gives it
     /// back over T_r as r(t) = (1 - cos(pi t / T_r)) / 2 (the band at r `velocity`, every
     /// particle it integrates outside the band accelerated by d(r `velocity`)/dt, a uniform
@@ -69,12 +69,12 @@ pub struct Monitor {
     pub name: String,
     /// Index of the wall in `[[walls]]`.
     pub wall: usize,
-    /// [T] time between samples.
+    /// \[T\] time between samples.
     pub interval: f64,
     /// [L/T] U of the coefficients and the Strouhal number. Default none: no coefficients.
     #[serde(default)]
     pub reference_velocity: Option<f64>,
-    /// [L] D of the coefficients, the Strouhal number and the blockage ratio D / H.
+    /// \[L\] D of the coefficients, the Strouhal number and the blockage ratio D / H.
     #[serde(default)]
     pub reference_length: Option<f64>,
 }
@@ -120,9 +120,9 @@ impl ProbeField {
 pub struct Probe {
     /// The probe's name in `probes.csv` (letters, digits, '-' and '_'; unique).
     pub name: String,
-    /// [L] one or more points, `dimension` numbers each, inside the domain.
+    /// \[L\] one or more points, `dimension` numbers each, inside the domain.
     pub points: Vec<Vec<f64>>,
-    /// [T] time between samples.
+    /// \[T\] time between samples.
     pub interval: f64,
     /// What to sample. Default all: pressure, velocity, density.
     #[serde(default = "all_probe_fields")]
@@ -148,13 +148,13 @@ pub const MAX_GAUGE_POINTS: usize = 100_000;
 pub struct Gauge {
     /// The gauge's name in `gauges.csv` (letters, digits, '-' and '_'; unique).
     pub name: String,
-    /// [L] the line's ends, inside the domain; usually `start` at the bottom and `end` above
+    /// \[L\] the line's ends, inside the domain; usually `start` at the bottom and `end` above
     /// the highest surface.
     pub start: Vec<f64>,
     pub end: Vec<f64>,
-    /// [T] time between samples.
+    /// \[T\] time between samples.
     pub interval: f64,
-    /// [L] distance between the line's points. Default half the particle spacing.
+    /// \[L\] distance between the line's points. Default half the particle spacing.
     #[serde(default)]
     pub step: Option<f64>,
 }
@@ -163,9 +163,9 @@ pub struct Gauge {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Domain {
-    /// [L] lower corner.
+    /// \[L\] lower corner.
     pub min: Vec<f64>,
-    /// [L] upper corner.
+    /// \[L\] upper corner.
     pub max: Vec<f64>,
     /// Per axis: wrap around. Default all false.
     #[serde(default)]
@@ -250,7 +250,7 @@ impl SolidObject {
 #[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Wall {
     /// `layers` rows of boundary particles just outside the box [min, max], at
-    /// min - (k + 0.5) dx and max + (k + 0.5) dx; no rows above max[1] when `open_top`.
+    /// min - (k + 0.5) dx and max + (k + 0.5) dx; no rows above `max[1]` when `open_top`.
     BoxContainer {
         min: Vec<f64>,
         max: Vec<f64>,
@@ -361,7 +361,7 @@ pub struct Output {
     /// frame). For flows that fill their domain. Default false.
     #[serde(default)]
     pub voids: bool,
-    /// [T] simulated time between checkpoints (`checkpoint.bin`, from which `meshfree run
+    /// \[T\] simulated time between checkpoints (`checkpoint.bin`, from which `meshfree run
     /// --resume` continues). Default none: a checkpoint where the run stops (its end,
     /// `--steps`, a signal) and every 10 minutes of wall time (`run --checkpoint-every`).
     #[serde(default)]

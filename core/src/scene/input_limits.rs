@@ -11,7 +11,7 @@ use std::path::Path;
 
 use super::SceneError;
 
-/// [bytes] the largest scene file (a 100,000-block scene is about 6 to 13 MB).
+/// \[bytes\] the largest scene file (a 100,000-block scene is about 6 to 13 MB).
 pub const MAX_BYTES: usize = 16 << 20;
 /// The most tables (`[header]`, `[[array]]` entries, inline `{}` tables, and each part of a
 /// dotted key) a scene may hold: about 1 KB each to parse.

@@ -247,7 +247,7 @@ impl Scene {
         Ok(s)
     }
 
-    /// A copy at another particle spacing [L], validated: the Lennard-Jones strength C0
+    /// A copy at another particle spacing \[L\], validated: the Lennard-Jones strength C0
     /// scales with 1/r0 (it is 5 g H / r0 in the built-ins), an explicit r0 with the
     /// spacing, and the domain grows by the thicker wall layers on its non-periodic axes.
     pub fn with_spacing(&self, spacing: f64) -> Result<Scene, SceneError> {

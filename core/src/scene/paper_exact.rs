@@ -41,7 +41,7 @@ impl Scene {
     pub fn with_paper_exact(&self) -> Result<Scene, SceneError> {
         let mut s = self.clone();
         let f = &mut s.file;
-        let h = f.discretisation.spacing * f.discretisation.h_factor;
+        let h = f.discretisation.h();
         let c = f.solid.as_ref().map_or(f.fluid.sound_speed, |m| {
             m.sound_speed.max(f.fluid.sound_speed)
         });

@@ -245,7 +245,7 @@ choice! {
 table! {
     /// `[discretisation]`: the particle lattice and the kernel.
     pub struct Discretisation at discretisation {
-        /// [L] initial particle spacing dx (also the default Lennard-Jones r0).
+        /// \[L\] initial particle spacing dx (also the default Lennard-Jones r0).
         spacing: f64 {
             default: [required],
             paper: [scene "the resolution"],
@@ -257,7 +257,7 @@ table! {
             default: [1.3, "a support 2h = 2.6 dx: about 21 neighbours in 2D, 74 in 3D"],
             paper: [scene "the paper does not give h"],
             check: [Positive],
-            param: [p.h = |s: &SceneFile, f: &f64| (f * s.discretisation.spacing) as f32],
+            param: [p.h = |s: &SceneFile, _: &f64| s.discretisation.h() as f32],
         },
         /// The smoothing kernel, eqs. (1)-(4).
         kernel: KernelChoice {
@@ -269,17 +269,27 @@ table! {
     }
 }
 
+impl Discretisation {
+    /// \[L\] The smoothing length h = `h_factor` x `spacing`: the h of the kernel W(r, h),
+    /// eqs. (1)-(4) (the paper's "radius of influence"); every built-in kernel's support is
+    /// 2h (`kernel.rs`). The one place it is computed: the solver's `SphParams::h`, the
+    /// scene's checks and estimates and `--paper-exact`'s step all take it from here.
+    pub fn h(&self) -> f64 {
+        self.h_factor * self.spacing
+    }
+}
+
 table! {
     /// `[time]`: the run's length, its outputs and the time step.
     pub struct Time at time {
-        /// [T] end time.
+        /// \[T\] end time.
         end: f64 {
             default: [required],
             paper: [scene "run control"],
             check: [Positive],
             param: [none "the run driver"],
         },
-        /// [T] time between outputs (VTK file, CSV row).
+        /// \[T\] time between outputs (VTK file, CSV row).
         output_interval: f64 {
             default: [required],
             paper: [scene "run control"],
@@ -293,7 +303,7 @@ table! {
             check: [Positive],
             param: [p.courant = |f: &SceneFile, _: &Option<f64>| f.time.courant_number() as f32],
         },
-        /// [T] fixed time step.
+        /// \[T\] fixed time step.
         dt: Option<f64> {
             default: [absent "adaptive: the CFL limit, eq. (19), with the force and viscous limits"],
             paper: [from "0.05 h / c (`paper_exact::DT_FRACTION`), c the largest sound speed, fluid or solid: eq. (19) asks dt < h / c, and forward Euler grows every undamped oscillation (docs/reference/paper-scenes.md)"],
@@ -307,7 +317,7 @@ table! {
             check: [Any],
             param: [p.integrator],
         },
-        /// [T] the moments the paper's figures show, ascending (`meshfree render
+        /// \[T\] the moments the paper's figures show, ascending (`meshfree render
         /// --figures`); they may lie past `end` (a shortened run renders those it reaches).
         figures: Vec<f64> {
             default: [Vec::new(), "none: `render --figures` then draws five even moments"],
@@ -531,7 +541,7 @@ table! {
             check: [NonNegative],
             param: [p.lj_c0],
         },
-        /// [L] r0 of eq. (17).
+        /// \[L\] r0 of eq. (17).
         r0: Option<f64> {
             default: [absent "the spacing dx"],
             paper: [scene "the paper does not give r0"],

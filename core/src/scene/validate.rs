@@ -162,7 +162,7 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
     crate::scene::scheme::validate(s).map_err(|(field, reason)| c.err(field, reason))?;
 
     let d = &s.discretisation;
-    let h = d.h_factor * d.spacing;
+    let h = d.h();
     if let Some(p) = &s.domain.periodic {
         for (a, &on) in p.iter().enumerate() {
             let len = s.domain.max[a] - s.domain.min[a];
@@ -498,7 +498,7 @@ fn sizes(c: &Ctx, s: &SceneFile) -> R {
                  spacing = {} on each axis), more than the {:.3e} it can index: a larger \
                  spacing or h_factor, or a smaller domain",
                 e.cells,
-                fmt(d.h_factor * d.spacing),
+                fmt(d.h()),
                 super::estimate::MAX_CELLS
             ),
         ));
@@ -536,7 +536,7 @@ pub const MIN_STEP_FRACTION: f64 = 1e-9;
 /// number of steps.
 fn time_step(c: &Ctx, s: &SceneFile) -> R {
     let end = s.time.end;
-    let h = s.discretisation.h_factor * s.discretisation.spacing; // [L]
+    let h = s.discretisation.h(); // [L]
     let (dt, field, what) = if let Some(dt) = s.time.dt {
         (dt, "time.dt", format!("the fixed time step {dt}"))
     } else {

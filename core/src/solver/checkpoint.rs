@@ -76,19 +76,19 @@ struct Layout<'a> {
 pub struct SolverCheckpoint {
     /// 2 or 3.
     pub dim: u32,
-    /// [T] the simulated time.
+    /// \[T\] the simulated time.
     pub time: f64,
     /// Steps taken.
     pub steps: u64,
-    /// [T] the last step's size (0 before the first).
+    /// \[T\] the last step's size (0 before the first).
     pub dt: f32,
     pub id: Vec<u32>,
     /// `Kind` codes.
     pub kind: Vec<u8>,
     pub group: Vec<u32>,
-    /// [M]
+    /// \[M\]
     pub mass: Vec<f32>,
-    /// [L]
+    /// \[L\]
     pub pos: Vec<[f32; 3]>,
     /// [L/T]
     pub vel: Vec<[f32; 3]>,
@@ -101,14 +101,14 @@ pub struct SolverCheckpoint {
     pub stress: Vec<[f32; 6]>,
     /// [M L^-d] the solids' rho - rho0_s (`SolidState::rho_dev`); empty without solids.
     pub rho_dev: Vec<f32>,
-    /// [L] the total-Lagrangian displacements u = x - X0, in solid space (the reference's
+    /// \[L\] the total-Lagrangian displacements u = x - X0, in solid space (the reference's
     /// order, not the storage's); empty under the Jaumann rate.
     pub tl_disp: Vec<[f32; 3]>,
 }
 
 impl SolverCheckpoint {
-    /// The checkpoint of `state` (storage order) at the clock `time` [T] after `steps`
-    /// steps, the last of size `dt` [T], with the total-Lagrangian displacements `tl_disp`
+    /// The checkpoint of `state` (storage order) at the clock `time` \[T\] after `steps`
+    /// steps, the last of size `dt` \[T\], with the total-Lagrangian displacements `tl_disp`
     /// (empty where there are none).
     pub fn of_state<D: Dim>(
         state: &State<D>,

@@ -103,7 +103,7 @@ impl Fields {
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct FrameData {
     pub step: u64,
-    /// [T]
+    /// \[T\]
     pub time: f64,
     /// The number of particles.
     pub len: usize,

@@ -34,7 +34,7 @@ pub struct Setup {
     pub particles: Vec<Particle>,
     /// Per boundary particle, at index id - `params.wall_first_id`: the unit normal of the
     /// nearest wall surface, pointing into the fluid (x, y, z; z = 0 in 2D) [-], and the
-    /// particle's distance behind that surface d_B [L]. Only for `params.no_slip` (Morris,
+    /// particle's distance behind that surface d_B \[L\]. Only for `params.no_slip` (Morris,
     /// Fox & Zhu 1997); empty otherwise. One entry per boundary particle, none per fluid
     /// particle.
     pub wall_surface: Vec<[f32; 4]>,

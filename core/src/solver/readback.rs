@@ -12,9 +12,9 @@ use crate::solver::{Shown, Snapshot};
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 pub struct Diagnostics {
     pub step: u64,
-    /// [T]
+    /// \[T\]
     pub time: f64,
-    /// [T] the last step's size.
+    /// \[T\] the last step's size.
     pub dt: f32,
     /// [M L^2 T^-2] sum of m v^2 / 2 over fluid and solid particles.
     pub kinetic_energy: f64,
@@ -40,12 +40,12 @@ pub struct ExchangeCost {
     pub particles: u64,
     /// Halo bytes received (what a transport between GPUs carries), summed likewise.
     pub bytes: u64,
-    /// [s] wall time of the slowest rank in halo fills and step-size agreement (waits for
+    /// \[s\] wall time of the slowest rank in halo fills and step-size agreement (waits for
     /// the GPU's queued work and for the other ranks included).
     pub seconds: f64,
     /// Device memory the ranks hold now, spare capacity for halos included (0 on the CPU).
     pub device_bytes: u64,
-    /// [s] of `seconds`, the slowest rank's time in the transport's exchange itself.
+    /// \[s\] of `seconds`, the slowest rank's time in the transport's exchange itself.
     pub transfer_seconds: f64,
 }
 
@@ -91,7 +91,7 @@ pub trait Readback {
     /// at once where the backend can copy in the background (CUDA), and the frame's `wait`
     /// delivers it in storage order with the ids.
     fn capture(&mut self, fields: Fields) -> Box<dyn PendingFrame>;
-    /// Pressure, velocity, density and the fluid's colour at each of `points` [L] (z
+    /// Pressure, velocity, density and the fluid's colour at each of `points` \[L\] (z
     /// ignored in 2D), kernel-interpolated on the device with Shepard normalisation
     /// (`PointSample`), over fluid particles and, where `include_walls`, the wall
     /// particles too; `out` gets one sample per point, in order. Nothing per particle is

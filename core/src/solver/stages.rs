@@ -176,7 +176,7 @@ pub trait Solver: Readback + Persist + Send {
         }
     }
 
-    /// Simulated time [T] (a read-back on the GPU).
+    /// Simulated time \[T\] (a read-back on the GPU).
     fn time(&mut self) -> f64;
     fn steps(&self) -> u64;
     /// The first particle with non-finite values, a density out of the sane range, or

@@ -29,13 +29,13 @@ pub const MAX_BATCH: u64 = 32;
 /// collapsed by a huge viscosity or acceleration), not a slow one.
 pub const DT_FLOOR: f64 = 1e-12;
 
-/// Whether the clock `t` [T] has reached `target` [T]: within a relative 1e-9, so that a
+/// Whether the clock `t` \[T\] has reached `target` \[T\]: within a relative 1e-9, so that a
 /// fixed step that lands on an output time by rounding counts as there.
 pub fn reached(t: f64, target: f64) -> bool {
     t >= target - 1e-9 * target.abs()
 }
 
-/// A scene's removable walls, (group, opening time [T]), opened in time order.
+/// A scene's removable walls, (group, opening time \[T\]), opened in time order.
 #[derive(Clone, Debug, Default)]
 pub struct Gates {
     pending: Vec<(u32, f64)>,
@@ -137,11 +137,11 @@ pub struct Batch {
 /// gates and sizes its batches as the saved run would have.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StepperState {
-    /// The gates not yet opened: (group, opening time [T]).
+    /// The gates not yet opened: (group, opening time \[T\]).
     pub pending_gates: Vec<(u32, f64)>,
-    /// [T] mean dt of the last batch (0: none yet).
+    /// \[T\] mean dt of the last batch (0: none yet).
     pub dt_estimate: f64,
-    /// [s] wall time spent stepping so far.
+    /// \[s\] wall time spent stepping so far.
     pub stepping_seconds: f64,
 }
 
@@ -169,7 +169,7 @@ impl Stepper {
     }
 
     /// The same, stopping with a fault when a batch's mean step falls under `DT_FLOOR` of
-    /// the end time `t_end` [T].
+    /// the end time `t_end` \[T\].
     pub fn with_end(mut self, t_end: f64) -> Stepper {
         self.dt_floor = DT_FLOOR * t_end;
         self
@@ -205,13 +205,13 @@ impl Stepper {
         opened
     }
 
-    /// [s] wall time spent stepping so far (gates, steps and health checks; the clock read
+    /// \[s\] wall time spent stepping so far (gates, steps and health checks; the clock read
     /// included).
     pub fn stepping_seconds(&self) -> f64 {
         self.stepping_seconds
     }
 
-    /// One batch towards the event at `t_event` [T], of at most `max_steps` steps (at least
+    /// One batch towards the event at `t_event` \[T\], of at most `max_steps` steps (at least
     /// one step unless `max_steps` is 0). See the module docs.
     pub fn batch(
         &mut self,
@@ -258,7 +258,7 @@ impl Stepper {
         Ok(Batch { steps: n, opened })
     }
 
-    /// Step until the clock reaches `t_end` [T] (the last step may pass it by less than one
+    /// Step until the clock reaches `t_end` \[T\] (the last step may pass it by less than one
     /// dt), then check the particles' health.
     pub fn advance_to(&mut self, solver: &mut dyn Solver, t_end: f64) -> Result<(), Fault> {
         while !reached(solver.time(), t_end) {

@@ -97,7 +97,7 @@ fn viscosity_variant(case: &str) -> Variant {
     } else {
         Variant::new("artificial viscosity", |s| {
             let f = &mut s.file;
-            let h = f.discretisation.h_factor * f.discretisation.spacing;
+            let h = f.discretisation.h();
             f.fluid.alpha = 8.0 * f.fluid.viscosity / (h * f.fluid.sound_speed);
             f.fluid.viscosity = 0.0;
         })

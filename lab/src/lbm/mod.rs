@@ -99,7 +99,7 @@ pub struct Lattice {
 }
 
 impl Lattice {
-    /// At rest at density 1, kinematic viscosity `nu` [lattice], the cells whose centre
+    /// At rest at density 1, kinematic viscosity `nu` \[lattice\], the cells whose centre
     /// satisfies `inside` solid.
     pub fn new(nx: usize, ny: usize, nu: f64, inside: impl Fn([f64; 2]) -> bool) -> Lattice {
         let tau_plus = 3.0 * nu + 0.5;

@@ -16,21 +16,21 @@ use meshfree_core::measure::monitor::ForceSample;
 pub struct Street {
     pub name: &'static str,
     pub re: f64,
-    /// [L] the periodic box, x along the flow.
+    /// \[L\] the periodic box, x along the flow.
     pub length: f64,
     pub height: f64,
-    /// [L] the cylinder's diameter and centre.
+    /// \[L\] the cylinder's diameter and centre.
     pub diameter: f64,
     pub centre: [f64; 2],
-    /// [L] the inflow band: cells with centre x in [band.0, band.1).
+    /// \[L\] the inflow band: cells with centre x in [band.0, band.1).
     pub band: (f64, f64),
     /// [L/T] the band's velocity (along x).
     pub u: f64,
-    /// [T] the start's ramp (0: impulsive).
+    /// \[T\] the start's ramp (0: impulsive).
     pub ramp: f64,
-    /// [T] the end of the run.
+    /// \[T\] the end of the run.
     pub t_end: f64,
-    /// [T] the force record's interval.
+    /// \[T\] the force record's interval.
     pub sample: f64,
 }
 
@@ -38,7 +38,7 @@ pub struct Street {
 /// usual choice for cylinder benchmarks (Krueger et al. 2017); its compressibility error
 /// (~Ma^2) is measured against 0.05 in docs/journal/2026-11-28-street-reference.md.
 pub const U_LATTICE: f64 = 0.1;
-/// [U] The seed of the shedding: a cross-flow velocity of this peak given once, at the end
+/// \[U\] The seed of the shedding: a cross-flow velocity of this peak given once, at the end
 /// of the ramp, in a Gaussian exp(-r^2 / w^2) of width w = D / 4 one diameter behind the
 /// cylinder's rear (where `validate::cylinder::kick` puts its own, of width D / 2). The
 /// lattice's mirror-symmetric start would otherwise wait for round-off to break the
@@ -101,7 +101,7 @@ pub struct StreetRun {
     pub d_cells: usize,
     pub nx: usize,
     pub ny: usize,
-    /// [L] the box as the lattice holds it (nx and ny are rounded to whole cells).
+    /// \[L\] the box as the lattice holds it (nx and ny are rounded to whole cells).
     pub length: f64,
     pub height: f64,
     pub steps: usize,

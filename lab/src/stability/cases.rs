@@ -58,7 +58,7 @@ max = [{STRIP_LEN}, 0.2]
     )
 }
 
-/// [L] the strip's length and [T] how long it is followed.
+/// \[L\] the strip's length and \[T\] how long it is followed.
 pub const STRIP_LEN: f64 = 1.0;
 pub const STRIP_END: f64 = 0.3;
 /// [L/T] the end speed of the initial stretch (5 % of the bulk sound speed).
@@ -72,7 +72,7 @@ pub fn stretch(particles: &mut [Particle]) {
     }
 }
 
-/// (smallest, largest) nearest-neighbour distance [L] among the solid particles.
+/// (smallest, largest) nearest-neighbour distance \[L\] among the solid particles.
 pub fn nearest_neighbour_range(ps: &[Particle]) -> (f32, f32) {
     let s: Vec<[f32; 3]> = ps
         .iter()

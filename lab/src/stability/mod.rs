@@ -59,7 +59,7 @@ pub struct Cell {
     /// The error measure (none after a blow-up).
     pub error: Option<f64>,
     pub tolerance: f64,
-    /// [T] simulated time of the blow-up.
+    /// \[T\] simulated time of the blow-up.
     pub blow_up_time: Option<f64>,
     /// The fault, as `Fault` prints it.
     pub fault: Option<String>,
@@ -71,7 +71,7 @@ pub struct Cell {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct MapResult {
     pub def: MapDef,
-    /// [L] the base scene's spacing.
+    /// \[L\] the base scene's spacing.
     pub spacing: f64,
     /// What `error` measures.
     pub error_measure: String,

@@ -49,7 +49,7 @@ const LATE_FROM_UD: f64 = 90.0;
 const SHEDDING_MIN: f64 = 0.05;
 const STEADY_RATIO_MAX: f64 = 0.5;
 
-/// The envelope of `x(t)`: over consecutive windows of length `width` from t[0], the
+/// The envelope of `x(t)`: over consecutive windows of length `width` from `t[0]`, the
 /// amplitude sqrt 2 x rms about the window's mean, as (window centre, amplitude); windows
 /// with fewer than 4 samples are left out. With `width` one period of the oscillation the
 /// amplitude of a sinusoid comes out whatever its phase; SPH force noise that crosses zero

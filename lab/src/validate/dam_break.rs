@@ -102,7 +102,7 @@ remove_at = 0.0
 /// (docs/reference/accuracy.md, "Dam-break fronts run ahead of the experiments").
 pub const FRONT_DEPTH: f64 = 0.03;
 
-/// The water depth d(x) [L] over the floor, from the fluid particles: the fluid fraction
+/// The water depth d(x) \[L\] over the floor, from the fluid particles: the fluid fraction
 /// phi = sum_j V_j W(x - x_j) (V_j = m_j / rho_j [L^d], W the run's kernel [L^-d],
 /// `kernel::w`) integrated along the vertical, d(x) = sum_j V_j K(x - x_j) with
 /// K(s) = integral of W(sqrt(s^2 + t^2)) dt [L^-1] (2D; tabulated once). A layer of depth D
@@ -165,7 +165,7 @@ impl Depth {
         self.table[i] * (1.0 - f) + self.table[i + 1] * f
     }
 
-    /// d(x) [L].
+    /// d(x) \[L\].
     pub fn at(&self, x: f64) -> f64 {
         let k = (x / self.support).floor().max(0.0) as usize;
         let bins = self
@@ -179,9 +179,9 @@ impl Depth {
     }
 }
 
-/// The surge front [L]: going from the back wall x = 0 along the floor in steps of dx / 4,
+/// The surge front \[L\]: going from the back wall x = 0 along the floor in steps of dx / 4,
 /// past any dry strip at the wall, the first x where the water depth (`Depth`) falls below
-/// `min_depth` [L] (interpolated linearly), as DualSPHysics' gauge reads the first change
+/// `min_depth` \[L\] (interpolated linearly), as DualSPHysics' gauge reads the first change
 /// from water to none; a drop or a sheet thinner than `min_depth` ahead of the water is not
 /// the front. 0 where no water is that deep.
 pub fn surge_front(p: &SphParams, ps: &[Particle], min_depth: f64) -> f64 {
@@ -227,12 +227,12 @@ fn in_domain(p: &SphParams, q: &Particle) -> bool {
     (0..2).all(|a| q.position[a] >= p.domain_min[a] && q.position[a] <= p.domain_max[a])
 }
 
-/// [1] The fluid fraction below which the back wall's gauge counts the wall as dry
+/// \[1\] The fluid fraction below which the back wall's gauge counts the wall as dry
 /// (`wall_height`). One column of particles standing against the wall, the sparsest water
 /// the wall can have, reads 0.44-0.54 there; no water within the support reads 0.
 pub const WALL_DRY: f64 = 0.25;
 
-/// The water height [L] at the back wall x = 0 (the floor at y = 0): the free surface of the
+/// The water height \[L\] at the back wall x = 0 (the floor at y = 0): the free surface of the
 /// column standing on the floor there, read by a kernel gauge. The fluid fraction at (0, y),
 /// phi(y) = sum_j V_j [W(x_j, y - y_j) + W(-x_j, y - y_j) + W(x_j, y + y_j) + W(-x_j, y + y_j)]
 /// with V_j = m_j / rho_j [L^d] and W the run's kernel [L^-d] (`kernel::w`), the fluid mirrored
@@ -283,7 +283,7 @@ pub fn wall_height(p: &SphParams, ps: &[Particle], dx: f64) -> f64 {
     top
 }
 
-/// phi(y) of `wall_height`: the fluid fraction [1] at (0, y), the fluid mirrored across the
+/// phi(y) of `wall_height`: the fluid fraction \[1\] at (0, y), the fluid mirrored across the
 /// back wall x = 0 and the floor y = 0.
 pub fn wall_fraction(p: &SphParams, ps: &[Particle]) -> impl Fn(f64) -> f64 {
     let support = (2.0 * p.h) as f64;

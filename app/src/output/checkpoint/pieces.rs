@@ -19,7 +19,7 @@ use super::{read_file, write, write_file};
 pub struct PieceList {
     /// The slabs' axis (0: x, 1: y, 2: z).
     pub axis: usize,
-    /// [L] the cuts between neighbouring ranks' slabs, ranks - 1 of them (the outer slabs
+    /// \[L\] the cuts between neighbouring ranks' slabs, ranks - 1 of them (the outer slabs
     /// reach to -inf and +inf).
     pub cuts: Vec<f32>,
     /// Each rank's piece, in rank order.

@@ -69,7 +69,7 @@ impl Grid {
     }
 
     /// Call `f(j, r_ij, r_ij^2)` for every particle j (i itself included) within the
-    /// support radius of position `xi`, in the order of [`rows`].
+    /// support radius of position `xi`, in the order of `rows`.
     #[inline]
     pub fn for_each_neighbor<D: Dim>(
         &self,

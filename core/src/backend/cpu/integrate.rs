@@ -89,7 +89,7 @@ pub fn ramp_share(p: &SphParams, t: f64) -> f64 {
 }
 
 /// The ramp's shape alone [-]: (1 - cos(pi t / T_r)) / 2 for 0 <= t < T_r, 0 before, 1 after,
-/// and 1 for T_r <= 0 (no ramp), at time t [T] of a ramp T_r [T] (`ramp_share`; the lattice
+/// and 1 for T_r <= 0 (no ramp), at time t \[T\] of a ramp T_r \[T\] (`ramp_share`; the lattice
 /// Boltzmann reference's band, `lab/src/lbm/street.rs`).
 #[inline]
 pub fn smooth_ramp(tr: f64, t: f64) -> f64 {

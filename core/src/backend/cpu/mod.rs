@@ -126,7 +126,7 @@ impl<D: Dim> CpuSolver<D> {
         self.grid_stale = false;
     }
 
-    /// The step size of the last `time_step` [T].
+    /// The step size of the last `time_step` \[T\].
     pub fn dt(&self) -> f32 {
         self.dt
     }

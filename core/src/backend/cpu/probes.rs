@@ -34,7 +34,7 @@ pub struct PointSum {
 }
 
 impl PointSum {
-    /// Add neighbour j of kind `kind` at distance `r` [L] with mass `m` [M], density `rho`,
+    /// Add neighbour j of kind `kind` at distance `r` \[L\] with mass `m` \[M\], density `rho`,
     /// velocity `v` (D components used); walls enter only where `walls`.
     #[inline]
     #[allow(clippy::too_many_arguments)]

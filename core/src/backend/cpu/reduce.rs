@@ -16,7 +16,7 @@ use crate::physics::particle::Kind;
 use crate::physics::state::State;
 use crate::solver::Diagnostics;
 
-/// The step size [T] from the largest speed [L/T], acceleration [L/T^2] and sound speed:
+/// The step size \[T\] from the largest speed \[L/T\], acceleration \[L/T^2\] and sound speed:
 /// courant * min(h / (c + |v|max), sqrt(h / |a|max)), and `MF_VISCOUS_DT` h^2 / nu (0.125)
 /// with laminar viscosity; eq. (19) is the first bound. A fixed dt overrides all.
 pub fn step_size(p: &SphParams, c_max: f32, v_max: f32, a_max: f32) -> f32 {

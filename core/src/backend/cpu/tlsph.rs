@@ -23,7 +23,7 @@ pub struct TlBodies<D: Dim> {
     pub reference: Reference<D>,
     /// Solid index -> storage slot, rebuilt after every reorder (`NONE`: removed).
     pub slot: Vec<u32>,
-    /// [L] u = x - X0, advanced with the position in the drift.
+    /// \[L\] u = x - X0, advanced with the position in the drift.
     pub disp: Vec<D::V>,
     /// [-] H = F - I of the last stress stage.
     pub grad_u: Vec<D::M>,
@@ -46,7 +46,7 @@ impl<D: Dim> TlBodies<D> {
         }
     }
 
-    /// slot[a] = the storage slot of solid a (`NONE` where it is gone), from the ids.
+    /// `slot[a]` = the storage slot of solid a (`NONE` where it is gone), from the ids.
     pub fn map_slots(&mut self, s: &State<D>) {
         self.slot.fill(NONE);
         let index = &self.reference.index_of_id;
@@ -196,7 +196,7 @@ impl<D: Dim> TlBodies<D> {
 
     /// u += dt (v + xsph), or dt times the driven group's velocity: what the drift adds to
     /// the position (`integrate::drift`), with the velocity the drift takes (the new one in
-    /// the symplectic Euler, the old one in the forward Euler). [L]
+    /// the symplectic Euler, the old one in the forward Euler). \[L\]
     pub fn drift(&mut self, p: &SphParams, dt: f32, s: &State<D>) {
         let slot = &self.slot;
         self.disp.par_iter_mut().enumerate().for_each(|(a, u)| {

@@ -555,13 +555,16 @@ pub fn grid_scratch<'a>(
     cap: usize,
     n_cells: usize,
 ) -> (CudaViewMut<'a, u32>, CudaViewMut<'a, u32>) {
-    // SAFETY (both views): u32 and f32 have one size and every bit pattern is a valid u32;
-    // the grid kernels write these words before they read them (scatter: order; scan:
-    // local), and the stages that own acc and xsph write them whole before reading them.
+    // SAFETY: `transmute_mut` asks only that the memory be valid as the new type (it checks
+    // the length: None past the buffer): u32 and f32 have one size and alignment, and every
+    // bit pattern is a valid u32; the grid kernels write these words before they read them
+    // (the scatter: order), and the stages that own acc write it whole before reading it.
     let order =
         unsafe { acc.transmute_mut::<u32>(cap.max(1)) }.expect("acc holds 2 or 4 words a particle");
     let local = match local {
         Some(l) => l.slice_mut(..),
+        // SAFETY: as for `order`: the scan writes its cell starts before reading them, and
+        // the rates pass writes xsph whole before the drift reads it.
         None => unsafe { xsph.transmute_mut::<u32>(n_cells + 1) }
             .expect("local_fits: xsph holds the cell starts"),
     };

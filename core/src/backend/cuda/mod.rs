@@ -343,7 +343,7 @@ impl<D: Dim> CudaSolver<D> {
         self.buf.handover.holds(Mark::Stamped, By::Solver)
     }
 
-    /// The step size of the last `time_step` [T] (read back).
+    /// The step size of the last `time_step` \[T\] (read back).
     pub fn dt(&mut self) -> f32 {
         launch::settle_step_size(&self.k, &self.dev.stream, &self.params, &mut self.buf);
         self.d2h += 4;
@@ -399,7 +399,7 @@ impl<D: Dim> CudaSolver<D> {
         }
     }
 
-    /// Device memory held by this solver's arrays [bytes].
+    /// Device memory held by this solver's arrays \[bytes\].
     pub fn device_bytes(&self) -> usize {
         self.buf.bytes
     }

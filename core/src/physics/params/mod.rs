@@ -78,7 +78,7 @@ impl SphParams {
         }
     }
 
-    /// Whether this solver owns a particle whose coordinate on the `own_axis` is `c` [L]:
+    /// Whether this solver owns a particle whose coordinate on the `own_axis` is `c` \[L\]:
     /// always in one domain; in a subdomain of a decomposed run (`own_slab`,
     /// `crate::exchange`) where own_lo <= c < own_hi, so that the reductions that must count
     /// each particle once (the step size's extremes, the wall forces) skip the halo.

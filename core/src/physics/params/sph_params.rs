@@ -6,6 +6,9 @@
     non_camel_case_types,
     non_snake_case,
     dead_code,
-    clippy::all
+    clippy::all,
+    // The header's comments are C's: its units ([L]) and subscripts (x[own_axis]) are no
+    // links.
+    rustdoc::broken_intra_doc_links
 )]
 include!(concat!(env!("OUT_DIR"), "/sph_params.rs"));

@@ -55,7 +55,7 @@ pub fn basis<D: Dim>(s: D::V) -> [f32; Q_MAX] {
     p
 }
 
-/// C_a of one solid particle: its Q columns of d components, [L].
+/// C_a of one solid particle: its Q columns of d components, \[L\].
 pub type Corr<D> = [<D as Dim>::V; Q_MAX];
 
 /// C p: the sum of column m times p_m.

@@ -8,7 +8,7 @@
 //!
 //! The solid particles live in a fixed *solid space*: index a = their rank by id, whatever
 //! the storage order (which the grid re-sorts every step). Per solid particle: the reference
-//! position X0_a [L], the reference volume V0_a = m_a / rho0_s [L^d], the correction C_a of
+//! position X0_a \[L\], the reference volume V0_a = m_a / rho0_s \[L^d\], the correction C_a of
 //! its reference gradient (`gradient`: consistent to second order, so that the gradient
 //! sum_b (f_b - f_a) (x) g_ab with g_ab = V0_b w_ab C_a p(s_ab) is exact for a quadratic
 //! field f, the body's faces included; Bonet & Lok's L_a = M_a^-T in the interior), and its
@@ -61,11 +61,11 @@ pub struct Reference<D: Dim> {
     pub id: Vec<u32>,
     /// Particle id -> solid index (`NONE` for other particles); as long as the largest id + 1.
     pub index_of_id: Vec<u32>,
-    /// [L] X0.
+    /// \[L\] X0.
     pub x0: Vec<D::V>,
     /// [L^d] V0 = m / rho0_s.
     pub vol: Vec<f32>,
-    /// [L] C_a, the second-order correction of the reference gradient (`gradient`).
+    /// \[L\] C_a, the second-order correction of the reference gradient (`gradient`).
     pub corr: Vec<Corr<D>>,
     /// [-] omega_a / V0_a, the weight of a's strain energy over its volume (`quadrature`).
     pub quad: Vec<f32>,
@@ -248,7 +248,7 @@ impl<D: Dim> Reference<D> {
 /// A point of a clamp's face: where the clamp holds the body at the clamp's displacement.
 #[derive(Clone, Copy, Debug)]
 pub struct Face<D: Dim> {
-    /// [L] its reference position: the midpoint of a clamp particle and a body particle that
+    /// \[L\] its reference position: the midpoint of a clamp particle and a body particle that
     /// face each other (across a periodic seam: on the body particle's side, maybe just
     /// outside the domain).
     pub x: D::V,
@@ -262,7 +262,7 @@ pub struct Face<D: Dim> {
 /// (a, m) (`TlBodies::forces`).
 #[derive(Clone, Copy, Debug)]
 pub struct FacePair<D: Dim> {
-    /// [L] X0_m.
+    /// \[L\] X0_m.
     pub x0: D::V,
     /// [L^d] V_m, its weight in a's fit (`Face::vol`).
     pub vol: f32,
@@ -396,7 +396,7 @@ pub fn svk<D: Dim>(m: &Material, rho0: f32, h: D::M) -> SolidStress<D::M> {
 /// Ganzenmueller 2015's hourglass control, eq. (10) as TrixiParticles writes it: the
 /// acceleration [L/T^2] of a from the pair (a, b) that pushes the pair's separation towards
 /// the one the deformation gradients predict. `x0_ab` = X0_a - X0_b, `x_ab` = x_a - x_b
-/// (current), `eps` the error of the separation [L] (`pair_error`; for a face pair,
+/// (current), `eps` the error of the separation \[L\] (`pair_error`; for a face pair,
 /// `TlBodies::forces`): delta = eps . x_ab / |x_ab|,
 /// a_a = (alpha / 2) (V0_b / rho0) W0_ab / |X0_ab|^2 E delta x_ab / |x_ab|.
 #[inline]
@@ -420,7 +420,7 @@ pub fn hourglass<D: Dim>(
 }
 
 /// The error of a body pair's separation, Ganzenmueller 2015's
-/// eps = (F_a + F_b) X0_ab - 2 x_ab = (H_a + H_b) X0_ab - 2 u_ab [L] (in displacements for
+/// eps = (F_a + F_b) X0_ab - 2 x_ab = (H_a + H_b) X0_ab - 2 u_ab \[L\] (in displacements for
 /// f32; `u_ab` = u_a - u_b, `h_a`, `h_b` the displacement gradients): zero for a quadratic
 /// field under gradients exact for it (the trapezoidal rule).
 #[inline]

@@ -66,9 +66,9 @@ pub fn select(
     b.scratch(s)?;
     let (pos, x) = (&b.cur.pos, b.scratch.as_mut().expect("allocated above"));
     let n32 = n as u32;
+    let km = k.get(Family::ExchangeMark);
     // SAFETY: the arguments of `Family::ExchangeMark` (kernels.rs); pos holds n vectors,
     // mark n + 1 words (`Scratch` has cap + 1 >= n + 1); grid of n + 1 threads.
-    let km = k.get(Family::ExchangeMark);
     km.check(unsafe {
         s.launch_builder(&km.f)
             .arg(p)
@@ -98,9 +98,9 @@ pub fn select(
         &mut x.local.slice_mut(..),
         &mut x.bsum,
     );
+    let kc = k.get(Family::ExchangeTotal);
     // SAFETY: the arguments of `Family::ExchangeTotal`; local holds n + 1 entries, bsum
     // n / MF_SCAN_CELLS + 1, total 1; one thread.
-    let kc = k.get(Family::ExchangeTotal);
     kc.check(unsafe {
         s.launch_builder(&kc.f)
             .arg(&n32)
@@ -119,10 +119,6 @@ pub fn pack(k: &Kernels, s: &Arc<CudaStream>, b: &Buffers, words: usize, out: &m
     let x = b.scratch.as_ref().expect("pack follows a select");
     let (n, w) = (b.n as u32, words as u32);
     let c = &b.cur;
-    // SAFETY: the arguments of `Family::ExchangePack`; mark, local and bsum of the `select`
-    // of these n particles (nothing moved them since); the persistent arrays hold n
-    // particles (stress planes n apart; stress and rho_dev null without solids, and then
-    // `words` leaves their words out); out holds (marked count) x words.
     let kp = k.get(Family::ExchangePack);
     let mut l = s.launch_builder(&kp.f);
     l.arg(&n)
@@ -140,6 +136,10 @@ pub fn pack(k: &Kernels, s: &Arc<CudaStream>, b: &Buffers, words: usize, out: &m
     opt!(l, &c.stress);
     opt!(l, &c.rho_dev);
     l.arg(out);
+    // SAFETY: the arguments of `Family::ExchangePack`; mark, local and bsum of the `select`
+    // of these n particles (nothing moved them since); the persistent arrays hold n
+    // particles (stress planes n apart; stress and rho_dev null without solids, and then
+    // `words` leaves their words out); out holds (marked count) x words.
     kp.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
 }
 
@@ -163,9 +163,9 @@ pub fn unpack(
     let planes = planes as u32;
     if let (Some(src), Some(dst)) = (&b.cur.stress, &mut b.alt.stress) {
         let (a, z) = (n0 as u32, n1 as u32);
+        let kr = k.get(Family::ExchangeRestride);
         // SAFETY: the arguments of `Family::ExchangeRestride`; src holds planes x n0 floats
         // and dst planes x n1 (both planes x cap); grid of n0 threads.
-        let kr = k.get(Family::ExchangeRestride);
         kr.check(unsafe {
             s.launch_builder(&kr.f)
                 .arg(&a)
@@ -185,10 +185,6 @@ pub fn unpack(
         }
         let m32 = m as u32;
         let c = &mut b.cur;
-        // SAFETY: the arguments of `Family::ExchangeUnpack`; `in` holds m records of
-        // `words` words; slots base .. base + m <= n1 <= cap of every persistent array;
-        // the stress (when held) is the other set's, re-laid above with planes n1 apart,
-        // and rho_dev null exactly where stress is.
         let mut l = s.launch_builder(&ku.f);
         l.arg(&m32)
             .arg(&base)
@@ -204,6 +200,10 @@ pub fn unpack(
             .arg(&mut c.p);
         opt!(l, &mut b.alt.stress);
         opt!(l, &mut c.rho_dev);
+        // SAFETY: the arguments of `Family::ExchangeUnpack`; `in` holds m records of
+        // `words` words; slots base .. base + m <= n1 <= cap of every persistent array;
+        // the stress (when held) is the other set's, re-laid above with planes n1 apart,
+        // and rho_dev null exactly where stress is.
         ku.check(unsafe { l.launch(cfg(m)).map(|_| ()) });
         base += m32;
     }
@@ -218,10 +218,6 @@ pub fn compact(k: &Kernels, s: &Arc<CudaStream>, b: &mut Buffers, kept: usize) {
     let x = b.scratch.as_ref().expect("compact follows a select");
     let (n, kept32) = (b.n as u32, kept as u32);
     let (c, a) = (&b.cur, &mut b.alt);
-    // SAFETY: the arguments of `Family::ExchangeCompact` (the nine persistent arrays of
-    // `cur`, n particles with stress planes n apart, then the same nine of `alt`, which
-    // receives `kept` <= n with planes kept apart); mark, local and bsum of the `select` of
-    // these n particles; stress and rho_dev null in both sets or in neither.
     let kc = k.get(Family::ExchangeCompact);
     let mut l = s.launch_builder(&kc.f);
     l.arg(&n)
@@ -247,6 +243,10 @@ pub fn compact(k: &Kernels, s: &Arc<CudaStream>, b: &mut Buffers, kept: usize) {
         .arg(&mut a.p);
     opt!(l, &mut a.stress);
     opt!(l, &mut a.rho_dev);
+    // SAFETY: the arguments of `Family::ExchangeCompact` (the nine persistent arrays of
+    // `cur`, n particles with stress planes n apart, then the same nine of `alt`, which
+    // receives `kept` <= n with planes kept apart); mark, local and bsum of the `select` of
+    // these n particles; stress and rho_dev null in both sets or in neither.
     kc.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
     std::mem::swap(&mut b.cur, &mut b.alt);
     b.swapped = !b.swapped;

@@ -27,13 +27,13 @@ pub(super) fn scan(
     bsum: &mut CudaSlice<u32>,
 ) {
     let nb = n_scan.div_ceil(MF_SCAN_CELLS);
-    // SAFETY: the arguments of `Family::ScanLocal` (or `ScanOne`, the same), over n_scan
-    // entries; grid of nb blocks (ScanOne: one, for nb = 2) of MF_SCAN_BLOCK; input and
-    // local hold n_scan entries, bsum nb (the caller's word).
     let (ks, blocks) = match nb {
         2 => (k.get(Family::ScanOne), 1),
         _ => (k.get(Family::ScanLocal), nb),
     };
+    // SAFETY: the arguments of `Family::ScanLocal` (or `ScanOne`, the same), over n_scan
+    // entries; grid of nb blocks (ScanOne: one, for nb = 2) of MF_SCAN_BLOCK; input and
+    // local hold n_scan entries, bsum nb (the caller's word).
     ks.check(unsafe {
         s.launch_builder(&ks.f)
             .arg(&n_scan)
@@ -50,9 +50,9 @@ pub(super) fn scan(
     if nb <= 2 {
         return;
     }
+    let kt = k.get(Family::ScanTop);
     // SAFETY: the arguments of `Family::ScanTop` over nb block totals; one block of
     // MF_SCAN_BLOCK.
-    let kt = k.get(Family::ScanTop);
     kt.check(unsafe {
         s.launch_builder(&kt.f)
             .arg(&nb)
@@ -86,11 +86,12 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
         return;
     }
     // Cells and counts: already filed by the last drift from the positions it wrote, else
-    // here. SAFETY: the arguments of `Family::GridHist` (kernels.rs); pos holds n vectors,
-    // cell n, count n_cells + 1 (zero: counted down by the last scatter, cleared by
-    // write_state or at allocation).
+    // here.
     if !b.handover.take(Mark::CellsFiled, By::GridBuild) {
         let kh = k.get(Family::GridHist);
+        // SAFETY: the arguments of `Family::GridHist` (kernels.rs); pos holds n vectors,
+        // cell n, count n_cells + 1 (zero: counted down by the last scatter, cleared by
+        // write_state or at allocation).
         kh.check(unsafe {
             s.launch_builder(&kh.f)
                 .arg(p)
@@ -114,10 +115,10 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     b.handover.leave(Mark::Stamped, stamped, By::GridBuild);
     let mut stamp = b.stamp.as_mut().filter(|_| stamped);
     let mut epoch = stamp.as_mut().map(|st| st.slice_mut(b.n_cells..));
+    let kc = k.get(Family::GridScatter);
     // SAFETY: the arguments of `Family::GridScatter`; cell and order hold n entries, red 3
     // (zeroed: the step size's maxima, which no pass holds during a grid build); epoch null
     // or the last byte of `stamp` (advanced).
-    let kc = k.get(Family::GridScatter);
     kc.check(unsafe {
         let mut l = s.launch_builder(&kc.f);
         l.arg(&n)
@@ -137,11 +138,6 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
     let eos_arg = eos as u32;
     {
         let (c, a) = (&b.cur, &mut b.alt);
-        // SAFETY: the arguments of `Family::GridGather` (the nine persistent arrays of
-        // `cur`, then the same nine of `alt`); cell_start has n_cells + 1 entries, stamp
-        // null or n_cells + 1 (its last: the epoch the scatter advanced); stress
-        // and rho_dev null in both sets or in neither (both with solids); grid of
-        // max(n, n_cells + 1) threads.
         let kg = k.get(Family::GridGather);
         let mut l = s.launch_builder(&kg.f);
         l.arg(p)
@@ -170,6 +166,11 @@ pub fn build_grid(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffe
         opt!(l, &mut a.stress);
         opt!(l, &mut a.rho_dev);
         let threads = b.n.max(b.n_cells + 1);
+        // SAFETY: the arguments of `Family::GridGather` (the nine persistent arrays of
+        // `cur`, then the same nine of `alt`); cell_start has n_cells + 1 entries, stamp
+        // null or n_cells + 1 (its last: the epoch the scatter advanced); stress
+        // and rho_dev null in both sets or in neither (both with solids); grid of
+        // max(n, n_cells + 1) threads.
         kg.check(unsafe { l.launch(cfg(threads)).map(|_| ()) });
     }
     b.handover.leave(Mark::EosApplied, eos, By::GridBuild);

@@ -12,8 +12,8 @@ use crate::backend::cuda::kernels::{Family, Kernel, Kernels};
 use crate::physics::params::SphParams;
 
 pub fn step_size(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
-    // SAFETY: the arguments of `Family::StepSize`; red holds 3 words.
     let kt = k.get(Family::StepSize);
+    // SAFETY: the arguments of `Family::StepSize`; red holds 3 words.
     kt.check(unsafe {
         s.launch_builder(&kt.f)
             .arg(p)
@@ -59,8 +59,6 @@ pub fn kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
         b.handover.leave(Mark::RedStale, true, By::Kick);
     }
     let c = &mut b.cur;
-    // SAFETY: the arguments of `Family::Kick`; dt_dev holds 2 floats; red null or the 3
-    // maxima of the forces pass; time the device clock (1 double).
     let kk = k.get(Family::Kick);
     let mut l = s.launch_builder(&kk.f);
     l.arg(p).arg(&n).arg(&mut b.dt);
@@ -71,6 +69,8 @@ pub fn kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
         .arg(&c.pos)
         .arg(&mut c.vel)
         .arg(&b.acc);
+    // SAFETY: the arguments of `Family::Kick`; dt_dev holds 2 floats; red null or the 3
+    // maxima of the forces pass; time the device clock (1 double).
     kk.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
 }
 
@@ -98,10 +98,6 @@ fn drift_with(f: &Kernel, kick: bool, s: &Arc<CudaStream>, p: &SphParams, b: &mu
     }
     let n = b.n as u32;
     let c = &mut b.cur;
-    // SAFETY: the arguments of `Family::Drift` or, with `kick`, `Family::DriftKick` (the
-    // same, with red after dt_dev, vel written and acc before cell); drho, rho_dev, stress
-    // and rate may be null; red null or the 3 maxima (as for the kick); cell and count as in
-    // sph_grid_hist. Launched even for n = 0: it advances the clock.
     let mut l = s.launch_builder(&f.f);
     l.arg(p).arg(&n).arg(&mut b.dt);
     if kick {
@@ -121,6 +117,10 @@ fn drift_with(f: &Kernel, kick: bool, s: &Arc<CudaStream>, p: &SphParams, b: &mu
         l.arg(&b.acc);
     }
     l.arg(&mut b.cell).arg(&mut b.count);
+    // SAFETY: the arguments of `Family::Drift` or, with `kick`, `Family::DriftKick` (the
+    // same, with red after dt_dev, vel written and acc before cell); drho, rho_dev, stress
+    // and rate may be null; red null or the 3 maxima (as for the kick); cell and count as in
+    // sph_grid_hist. Launched even for n = 0: it advances the clock.
     f.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
     b.handover.leave(Mark::CellsFiled, true, by);
 }

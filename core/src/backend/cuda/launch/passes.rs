@@ -18,9 +18,6 @@ pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers)
     let n = b.n as u32;
     let (kd, lanes) = (k.neighbour(Family::Density, scheme(p, b)), k.lanes);
     let c = &mut b.cur;
-    // SAFETY: the arguments of `Family::Density` (kernels.rs); vel is written only in its w
-    // slots; rho_dev null without solids, else n entries; art null without artificial stress
-    // (then stress is not read), else both hold n_sym planes of n.
     let mut l = s.launch_builder(&kd.f);
     l.arg(p)
         .arg(&n)
@@ -33,6 +30,9 @@ pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers)
     opt!(l, &mut c.rho_dev);
     opt!(l, &c.stress);
     opt!(l, &mut b.art);
+    // SAFETY: the arguments of `Family::Density` (kernels.rs); vel is written only in its w
+    // slots; rho_dev null without solids, else n entries; art null without artificial stress
+    // (then stress is not read), else both hold n_sym planes of n.
     kd.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
 }
 
@@ -48,8 +48,8 @@ pub fn solid_interface(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut 
     };
     let n = b.n as u32;
     let c = &b.cur;
-    // SAFETY: the arguments of `Family::SolidInterface`; iface holds 2 floats per particle.
     let ki = k.get(Family::SolidInterface);
+    // SAFETY: the arguments of `Family::SolidInterface`; iface holds 2 floats per particle.
     ki.check(unsafe {
         s.launch_builder(&ki.f)
             .arg(p)
@@ -74,8 +74,8 @@ pub fn grad_rho(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers
     };
     let n = b.n as u32;
     let c = &b.cur;
-    // SAFETY: the arguments of `Family::GradRho`; grad holds D floats per particle.
     let kg = k.get(Family::GradRho);
+    // SAFETY: the arguments of `Family::GradRho`; grad holds D floats per particle.
     kg.check(unsafe {
         s.launch_builder(&kg.f)
             .arg(p)
@@ -102,13 +102,6 @@ pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     let replay = b.handover.holds(Mark::PairsRecorded, By::Rates) && lanes == 1;
     let stamped = b.handover.holds(Mark::Stamped, By::Rates);
     let c = &b.cur;
-    // SAFETY: the arguments of `Family::Rates` (every scheme's; stamp as for the forces
-    // pass); dt_dev holds 2 floats (the kick wrote this step's dt in its first); drho null
-    // without the continuity density; stress and rate null without solids (the fluid-only
-    // schemes read neither); grad_rho null unless `needs_density_gradient`; pair_a and
-    // pair_b null, or the record of the forces pass at these positions
-    // (`Mark::PairsRecorded`: alt's vel and pos, 4 and vstride words per particle),
-    // which the kernel only reads.
     let mut l = s.launch_builder(&kr.f);
     l.arg(p).arg(&n).arg(&b.dt).arg(&b.cell_start);
     opt!(l, stamps(&b.stamp, stamped));
@@ -124,6 +117,13 @@ pub fn rates(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     opt!(l, &mut b.stress_rate);
     opt!(l, replay.then_some(&b.alt.vel));
     opt!(l, replay.then_some(&b.alt.pos));
+    // SAFETY: the arguments of `Family::Rates` (every scheme's; stamp as for the forces
+    // pass); dt_dev holds 2 floats (the kick wrote this step's dt in its first); drho null
+    // without the continuity density; stress and rate null without solids (the fluid-only
+    // schemes read neither); grad_rho null unless `needs_density_gradient`; pair_a and
+    // pair_b null, or the record of the forces pass at these positions
+    // (`Mark::PairsRecorded`: alt's vel and pos, 4 and vstride words per particle),
+    // which the kernel only reads.
     kr.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
 }
 
@@ -153,15 +153,6 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     let (kf, lanes) = (k.neighbour(family, scheme(p, b)), k.lanes);
     let stamped = b.handover.holds(Mark::Stamped, By::Forces);
     let c = &b.cur;
-    // SAFETY: the arguments of `Family::Forces` or, fused, `Family::ForcesRates` (iface:
-    // null, or 2 floats per particle from this step's interface stage; stamp:
-    // null, or n_cells + 1 bytes from the grid build these positions were filed by): the same
-    // followed by grad_rho, drho, xsph and rate (every scheme's); stress, art, surf may be
-    // null (surf is read only under no_slip, when Buffers holds it: float4 per boundary
-    // particle by id - wall_first_id); red holds 3 words; grad_rho, drho and rate may be
-    // null, as for the rates kernel; unfused, pair_a and pair_b: alt's vel and pos, 4 and
-    // vstride words per particle, which no stage reads between two grid builds (the
-    // record of accepted candidates, `Mark::PairsRecorded`).
     let mut l = s.launch_builder(&kf.f);
     l.arg(p).arg(&n).arg(&b.cell_start);
     opt!(l, stamps(&b.stamp, stamped));
@@ -186,6 +177,15 @@ fn launch_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
     } else {
         l.arg(&mut b.alt.vel).arg(&mut b.alt.pos);
     }
+    // SAFETY: the arguments of `Family::Forces` or, fused, `Family::ForcesRates` (iface:
+    // null, or 2 floats per particle from this step's interface stage; stamp:
+    // null, or n_cells + 1 bytes from the grid build these positions were filed by): the same
+    // followed by grad_rho, drho, xsph and rate (every scheme's); stress, art, surf may be
+    // null (surf is read only under no_slip, when Buffers holds it: float4 per boundary
+    // particle by id - wall_first_id); red holds 3 words; grad_rho, drho and rate may be
+    // null, as for the rates kernel; unfused, pair_a and pair_b: alt's vel and pos, 4 and
+    // vstride words per particle, which no stage reads between two grid builds (the
+    // record of accepted candidates, `Mark::PairsRecorded`).
     kf.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
     // At one lane the forces kernel records the accepted candidates of every particle with
     // rates, for a rates pass before anything moves the particles or writes alt.

@@ -38,13 +38,13 @@ pub fn wall_forces(
     let n = b.n as u32;
     if !b.handover.holds(Mark::EosApplied, By::WallForces) {
         let c = &mut b.cur;
-        // SAFETY: the arguments of `Family::MonitorEos` (kernels.rs); rho_dev null without
-        // solids; vel is written only in its w slots.
         let ke = k.get(Family::MonitorEos);
         let mut l = s.launch_builder(&ke.f);
         l.arg(p).arg(&n).arg(&c.kind).arg(&c.rho);
         opt!(l, &c.rho_dev);
         l.arg(&mut c.p).arg(&mut c.vel);
+        // SAFETY: the arguments of `Family::MonitorEos` (kernels.rs); rho_dev null without
+        // solids; vel is written only in its w slots.
         ke.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
     }
     let blocks = (b.n * MF_LANES_MAX as usize)
@@ -73,11 +73,6 @@ pub fn wall_forces(
     let c = &b.cur;
     for (slot, group) in groups.iter().enumerate() {
         let slot = slot as u32;
-        // SAFETY: the arguments of `Family::WallForce` or `Family::WallForceFluid` (one
-        // signature); stress null without solids (the fluid-only entries never read it, the
-        // others need it); surf null unless no_slip (read only then: float4 per boundary
-        // particle by id - wall_first_id); partial holds (slot + 1) x grid x 3 doubles at
-        // least; grid of at most WALL_FORCE_BLOCKS blocks of MF_BLOCK.
         let mut l = s.launch_builder(&kw.f);
         l.arg(p)
             .arg(&n)
@@ -94,6 +89,11 @@ pub fn wall_forces(
         l.arg(&c.id);
         opt!(l, &b.wall_surface);
         l.arg(&mut *partial);
+        // SAFETY: the arguments of `Family::WallForce` or `Family::WallForceFluid` (one
+        // signature); stress null without solids (the fluid-only entries never read it, the
+        // others need it); surf null unless no_slip (read only then: float4 per boundary
+        // particle by id - wall_first_id); partial holds (slot + 1) x grid x 3 doubles at
+        // least; grid of at most WALL_FORCE_BLOCKS blocks of MF_BLOCK.
         kw.check(unsafe {
             l.launch(LaunchConfig {
                 grid_dim: (blocks as u32, 1, 1),
@@ -121,9 +121,9 @@ fn sum_partials(
     out: &mut CudaSlice<f64>,
 ) {
     assert!(partial.len() >= (slots * n_blocks * 3) as usize && out.len() >= 3 * slots as usize);
+    let ks = k.get(Family::SumPartials);
     // SAFETY: the arguments of `Family::SumPartials`; one block of MF_BLOCK per slot,
     // partial holds slots x n_blocks x 3 doubles and out 3 per slot (asserted above).
-    let ks = k.get(Family::SumPartials);
     ks.check(unsafe {
         s.launch_builder(&ks.f)
             .arg(&n_blocks)

@@ -23,10 +23,10 @@ pub fn tl_slots(k: &Kernels, s: &Arc<CudaStream>, b: &Buffers, t: &mut TlBuffers
     }
     let (n, n_index) = (b.n as u32, t.n_index as u32);
     let c = &b.cur;
+    let kt = k.get(Family::TlSlots);
     // SAFETY: the arguments of `Family::TlSlots` (kernels.rs); id and kind hold n entries,
     // index n_index (every id of the storage is below it: `Reference::index_of_id`), whose
     // entries are solid indices below n_solid or NONE; slot holds n_solid.
-    let kt = k.get(Family::TlSlots);
     kt.check(unsafe {
         s.launch_builder(&kt.f)
             .arg(&n)
@@ -54,12 +54,6 @@ pub fn tl_stress(
     }
     let (n, ns) = (b.n as u32, t.n_solid as u32);
     let c = &mut b.cur;
-    // SAFETY: the arguments of `Family::TlStress`; slot, vol hold n_solid entries, start
-    // n_solid + 1, nbr start[n_solid] (solid indices), x0 and disp n_solid vectors, grad
-    // n_solid D x D blocks, corr and pk1_corr n_solid blocks of Q = basis_len(D) columns of D
-    // floats, quad n_solid floats; face n_solid blocks of Q floats and face_clamp n_solid solid indices or NONE;
-    // every slot is NONE or below n; stress n_sym planes of n (present: the scene has
-    // solids).
     let kt = k.get(Family::TlStress);
     let mut l = s.launch_builder(&kt.f);
     l.arg(p)
@@ -78,6 +72,12 @@ pub fn tl_stress(
         .arg(&mut t.grad)
         .arg(&mut t.pk1_corr);
     opt!(l, &mut c.stress);
+    // SAFETY: the arguments of `Family::TlStress`; slot, vol hold n_solid entries, start
+    // n_solid + 1, nbr start[n_solid] (solid indices), x0 and disp n_solid vectors, grad
+    // n_solid D x D blocks, corr and pk1_corr n_solid blocks of Q = basis_len(D) columns of D
+    // floats, quad n_solid floats; face n_solid blocks of Q floats and face_clamp n_solid solid indices or NONE;
+    // every slot is NONE or below n; stress n_sym planes of n (present: the scene has
+    // solids).
     kt.check(unsafe { l.launch(cfg(t.n_solid)).map(|_| ()) });
 }
 
@@ -89,12 +89,12 @@ pub fn tl_forces(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffer
         return;
     }
     let ns = t.n_solid as u32;
+    let kt = k.get(Family::TlForces);
     // SAFETY: the arguments of `Family::TlForces`; the solid-space arrays as in `tl_stress`;
     // face_start holds n_solid + 1 offsets into face_pts (D + 1 + Q floats per point);
     // pos and acc hold n vectors and every slot is NONE or below n; distinct solids have
     // distinct slots, so each thread writes its own acc entry; red holds 3 words (the forces
     // pass's maxima, |a| of these particles left out: `ForceSum::finish`).
-    let kt = k.get(Family::TlForces);
     kt.check(unsafe {
         s.launch_builder(&kt.f)
             .arg(p)
@@ -133,9 +133,9 @@ pub fn tl_drift(
         return;
     }
     let ns = t.n_solid as u32;
+    let kt = k.get(Family::TlDrift);
     // SAFETY: the arguments of `Family::TlDrift`; dt_dev holds 2 floats; slot and disp as in
     // `tl_stress`; group, vel (float4) and xsph hold n entries.
-    let kt = k.get(Family::TlDrift);
     kt.check(unsafe {
         s.launch_builder(&kt.f)
             .arg(p)
