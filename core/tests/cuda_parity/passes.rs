@@ -25,15 +25,17 @@ fn fused_equals_two_passes<D: Dim>(what: &str, setup: Setup) {
         g.forces_and_rates();
         g.time_step();
         let (one, dt1) = (g.download_state(), g.dt());
-        assert_eq!(
-            flat_v::<D>(&two.acc),
-            flat_v::<D>(&one.acc),
-            "{what}, {lanes} lanes: acc"
+        same_vectors::<D>(
+            &format!("{what}, {lanes} lanes: acc"),
+            &two,
+            &two.acc,
+            &one.acc,
         );
-        assert_eq!(
-            flat_v::<D>(&two.xsph),
-            flat_v::<D>(&one.xsph),
-            "{what}, {lanes} lanes: xsph"
+        same_vectors::<D>(
+            &format!("{what}, {lanes} lanes: xsph"),
+            &two,
+            &two.xsph,
+            &one.xsph,
         );
         assert_eq!(two.drho, one.drho, "{what}, {lanes} lanes: drho");
         if let (Some(a), Some(b)) = (&two.solid, &one.solid) {
@@ -46,6 +48,26 @@ fn fused_equals_two_passes<D: Dim>(what: &str, setup: Setup) {
         assert_eq!(dt2, dt1, "{what}, {lanes} lanes: dt");
     }
     eprintln!("{what}: fused pass = rates + forces, bit for bit, at 8, 4, 2 and 1 lanes");
+}
+
+/// Asserts that the per-particle vectors `a` (the two passes) and `b` (the fused pass) agree
+/// bit for bit; else names the first particle that differs (slot, id, kind, both values) and
+/// how many differ.
+fn same_vectors<D: Dim>(what: &str, st: &State<D>, a: &[D::V], b: &[D::V]) {
+    assert_eq!(a.len(), b.len(), "{what}: lengths");
+    let bits = |v: D::V| D::to3(v).map(f32::to_bits);
+    let differ: Vec<usize> = (0..a.len()).filter(|&i| bits(a[i]) != bits(b[i])).collect();
+    if let Some(&i) = differ.first() {
+        panic!(
+            "{what}: {} of {} particles differ; the first, slot {i} (id {}, kind {}): two passes {:?}, fused {:?}",
+            differ.len(),
+            a.len(),
+            st.id[i],
+            st.kind[i],
+            D::to3(a[i]),
+            D::to3(b[i])
+        );
+    }
 }
 
 #[test]
