@@ -43,6 +43,7 @@ fn main() -> anyhow::Result<()> {
         backend,
         courant: None,
         integrator: None,
+        sets: &[],
         out_dir: &out,
         verbose: true,
         edit: None,

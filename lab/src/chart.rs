@@ -240,6 +240,7 @@ pub fn run(options: &Options) -> anyhow::Result<Vec<Point>> {
                 backend,
                 courant: None,
                 integrator: None,
+                sets: &[],
                 out_dir: &options.out_dir,
                 verbose: options.verbose,
                 edit: None,

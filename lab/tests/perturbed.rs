@@ -23,6 +23,7 @@ fn rows(case: &str, edit: Option<&dyn Fn(&mut Scene)>) -> Vec<Check> {
         backend: BackendChoice::Cpu,
         courant: None,
         integrator: None,
+        sets: &[],
         out_dir: dir.path(),
         verbose: false,
         edit,

@@ -16,6 +16,7 @@ fn quick_validation_passes_and_writes_reports() {
         verbose: false,
         courant: None,
         integrator: None,
+        sets: Vec::new(),
     })
     .expect("validation runs");
     for c in &report.checks {
@@ -93,6 +94,7 @@ fn unknown_case_is_an_error() {
         verbose: false,
         courant: None,
         integrator: None,
+        sets: Vec::new(),
     })
     .unwrap_err();
     assert!(err.to_string().contains("taylor-green"), "{err}");
@@ -111,6 +113,7 @@ fn a_courant_and_integrator_override_runs_and_is_reported() {
         verbose: false,
         courant: Some(c),
         integrator: Some(IntegratorChoice::Leapfrog),
+        sets: Vec::new(),
     };
     let r = validate::run(&options(0.3)).unwrap();
     assert_eq!(r.courant, Some(0.3));
@@ -123,6 +126,45 @@ fn a_courant_and_integrator_override_runs_and_is_reported() {
         let e = validate::run(&options(bad)).unwrap_err().to_string();
         assert!(e.contains("--courant"), "{e}");
     }
+}
+
+#[test]
+fn a_scheme_key_set_for_every_case_changes_the_runs_and_is_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let options = |sets: &[&str]| Options {
+        tier: Tier::Quick,
+        backend: BackendChoice::Cpu,
+        out_dir: dir.path().to_path_buf(),
+        cases: vec!["taylor-green".into()],
+        verbose: false,
+        courant: None,
+        integrator: None,
+        sets: sets.iter().map(|s| s.parse().unwrap()).collect(),
+    };
+    let own = validate::run(&options(&[])).unwrap();
+    // Artificial viscosity where the case has none (alpha = 0); the [solid] key concerns no scene of the
+    // case (no bodies) and changes nothing.
+    let set = validate::run(&options(&[
+        "fluid.alpha=0.5",
+        "solid.fluid_pressure=extrapolated",
+    ]))
+    .unwrap();
+    assert_eq!(
+        set.sets,
+        [
+            "fluid.alpha = 0.5",
+            "solid.fluid_pressure = \"extrapolated\""
+        ]
+    );
+    assert!(validate::markdown(&set).contains("`fluid.alpha = 0.5`"));
+    assert!(own.sets.is_empty());
+    let errors = |r: &validate::Report| r.checks.iter().map(|c| c.error).collect::<Vec<_>>();
+    assert_eq!(errors(&own).len(), errors(&set).len());
+    assert_ne!(
+        errors(&own),
+        errors(&set),
+        "the set reached the case's scene"
+    );
 }
 
 #[test]

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use super::named;
 use meshfree_core::backend::BackendChoice;
-use meshfree_core::scene::scheme::IntegratorChoice;
+use meshfree_core::scene::scheme::{Assignment, IntegratorChoice};
 
 #[derive(Debug, clap::Args)]
 pub struct ValidateArgs {
@@ -33,6 +33,12 @@ pub struct ValidateArgs {
     /// schemes) unless --courant gives one: what another scheme gives on the same cases.
     #[arg(long, value_parser = named::<IntegratorChoice>())]
     pub integrator: Option<IntegratorChoice>,
+    /// Set a scheme key in every case's scenes that have its table (repeatable), e.g.
+    /// `--set solid.fluid_pressure=extrapolated --set boundary.wall_density_floor=true`:
+    /// what another scheme gives on the same cases. The keys are those of the scene files
+    /// (`meshfree scenes --reference`); the value is TOML, or a bare word for a choice.
+    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
+    pub set: Vec<Assignment>,
 }
 
 pub(super) fn validate(a: ValidateArgs) -> anyhow::Result<()> {
@@ -48,6 +54,7 @@ pub(super) fn validate(a: ValidateArgs) -> anyhow::Result<()> {
         verbose: true,
         courant: a.courant,
         integrator: a.integrator,
+        sets: a.set,
     })?;
     let failed = report.checks.iter().filter(|c| !c.pass).count();
     let (pass, checks, info) = report.counts();

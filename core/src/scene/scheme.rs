@@ -21,11 +21,13 @@
 //! geometry and objects), `DERIVED` (`params::derive`) and `FROM_RUN` (a decomposed run's
 //! subdomain); a test checks that every field of the header is a key's, or in one of them.
 
+mod assignment;
 #[macro_use]
 pub mod declare;
 mod needs;
 pub mod reference;
 
+pub use assignment::Assignment;
 pub use declare::{single_precision, Check, Key, KeyDefault, Paper, Param, Refusal, Rule, Table};
 use needs::*;
 

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use meshfree_core::backend::{self, BackendChoice};
 use meshfree_core::scene::scheme::declare::ToParam;
-use meshfree_core::scene::scheme::IntegratorChoice;
+use meshfree_core::scene::scheme::{Assignment, IntegratorChoice};
 use meshfree_core::scene::{Counts, Scene};
 use meshfree_core::solver::step::Stepper;
 use meshfree_core::solver::{Setup, Solver};
@@ -33,6 +33,8 @@ pub struct Ctx<'a> {
     pub courant: Option<f64>,
     /// `Options::integrator`.
     pub integrator: Option<IntegratorChoice>,
+    /// `Options::sets`: scheme keys set in every scene that has their table.
+    pub sets: &'a [Assignment],
     /// Where the case writes its plots.
     pub out_dir: &'a Path,
     pub verbose: bool,
@@ -43,18 +45,28 @@ pub struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
-    /// The case's scene from its TOML text `text` (named `origin` in errors), with `edit`
-    /// applied.
+    /// The case's scene from its TOML text `text` (named `origin` in errors), with `sets`
+    /// and `edit` applied.
     pub fn scene(&self, text: &str, origin: &str) -> anyhow::Result<Scene> {
         let mut scene = Scene::from_toml(text, origin)?;
         self.perturb(&mut scene)?;
         Ok(scene)
     }
 
-    /// Apply `edit`, if any, to a scene the case has finished changing, and revalidate it.
+    /// Apply `sets`, then `edit`, to a scene the case has finished changing, and
+    /// revalidate it where either changed it.
     pub fn perturb(&self, scene: &mut Scene) -> anyhow::Result<()> {
+        let mut changed = false;
+        for a in self.sets {
+            changed |= a
+                .apply(&mut scene.file)
+                .map_err(|e| anyhow::anyhow!("--set {a}: {e}"))?;
+        }
         if let Some(edit) = self.edit {
             edit(scene);
+            changed = true;
+        }
+        if changed {
             scene.revalidate()?;
         }
         Ok(())

@@ -57,7 +57,7 @@ use std::time::Instant;
 use anyhow::Context;
 
 use meshfree_core::backend::BackendChoice;
-use meshfree_core::scene::scheme::IntegratorChoice;
+use meshfree_core::scene::scheme::{Assignment, IntegratorChoice};
 
 /// What `run` does.
 #[derive(Clone, Debug)]
@@ -74,6 +74,9 @@ pub struct Options {
     pub courant: Option<f64>,
     /// Run every case with this integrator instead of its own, to compare them.
     pub integrator: Option<IntegratorChoice>,
+    /// Scheme keys set in every case's scenes that have their table (`--set`), to see what
+    /// another scheme gives on the same cases.
+    pub sets: Vec<Assignment>,
 }
 
 /// Run the selected cases and write `report.md`, `report.json` and the plots to `out_dir`.
@@ -93,6 +96,7 @@ pub fn run(options: &Options) -> anyhow::Result<Report> {
         backend: options.backend,
         courant: options.courant,
         integrator: options.integrator,
+        sets: &options.sets,
         out_dir: &options.out_dir,
         verbose: options.verbose,
         edit: None,
@@ -146,6 +150,7 @@ pub fn run(options: &Options) -> anyhow::Result<Report> {
         commit: meshfree_core::build_info::COMMIT.into(),
         courant: options.courant,
         integrator: options.integrator,
+        sets: options.sets.iter().map(|a| a.to_string()).collect(),
         wall_seconds: started.elapsed().as_secs_f64(),
         pass: checks.iter().all(|c| c.pass),
         checks,

@@ -518,6 +518,7 @@ mod tests {
             backend: BackendChoice::Cpu,
             courant: None,
             integrator: None,
+            sets: &[],
             out_dir: &out,
             verbose: true,
             edit: None,

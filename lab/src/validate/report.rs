@@ -32,6 +32,9 @@ pub struct Report {
     /// The integrator every case ran with instead of its own (`Options::integrator`).
     #[serde(default)]
     pub integrator: Option<IntegratorChoice>,
+    /// The scheme keys every case's scenes ran with (`Options::sets`), `TABLE.KEY = VALUE`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sets: Vec<String>,
     pub wall_seconds: f64,
     pub pass: bool,
     pub checks: Vec<Check>,
@@ -123,6 +126,17 @@ pub fn markdown(r: &Report) -> String {
             s,
             "Every case ran with the {} integrator instead of its own.\n",
             i.name()
+        );
+    }
+    if !r.sets.is_empty() {
+        let _ = writeln!(
+            s,
+            "Every scene with the key's table ran with {} instead of its own.\n",
+            r.sets
+                .iter()
+                .map(|a| format!("`{a}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
         );
     }
     let _ = writeln!(

@@ -33,6 +33,8 @@ pub struct Key {
     pub get: fn(&SceneFile) -> Option<toml::Value>,
     /// Set the key's value in a scene (its table must be present).
     pub set: fn(&mut SceneFile, toml::Value) -> Result<(), String>,
+    /// Whether the scene has the key's table (`[solid]` of `solid.fluid_pressure`).
+    pub has_table: fn(&SceneFile) -> bool,
     /// Set the key to its paper value, where that is fixed (`Paper::Is`).
     pub set_paper: Option<fn(&mut SceneFile)>,
     /// Check the key's value where its table is present: `check`'s range, then its `needs`.
@@ -442,6 +444,7 @@ macro_rules! table {
                         t.$field = v.try_into().map_err(|e: toml::de::Error| e.to_string())?;
                         Ok(())
                     },
+                    has_table: |s| <$name as $crate::scene::scheme::declare::Table>::of(s).is_some(),
                     set_paper: table!(@set_paper $name $field $ty, $paper),
                     validate: |s| {
                         let Some(t) = <$name as $crate::scene::scheme::declare::Table>::of(s) else {
