@@ -281,6 +281,7 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
         hide_boundary: dim == 3,
         surface: a.surface,
         screenshot_dir: out.clone(),
+        screenshot_after_frames: a.capture(),
         ..Default::default()
     };
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
@@ -407,6 +408,7 @@ pub fn render(a: RenderArgs) -> anyhow::Result<()> {
                 steps_per_second: pace.2,
                 frames_per_second: pace.3,
                 show_help: false,
+                timeline: None,
             }
         });
         let o = RenderOptions {

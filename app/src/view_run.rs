@@ -13,7 +13,7 @@ use meshfree::output::RecordedRun;
 use meshfree_core::solver::frame;
 use meshfree_core::solver::Shown;
 use meshfree_viewer::{
-    Field, FrameData, LiveSource, Outline, Panel, RenderOptions, Status, ViewOptions,
+    Field, FrameData, LiveSource, Outline, Panel, RenderOptions, Status, Timeline, ViewOptions,
 };
 
 use crate::view::{field, frame_meta, shown, wall_outlines, window_error};
@@ -102,6 +102,19 @@ impl LiveSource for Recorded {
 
     fn reset(&mut self) -> Result<(), String> {
         self.go(0).map_err(|e| e.0)
+    }
+
+    fn timeline(&self) -> Option<Timeline> {
+        let frames = &self.run.frames;
+        Some(Timeline {
+            frame: self.index.min(frames.len() - 1),
+            frames: frames.len(),
+            times: (frames[0].time, frames[frames.len() - 1].time),
+        })
+    }
+
+    fn seek(&mut self, k: usize) -> Result<(), String> {
+        self.go(k).map_err(|e| e.0)
     }
 }
 
@@ -205,6 +218,7 @@ pub fn render_run(a: RenderArgs) -> anyhow::Result<()> {
                 steps_per_second: 0.0,
                 frames_per_second: 0.0,
                 show_help: false,
+                timeline: rec.timeline(),
             }),
             ..Default::default()
         };
@@ -331,7 +345,8 @@ mod movie {
 }
 
 /// `meshfree view DIR`: the window on the run's frames, one frame on per drawn frame
-/// while playing (space pauses, `.` steps one frame, `r` goes back to the first).
+/// while playing (space pauses, `.` and `,` step one frame on and back, `<` and `>` go to
+/// the first and the last, the slider to any: `Recorded::timeline`).
 pub fn view_run(a: ViewArgs) -> anyhow::Result<()> {
     let mut rec = Recorded::open(Path::new(&a.scene))?;
     rec.go(0)?;
@@ -350,6 +365,7 @@ pub fn view_run(a: ViewArgs) -> anyhow::Result<()> {
         hide_boundary: dim == 3,
         surface: a.surface,
         screenshot_dir: rec.run.dir.clone(),
+        screenshot_after_frames: a.capture(),
         ..Default::default()
     };
     meshfree_viewer::run_window(&mut rec, opts).map_err(window_error)?;

@@ -437,3 +437,90 @@ fn render_movie_pipes_every_frame_to_ffmpeg() {
             > 2000
     );
 }
+
+#[test]
+#[cfg(feature = "viewer")]
+#[cfg_attr(
+    not(all(meshfree_require_egl, meshfree_require_ffmpeg)),
+    ignore = "needs EGL and ffmpeg: build with MESHFREE_REQUIRE_EGL=1 MESHFREE_REQUIRE_FFMPEG=1, or run with --include-ignored"
+)]
+fn render_movie_encodes_a_video_that_ffprobe_reads() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("tank");
+    tank_run(&dir, &[]);
+    let video = tmp.path().join("tank.mp4");
+    let out = run_ok(&[
+        "render",
+        dir.to_str().unwrap(),
+        "--size",
+        "320x200",
+        "--fps",
+        "12",
+        "--movie",
+        video.to_str().unwrap(),
+    ]);
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(said.contains("5 frames at 12 frames/s"), "{said}");
+    let probe = Command::new("ffprobe")
+        .args(["-v", "error", "-count_frames", "-select_streams", "v:0"])
+        .args([
+            "-show_entries",
+            "stream=codec_name,width,height,nb_read_frames,r_frame_rate",
+        ])
+        .args(["-of", "csv=p=0"])
+        .arg(&video)
+        .output()
+        .expect("ffprobe, which comes with ffmpeg, is on the PATH");
+    let info = String::from_utf8_lossy(&probe.stdout).trim().to_string();
+    assert!(
+        probe.status.success(),
+        "ffprobe: {}",
+        String::from_utf8_lossy(&probe.stderr)
+    );
+    // Every frame of the run, at the size and rate asked, as H.264.
+    assert_eq!(info, "h264,320,200,12/1,5", "ffprobe says {info}");
+}
+
+#[test]
+#[cfg(feature = "viewer")]
+#[cfg_attr(
+    not(meshfree_require_xvfb),
+    ignore = "needs Xvfb: build with MESHFREE_REQUIRE_XVFB=1, or run with --include-ignored"
+)]
+fn view_plays_a_finished_run_in_a_window_under_xvfb() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("tank");
+    tank_run(&dir, &[]);
+    let shot = tmp.path().join("view.png");
+    let out = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1400x900x24"])
+        .arg(env!("CARGO_BIN_EXE_meshfree"))
+        .args(["view", dir.to_str().unwrap(), "--field", "pressure"])
+        .args(["--capture", shot.to_str().unwrap(), "--capture-after", "8"])
+        .env("LIBGL_ALWAYS_SOFTWARE", "1")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("xvfb-run, which comes with Xvfb, is on the PATH");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "view DIR under xvfb-run: {err}");
+    assert!(err.contains(&format!("saved {}", shot.display())), "{err}");
+    let img = meshfree_viewer::Image::load_png(&shot).unwrap();
+    assert_eq!((img.width, img.height), (1280, 800));
+    assert!(lit_pixels(&shot) > 5000, "the particles were drawn");
+    // Eight drawn frames played the 5 frames to the last: the slider's track is blue to its
+    // end (x = 28 .. 1280 - 192 - 28 px at ui scale 2, the colour bar's 192 px at the right),
+    // and the panel says so.
+    let px = |x: u32, y: u32| {
+        let i = ((y * img.width + x) * 4) as usize;
+        (img.rgba[i], img.rgba[i + 1], img.rgba[i + 2])
+    };
+    let blue = |(r, g, b): (u8, u8, u8)| b > 150 && b > r + 60 && g > 80;
+    let track_y = 800 - 24 + 4;
+    let end = 1280 - 192 - 28 - 12;
+    assert!(
+        blue(px(40, track_y)) && blue(px(end, track_y)),
+        "the slider played to the end: {:?} {:?}",
+        px(40, track_y),
+        px(end, track_y)
+    );
+}

@@ -257,6 +257,52 @@ pub struct Status {
     pub particles: usize,
 }
 
+/// Where a recorded run is: the frame shown among the frames it wrote, and their times
+/// (the window's time slider, and its keys that step back).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Timeline {
+    /// The frame shown, from 0.
+    pub frame: usize,
+    /// How many frames there are (at least 1).
+    pub frames: usize,
+    /// The first frame's time and the last's.
+    pub times: (f64, f64),
+}
+
+impl Timeline {
+    /// The frame a step back (`back`) or on goes to, or the first or last, as `to` says.
+    pub fn target(&self, to: Seek) -> usize {
+        let last = self.frames.saturating_sub(1);
+        match to {
+            Seek::Back => self.frame.saturating_sub(1),
+            Seek::First => 0,
+            Seek::Last => last,
+            Seek::Fraction(f) => {
+                let f = if f.is_finite() {
+                    f.clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                (f * last as f64).round() as usize
+            }
+        }
+    }
+}
+
+/// Where a seek on a recorded run goes ([`Timeline::target`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Seek {
+    /// One frame back.
+    Back,
+    /// The first frame.
+    First,
+    /// The last frame.
+    Last,
+    /// The frame at this fraction of the run's frames (0: the first, 1: the last): where the
+    /// slider was clicked.
+    Fraction(f64),
+}
+
 /// The simulation as the live window sees it.
 pub trait LiveSource {
     /// Runs `steps` solver steps.
@@ -268,6 +314,16 @@ pub trait LiveSource {
     fn status(&self) -> Status;
     /// Goes back to the initial state.
     fn reset(&mut self) -> Result<(), String>;
+    /// A recorded run's place among its frames; `None` (the default): a live solver, which
+    /// goes forward only.
+    fn timeline(&self) -> Option<Timeline> {
+        None
+    }
+    /// Shows frame `k` of a recorded run (clamped to the last); called only where
+    /// [`LiveSource::timeline`] is `Some`.
+    fn seek(&mut self, _k: usize) -> Result<(), String> {
+        Err("a live run goes forward only".into())
+    }
     /// Writes the particles coloured by `field` straight into the renderer's vertex buffers
     /// `buffers` on the GPU (e.g. CUDA-OpenGL interop: nothing per particle through the
     /// host), and `out`'s dimension, domain and radius (its vectors stay as they are);

@@ -3,15 +3,21 @@
 //! clicks change; the headless renderer draws the same rows from a [`Panel`] in
 //! [`RenderOptions::panel`](crate::RenderOptions::panel).
 
-use crate::{Field, RenderOptions, Status};
+use crate::{Field, RenderOptions, Seek, Status, Timeline};
 
 /// What a key or a click on a panel row does.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Action {
     /// Pause or resume the solver.
     Pause,
-    /// One solver step (pauses).
+    /// One solver step, or a recorded run's next frame (pauses).
     Step,
+    /// A recorded run's previous frame (pauses).
+    Back,
+    /// A recorded run's first frame (pauses).
+    First,
+    /// A recorded run's last frame (pauses).
+    Last,
     /// Double the solver steps per drawn frame.
     Faster,
     /// Halve the solver steps per drawn frame.
@@ -47,6 +53,9 @@ impl Action {
         Some(match c {
             " " => Action::Pause,
             "." | "n" | "N" => Action::Step,
+            "," => Action::Back,
+            "<" => Action::First,
+            ">" => Action::Last,
             "+" | "=" => Action::Faster,
             "-" | "_" => Action::Slower,
             "f" | "F" => Action::NextField,
@@ -81,6 +90,8 @@ pub struct Panel {
     pub frames_per_second: f64,
     /// List the rarer keys (reset, screenshot, camera, quit) too.
     pub show_help: bool,
+    /// A recorded run's place among its frames (`meshfree view DIR`); `None`: a live solver.
+    pub timeline: Option<Timeline>,
 }
 
 /// One line of the panel: its text and what a click on it does.
@@ -97,31 +108,52 @@ fn shown(on: bool) -> &'static str {
 /// The panel's lines for a frame of dimension `dim` coloured over `range`.
 pub(crate) fn rows(p: &Panel, o: &RenderOptions, dim: u8, range: (f32, f32)) -> Vec<Row> {
     let st = &p.status;
-    let mut r: Vec<Row> = vec![
-        (format!("t {:.5}  step {}", st.time, st.step), None),
-        (format!("particles {}", st.particles), None),
-        (
-            format!(
-                "steps/s {:.0}  frames/s {:.1}",
-                p.steps_per_second, p.frames_per_second
+    let running = (
+        format!("space  {}", if p.paused { "PAUSED" } else { "running" }),
+        Some(Action::Pause),
+    );
+    let mut r: Vec<Row> = match p.timeline {
+        // A recorded run: frames, not solver steps.
+        Some(tl) => vec![
+            (
+                format!("t {:.5}  frame {} of {}", st.time, tl.frame + 1, tl.frames),
+                None,
             ),
-            None,
-        ),
-        (
-            format!("space  {}", if p.paused { "PAUSED" } else { "running" }),
-            Some(Action::Pause),
-        ),
-        ("n      one step".into(), Some(Action::Step)),
-        (
-            format!("+      steps/frame {}", p.steps_per_frame),
-            Some(Action::Faster),
-        ),
-        ("-      fewer steps/frame".into(), Some(Action::Slower)),
-        (
-            format!("f      field {}", o.field.label()),
-            Some(Action::NextField),
-        ),
-    ];
+            (format!("particles {}", st.particles), None),
+            running,
+            ("n      next frame".into(), Some(Action::Step)),
+            (",      previous frame".into(), Some(Action::Back)),
+            ("<      first frame".into(), Some(Action::First)),
+            (">      last frame".into(), Some(Action::Last)),
+            (
+                format!("+      frames/frame {}", p.steps_per_frame),
+                Some(Action::Faster),
+            ),
+            ("-      fewer frames/frame".into(), Some(Action::Slower)),
+        ],
+        None => vec![
+            (format!("t {:.5}  step {}", st.time, st.step), None),
+            (format!("particles {}", st.particles), None),
+            (
+                format!(
+                    "steps/s {:.0}  frames/s {:.1}",
+                    p.steps_per_second, p.frames_per_second
+                ),
+                None,
+            ),
+            running,
+            ("n      one step".into(), Some(Action::Step)),
+            (
+                format!("+      steps/frame {}", p.steps_per_frame),
+                Some(Action::Faster),
+            ),
+            ("-      fewer steps/frame".into(), Some(Action::Slower)),
+        ],
+    };
+    r.push((
+        format!("f      field {}", o.field.label()),
+        Some(Action::NextField),
+    ));
     let range_text = if o.field == Field::Kind {
         "0 .. 2".to_string()
     } else {
@@ -191,13 +223,15 @@ pub(crate) struct Controls {
 }
 
 /// What an action asks of the window beyond [`Controls`]' own state.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum Outcome {
     None,
     Close,
     Reset,
     Screenshot,
     ResetCamera,
+    /// Show another frame of a recorded run.
+    Seek(Seek),
 }
 
 impl Controls {
@@ -208,6 +242,14 @@ impl Controls {
             Action::Step => {
                 self.paused = true;
                 self.single_step = true;
+            }
+            Action::Back | Action::First | Action::Last => {
+                self.paused = true;
+                return Outcome::Seek(match a {
+                    Action::Back => Seek::Back,
+                    Action::First => Seek::First,
+                    _ => Seek::Last,
+                });
             }
             Action::Faster => self.steps_per_frame = (self.steps_per_frame * 2).min(1 << 16),
             Action::Slower => self.steps_per_frame = (self.steps_per_frame / 2).max(1),
@@ -316,6 +358,7 @@ mod tests {
             steps_per_second: 2000.0,
             frames_per_second: 60.0,
             show_help: false,
+            timeline: None,
         };
         let o = RenderOptions {
             surface: true,
@@ -362,5 +405,72 @@ mod tests {
         let t2 = text(&r2).join("\n");
         assert!(!t2.contains("surface") && !t2.contains("outlines"), "{t2}");
         assert!(t2.contains("screenshot") && t2.contains("quit"), "{t2}");
+        assert!(
+            !t2.contains("frame 1 of") && !t2.contains("previous frame"),
+            "{t2}"
+        );
+    }
+
+    #[test]
+    fn a_recorded_run_has_frame_rows_and_keys_that_go_back() {
+        let p = Panel {
+            status: Status {
+                time: 0.25,
+                step: 4,
+                particles: 10,
+            },
+            paused: true,
+            steps_per_frame: 1,
+            steps_per_second: 0.0,
+            frames_per_second: 30.0,
+            show_help: false,
+            timeline: Some(Timeline {
+                frame: 4,
+                frames: 11,
+                times: (0.0, 0.5),
+            }),
+        };
+        let rows = rows(&p, &RenderOptions::default(), 2, (0.0, 1.0));
+        let t: Vec<&str> = rows.iter().map(|r| r.0.as_str()).collect();
+        let t = t.join("\n");
+        for want in [
+            "frame 5 of 11",
+            "next frame",
+            "previous frame",
+            "first frame",
+            "last frame",
+        ] {
+            assert!(t.contains(want), "{want:?} not in\n{t}");
+        }
+        assert!(
+            !t.contains("steps/s"),
+            "a recorded run takes no steps:\n{t}"
+        );
+        for (line, action) in &rows {
+            if let Some(a) = action {
+                let key = line.split_whitespace().next().unwrap();
+                let key = if key == "space" { " " } else { key };
+                assert_eq!(Action::for_key(key), Some(*a), "{line}");
+            }
+        }
+        let mut c = controls();
+        let r = (0.0, 1.0);
+        assert_eq!(c.apply(Action::Back, r), Outcome::Seek(Seek::Back));
+        assert!(c.paused, "a seek pauses the playback");
+        assert_eq!(c.apply(Action::First, r), Outcome::Seek(Seek::First));
+        assert_eq!(c.apply(Action::Last, r), Outcome::Seek(Seek::Last));
+        let tl = p.timeline.unwrap();
+        assert_eq!(tl.target(Seek::Back), 3);
+        assert_eq!(tl.target(Seek::First), 0);
+        assert_eq!(tl.target(Seek::Last), 10);
+        assert_eq!(tl.target(Seek::Fraction(0.5)), 5);
+        assert_eq!(tl.target(Seek::Fraction(1.7)), 10);
+        assert_eq!(tl.target(Seek::Fraction(f64::NAN)), 0);
+        let first = Timeline { frame: 0, ..tl };
+        assert_eq!(
+            first.target(Seek::Back),
+            0,
+            "the first frame has none before it"
+        );
     }
 }

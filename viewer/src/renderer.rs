@@ -60,6 +60,26 @@ void main() {
 /// Floats per overlay vertex: x, y, u, v, r, g, b, a.
 const OV_STRIDE: usize = 8;
 
+/// Where the time slider of a recorded run lies in the window ([`DrawInfo::slider`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Slider {
+    pub x: f32,
+    pub width: f32,
+    pub y: f32,
+    pub height: f32,
+}
+
+impl Slider {
+    /// The fraction of the run at a click or drag at (`px`, `py`), where it is on the band.
+    pub fn fraction(&self, px: f32, py: f32, dragging: bool) -> Option<f64> {
+        let on_band = py >= self.y && py < self.y + self.height;
+        let on_track =
+            px >= self.x - self.height / 2.0 && px <= self.x + self.width + self.height / 2.0;
+        (dragging || (on_band && on_track))
+            .then(|| f64::from(((px - self.x) / self.width.max(1.0)).clamp(0.0, 1.0)))
+    }
+}
+
 /// What [`Renderer::draw`] used, for the caller's overlay or camera.
 #[derive(Debug, Clone)]
 pub(crate) struct DrawInfo {
@@ -69,6 +89,9 @@ pub(crate) struct DrawInfo {
     pub range: (f32, f32),
     /// The panel's clickable rows: x, y, width, height in pixels from the top left.
     pub panel_rows: Vec<([f32; 4], Action)>,
+    /// A recorded run's time slider, where drawn: its track's x from the left and width, and
+    /// the clickable band's y from the top and height, in pixels.
+    pub slider: Option<Slider>,
     /// Whether the spheres came from the source's visibility splat (`splat.rs`).
     pub splat: bool,
 }
@@ -532,6 +555,11 @@ impl Renderer {
                 }
             }
         }
+        let slider = opts
+            .panel
+            .as_ref()
+            .and_then(|p| p.timeline)
+            .map(|tl| self.slider(sw as f32, h as f32, sf, tl));
         // SAFETY: the context rule, as above; the overlay's buffer is this renderer's.
         unsafe {
             self.flush_overlay(gl, w as f32, h as f32);
@@ -542,7 +570,36 @@ impl Renderer {
             camera,
             range,
             panel_rows,
+            slider,
             splat: drew_splat,
+        }
+    }
+
+    /// A recorded run's time slider along the bottom of the scene (`sw` wide, `h` high):
+    /// the track, the part played and a handle at the frame shown.
+    fn slider(&mut self, sw: f32, h: f32, sf: f32, tl: crate::Timeline) -> Slider {
+        let (x, width) = (14.0 * sf, (sw - 28.0 * sf).max(1.0));
+        let y = h - 12.0 * sf;
+        let played = if tl.frames > 1 {
+            tl.frame as f32 / (tl.frames - 1) as f32
+        } else {
+            1.0
+        };
+        self.rect(x, y, width, 4.0 * sf, [0.55, 0.55, 0.55, 0.6]);
+        self.rect(x, y, width * played, 4.0 * sf, [0.35, 0.65, 1.0, 0.9]);
+        let hx = x + width * played;
+        self.rect(
+            hx - 3.0 * sf,
+            y - 5.0 * sf,
+            6.0 * sf,
+            14.0 * sf,
+            [0.95, 0.95, 0.95, 1.0],
+        );
+        Slider {
+            x,
+            width,
+            y: y - 8.0 * sf,
+            height: 20.0 * sf,
         }
     }
 

@@ -24,9 +24,10 @@ use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
 use crate::panel::{Controls, Outcome};
-use crate::renderer::Renderer;
+use crate::renderer::{Renderer, Slider};
 use crate::{
-    Action, Camera, Field, FrameData, Image, LiveSource, Panel, RenderOptions, Status, ViewerError,
+    Action, Camera, Field, FrameData, Image, LiveSource, Panel, RenderOptions, Seek, Status,
+    ViewerError,
 };
 
 /// Settings of the live window.
@@ -126,6 +127,8 @@ struct Drag {
     cursor: Option<(f64, f64)>,
     left: bool,
     other: bool,
+    /// The left button went down on a recorded run's time slider: moving seeks.
+    seeking: bool,
 }
 
 /// The action of a key press.
@@ -133,6 +136,10 @@ fn key_action(key: Key<&str>) -> Option<Action> {
     match key {
         Key::Named(NamedKey::Space) => Some(Action::Pause),
         Key::Named(NamedKey::Escape) => Some(Action::Close),
+        Key::Named(NamedKey::ArrowRight) => Some(Action::Step),
+        Key::Named(NamedKey::ArrowLeft) => Some(Action::Back),
+        Key::Named(NamedKey::Home) => Some(Action::First),
+        Key::Named(NamedKey::End) => Some(Action::Last),
         Key::Character(c) => Action::for_key(c),
         _ => None,
     }
@@ -159,6 +166,8 @@ struct App<'a> {
     /// The colour range and the panel's rows of the last drawn frame.
     range: (f32, f32),
     panel_rows: Vec<([f32; 4], Action)>,
+    /// A recorded run's time slider as last drawn.
+    slider: Option<Slider>,
     error: Option<ViewerError>,
 }
 
@@ -212,6 +221,7 @@ impl<'a> App<'a> {
             sps: 0.0,
             range: (0.0, 1.0),
             panel_rows: Vec::new(),
+            slider: None,
             error: None,
         }
     }
@@ -355,6 +365,7 @@ impl<'a> App<'a> {
             steps_per_second: self.sps,
             frames_per_second: self.fps,
             show_help: self.ctl.show_help,
+            timeline: self.source.timeline(),
         };
         let gfx = self.gfx.as_mut().expect("checked above");
         let size = gfx.window.inner_size();
@@ -377,6 +388,7 @@ impl<'a> App<'a> {
         self.camera = info.camera;
         self.range = info.range;
         self.panel_rows = info.panel_rows;
+        self.slider = info.slider;
         self.frames += 1;
 
         let auto_shot = match &self.opts.screenshot_after_frames {
@@ -435,6 +447,7 @@ impl<'a> App<'a> {
             Outcome::Close => self.close(event_loop),
             Outcome::Screenshot => self.screenshot = true,
             Outcome::ResetCamera => self.camera = self.opts.camera,
+            Outcome::Seek(to) => self.seek(to),
             Outcome::Reset => {
                 if let Err(e) = self.source.reset() {
                     self.ctl.paused = true;
@@ -443,6 +456,36 @@ impl<'a> App<'a> {
                     self.say("reset");
                 }
             }
+        }
+    }
+
+    /// Shows another frame of a recorded run; a live run says it goes forward only.
+    fn seek(&mut self, to: Seek) {
+        let Some(tl) = self.source.timeline() else {
+            self.say("a live run goes forward only: `meshfree view DIR` plays a finished run's frames back and forth");
+            return;
+        };
+        let k = tl.target(to);
+        if k != tl.frame {
+            if let Err(e) = self.source.seek(k) {
+                self.say(format!("cannot show frame {}: {e}", k + 1));
+            }
+        }
+    }
+
+    /// Seeks to the slider's fraction under the cursor, where the cursor is on it (or a drag
+    /// started on it); whether it was.
+    fn slide(&mut self) -> bool {
+        let (Some(s), Some((x, y))) = (self.slider, self.drag.cursor) else {
+            return false;
+        };
+        match s.fraction(x as f32, y as f32, self.drag.seeking) {
+            Some(f) => {
+                self.ctl.paused = true;
+                self.seek(Seek::Fraction(f));
+                true
+            }
+            None => false,
         }
     }
 
@@ -458,6 +501,10 @@ impl<'a> App<'a> {
 
     fn mouse_moved(&mut self, x: f64, y: f64) {
         let prev = self.drag.cursor.replace((x, y));
+        if self.drag.seeking {
+            self.slide();
+            return;
+        }
         let Some((px, py)) = prev else { return };
         let (dx, dy) = ((x - px) as f32, (y - py) as f32);
         let h = self
@@ -542,6 +589,14 @@ impl ApplicationHandler for App<'_> {
                         self.act(a, event_loop);
                         return;
                     }
+                    // A press on a recorded run's slider seeks, and its drag too.
+                    if self.slide() {
+                        self.drag.seeking = true;
+                        return;
+                    }
+                }
+                if !down && button == MouseButton::Left {
+                    self.drag.seeking = false;
                 }
                 match button {
                     MouseButton::Left => self.drag.left = down,
@@ -586,5 +641,33 @@ mod tests {
         assert_eq!(key_action(Key::Character("s")), Some(Action::Surface));
         assert_eq!(key_action(Key::Character("z")), None);
         assert_eq!(key_action(Key::Named(NamedKey::Tab)), None);
+        assert_eq!(
+            key_action(Key::Named(NamedKey::ArrowLeft)),
+            Some(Action::Back)
+        );
+        assert_eq!(
+            key_action(Key::Named(NamedKey::ArrowRight)),
+            Some(Action::Step)
+        );
+        assert_eq!(key_action(Key::Named(NamedKey::Home)), Some(Action::First));
+        assert_eq!(key_action(Key::Named(NamedKey::End)), Some(Action::Last));
+    }
+
+    #[test]
+    fn the_slider_maps_a_click_to_a_fraction_of_the_run() {
+        let s = Slider {
+            x: 10.0,
+            width: 100.0,
+            y: 200.0,
+            height: 20.0,
+        };
+        assert_eq!(s.fraction(10.0, 210.0, false), Some(0.0));
+        assert_eq!(s.fraction(60.0, 210.0, false), Some(0.5));
+        assert_eq!(s.fraction(115.0, 205.0, false), Some(1.0));
+        assert_eq!(s.fraction(60.0, 150.0, false), None, "above the band");
+        assert_eq!(s.fraction(300.0, 210.0, false), None, "past the track");
+        // A drag that started on it goes on anywhere, clamped.
+        assert_eq!(s.fraction(300.0, 10.0, true), Some(1.0));
+        assert_eq!(s.fraction(-50.0, 10.0, true), Some(0.0));
     }
 }

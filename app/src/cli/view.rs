@@ -11,8 +11,10 @@ use meshfree_core::solver::Shown;
 pub struct ViewArgs {
     /// A scene file path or a built-in scene name (simulated live), or a run's output
     /// directory (its recorded frames, played one frame per drawn frame: space pauses, `.`
-    /// steps one frame, `r` goes back to the first; nothing is simulated, and --backend,
-    /// --steps-per-frame, --out, --paper-exact and --spacing do not apply).
+    /// or the right arrow steps one frame, `,` or the left arrow one back, `<` and `>` (Home,
+    /// End) go to the first and the last, and a click or drag on the slider along the
+    /// bottom to any; nothing is simulated, and --backend, --steps-per-frame, --out,
+    /// --paper-exact and --spacing do not apply).
     pub scene: String,
     /// Where to run the solver.
     #[arg(long, value_parser = named::<BackendChoice>(), default_value = "auto")]
@@ -38,6 +40,26 @@ pub struct ViewArgs {
     /// 3D: start with the fluid drawn as a screen-space surface (`s` in the window).
     #[arg(long)]
     pub surface: bool,
+    /// Scripted captures and tests: write the window to this PNG after --capture-after drawn
+    /// frames, then close it.
+    #[arg(long, value_name = "PNG", hide = true)]
+    pub capture: Option<PathBuf>,
+    /// The drawn frames before --capture.
+    #[arg(
+        long,
+        value_name = "N",
+        hide = true,
+        default_value_t = 30,
+        requires = "capture"
+    )]
+    pub capture_after: u32,
+}
+
+impl ViewArgs {
+    /// `ViewOptions::screenshot_after_frames` of --capture.
+    pub fn capture(&self) -> Option<(u32, PathBuf)> {
+        self.capture.clone().map(|p| (self.capture_after.max(1), p))
+    }
 }
 
 #[derive(Debug, clap::Args)]
