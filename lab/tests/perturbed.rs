@@ -3,15 +3,16 @@
 //! shear modulus, a start without the hydrostatic density ...) fails the named checks. The
 //! perturbation goes in through the scene (`Ctx::edit`), never through the physics code.
 //!
-//! Covered: every check row of hydrostatic-tank, dam-break, poiseuille, taylor-green,
-//! cylinder and cantilever; the plate's total-Lagrangian period and amplitude (its two decay
-//! rows: see `plate_checks_fail_when_perturbed`). Not here: the gate (its one kind of check,
-//! the gate bonded to its clamp, moves with no scheme parameter: only a clamp that lets go
-//! fails it). Other perturbations are measured with `explore` (ignored), e.g.
+//! Covered: every check row of every quick-tier case (hydrostatic-tank, dam-break,
+//! poiseuille, taylor-green, cylinder, cantilever, plate, gate); the gate's one kind of
+//! check, the gate bonded to its clamp, moves with no scheme parameter: a clamp that lets go
+//! (a scene perturbation) fails it. Other perturbations are measured with `explore`
+//! (ignored), e.g.
 //! `PCASE=gate PEDIT=gravity-half cargo test --release -p meshfree-lab --test perturbed --
 //! --ignored --nocapture explore`.
 
 use meshfree_core::backend::BackendChoice;
+use meshfree_core::scene::format::SolidObject;
 use meshfree_core::scene::Scene;
 use meshfree_lab::validate::{Check, Ctx, Tier, CASES};
 
@@ -231,10 +232,23 @@ fn shear_modulus_doubled(s: &mut Scene) {
     }
 }
 
-/// The plate's total-Lagrangian period and amplitude. Its two decay rows (0.102 per cycle
-/// against 0.15 with the Jaumann rate, 0.0006 against the JSON's 0.05 total Lagrangian)
-/// are checks no perturbation here moves: a doubled shear modulus or alpha, a halved
-/// artificial stress all leave them within 2 %.
+/// Ten times the artificial viscosity (eq. (10)), which acts on the bodies too.
+fn alpha_x10(s: &mut Scene) {
+    s.file.fluid.alpha *= 10.0;
+}
+
+/// Five times the density diffusion inside the bodies (`[solid] density_diffusion`).
+fn solid_diffusion_x5(s: &mut Scene) {
+    if let Some(m) = s.file.solid.as_mut() {
+        m.density_diffusion *= 5.0;
+    }
+}
+
+/// The plate's total-Lagrangian period and amplitude (a doubled shear modulus), and both
+/// decay rows: the Jaumann plate's decay (0.102 per cycle, tolerance 0.15) comes from the
+/// body's density diffusion (five times it: 0.21), the total-Lagrangian plate's (0.00065,
+/// tolerance 0.0015) from the artificial viscosity (ten times it: 0.0023); a doubled shear
+/// modulus or alpha, a halved artificial stress leave them within 2 %.
 #[test]
 fn plate_checks_fail_when_perturbed() {
     let case = "plate";
@@ -250,6 +264,48 @@ fn plate_checks_fail_when_perturbed() {
             "period from the tip's zero crossings: |T / T_theory - 1| (total Lagrangian)",
             "first-cycle tip amplitude: |A / (V_f c0 / omega) - 1| (total Lagrangian)",
         ],
+    );
+    let damped = rows(case, Some(&solid_diffusion_x5));
+    let jaumann_decay = damped
+        .iter()
+        .find(|c| c.quantity == "tip amplitude decay per cycle")
+        .expect("the Jaumann decay row");
+    assert!(
+        !jaumann_decay.pass,
+        "solid diffusion x5: the Jaumann decay {} still passes",
+        jaumann_decay.error
+    );
+    fail(
+        case,
+        "alpha x10",
+        &rows(case, Some(&alpha_x10)),
+        &["tip amplitude decay per cycle (total Lagrangian)"],
+    );
+}
+
+/// The gate's clamp (its first solid, a driven box) raised by 3 spacings: a gap between it
+/// and the gate, which then stands free on the floor with nothing holding its top.
+fn clamp_lets_go(s: &mut Scene) {
+    let dx = s.file.discretisation.spacing;
+    if let Some(SolidObject::Box { min, .. }) = s.file.solids.first_mut() {
+        min[1] += 3.0 * dx;
+    }
+}
+
+/// The gate's one kind of check, the gate bonded to its clamp (0.009 and 0.004 dx against
+/// 0.03), fails when the clamp lets go (0.43 dx under both formulations).
+#[test]
+fn gate_check_fails_when_the_clamp_lets_go() {
+    let case = "gate";
+    let r = rows(case, None);
+    all_pass(case, &r);
+    let bonded = "gate stays bonded";
+    covers_every_check(case, &r, &[bonded]);
+    fail(
+        case,
+        "clamp raised 3 dx",
+        &rows(case, Some(&clamp_lets_go)),
+        &[bonded],
     );
 }
 
@@ -267,12 +323,15 @@ fn explore() {
         Ok("shear-off") => shear_modulus_off,
         Ok("shear-x2") => shear_modulus_doubled,
         Ok("alpha-x2") => |s: &mut Scene| s.file.fluid.alpha *= 2.0,
+        Ok("alpha-x10") => alpha_x10,
         Ok("art-stress-half") => |s: &mut Scene| {
             if let Some(m) = s.file.solid.as_mut() {
                 m.artificial_stress *= 0.5;
             }
         },
         Ok("diffusion-x2") => |s: &mut Scene| s.file.fluid.density_diffusion *= 2.0,
+        Ok("clamp-gap") => clamp_lets_go,
+        Ok("solid-diffusion-x5") => solid_diffusion_x5,
         Ok("none") | Err(_) => |_: &mut Scene| {},
         Ok(other) => panic!("unknown PEDIT {other}"),
     };
