@@ -59,9 +59,9 @@ __device__ __forceinline__ bool kick_one(const SphParams& p, unsigned char k, un
         }
     }
     // Driven group: prescribed velocity, whatever the forces.
-    if (is_driven(p, g)) {
+    if (const int dk = driven_index(p, g); dk >= 0) {
 #pragma unroll
-        for (int d = 0; d < DIM; ++d) v.c[d] = p.driven_velocity[d];
+        for (int d = 0; d < DIM; ++d) v.c[d] = p.driven_velocity[dk][d];
         return true;
     }
     if (k == MF_KIND_BOUNDARY) return false;
@@ -146,12 +146,12 @@ __device__ __forceinline__ Vec<DIM> drift_one(const SphParams& p, unsigned n, un
     }
     Vec<DIM> x = vload<DIM>(pos, i);
     // A driven group moves at its prescribed velocity (no XSPH), whatever its kind.
-    const bool driven = is_driven(p, g);
-    if (k == MF_KIND_BOUNDARY && !driven) return x;
-    if (driven) {
+    const int dk = driven_index(p, g);
+    if (k == MF_KIND_BOUNDARY && dk < 0) return x;
+    if (dk >= 0) {
         Vec<DIM> u;
 #pragma unroll
-        for (int d = 0; d < DIM; ++d) u.c[d] = p.driven_velocity[d];
+        for (int d = 0; d < DIM; ++d) u.c[d] = p.driven_velocity[dk][d];
         x = x + u * dt;
     } else {
         x = x + (v + vload<DIM>(xsph, i)) * dt;  // eq. (18)

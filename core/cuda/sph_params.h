@@ -33,6 +33,9 @@
  * candidates outside the support). */
 #define MF_CELL_REACH 2
 
+/* The most driven groups (objects with a `motion`) a scene may have. */
+#define MF_MAX_DRIVEN 8
+
 /* Particle kinds (the `kind` array). */
 #define MF_KIND_FLUID 0
 #define MF_KIND_SOLID 1
@@ -190,10 +193,11 @@ typedef struct SphParams {
                                pushes again as soon as water comes back; 0: unclamped */
 
     /* ---- prescribed motion: pistons, clamps, inflow bands ---- */
-    int32_t driven;             /* 1: particles of scene group `driven_group` (any kind) move at
-                                   `driven_velocity`, whatever the forces (a piston, a clamp) */
-    int32_t driven_group;       /* the scene group id */
-    float driven_velocity[3];   /* [L/T] */
+    int32_t driven;             /* how many driven groups (0 .. MF_MAX_DRIVEN): the particles of
+                                   scene group driven_group[k] (any kind) move at
+                                   driven_velocity[k], whatever the forces (pistons, clamps) */
+    int32_t driven_group[MF_MAX_DRIVEN];       /* their scene group ids */
+    float driven_velocity[MF_MAX_DRIVEN][3];   /* [L/T] */
     int32_t inflow;             /* 1: fluid particles with inflow_lo <= x[inflow_axis] < inflow_hi
                                    have their velocity set to `inflow_velocity` every step (holds
                                    the mean flow of a periodic channel) */

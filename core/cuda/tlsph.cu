@@ -389,9 +389,9 @@ __device__ void sph_tl_drift_body(const SphParams p, unsigned n_solid, const flo
     if (i == MF_TL_NONE) return;
     const float dt = *dt_dev;
     Vec<DIM> v;
-    if (is_driven(p, group[i])) {
+    if (const int dk = driven_index(p, group[i]); dk >= 0) {
 #pragma unroll
-        for (int d = 0; d < DIM; ++d) v.c[d] = p.driven_velocity[d];
+        for (int d = 0; d < DIM; ++d) v.c[d] = p.driven_velocity[dk][d];
     } else {
         v = vel_load<DIM>(vel, i) + vload<DIM>(xsph, i);
     }

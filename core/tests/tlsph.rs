@@ -202,7 +202,7 @@ fn quadrature_sums<D: Dim>(
 /// (group 2, driven with motion zero): the cantilever's root.
 fn clamped_block(p: &mut SphParams, n: [usize; 3], n_clamp: usize) -> Vec<Particle> {
     p.driven = 1;
-    p.driven_group = 2;
+    p.driven_group[0] = 2;
     let dx = p.dx;
     let dim = p.dim as usize;
     let hi = [n[0] as f32 * dx, n[1] as f32 * dx, n[2] as f32 * dx];
@@ -399,7 +399,7 @@ fn body_error<D: Dim>(
     let disp: Vec<D::V> = r.x0.iter().map(|&x| u(x)).collect();
     let mut worst = 0.0f32;
     for (a, &id) in r.id.iter().enumerate() {
-        if p.driven != 0 && ps[id as usize].group == p.driven_group as u32 {
+        if p.is_driven(ps[id as usize].group) {
             continue;
         }
         let h = r.displacement_gradient(p, a, disp[a], |b| Some(disp[b]));

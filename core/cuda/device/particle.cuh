@@ -39,10 +39,16 @@ __device__ __forceinline__ float rest_density(const SphParams& p, unsigned char 
     return kind == MF_KIND_SOLID ? p.solid_rho0 : p.rho0;
 }
 
-// The driven group (a piston, a clamp; any kind): moves at driven_velocity whatever the
-// forces (twin: `driven_velocity` in cpu/integrate.rs).
+// Which driven group scene group `group` is (a piston, a clamp; any kind): k where
+// driven_group[k] == group, moving at driven_velocity[k] whatever the forces; -1 for none
+// (twin: `SphParams::driven_index`).
+__device__ __forceinline__ int driven_index(const SphParams& p, unsigned group) {
+    for (int k = 0; k < p.driven && k < MF_MAX_DRIVEN; ++k)
+        if (group == (unsigned)p.driven_group[k]) return k;
+    return -1;
+}
 __device__ __forceinline__ bool is_driven(const SphParams& p, unsigned group) {
-    return p.driven != 0 && group == (unsigned)p.driven_group;
+    return driven_index(p, group) >= 0;
 }
 // A wall at rest: a wall particle of group g that is not driven, at velocity v = 0 [L/T].
 // Two of them add nothing to each other's d rho/dt, eq. (8) (`stamp_moving`, `walked_rows`).

@@ -57,12 +57,13 @@ pub fn meets(p: &SphParams, ki: u8, kj: u8) -> bool {
 /// Whether particles i (kind `ki`, scene group `gi`) and j count as one body for the terms
 /// that act only within a body: XSPH, eq. (18), the velocity gradient of eq. (15) (so the
 /// Jaumann stress rate, eq. (12)) and the artificial stress. All fluid is one body; a solid
-/// is its own scene group; and a driven solid (a clamp: the `driven_group`, held by its
-/// `motion`) is bonded to every solid particle it neighbours, so the held part takes up
-/// strain and passes stress into the body it holds (a cantilever's root).
+/// is its own scene group; and a driven solid (a clamp: one of the `driven_group`s, held by
+/// its `motion`) is bonded to every solid particle it neighbours, so the held part takes up
+/// strain and passes stress into the body it holds (a cantilever's root, both ends of a
+/// plate held by two clamps).
 #[inline]
 pub fn same_body(p: &SphParams, ki: u8, kj: u8, gi: u32, gj: u32) -> bool {
-    let clamp = |g: u32| p.driven != 0 && g == p.driven_group as u32;
+    let clamp = |g: u32| p.is_driven(g);
     ki == kj
         && (ki as u32 == MF_KIND_FLUID
             || gi == gj

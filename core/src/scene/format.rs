@@ -190,10 +190,11 @@ pub struct FluidBlock {
 
 /// An elastic body. `shape` picks the variant; the other keys belong to that shape.
 /// `motion` [L/T] makes it driven: every particle moves at that velocity whatever the
-/// forces (a clamp with zero); at most one driven object (solid or wall) per scene. A
-/// driven body is its own group: it touches another body through the pressure and stress
-/// terms but is not elastically bonded to it (the velocity gradient, eq. (15), stays within
-/// a body).
+/// forces (a clamp with zero); at most `MF_MAX_DRIVEN` (8) driven objects (solids or walls)
+/// per scene, each at its own velocity. A driven body is bonded to the solid particles it
+/// touches (`physics::pairs::same_body`): a clamp holds the body it overlaps, whose root
+/// takes up strain through the velocity gradient, eq. (15); two undriven bodies touch only
+/// through the pressure and stress terms.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum SolidObject {
@@ -244,8 +245,8 @@ impl SolidObject {
 }
 
 /// Fixed boundary particles. Any wall may be a gate, removed at `remove_at`, or driven:
-/// `motion` [L/T] moves all its particles at that velocity (a piston); at most one driven
-/// object (solid or wall) per scene.
+/// `motion` [L/T] moves all its particles at that velocity (a piston); at most
+/// `MF_MAX_DRIVEN` (8) driven objects (solids or walls) per scene.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Wall {

@@ -337,22 +337,23 @@ impl Scene {
     }
 }
 
-/// The driven object (a `motion` on a solid or a wall; validation allows one): its group
-/// id and prescribed velocity [L/T].
-pub(crate) fn driven_object(s: &SceneFile) -> Option<(u32, &Vec<f64>)> {
+/// The driven objects (a `motion` on a solid or a wall; validation allows
+/// `MF_MAX_DRIVEN`), solids first, each in the file's order: its group id and prescribed
+/// velocity [L/T].
+pub(crate) fn driven_objects(s: &SceneFile) -> impl Iterator<Item = (u32, &Vec<f64>)> {
     let n_fluid = s.fluid_blocks.len();
     let solids = s
         .solids
         .iter()
         .enumerate()
-        .filter_map(|(i, o)| o.motion().map(|m| ((n_fluid + i) as u32, m)));
+        .filter_map(move |(i, o)| o.motion().map(|m| ((n_fluid + i) as u32, m)));
     let base = n_fluid + s.solids.len();
     let walls = s
         .walls
         .iter()
         .enumerate()
-        .filter_map(|(i, w)| w.motion().map(|m| ((base + i) as u32, m)));
-    solids.chain(walls).next()
+        .filter_map(move |(i, w)| w.motion().map(|m| ((base + i) as u32, m)));
+    solids.chain(walls)
 }
 
 /// The parameter struct of a scene: its geometry and objects here, every key of the
@@ -387,11 +388,11 @@ fn scene_params(s: &SceneFile) -> SphParams {
             *o = *v as f32;
         }
     }
-    if let Some((group, motion)) = driven_object(s) {
-        p.driven = 1;
-        p.driven_group = group as i32;
+    for (k, (group, motion)) in driven_objects(s).enumerate().take(p.driven_group.len()) {
+        p.driven = k as i32 + 1;
+        p.driven_group[k] = group as i32;
         for (a, u) in motion.iter().enumerate() {
-            p.driven_velocity[a] = *u as f32;
+            p.driven_velocity[k][a] = *u as f32;
         }
     }
     params::derive(&mut p);

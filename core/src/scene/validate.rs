@@ -6,6 +6,7 @@
 
 use super::format::*;
 use super::SceneError;
+use crate::physics::params::MF_MAX_DRIVEN;
 use crate::scene::scheme::*;
 
 type R = Result<(), SceneError>;
@@ -346,11 +347,12 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
                 .map(|(i, _)| format!("walls[{i}]")),
         )
         .collect();
-    if driven.len() > 1 {
+    let most = MF_MAX_DRIVEN as usize;
+    if driven.len() > most {
         return Err(c.err(
-            format!("{}.motion", driven[1]),
+            format!("{}.motion", driven[most]),
             format!(
-                "at most one driven object (motion) per scene; found {} ({})",
+                "at most {most} driven objects (motion) per scene; found {} ({})",
                 driven.len(),
                 driven.join(", ")
             ),

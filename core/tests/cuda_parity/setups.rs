@@ -325,8 +325,8 @@ pub(crate) fn driven_cohesive(dim: usize, v: Variant, group: i32, u: [f32; 3]) -
     let mut setup = scene(dim, v);
     let p = &mut setup.params;
     p.driven = 1;
-    p.driven_group = group;
-    p.driven_velocity = u;
+    p.driven_group[0] = group;
+    p.driven_velocity[0] = u;
     p.cohesion = 2.0;
     setup
 }
@@ -388,8 +388,8 @@ pub(crate) fn clamped_of(mut setup: Setup) -> Setup {
     }
     let p = &mut setup.params;
     p.driven = 1;
-    p.driven_group = 2;
-    p.driven_velocity = [0.0; 3];
+    p.driven_group[0] = 2;
+    p.driven_velocity[0] = [0.0; 3];
     setup
 }
 

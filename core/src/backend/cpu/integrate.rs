@@ -26,11 +26,11 @@ pub fn wrap<D: Dim>(p: &SphParams, x: &mut D::V) {
     }
 }
 
-/// The prescribed velocity of particle `i` when it belongs to the driven group (a piston,
-/// a clamp: `driven`, `driven_group`, `driven_velocity`), of any kind. [L/T]
+/// The prescribed velocity of a particle of scene group `group` when that group is driven
+/// (a piston, a clamp: `driven`, `driven_group`, `driven_velocity`), of any kind. [L/T]
 #[inline]
 pub fn driven_velocity<D: Dim>(p: &SphParams, group: u32) -> Option<D::V> {
-    (p.driven != 0 && group == p.driven_group as u32).then(|| D::from3(p.driven_velocity))
+    p.driven_index(group).map(|k| D::from3(p.driven_velocity[k]))
 }
 
 /// Whether a particle lies in the scene's inflow band: a fluid particle with

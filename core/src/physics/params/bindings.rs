@@ -8,6 +8,7 @@ pub const MF_INTEGRATOR_EULER: u32 = 0;
 pub const MF_INTEGRATOR_SYMPLECTIC_EULER: u32 = 1;
 pub const MF_INTEGRATOR_LEAPFROG: u32 = 2;
 pub const MF_CELL_REACH: u32 = 2;
+pub const MF_MAX_DRIVEN: u32 = 8;
 pub const MF_KIND_FLUID: u32 = 0;
 pub const MF_KIND_SOLID: u32 = 1;
 pub const MF_KIND_BOUNDARY: u32 = 2;
@@ -127,12 +128,12 @@ pub struct SphParams {
     pub wall_first_id: u32,
     #[doc = " 1: a dynamic wall particle's continuity density is held at\nrho >= rho0 after each update (DualSPHysics' DBC, \"to prevent\nabsorption of fluid particles by boundaries\"): a wall the water\nleaves returns to p = 0 instead of keeping a tension, and\npushes again as soon as water comes back; 0: unclamped"]
     pub wall_density_floor: i32,
-    #[doc = " 1: particles of scene group `driven_group` (any kind) move at\n`driven_velocity`, whatever the forces (a piston, a clamp)"]
+    #[doc = " how many driven groups (0 .. MF_MAX_DRIVEN): the particles of\nscene group driven_group[k] (any kind) move at\ndriven_velocity[k], whatever the forces (pistons, clamps)"]
     pub driven: i32,
-    #[doc = " the scene group id"]
-    pub driven_group: i32,
+    #[doc = " their scene group ids"]
+    pub driven_group: [i32; 8usize],
     #[doc = " [L/T]"]
-    pub driven_velocity: [f32; 3usize],
+    pub driven_velocity: [[f32; 3usize]; 8usize],
     #[doc = " 1: fluid particles with inflow_lo <= x[inflow_axis] < inflow_hi\nhave their velocity set to `inflow_velocity` every step (holds\nthe mean flow of a periodic channel)"]
     pub inflow: i32,
     #[doc = " 0, 1 or 2"]

@@ -87,6 +87,21 @@ impl SphParams {
         self.own_slab == 0 || (c >= self.own_lo && c < self.own_hi)
     }
 
+    /// Which driven group scene group `group` is (a piston, a clamp; any kind): k where
+    /// `driven_group[k] == group`, moving at `driven_velocity[k]` whatever the forces.
+    /// Twin: `driven_index` in cuda/device/particle.cuh.
+    #[inline]
+    pub fn driven_index(&self, group: u32) -> Option<usize> {
+        let n = (self.driven.max(0) as usize).min(self.driven_group.len());
+        self.driven_group[..n].iter().position(|&g| g as u32 == group)
+    }
+
+    /// Whether scene group `group` is driven (`driven_index`).
+    #[inline]
+    pub fn is_driven(&self, group: u32) -> bool {
+        self.driven_index(group).is_some()
+    }
+
     /// Reference density of particles of `kind`.
     pub fn rest_density(&self, kind: u8) -> f32 {
         if kind as u32 == MF_KIND_SOLID {

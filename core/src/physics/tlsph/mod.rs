@@ -106,7 +106,7 @@ impl<D: Dim> Reference<D> {
         let vol: Vec<f32> = solids.iter().map(|q| q.mass / p.solid_rho0).collect();
         // Candidates from cells one support wide (3^d cells around each particle).
         let cells = cells::Cells::<D>::new(p, x0.iter().copied());
-        let clamp = |a: usize| p.driven != 0 && solids[a].group == p.driven_group as u32;
+        let clamp = |a: usize| p.is_driven(solids[a].group);
         let faces = faces::<D>(p, &x0, &vol, &clamp, |x| cells.around(x));
         let face_cells = cells::Cells::<D>::new(p, faces.iter().map(|f| f.x));
         let mut start = Vec::with_capacity(n + 1);
