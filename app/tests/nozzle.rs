@@ -17,7 +17,10 @@ fn particle_count_within_5_percent_of_table_1() {
     assert!((c.total as f64 - 3000.0).abs() <= 150.0, "{c:?}");
     let p = scene.params();
     assert_eq!(p.gravity, [0.0; 3]);
-    assert_eq!((p.driven, p.driven_velocity[0]), (1, [20.0, 0.0, 0.0]));
+    assert_eq!(
+        (p.driven, p.driven_motion[0].velocity),
+        (1, [20.0, 0.0, 0.0])
+    );
     assert!(p.cohesion > 0.0);
     // One fluid body at the start.
     let r = clusters::DEFAULT_FACTOR * p.dx;

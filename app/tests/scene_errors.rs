@@ -376,6 +376,63 @@ fn more_driven_objects_than_the_solver_holds() {
     );
 }
 
+/// A motion table's own checks (issue #54): each names the key inside the table.
+#[test]
+fn motion_law_errors_name_their_key() {
+    let wall = |m: &str| {
+        format!("{BASE}\n[[walls]]\nshape = \"box\"\nmin = [0.0, 0.6]\nmax = [0.1, 0.9]\nmotion = {m}\n")
+    };
+    Scene::from_toml(
+        &wall("{ oscillation = { amplitude = [0.1, 0.0], period = 1.0 }, rotation = { pivot = [0.5, 0.5], amplitude = 0.1, period = 2.0 }, ramp = 0.5 }"),
+        "law.toml",
+    )
+    .expect("an oscillating, rocking wall");
+    expect_error(&wall("{ ramp = 1.0 }"), "walls[1].motion", "nothing moves");
+    expect_error(
+        &wall("{ oscillation = { amplitude = [0.1, 0.0], period = 0.0 } }"),
+        "walls[1].motion.oscillation.period",
+        "positive",
+    );
+    expect_error(
+        &wall("{ oscillation = { amplitude = [0.1], period = 1.0 } }"),
+        "walls[1].motion.oscillation.amplitude",
+        "expected 2 numbers",
+    );
+    expect_error(
+        &wall("{ rotation = { pivot = [0.5, 0.5], axis = [0, 0, 1], rate = 1.0 } }"),
+        "walls[1].motion.rotation.axis",
+        "leave out axis",
+    );
+    expect_error(
+        &wall("{ rotation = { pivot = [0.5, 0.5] } }"),
+        "walls[1].motion.rotation",
+        "turns nothing",
+    );
+    expect_error(
+        &wall("{ rotation = { pivot = [0.5, 0.5], amplitude = 0.2 } }"),
+        "walls[1].motion.rotation.period",
+        "positive period",
+    );
+    expect_error(
+        &wall("{ velocity = [1.0, 0.0], ramp = -1.0 }"),
+        "walls[1].motion.ramp",
+        ">= 0",
+    );
+    expect_error(
+        &wall("{ velocity = [1.0, 0.0], spin = 2.0 }"),
+        "walls[1].motion",
+        "unknown field `spin`",
+    );
+    // The paper's forward Euler has no kick before the drift: steady velocities only.
+    let euler = |m: &str| wall(m).replace("[time]\n", "[time]\nintegrator = \"euler\"\n");
+    Scene::from_toml(&euler("[1.0, 0.0]"), "euler.toml").expect("a steady piston under Euler");
+    expect_error(
+        &euler("{ rotation = { pivot = [0.5, 0.5], rate = 1.0 } }"),
+        "walls[1].motion",
+        "kick before the drift",
+    );
+}
+
 #[test]
 fn driven_motion_wrong_length() {
     let bad = format!(
@@ -727,10 +784,13 @@ fn a_fixed_step_or_a_fluid_sound_speed_that_needs_a_billion_steps_is_refused() {
 /// only the wall (issue #51).
 #[test]
 fn a_wrong_type_inside_a_wall_names_its_key() {
-    let text = format!("{BASE}motion = {{amplitude = 0.1, period = 1.0}}\n");
+    let text = format!("{BASE}motion = \"fast\"\n");
     expect_error(
         &text,
         "walls[0].motion",
-        "invalid type: map, expected a sequence",
+        "a velocity [vx, vy(, vz)] or a table",
     );
+    // Inside a motion table, the key of the table.
+    let text = format!("{BASE}motion = {{oscillation = {{amplitude = 0.1, period = 1.0}}}}\n");
+    expect_error(&text, "walls[0].motion", "invalid type");
 }

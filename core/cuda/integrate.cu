@@ -8,6 +8,7 @@
 // Twin: src/backend/cpu/integrate.rs; parity test: tests/cuda_parity/.
 #include "device/entries.cuh"
 #include "device/grid.cuh"
+#include "device/motion.cuh"
 #include "device/packing.cuh"
 #include "device/particle.cuh"
 #include "device/step_size.cuh"
@@ -38,16 +39,18 @@ __device__ __forceinline__ double kick_end(const SphParams& p, double t, float d
     return p.integrator == MF_INTEGRATOR_LEAPFROG ? t + 0.5 * (double)dt : t + (double)dt;
 }
 
-// The kick of one particle (kind k, group g, position x): v += dt a + r_step inflow_velocity
+// The kick of one particle (kind k, group g, position x at the step's start t0, the kick
+// ending at te): v += dt a + r_step inflow_velocity
 // (r_step: the ramp's increase over the kick, 0 without a ramp: a uniform body force, so
 // that the fluid outside the band keeps pace with it); the velocity of the inflow band
 // (`p.inflow`: fluid particles with inflow_lo <= x[inflow_axis] < inflow_hi; twin:
-// `in_inflow_band`), r_now inflow_velocity, or of the driven group instead; false where v
-// stays (walls). Twin: `kick` in src/backend/cpu/integrate.rs.
+// `in_inflow_band`), r_now inflow_velocity, or a driven object's velocity at x at te
+// (`driven_velocity` in device/motion.cuh) instead; false where v stays (walls). Twin: `kick`
+// in src/backend/cpu/integrate.rs.
 template <int DIM>
 __device__ __forceinline__ bool kick_one(const SphParams& p, unsigned char k, unsigned g, const Vec<DIM>& x, float dt,
-                                         float r_now, float r_step, const float* __restrict__ acc, unsigned i,
-                                         Vec<DIM>& v) {
+                                         float r_now, float r_step, double t0, double te,
+                                         const float* __restrict__ acc, unsigned i, Vec<DIM>& v) {
     Vec<DIM> u;
 #pragma unroll
     for (int d = 0; d < DIM; ++d) u.c[d] = p.inflow_velocity[d];
@@ -58,10 +61,9 @@ __device__ __forceinline__ bool kick_one(const SphParams& p, unsigned char k, un
             return true;
         }
     }
-    // Driven group: prescribed velocity, whatever the forces.
+    // Driven object: prescribed velocity, whatever the forces.
     if (const int dk = driven_index(p, g); dk >= 0) {
-#pragma unroll
-        for (int d = 0; d < DIM; ++d) v.c[d] = p.driven_velocity[dk][d];
+        v = driven_velocity<DIM>(p, dk, x, t0, te);
         return true;
     }
     if (k == MF_KIND_BOUNDARY) return false;
@@ -90,39 +92,45 @@ __device__ __forceinline__ float step_dt(const SphParams& p, const unsigned* __r
     return dt;
 }
 
-// time: the device clock, the step's start (the drift advances it after the kick).
+// time: [0] the device clock, the step's start (the drift advances it after the kick); the
+// kick copies it to [2], where the drifts after it read the step's start (a driven object's
+// motion over the step) while sph_drift advances [0].
 template <int DIM>
 __device__ void sph_kick_body(const SphParams p, unsigned n, float* __restrict__ dt_dev, const unsigned* __restrict__ red,
-                              const double* __restrict__ time, const unsigned char* __restrict__ kind,
+                              double* __restrict__ time, const unsigned char* __restrict__ kind,
                               const unsigned* __restrict__ group, const float* __restrict__ pos,
                               float* __restrict__ vel, const float* __restrict__ acc) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
     const float step = step_dt(p, red, dt_dev);
     const float dt = kick_span(p, dt_dev, step);
+    const double t0 = time[0];
+    if (blockIdx.x == 0 && threadIdx.x == 0) time[2] = t0;
     if (i >= n) return;
+    const double te = kick_end(p, t0, step);
     float r_now = 1.0f, r_step = 0.0f;
     if (p.inflow && p.inflow_ramp > 0.0f) {
-        const double t1 = kick_end(p, *time, step);
+        const double t1 = te;
         const double r1 = ramp_share(p, t1), r0 = ramp_share(p, t1 - (double)dt);
         r_now = (float)r1;
         r_step = (float)(r1 - r0);
     }
-    const Vec<DIM> x = p.inflow ? vload<DIM>(pos, i) : vzero<DIM>();
+    const Vec<DIM> x = p.inflow || p.driven ? vload<DIM>(pos, i) : vzero<DIM>();
     Vec<DIM> v = vel_load<DIM>(vel, i);
-    if (kick_one<DIM>(p, kind[i], driven_test_group(p, group, i), x, dt, r_now, r_step, acc, i, v))
+    if (kick_one<DIM>(p, kind[i], driven_test_group(p, group, i), x, dt, r_now, r_step, t0, te, acc, i, v))
         vel_store<DIM>(vel, i, v);  // keeps rho, m
 }
 MF_ENTRY2(sph_kick,
-          (const SphParams p, unsigned n, float* dt_dev, const unsigned* red, const double* time,
+          (const SphParams p, unsigned n, float* dt_dev, const unsigned* red, double* time,
            const unsigned char* kind, const unsigned* group, const float* pos, float* vel, const float* acc),
           (p, n, dt_dev, red, time, kind, group, pos, vel, acc))
 
-// The drift of one particle (kind k, group g, velocity v) by dt; returns its new position.
+// The drift of one particle (kind k, group g, velocity v) by dt from time t0; returns its new
+// position.
 // drho: null without the continuity density; rho_dev, stress, rate: null without solids. The callers
 // then file the particle in its cell for the next grid build (hist_one).
 template <int DIM>
 __device__ __forceinline__ Vec<DIM> drift_one(const SphParams& p, unsigned n, unsigned i, unsigned char k, unsigned g,
-                                              const Vec<DIM>& v, float dt, float* __restrict__ pos,
+                                              const Vec<DIM>& v, float dt, double t0, float* __restrict__ pos,
                                               const float* __restrict__ xsph, float* __restrict__ rho,
                                               const float* __restrict__ drho, float* __restrict__ rho_dev,
                                               float* __restrict__ stress, const float* __restrict__ rate) {
@@ -145,14 +153,11 @@ __device__ __forceinline__ Vec<DIM> drift_one(const SphParams& p, unsigned n, un
         }
     }
     Vec<DIM> x = vload<DIM>(pos, i);
-    // A driven group moves at its prescribed velocity (no XSPH), whatever its kind.
+    // A driven object follows its prescribed motion (no XSPH), whatever its kind.
     const int dk = driven_index(p, g);
     if (k == MF_KIND_BOUNDARY && dk < 0) return x;
     if (dk >= 0) {
-        Vec<DIM> u;
-#pragma unroll
-        for (int d = 0; d < DIM; ++d) u.c[d] = p.driven_velocity[dk][d];
-        x = x + u * dt;
+        x = driven_moved<DIM>(p, dk, x, dt, t0);
     } else {
         x = x + (v + vload<DIM>(xsph, i)) * dt;  // eq. (18)
     }
@@ -182,13 +187,14 @@ __device__ void sph_drift_body(const SphParams p, unsigned n, float* __restrict_
                                unsigned* __restrict__ count) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
     const float dt = dt_dev[0];
+    const double t0 = time[2];  // the step's start, from the kick
     if (i == 0) {
-        *time += (double)dt;
+        time[0] += (double)dt;
         dt_dev[1] = dt;  // the step is done: the next kick's dt_prev
     }
     if (i >= n) return;
-    const Vec<DIM> x =
-        drift_one<DIM>(p, n, i, kind[i], driven_test_group(p, group, i), vel_load<DIM>(vel, i), dt, pos, xsph, rho, drho, rho_dev, stress, rate);
+    const Vec<DIM> x = drift_one<DIM>(p, n, i, kind[i], driven_test_group(p, group, i), vel_load<DIM>(vel, i), dt,
+                                      t0, pos, xsph, rho, drho, rho_dev, stress, rate);
     hist_one<DIM>(p, i, x, cell, count);
 }
 MF_ENTRY2(sph_drift,
@@ -199,6 +205,9 @@ MF_ENTRY2(sph_drift,
 
 // The forward Euler's drift then kick in one pass (`Solver::drift_kick`): the drift takes
 // the old velocity, the kick's inflow test the new position, as the two kernels in turn.
+// Driven objects move steadily only (the scene check refuses an oscillation, a rotation or a
+// ramp under the forward Euler: no kick before this pass copies the step's start, and here
+// thread 0 advances the clock the others would read); t0 goes unused.
 template <int DIM>
 __device__ void sph_drift_kick_body(const SphParams p, unsigned n, float* __restrict__ dt_dev,
                                     const unsigned* __restrict__ red, double* __restrict__ time, const unsigned char* __restrict__ kind,
@@ -215,9 +224,9 @@ __device__ void sph_drift_kick_body(const SphParams p, unsigned n, float* __rest
     const unsigned char k = kind[i];
     const unsigned g = driven_test_group(p, group, i);
     Vec<DIM> v = vel_load<DIM>(vel, i);
-    const Vec<DIM> x = drift_one<DIM>(p, n, i, k, g, v, dt, pos, xsph, rho, drho, rho_dev, stress, rate);
+    const Vec<DIM> x = drift_one<DIM>(p, n, i, k, g, v, dt, 0.0, pos, xsph, rho, drho, rho_dev, stress, rate);
     // No ramp under the forward Euler (`ramp_share`): the band at inflow_velocity.
-    if (kick_one<DIM>(p, k, g, x, dt, 1.0f, 0.0f, acc, i, v)) vel_store<DIM>(vel, i, v);  // keeps rho, m
+    if (kick_one<DIM>(p, k, g, x, dt, 1.0f, 0.0f, 0.0, 0.0, acc, i, v)) vel_store<DIM>(vel, i, v);  // keeps rho, m
     hist_one<DIM>(p, i, x, cell, count);
 }
 MF_ENTRY2(sph_drift_kick,

@@ -77,6 +77,31 @@
 #define MF_WALL_COUPLING_LENNARD_JONES_ONLY 0 /* eq. (17) alone: the paper's walls */
 #define MF_WALL_COUPLING_DYNAMIC 1            /* dynamic walls (Crespo et al. 2007), with eq. (17) */
 
+/* A driven object's prescribed rigid motion (`motion` of a wall or a solid; evaluated by
+ * `motion_*` in device/motion.cuh, twin src/physics/motion.rs). Its particles move with a pivot
+ * c(t) = pivot + s(t) and turn about it by theta(t) about `axis`:
+ *   x(t) = c(t) + R(axis, theta(t)) (x(0) - pivot),
+ *   s(t)     = velocity I(t) + r(t) amplitude (sin(2 pi t / period + phase) - sin phase)  [L],
+ *   theta(t) = rate I(t) + r(t) angle (sin(2 pi t / angle_period + angle_phase)
+ *              - sin angle_phase)                                                       [rad],
+ * r(t) the smooth start over `ramp`, (1 - cos(pi t / ramp)) / 2 up to `ramp`, then 1 (1 without
+ * a ramp), and I(t) its integral over [0, t] (t without). A motion with only `velocity` and no
+ * ramp is steady: x += velocity dt, as before time-dependent motion existed. */
+typedef struct MfMotion {
+    int32_t group;        /* the scene group it moves */
+    float velocity[3];    /* [L/T] */
+    float amplitude[3];   /* [L] of the translation's oscillation */
+    float period;         /* [T] of the translation's oscillation (> 0 where amplitude != 0) */
+    float phase;          /* [rad] */
+    float pivot[3];       /* [L] the centre of rotation at t = 0 */
+    float axis[3];        /* unit axis of rotation; (0, 0, 1) in 2D */
+    float rate;           /* [rad/T] steady angular velocity */
+    float angle;          /* [rad] amplitude of the angle's oscillation */
+    float angle_period;   /* [T] (> 0 where angle != 0) */
+    float angle_phase;    /* [rad] */
+    float ramp;           /* [T] smooth start; 0: none */
+} MfMotion;
+
 typedef struct SphParams {
     /* ---- geometry and neighbour grid ---- */
     int32_t dim;           /* 2 or 3 */
@@ -193,11 +218,11 @@ typedef struct SphParams {
                                pushes again as soon as water comes back; 0: unclamped */
 
     /* ---- prescribed motion: pistons, clamps, inflow bands ---- */
-    int32_t driven;             /* how many driven groups (0 .. MF_MAX_DRIVEN): the particles of
-                                   scene group driven_group[k] (any kind) move at
-                                   driven_velocity[k], whatever the forces (pistons, clamps) */
-    int32_t driven_group[MF_MAX_DRIVEN];       /* their scene group ids */
-    float driven_velocity[MF_MAX_DRIVEN][3];   /* [L/T] */
+    int32_t driven;             /* how many driven objects (0 .. MF_MAX_DRIVEN): the particles of
+                                   scene group driven_motion[k].group (any kind) follow
+                                   driven_motion[k], whatever the forces (pistons, clamps,
+                                   flaps, a rotating tank) */
+    MfMotion driven_motion[MF_MAX_DRIVEN];
     int32_t inflow;             /* 1: fluid particles with inflow_lo <= x[inflow_axis] < inflow_hi
                                    have their velocity set to `inflow_velocity` every step (holds
                                    the mean flow of a periodic channel) */

@@ -26,6 +26,7 @@
 #include "device/entries.cuh"
 #include "device/grid.cuh"
 #include "device/kernel.cuh"
+#include "device/motion.cuh"
 #include "device/packing.cuh"
 #include "device/particle.cuh"
 #include "device/reductions.cuh"
@@ -375,12 +376,14 @@ MF_ENTRY2(sph_tl_forces,
            red))
 
 // The displacement's drift (src/backend/cpu/tlsph.rs `TlBodies::drift`): u += dt (v + xsph),
-// or dt times the driven group's velocity, what sph_drift adds to the position (launched
-// before it, so v is the velocity the drift takes: the new one in the symplectic Euler, the
-// old one in sph_drift_kick) [L].
+// or a driven object's move over the step (`driven_moved`), what sph_drift adds to the
+// position (launched before it, so v is the velocity the drift takes: the new one in the
+// symplectic Euler, the old one in sph_drift_kick, and pos the step's start; time[2] the
+// step's start, from the kick) [L].
 template <int DIM>
 __device__ void sph_tl_drift_body(const SphParams p, unsigned n_solid, const float* __restrict__ dt_dev,
-                                  const unsigned* __restrict__ slot, const unsigned* __restrict__ group,
+                                  const double* __restrict__ time, const unsigned* __restrict__ slot,
+                                  const unsigned* __restrict__ group, const float* __restrict__ pos,
                                   const float* __restrict__ vel, const float* __restrict__ xsph,
                                   float* __restrict__ disp) {
     const unsigned a = blockIdx.x * blockDim.x + threadIdx.x;
@@ -388,16 +391,16 @@ __device__ void sph_tl_drift_body(const SphParams p, unsigned n_solid, const flo
     const unsigned i = slot[a];
     if (i == MF_TL_NONE) return;
     const float dt = *dt_dev;
-    Vec<DIM> v;
+    Vec<DIM> du;
     if (const int dk = driven_index(p, group[i]); dk >= 0) {
-#pragma unroll
-        for (int d = 0; d < DIM; ++d) v.c[d] = p.driven_velocity[dk][d];
+        const Vec<DIM> x = vload<DIM>(pos, i);
+        du = driven_moved<DIM>(p, dk, x, dt, time[2]) - x;
     } else {
-        v = vel_load<DIM>(vel, i) + vload<DIM>(xsph, i);
+        du = (vel_load<DIM>(vel, i) + vload<DIM>(xsph, i)) * dt;
     }
-    vstore<DIM>(disp, a, vload<DIM>(disp, a) + v * dt);
+    vstore<DIM>(disp, a, vload<DIM>(disp, a) + du);
 }
 MF_ENTRY2(sph_tl_drift,
-          (const SphParams p, unsigned n_solid, const float* dt_dev, const unsigned* slot, const unsigned* group,
-           const float* vel, const float* xsph, float* disp),
-          (p, n_solid, dt_dev, slot, group, vel, xsph, disp))
+          (const SphParams p, unsigned n_solid, const float* dt_dev, const double* time, const unsigned* slot,
+           const unsigned* group, const float* pos, const float* vel, const float* xsph, float* disp),
+          (p, n_solid, dt_dev, time, slot, group, pos, vel, xsph, disp))

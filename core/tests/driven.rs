@@ -71,7 +71,11 @@ fn piston_moves_at_its_speed_and_pushes_the_fluid() {
     let scene = Scene::from_toml(PISTON, "piston").unwrap();
     let p = scene.params();
     assert_eq!(
-        (p.driven, p.driven_group[0], p.driven_velocity[0]),
+        (
+            p.driven,
+            p.driven_motion[0].group,
+            p.driven_motion[0].velocity
+        ),
         (1, 2, [1.0, 0.0, 0.0])
     );
     let (start, end, t) = run_to(&scene, 0.2);
@@ -260,9 +264,9 @@ fn two_pistons_move_each_at_its_own_speed() {
     let scene = Scene::from_toml(&text, "two pistons").unwrap();
     let p = scene.params();
     assert_eq!(p.driven, 2);
-    assert_eq!(&p.driven_group[..2], &[2, 3]);
-    assert_eq!(p.driven_velocity[0], [1.0, 0.0, 0.0]);
-    assert_eq!(p.driven_velocity[1], [-0.5, 0.0, 0.0]);
+    assert_eq!([p.driven_motion[0].group, p.driven_motion[1].group], [2, 3]);
+    assert_eq!(p.driven_motion[0].velocity, [1.0, 0.0, 0.0]);
+    assert_eq!(p.driven_motion[1].velocity, [-0.5, 0.0, 0.0]);
     let (start, end, t) = run_to(&scene, 0.1);
     let mut moved = [0usize; 4];
     for (a, b) in start.iter().zip(&end) {
@@ -399,4 +403,110 @@ fn a_plate_held_by_two_clamps_sags_as_a_clamped_clamped_beam() {
         one_end_far > 10.0 * mid,
         "held at one end the plate sags {one_end_far} m at 3 L / 4, both ends {mid} m"
     );
+}
+
+/// A tank rocking about its base's middle, theta(t) = A sin(2 pi t / T) (a sloshing tank,
+/// issue #54): every wall particle sits where the rigid turn puts it, with the turn's
+/// velocity, and the water stays inside the turned tank.
+#[test]
+fn a_rocking_tank_turns_its_walls_rigidly() {
+    let (a, period, pivot) = (0.15f64, 0.4f64, [1.0f64, 0.0]);
+    let text = PISTON
+        .replace("velocity = [1.0, 0.0]\n", "")
+        .replace(
+            "open_top = false\n",
+            "open_top = false\nmotion = { rotation = { pivot = [1.0, 0.0], amplitude = 0.15, period = 0.4 } }\n",
+        )
+        .replace("motion = [1.0, 0.0]\n", "");
+    let scene = Scene::from_toml(&text, "rocking").unwrap();
+    let tank = scene.params().driven_motion[0].group as u32;
+    let t_end = 0.05; // an eighth of a period: turned 0.106 rad, at 1.67 rad/s
+    let (start, end, t) = run_to(&scene, t_end);
+    let theta = a * (2.0 * std::f64::consts::PI * t / period).sin();
+    let omega =
+        a * 2.0 * std::f64::consts::PI / period * (2.0 * std::f64::consts::PI * t / period).cos();
+    let (c, s) = (theta.cos(), theta.sin());
+    let (mut walls, mut worst, mut worst_v) = (0, 0.0f64, 0.0f64);
+    for (p0, p1) in start.iter().zip(&end) {
+        if p0.kind != Kind::Boundary || p0.group != tank {
+            continue;
+        }
+        walls += 1;
+        let (dx, dy) = (
+            p0.position[0] as f64 - pivot[0],
+            p0.position[1] as f64 - pivot[1],
+        );
+        let (x, y) = (pivot[0] + c * dx - s * dy, pivot[1] + s * dx + c * dy);
+        let e = ((p1.position[0] as f64 - x).powi(2) + (p1.position[1] as f64 - y).powi(2)).sqrt();
+        worst = worst.max(e);
+        // v = omega z x (x - pivot), at the particle's place a step earlier at most.
+        let (vx, vy) = (-omega * (y - pivot[1]), omega * (x - pivot[0]));
+        let ev =
+            ((p1.velocity[0] as f64 - vx).powi(2) + (p1.velocity[1] as f64 - vy).powi(2)).sqrt();
+        worst_v = worst_v.max(ev);
+    }
+    assert!(walls > 100, "{walls} wall particles");
+    assert!(
+        theta > 0.1 && omega > 1.6,
+        "theta {theta}, omega {omega} at t {t}"
+    );
+    // 0.106 rad moves the tank's far corner (1.1 from the pivot) 0.12: a 1e-5 error is
+    // float rounding, not a lag of a step.
+    assert!(
+        worst < 1e-5,
+        "a wall particle is {worst} from its rigid place"
+    );
+    // The corners move at 1.8: within what one step (dt ~ 1e-3) of the turn's angular
+    // acceleration, A (2 pi / T)^2 = 37 rad/s^2, changes it.
+    assert!(
+        worst_v < 0.05,
+        "a wall particle's velocity is {worst_v} off the turn's"
+    );
+    // The water stays in the turned tank: back in the tank's frame, inside it.
+    for p in end.iter().filter(|p| p.kind == Kind::Fluid) {
+        let (dx, dy) = (
+            p.position[0] as f64 - pivot[0],
+            p.position[1] as f64 - pivot[1],
+        );
+        let (x, y) = (pivot[0] + c * dx + s * dy, pivot[1] - s * dx + c * dy);
+        assert!(
+            (-0.01..=2.01).contains(&x) && (-0.01..=0.51).contains(&y),
+            "fluid particle {} at ({x}, {y}) in the tank's frame",
+            p.id
+        );
+    }
+}
+
+/// A piston oscillating as x(t) = A sin(2 pi t / T) after a ramp: back at its start after
+/// the ramp and whole periods, moving at the oscillation's peak speed there.
+#[test]
+fn an_oscillating_piston_returns_to_its_place() {
+    let text = PISTON.replace("velocity = [1.0, 0.0]\n", "").replace(
+        "motion = [1.0, 0.0]\n",
+        "motion = { oscillation = { amplitude = [0.02, 0.0], period = 0.1 }, ramp = 0.1 }\n",
+    );
+    let scene = Scene::from_toml(&text, "flap").unwrap();
+    let (start, end, t) = run_to(&scene, 0.2);
+    let peak = 0.02 * 2.0 * std::f64::consts::PI / 0.1; // A 2 pi / T
+    let phase = 2.0 * std::f64::consts::PI * t / 0.1;
+    let (x_want, v_want) = (0.02 * phase.sin(), peak * phase.cos());
+    let mut n = 0;
+    for (a, b) in start.iter().zip(&end) {
+        if a.group != 2 {
+            continue;
+        }
+        n += 1;
+        let dx = (b.position[0] - a.position[0]) as f64;
+        assert!(
+            (dx - x_want).abs() < 1e-5,
+            "piston moved {dx}, want {x_want} (t {t})"
+        );
+        assert_eq!(b.position[1], a.position[1]);
+        assert!(
+            (b.velocity[0] as f64 - v_want).abs() < 0.02 * peak,
+            "v {} want {v_want}",
+            b.velocity[0]
+        );
+    }
+    assert!(n > 10);
 }

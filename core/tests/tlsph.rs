@@ -202,7 +202,7 @@ fn quadrature_sums<D: Dim>(
 /// (group 2, driven with motion zero): the cantilever's root.
 fn clamped_block(p: &mut SphParams, n: [usize; 3], n_clamp: usize) -> Vec<Particle> {
     p.driven = 1;
-    p.driven_group[0] = 2;
+    p.driven_motion[0].group = 2;
     let dx = p.dx;
     let dim = p.dim as usize;
     let hi = [n[0] as f32 * dx, n[1] as f32 * dx, n[2] as f32 * dx];

@@ -39,12 +39,12 @@ __device__ __forceinline__ float rest_density(const SphParams& p, unsigned char 
     return kind == MF_KIND_SOLID ? p.solid_rho0 : p.rho0;
 }
 
-// Which driven group scene group `group` is (a piston, a clamp; any kind): k where
-// driven_group[k] == group, moving at driven_velocity[k] whatever the forces; -1 for none
-// (twin: `SphParams::driven_index`).
+// Which driven object scene group `group` is (a piston, a clamp, a flap; any kind): k where
+// driven_motion[k].group == group, following driven_motion[k] whatever the forces; -1 for
+// none (twin: `SphParams::driven_index`).
 __device__ __forceinline__ int driven_index(const SphParams& p, unsigned group) {
     for (int k = 0; k < p.driven && k < MF_MAX_DRIVEN; ++k)
-        if (group == (unsigned)p.driven_group[k]) return k;
+        if (group == (unsigned)p.driven_motion[k].group) return k;
     return -1;
 }
 __device__ __forceinline__ bool is_driven(const SphParams& p, unsigned group) {

@@ -57,7 +57,7 @@ pub fn meets(p: &SphParams, ki: u8, kj: u8) -> bool {
 /// Whether particles i (kind `ki`, scene group `gi`) and j count as one body for the terms
 /// that act only within a body: XSPH, eq. (18), the velocity gradient of eq. (15) (so the
 /// Jaumann stress rate, eq. (12)) and the artificial stress. All fluid is one body; a solid
-/// is its own scene group; and a driven solid (a clamp: one of the `driven_group`s, held by
+/// is its own scene group; and a driven solid (a clamp: one of the `driven_motion` groups, held by
 /// its `motion`) is bonded to every solid particle it neighbours, so the held part takes up
 /// strain and passes stress into the body it holds (a cantilever's root, both ends of a
 /// plate held by two clamps).

@@ -41,7 +41,7 @@ pub struct Inflow {
     /// \[L\] band limits along `axis`.
     pub min: f64,
     pub max: f64,
-    /// [L/T] `dimension` numbers.
+    /// \[L/T\] `dimension` numbers.
     pub velocity: Vec<f64>,
     /// \[T\] T_r, default 0 (the mean flow from the start). > 0: a start from rest: the
     /// generator takes `velocity` off the fluid's initial velocity, and the kick gives it
@@ -71,7 +71,7 @@ pub struct Monitor {
     pub wall: usize,
     /// \[T\] time between samples.
     pub interval: f64,
-    /// [L/T] U of the coefficients and the Strouhal number. Default none: no coefficients.
+    /// \[L/T\] U of the coefficients and the Strouhal number. Default none: no coefficients.
     #[serde(default)]
     pub reference_velocity: Option<f64>,
     /// \[L\] D of the coefficients, the Strouhal number and the blockage ratio D / H.
@@ -90,7 +90,7 @@ pub enum ProbeField {
     /// [M L^-d L^2 T^-2] each particle's pressure from its density by its equation of
     /// state, eq. (9).
     Pressure,
-    /// [L/T] `dimension` components.
+    /// \[L/T\] `dimension` components.
     Velocity,
     /// [M L^-d]
     Density,
@@ -178,7 +178,7 @@ pub struct Domain {
 pub struct FluidBlock {
     pub min: Vec<f64>,
     pub max: Vec<f64>,
-    /// [L/T] initial velocity. Default zero.
+    /// \[L/T\] initial velocity. Default zero.
     #[serde(default)]
     pub velocity: Option<Vec<f64>>,
     /// Initial pressure and density from the Tait EOS with a hydrostatic column measured
@@ -189,8 +189,8 @@ pub struct FluidBlock {
 }
 
 /// An elastic body. `shape` picks the variant; the other keys belong to that shape.
-/// `motion` [L/T] makes it driven: every particle moves at that velocity whatever the
-/// forces (a clamp with zero); at most `MF_MAX_DRIVEN` (8) driven objects (solids or walls)
+/// `motion` (`Motion`) makes it driven: every particle follows it whatever the forces (a
+/// clamp with a zero velocity); at most `MF_MAX_DRIVEN` (8) driven objects (solids or walls)
 /// per scene, each at its own velocity. A driven body is bonded to the solid particles it
 /// touches (`physics::pairs::same_body`): a clamp holds the body it overlaps, whose root
 /// takes up strain through the velocity gradient, eq. (15); two undriven bodies touch only
@@ -204,7 +204,7 @@ pub enum SolidObject {
         #[serde(default)]
         velocity: Option<Vec<f64>>,
         #[serde(default)]
-        motion: Option<Vec<f64>>,
+        motion: Option<Motion>,
     },
     /// 2D only.
     Disc {
@@ -213,7 +213,7 @@ pub enum SolidObject {
         #[serde(default)]
         velocity: Option<Vec<f64>>,
         #[serde(default)]
-        motion: Option<Vec<f64>>,
+        motion: Option<Motion>,
     },
     /// 3D only.
     Sphere {
@@ -222,7 +222,7 @@ pub enum SolidObject {
         #[serde(default)]
         velocity: Option<Vec<f64>>,
         #[serde(default)]
-        motion: Option<Vec<f64>>,
+        motion: Option<Motion>,
     },
 }
 
@@ -234,8 +234,8 @@ impl SolidObject {
             | SolidObject::Sphere { velocity, .. } => velocity.as_ref(),
         }
     }
-    /// [L/T] the prescribed velocity of a driven body (a clamp: zero), if any.
-    pub fn motion(&self) -> Option<&Vec<f64>> {
+    /// The prescribed motion of a driven body (a clamp: a zero velocity), if any.
+    pub fn motion(&self) -> Option<&Motion> {
         match self {
             SolidObject::Box { motion, .. }
             | SolidObject::Disc { motion, .. }
@@ -244,8 +244,103 @@ impl SolidObject {
     }
 }
 
+/// A driven object's prescribed rigid motion (`motion` of a wall or a solid): a velocity
+/// `[vx, vy(, vz)]` [L/T] (steady: a piston, a clamp with zeros), or a table of laws
+/// (`MotionLaw`). The solver's form and equations: `MfMotion` (`physics::motion`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum Motion {
+    Velocity(Vec<f64>),
+    Law(MotionLaw),
+}
+
+/// `motion = { velocity, oscillation, rotation, ramp }`: a translation at `velocity` plus an
+/// oscillation, and a turn about a pivot, each started smoothly over `ramp` where given.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotionLaw {
+    /// \[L/T\] steady translation. Default none.
+    #[serde(default)]
+    pub velocity: Option<Vec<f64>>,
+    /// A sinusoidal translation: displacement amplitude (sin(2 pi t / period + phase) - sin
+    /// phase) (a piston wave maker, a shaken tank). Default none.
+    #[serde(default)]
+    pub oscillation: Option<Oscillation>,
+    /// A turn about `pivot`, at a steady `rate` plus an oscillation of the angle (a flap, a
+    /// sloshing tank, a stirrer). Default none.
+    #[serde(default)]
+    pub rotation: Option<Rotation>,
+    /// \[T\] a smooth start, (1 - cos(pi t / ramp)) / 2 of every velocity up to `ramp`
+    /// (an oscillation's amplitude grows with it). Default 0: none.
+    #[serde(default)]
+    pub ramp: f64,
+}
+
+/// A sinusoidal translation of a driven object (`MotionLaw::oscillation`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Oscillation {
+    /// \[L\] displacement amplitude, one number per axis.
+    pub amplitude: Vec<f64>,
+    /// \[T\] > 0.
+    pub period: f64,
+    /// \[rad\] Default 0: the object starts at its place, moving at its fastest.
+    #[serde(default)]
+    pub phase: f64,
+}
+
+/// A turn of a driven object about `pivot` (`MotionLaw::rotation`): theta(t) = rate t +
+/// amplitude (sin(2 pi t / period + phase) - sin phase), positive anticlockwise about `axis`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Rotation {
+    /// \[L\] the centre of rotation at t = 0 (it moves with the translation).
+    pub pivot: Vec<f64>,
+    /// 3D: the axis, any length (normalised). 2D scenes turn about z: leave it out.
+    #[serde(default)]
+    pub axis: Option<Vec<f64>>,
+    /// \[rad/T\] steady angular velocity. Default 0.
+    #[serde(default)]
+    pub rate: f64,
+    /// \[rad\] amplitude of the angle's oscillation. Default 0.
+    #[serde(default)]
+    pub amplitude: f64,
+    /// \[T\] period of the angle's oscillation (> 0 where `amplitude` is not 0).
+    #[serde(default)]
+    pub period: f64,
+    /// \[rad\] Default 0.
+    #[serde(default)]
+    pub phase: f64,
+}
+
+impl<'de> Deserialize<'de> for Motion {
+    /// A sequence is a velocity, a table a `MotionLaw` (its own errors: an unknown key, a
+    /// wrong type, name the key), anything else an error that says both forms.
+    fn deserialize<De: serde::Deserializer<'de>>(d: De) -> Result<Self, De::Error> {
+        use serde::de::value::{MapAccessDeserializer, SeqAccessDeserializer};
+        struct Form;
+        impl<'de> serde::de::Visitor<'de> for Form {
+            type Value = Motion;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str(
+                    "a velocity [vx, vy(, vz)] or a table of velocity, oscillation, rotation \
+                     and ramp",
+                )
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, a: A) -> Result<Motion, A::Error> {
+                Vec::<f64>::deserialize(SeqAccessDeserializer::new(a)).map(Motion::Velocity)
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, a: A) -> Result<Motion, A::Error> {
+                MotionLaw::deserialize(MapAccessDeserializer::new(a)).map(Motion::Law)
+            }
+        }
+        d.deserialize_any(Form)
+    }
+}
+
 /// Fixed boundary particles. Any wall may be a gate, removed at `remove_at`, or driven:
-/// `motion` [L/T] moves all its particles at that velocity (a piston); at most
+/// `motion` (`Motion`) moves all its particles rigidly (a piston, a flap, a sloshing
+/// tank); at most
 /// `MF_MAX_DRIVEN` (8) driven objects (solids or walls) per scene.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
@@ -264,7 +359,7 @@ pub enum Wall {
         #[serde(default)]
         remove_at: Option<f64>,
         #[serde(default)]
-        motion: Option<Vec<f64>>,
+        motion: Option<Motion>,
     },
     /// A filled box of boundary particles (obstacle or gate).
     Box {
@@ -273,7 +368,7 @@ pub enum Wall {
         #[serde(default)]
         remove_at: Option<f64>,
         #[serde(default)]
-        motion: Option<Vec<f64>>,
+        motion: Option<Motion>,
     },
     /// 2D: `layers` rows of boundary particles along the segment `from` -> `to`, on its
     /// left looking from `from` to `to` (the side away from the fluid), about dx apart. Fluid
@@ -288,7 +383,7 @@ pub enum Wall {
         #[serde(default)]
         remove_at: Option<f64>,
         #[serde(default)]
-        motion: Option<Vec<f64>>,
+        motion: Option<Motion>,
     },
     /// Rings of boundary particles inward from `radius` (a cylinder along z in 3D).
     Cylinder {
@@ -300,7 +395,7 @@ pub enum Wall {
         #[serde(default)]
         remove_at: Option<f64>,
         #[serde(default)]
-        motion: Option<Vec<f64>>,
+        motion: Option<Motion>,
     },
 }
 
@@ -322,8 +417,8 @@ impl Wall {
             | Wall::Segment { remove_at, .. } => *remove_at,
         }
     }
-    /// [L/T] the prescribed velocity of a driven wall (a piston), if any.
-    pub fn motion(&self) -> Option<&Vec<f64>> {
+    /// The prescribed motion of a driven wall (a piston, a flap, a tank), if any.
+    pub fn motion(&self) -> Option<&Motion> {
         match self {
             Wall::BoxContainer { motion, .. }
             | Wall::Box { motion, .. }

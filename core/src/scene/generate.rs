@@ -17,7 +17,7 @@
 //! * `group` = the object's index in the sequence fluid_blocks, solids, walls; the final
 //!   list is ordered by group, then generation order; `id` = index in that list.
 //! * Mass = reference density * dx^dim (boundary particles take the fluid's rho0).
-//! * A driven object (`motion`) starts at its prescribed velocity.
+//! * A driven object (`motion`) starts at its motion's velocity (`Motion::start_velocity`).
 //! * Under a ramped start (`[inflow] ramp` > 0) the fluid starts at its block's velocity
 //!   less the inflow's `velocity` (at rest where the block moves with the mean flow); the
 //!   kick adds the mean flow back over the ramp.
@@ -500,7 +500,8 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
     let dxd = dx.powi(dim as i32);
     let mut out: Vec<Particle> = Vec::with_capacity(kept.iter().map(Vec::len).sum());
     for (i, obj) in objects.iter().enumerate() {
-        let (rho_ref, velocity) = match obj.kind {
+        // A driven object starts at its motion's velocity there (`Motion::start_velocity`).
+        let (rho_ref, velocity, motion) = match obj.kind {
             Kind::Fluid => {
                 let mut v = vec3(s.fluid_blocks[i].velocity.as_ref());
                 if let Some(b) = s.inflow.as_ref().filter(|b| b.ramp > 0.0) {
@@ -509,19 +510,20 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
                         *x -= u;
                     }
                 }
-                (f.density, v)
+                (f.density, v, None)
             }
             Kind::Solid => {
                 let o = &s.solids[i - n_fluid as usize];
                 (
                     s.solid.as_ref().map(|m| m.density).unwrap_or(f.density),
-                    vec3(o.motion().or(o.velocity())),
+                    vec3(o.velocity()),
+                    o.motion(),
                 )
             }
-            // A driven wall (piston) starts at its prescribed velocity.
             Kind::Boundary => (
                 f.density,
-                vec3(s.walls[i - (n_fluid + n_solid) as usize].motion()),
+                [0.0; 3],
+                s.walls[i - (n_fluid + n_solid) as usize].motion(),
             ),
         };
         let first = out.len() as u32;
@@ -543,7 +545,9 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
                 kind: obj.kind,
                 group: obj.group,
                 position: p.map(|x| x as f32),
-                velocity: velocity.map(|x| x as f32),
+                velocity: motion
+                    .map_or(velocity, |m| m.start_velocity(*p, dim))
+                    .map(|x| x as f32),
                 density: density as f32,
                 pressure: pressure as f32,
                 mass: (rho_ref * dxd) as f32,

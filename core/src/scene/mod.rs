@@ -5,7 +5,8 @@
 //! `format.rs` (geometry and objects) by `meshfree scenes --reference`; the built-in scenes
 //! comment each value with its reason. `format.rs`: the serde structs of the geometry and
 //! objects (`SceneFile` itself is `crate::scene::scheme`'s); `validate.rs`: the
-//! checks serde cannot make; `generate.rs`: how shapes become particles and how overlaps are
+//! checks serde cannot make; `motion.rs`: a driven object's `motion`, its checks and the
+//! solver's form of it; `generate.rs`: how shapes become particles and how overlaps are
 //! resolved (through the spatial indices of `spatial.rs`); `paper_exact.rs`: the map to the
 //! paper's own scheme; `input_limits.rs`: what a file may cost to read; `estimate.rs`: its
 //! size and memory before generation.
@@ -15,6 +16,7 @@ pub mod estimate;
 pub mod format;
 mod generate;
 pub mod input_limits;
+mod motion;
 pub mod paper_exact;
 pub mod scheme;
 mod spatial;
@@ -49,6 +51,10 @@ pub const BUILTIN: &[(&str, &str)] = &[
         include_str!("../../../scenes/impinging-3d.toml"),
     ),
     ("nozzle", include_str!("../../../scenes/nozzle.toml")),
+    (
+        "sloshing-2d",
+        include_str!("../../../scenes/sloshing-2d.toml"),
+    ),
     ("tank-2d", include_str!("../../../scenes/tank-2d.toml")),
     ("tank-3d", include_str!("../../../scenes/tank-3d.toml")),
     (
@@ -338,9 +344,8 @@ impl Scene {
 }
 
 /// The driven objects (a `motion` on a solid or a wall; validation allows
-/// `MF_MAX_DRIVEN`), solids first, each in the file's order: its group id and prescribed
-/// velocity [L/T].
-pub(crate) fn driven_objects(s: &SceneFile) -> impl Iterator<Item = (u32, &Vec<f64>)> {
+/// `MF_MAX_DRIVEN`), solids first, each in the file's order: its group id and motion.
+pub(crate) fn driven_objects(s: &SceneFile) -> impl Iterator<Item = (u32, &format::Motion)> {
     let n_fluid = s.fluid_blocks.len();
     let solids = s
         .solids
@@ -388,12 +393,9 @@ fn scene_params(s: &SceneFile) -> SphParams {
             *o = *v as f32;
         }
     }
-    for (k, (group, motion)) in driven_objects(s).enumerate().take(p.driven_group.len()) {
+    for (k, (group, motion)) in driven_objects(s).enumerate().take(p.driven_motion.len()) {
         p.driven = k as i32 + 1;
-        p.driven_group[k] = group as i32;
-        for (a, u) in motion.iter().enumerate() {
-            p.driven_velocity[k][a] = *u as f32;
-        }
+        p.driven_motion[k] = motion.params(group, s.dimension as usize);
     }
     params::derive(&mut p);
     p

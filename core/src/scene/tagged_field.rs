@@ -4,16 +4,23 @@
 //! variant is known, so a wrong type in one of its keys comes back blamed on the object,
 //! `walls[0]: invalid type: map, expected a sequence`. This finds the key from the text:
 //! the object's keys whose value is (or holds) the value the message quotes; where exactly
-//! one does, the error names it, `walls[0].motion`.
+//! one does, the error names it, `walls[0].motion`. Likewise for an unknown key inside a
+//! table of the object (`motion = { spin = 2 }`): the one key whose table holds it.
 
 /// `path` + `.key` where the reason's offending value sits in exactly one key of the object
 /// at `path` in `text`; None where the path is no object of the text or the key is not
 /// certain.
 pub(super) fn narrow(text: &str, path: &str, reason: &str) -> Option<String> {
-    let found = reason
-        .strip_prefix("invalid type: ")?
-        .split(", expected")
-        .next()?;
+    let unknown = reason
+        .strip_prefix("unknown field `")
+        .and_then(|r| r.split('`').next());
+    let found = match unknown {
+        Some(_) => "",
+        None => reason
+            .strip_prefix("invalid type: ")?
+            .split(", expected")
+            .next()?,
+    };
     let root: toml::Value = toml::from_str(text).ok()?;
     let mut at = &root;
     for part in path.split('.') {
@@ -27,7 +34,10 @@ pub(super) fn narrow(text: &str, path: &str, reason: &str) -> Option<String> {
         }
     }
     let keys: Vec<&String> = (at.as_table()?.iter())
-        .filter(|(_, v)| holds(v, found))
+        .filter(|(_, v)| match unknown {
+            Some(key) => has_key(v, key),
+            None => holds(v, found),
+        })
         .map(|(k, _)| k)
         .collect();
     match keys.as_slice() {
@@ -36,7 +46,16 @@ pub(super) fn narrow(text: &str, path: &str, reason: &str) -> Option<String> {
     }
 }
 
-/// Whether `v` is, or holds in an array, a value serde describes as `found` (`map`,
+/// Whether `v` is a table that has `key`, or holds one that does.
+fn has_key(v: &toml::Value, key: &str) -> bool {
+    match v {
+        toml::Value::Table(t) => t.contains_key(key) || t.values().any(|x| has_key(x, key)),
+        toml::Value::Array(a) => a.iter().any(|x| has_key(x, key)),
+        _ => false,
+    }
+}
+
+/// Whether `v` is, or holds in an array or a table, a value serde describes as `found` (`map`,
 /// `sequence`, `string "x"`, `integer `3``, `floating point `1.5``, `boolean `true``).
 fn holds(v: &toml::Value, found: &str) -> bool {
     let quoted = |prefix: &str| found.strip_prefix(prefix).map(|s| s.trim_matches('`'));
@@ -49,7 +68,11 @@ fn holds(v: &toml::Value, found: &str) -> bool {
         toml::Value::Boolean(b) => quoted("boolean ") == Some(&b.to_string()),
         toml::Value::Datetime(_) => found.starts_with("datetime") || found == "map",
     };
-    is || matches!(v, toml::Value::Array(a) if a.iter().any(|x| holds(x, found)))
+    is || match v {
+        toml::Value::Array(a) => a.iter().any(|x| holds(x, found)),
+        toml::Value::Table(t) => t.values().any(|x| holds(x, found)),
+        _ => false,
+    }
 }
 
 #[cfg(test)]
@@ -77,6 +100,18 @@ mod tests {
             narrow(TEXT, "walls[1]", r).as_deref(),
             Some("walls[1].layers")
         );
+        // Inside a table of the object: its key.
+        let r = "invalid type: integer `1`, expected f64";
+        assert_eq!(
+            narrow(TEXT, "walls[0]", r).as_deref(),
+            Some("walls[0].motion")
+        );
+        let r = "unknown field `a`, expected one of `velocity`, `ramp`";
+        assert_eq!(
+            narrow(TEXT, "walls[0]", r).as_deref(),
+            Some("walls[0].motion")
+        );
+        assert_eq!(narrow(TEXT, "walls[1]", r), None);
         // Not certain (two arrays), or no such object: the error stays as it was.
         assert_eq!(
             narrow(TEXT, "walls[0]", "invalid type: sequence, expected f64"),

@@ -5,6 +5,7 @@
 //! as `crate::scene::scheme` declares them. The first failure is returned.
 
 use super::format::*;
+use super::motion;
 use super::SceneError;
 use crate::physics::params::MF_MAX_DRIVEN;
 use crate::scene::scheme::*;
@@ -14,13 +15,13 @@ type R = Result<(), SceneError>;
 /// [bytes] the longest scene `name` (a directory name on every file system).
 const MAX_NAME: usize = 100;
 
-struct Ctx<'a> {
+pub(super) struct Ctx<'a> {
     origin: &'a str,
-    dim: usize,
+    pub(super) dim: usize,
 }
 
 impl Ctx<'_> {
-    fn err(&self, field: impl Into<String>, reason: impl Into<String>) -> SceneError {
+    pub(super) fn err(&self, field: impl Into<String>, reason: impl Into<String>) -> SceneError {
         SceneError::Invalid {
             origin: self.origin.to_string(),
             field: field.into(),
@@ -28,7 +29,7 @@ impl Ctx<'_> {
         }
     }
 
-    fn vec(&self, field: &str, v: &[f64]) -> R {
+    pub(super) fn vec(&self, field: &str, v: &[f64]) -> R {
         if v.len() != self.dim {
             return Err(self.err(
                 field,
@@ -129,6 +130,7 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
         dim: s.dimension as usize,
     };
     let dim = c.dim;
+    let euler = s.time.integrator == IntegratorChoice::Euler;
     if s.name.trim().is_empty() || s.name.contains(['/', '\\']) || s.name == "." || s.name == ".." {
         return Err(c.err("name", "must be a non-empty name without path separators"));
     }
@@ -216,7 +218,9 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
     for (i, o) in s.solids.iter().enumerate() {
         let field = format!("solids[{i}]");
         c.opt_vec(&format!("{field}.velocity"), &o.velocity().cloned())?;
-        c.opt_vec(&format!("{field}.motion"), &o.motion().cloned())?;
+        if let Some(m) = o.motion() {
+            motion::check(&c, &format!("{field}.motion"), m, euler)?;
+        }
         if o.velocity().is_some() && o.motion().is_some() {
             return Err(c.err(
                 format!("{field}.velocity"),
@@ -262,7 +266,9 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
     }
     for (i, w) in s.walls.iter().enumerate() {
         let field = format!("walls[{i}]");
-        c.opt_vec(&format!("{field}.motion"), &w.motion().cloned())?;
+        if let Some(m) = w.motion() {
+            motion::check(&c, &format!("{field}.motion"), m, euler)?;
+        }
         if let Some(t) = w.remove_at() {
             c.non_negative(&format!("{field}.remove_at"), t)?;
         }

@@ -325,8 +325,8 @@ pub(crate) fn driven_cohesive(dim: usize, v: Variant, group: i32, u: [f32; 3]) -
     let mut setup = scene(dim, v);
     let p = &mut setup.params;
     p.driven = 1;
-    p.driven_group[0] = group;
-    p.driven_velocity[0] = u;
+    p.driven_motion[0].group = group;
+    p.driven_motion[0].velocity = u;
     p.cohesion = 2.0;
     setup
 }
@@ -388,8 +388,8 @@ pub(crate) fn clamped_of(mut setup: Setup) -> Setup {
     }
     let p = &mut setup.params;
     p.driven = 1;
-    p.driven_group[0] = 2;
-    p.driven_velocity[0] = [0.0; 3];
+    p.driven_motion[0].group = 2;
+    p.driven_motion[0].velocity = [0.0; 3];
     setup
 }
 
@@ -399,6 +399,25 @@ pub(crate) fn clamped_of(mut setup: Setup) -> Setup {
 pub(crate) fn not_periodic(mut setup: Setup) -> Setup {
     setup.params.periodic = [0; 3];
     params::derive(&mut setup.params);
+    setup
+}
+
+/// `driven_cohesive` with the driven group on a motion law (issue #54): a steady velocity,
+/// an oscillation and a turn (steady and oscillating) about a tilted axis through the
+/// box's middle, ramped over a few steps, so that the kick's velocity and the drift's move
+/// take every term of `MfMotion` (cuda/device/motion.cuh against physics/motion.rs).
+pub(crate) fn driven_law(dim: usize, v: Variant, group: i32) -> Setup {
+    let mut setup = driven_cohesive(dim, v, group, [0.3, -0.2, 0.1]);
+    let p = &mut setup.params;
+    let m = &mut p.driven_motion[0];
+    m.amplitude = [0.05, 0.02, 0.01];
+    (m.period, m.phase) = (0.3, 0.4);
+    let mid = |a: usize| 0.5 * (p.domain_min[a] + p.domain_max[a]);
+    m.pivot = [mid(0), mid(1), if dim == 3 { mid(2) } else { 0.0 }];
+    let n = (0.3f32 * 0.3 + 0.4 * 0.4 + 0.866 * 0.866).sqrt();
+    m.axis = [0.3 / n, 0.4 / n, 0.866 / n];
+    (m.rate, m.angle, m.angle_period, m.angle_phase) = (0.7, 0.2, 0.5, 0.3);
+    m.ramp = 0.004;
     setup
 }
 

@@ -3,6 +3,7 @@
 //! fluid only, no periodic axis.
 
 use super::*;
+use meshfree_core::solver::Readback;
 
 #[test]
 #[cfg_attr(
@@ -32,6 +33,26 @@ fn stages_2d_driven_solid_cohesion_summation_euler() {
 fn stages_3d_driven_solid_cohesion_continuity_euler() {
     let setup = driven_cohesive(3, V_3D_B, 2, [0.2, -0.3, 0.1]);
     stages_on::<D3>("V_3D_B + driven sphere + cohesion", setup);
+}
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_2d_wall_on_a_motion_law_symplectic() {
+    let setup = driven_law(2, V_2D_B, 0);
+    stages_on::<D2>("V_2D_B + wall oscillating and turning", setup);
+}
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_3d_body_on_a_motion_law_leapfrog() {
+    let setup = leapfrog(driven_law(3, V_3D_B, 2));
+    stages_on::<D3>("V_3D_B leapfrog + sphere oscillating and turning", setup);
 }
 
 #[test]
@@ -333,5 +354,51 @@ fn stages_3d_fluid_only_no_periodic_axis_symplectic() {
     stages_on::<D3>(
         "V_3D_A fluid only, no periodic axis",
         not_periodic(fluid_only(3, V_3D_A)),
+    );
+}
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn a_wall_on_a_motion_law_follows_the_same_path_over_whole_steps() {
+    // The device's clock (time[0], the kick's t0 in time[2]) against the CPU's over 150
+    // steps of `Solver::step`: each driven particle where the CPU puts it.
+    let setup = driven_law(2, V_2D_B, 0);
+    let start: Vec<Particle> = setup.particles.clone();
+    let mut g = gpu::<D2>(&setup);
+    let mut c = CpuSolver::<D2>::new(setup);
+    for _ in 0..150 {
+        c.step();
+        g.step();
+    }
+    let by_id = |mut v: Vec<Particle>| {
+        v.sort_by_key(|q| q.id);
+        v
+    };
+    let (pc, pg, p0) = (by_id(c.particles()), by_id(g.particles()), by_id(start));
+    let (mut n, mut worst, mut moved) = (0, 0.0f32, 0.0f32);
+    for ((a, b), s) in pc.iter().zip(&pg).zip(&p0) {
+        if a.group != 0 || a.kind != Kind::Boundary {
+            continue;
+        }
+        n += 1;
+        for d in 0..2 {
+            worst = worst.max((a.position[d] - b.position[d]).abs());
+            moved = moved.max((a.position[d] - s.position[d]).abs());
+        }
+    }
+    eprintln!(
+        "{n} driven wall particles after 150 steps to t = {:.5} (gpu {:.5}): moved up to {moved}, CPU - GPU up to {worst}",
+        c.time(),
+        g.time()
+    );
+    assert!(n > 0 && moved > 1e-3, "the wall did not move ({moved})");
+    // Both move by the same double-precision law from the same clock: the difference is
+    // float rounding of one pose, not a step's move (~1e-4 here).
+    assert!(
+        worst < 2e-6,
+        "a driven particle is {worst} apart on the two backends"
     );
 }

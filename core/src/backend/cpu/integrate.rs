@@ -26,11 +26,37 @@ pub fn wrap<D: Dim>(p: &SphParams, x: &mut D::V) {
     }
 }
 
-/// The prescribed velocity of a particle of scene group `group` when that group is driven
-/// (a piston, a clamp: `driven`, `driven_group`, `driven_velocity`), of any kind. [L/T]
+/// The prescribed velocity at time `t` of a particle at `x` of scene group `group` when that
+/// group is driven (a piston, a clamp, a flap: `SphParams::driven_motion`), of any kind,
+/// its object's pivot where it was at `t0` (`MfMotion::velocity_at`; a steady motion's
+/// velocity as it is). [L/T] Twin: `driven_velocity` in cuda/device/motion.cuh.
 #[inline]
-pub fn driven_velocity<D: Dim>(p: &SphParams, group: u32) -> Option<D::V> {
-    p.driven_index(group).map(|k| D::from3(p.driven_velocity[k]))
+pub fn driven_velocity<D: Dim>(
+    p: &SphParams,
+    group: u32,
+    x: D::V,
+    t0: f64,
+    t: f64,
+) -> Option<D::V> {
+    let m = &p.driven_motion[p.driven_index(group)?];
+    Some(if m.steady() {
+        D::from3(m.velocity)
+    } else {
+        m.velocity_at::<D>(x, t0, t)
+    })
+}
+
+/// Where a particle at `x` of scene group `group` is after the step [t0, t0 + dt] when
+/// that group is driven (`MfMotion::moved`; a steady motion's x + velocity dt in float).
+/// [L] Twin: `driven_moved` in cuda/device/motion.cuh.
+#[inline]
+pub fn driven_moved<D: Dim>(p: &SphParams, group: u32, x: D::V, dt: f32, t0: f64) -> Option<D::V> {
+    let m = &p.driven_motion[p.driven_index(group)?];
+    Some(if m.steady() {
+        x + D::from3(m.velocity) * dt
+    } else {
+        m.moved::<D>(x, t0, t0 + dt as f64)
+    })
 }
 
 /// Whether a particle lies in the scene's inflow band: a fluid particle with
@@ -114,15 +140,16 @@ pub fn kick_end(p: &SphParams, t: f64, dt: f32) -> f64 {
     }
 }
 
-/// The kick over `dt` (its span, `kick_span`) ending at time `t_end` (`kick_end`): v += dt a
+/// The kick over `dt` (its span, `kick_span`) of the step that starts at `t0`, ending at
+/// time `t_end` (`kick_end`): v += dt a
 /// for fluid and solid particles; v = r(t_end) inflow_velocity for fluid in the inflow band
 /// (`in_inflow_band`; r = 1 without a ramp, `ramp_share`), and under a ramped start the
 /// mean flow's increase over the span, (r(t_end) - r(t_end - dt)) inflow_velocity, added
 /// to every particle the kick integrates outside the band (a uniform body force: the
 /// fluid outside the band keeps pace with it without a pressure gradient along the
-/// channel); the driven group's velocity is set to its prescribed value, whatever the
-/// forces. [L/T]
-pub fn kick<D: Dim>(p: &SphParams, dt: f32, t_end: f64, s: &mut State<D>) {
+/// channel); a driven object's velocity is set to its prescribed value at t_end
+/// (`driven_velocity`), whatever the forces. [L/T]
+pub fn kick<D: Dim>(p: &SphParams, dt: f32, (t0, t_end): (f64, f64), s: &mut State<D>) {
     let (kind, group, acc, pos) = (&s.kind, &s.group, &s.acc, &s.pos);
     let (r1, r0) = (ramp_share(p, t_end), ramp_share(p, t_end - dt as f64));
     let u = D::from3(p.inflow_velocity);
@@ -139,8 +166,8 @@ pub fn kick<D: Dim>(p: &SphParams, dt: f32, t_end: f64, s: &mut State<D>) {
             *v += acc[i] * dt;
             *v += ramp_dv;
         }
-        // Driven group (piston, clamp): prescribed velocity.
-        if let Some(u) = driven_velocity::<D>(p, group[i]) {
+        // Driven object (piston, clamp, flap): prescribed velocity.
+        if let Some(u) = driven_velocity::<D>(p, group[i], pos[i], t0, t_end) {
             *v = u;
         }
     });
@@ -150,13 +177,13 @@ pub fn kick<D: Dim>(p: &SphParams, dt: f32, t_end: f64, s: &mut State<D>) {
 /// d rho/dt and rho = rho0_s + rho_dev); S += dt dS/dt. With the
 /// paper's forward Euler, eq. (19), it runs before the kick (x^{n+1} takes v^n); with the
 /// symplectic Euler after it (x^{n+1} takes v^{n+1}). Boundary particles stay put (their
-/// density changes with dynamic walls), except a driven group, which moves at its
-/// prescribed velocity (no XSPH), whatever its kind.
-pub fn drift<D: Dim>(p: &SphParams, dt: f32, s: &mut State<D>) {
+/// density changes with dynamic walls), except a driven object, which follows its
+/// prescribed motion over the step from `t0` (`driven_moved`; no XSPH), whatever its kind.
+pub fn drift<D: Dim>(p: &SphParams, dt: f32, t0: f64, s: &mut State<D>) {
     let (kind, group, vel, xsph) = (&s.kind, &s.group, &s.vel, &s.xsph);
     s.pos.par_iter_mut().enumerate().for_each(|(i, x)| {
-        if let Some(u) = driven_velocity::<D>(p, group[i]) {
-            *x += u * dt;
+        if let Some(y) = driven_moved::<D>(p, group[i], *x, dt, t0) {
+            *x = y;
             wrap::<D>(p, x);
         } else if kind[i] as u32 != MF_KIND_BOUNDARY {
             *x += (vel[i] + xsph[i]) * dt;

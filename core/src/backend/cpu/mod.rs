@@ -210,13 +210,13 @@ impl<D: Dim> Solver for CpuSolver<D> {
     fn kick(&mut self) {
         let dt = integrate::kick_span(&self.params, self.dt_prev, self.dt);
         let t_end = integrate::kick_end(&self.params, self.time, self.dt);
-        integrate::kick(&self.params, dt, t_end, &mut self.state);
+        integrate::kick(&self.params, dt, (self.time, t_end), &mut self.state);
     }
     fn drift(&mut self) {
         if let Some(tl) = self.tl.as_mut() {
-            tl.drift(&self.params, self.dt, &self.state);
+            tl.drift(&self.params, self.dt, self.time, &self.state);
         }
-        integrate::drift(&self.params, self.dt, &mut self.state);
+        integrate::drift(&self.params, self.dt, self.time, &mut self.state);
         self.grid_stale = true;
         self.time += self.dt as f64;
         self.steps += 1;

@@ -7,7 +7,7 @@
 
 use rayon::prelude::*;
 
-use super::integrate::driven_velocity;
+use super::integrate::driven_moved;
 use crate::physics::dim::Dim;
 use crate::physics::pairs::separation;
 use crate::physics::params::{SphParams, MF_KIND_SOLID};
@@ -194,10 +194,11 @@ impl<D: Dim> TlBodies<D> {
         sum
     }
 
-    /// u += dt (v + xsph), or dt times the driven group's velocity: what the drift adds to
-    /// the position (`integrate::drift`), with the velocity the drift takes (the new one in
-    /// the symplectic Euler, the old one in the forward Euler). \[L\]
-    pub fn drift(&mut self, p: &SphParams, dt: f32, s: &State<D>) {
+    /// u += dt (v + xsph), or a driven object's move over the step from `t0`
+    /// (`integrate::driven_moved`): what the drift adds to the position
+    /// (`integrate::drift`), with the velocity the drift takes (the new one in the
+    /// symplectic Euler, the old one in the forward Euler). \[L\]
+    pub fn drift(&mut self, p: &SphParams, dt: f32, t0: f64, s: &State<D>) {
         let slot = &self.slot;
         self.disp.par_iter_mut().enumerate().for_each(|(a, u)| {
             let i = slot[a];
@@ -205,8 +206,11 @@ impl<D: Dim> TlBodies<D> {
                 return;
             }
             let i = i as usize;
-            let v = driven_velocity::<D>(p, s.group[i]).unwrap_or(s.vel[i] + s.xsph[i]);
-            *u += v * dt;
+            let x = s.pos[i];
+            *u += match driven_moved::<D>(p, s.group[i], x, dt, t0) {
+                Some(y) => y - x,
+                None => (s.vel[i] + s.xsph[i]) * dt,
+            };
         });
     }
 }

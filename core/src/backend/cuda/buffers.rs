@@ -113,7 +113,9 @@ pub struct Buffers {
     /// first step): the leapfrog's kick spans their mean (`kick_span` in cuda/integrate.cu).
     pub dt: CudaSlice<f32>,
     /// The clock [T] and, as the bits of the second double, the key of the first fault that
-    /// a queued health check found (0: none; `sph_check_record`): read back together.
+    /// a queued health check found (0: none; `sph_check_record`): read back together; the
+    /// third, the step's start [T], copied there by the kick for the drifts after it (a
+    /// driven object's motion over the step) while sph_drift advances the first.
     pub time: CudaSlice<f64>,
     /// That fault's particle record (`MF_FAULT_RECORD_WORDS` words, `sph_check_record`).
     pub fault_rec: CudaSlice<u32>,
@@ -330,7 +332,7 @@ impl Buffers {
             },
             red: a.z(3)?,
             dt: a.z(2)?,
-            time: a.z(2)?,
+            time: a.z(3)?,
             fault_rec: a.z(MF_FAULT_RECORD_WORDS as usize)?,
             diag_sums: a.z(6)?,
             diag_partial: w.diag_partial,

@@ -301,7 +301,7 @@ impl Family {
                 "sph_kick",
                 Dims,
                 "const SphParams p, unsigned n, float* dt_dev, const unsigned* red, \
-                 const double* time, const unsigned char* kind, const unsigned* group, \
+                 double* time, const unsigned char* kind, const unsigned* group, \
                  const float* pos, float* vel, const float* acc",
             ),
             Family::Drift => (
@@ -407,8 +407,9 @@ impl Family {
                 "tlsph",
                 "sph_tl_drift",
                 Dims,
-                "const SphParams p, unsigned n_solid, const float* dt_dev, const unsigned* slot, \
-                 const unsigned* group, const float* vel, const float* xsph, float* disp",
+                "const SphParams p, unsigned n_solid, const float* dt_dev, const double* time, \
+                 const unsigned* slot, const unsigned* group, const float* pos, \
+                 const float* vel, const float* xsph, float* disp",
             ),
             Family::ExchangeMark => (
                 "exchange",

@@ -32,7 +32,7 @@ impl<D: Dim> Persist for CudaSolver<D> {
         if let Err(e) = self
             .dev
             .stream
-            .memcpy_htod(&[saved.time, 0.0][..], &mut self.buf.time)
+            .memcpy_htod(&[saved.time, 0.0][..], &mut self.buf.time.slice_mut(..2))
         {
             self.sync_err("restoring the clock", e)
         }

@@ -23,7 +23,7 @@ impl<D: Dim> Readback for CudaSolver<D> {
                 s.clone_dtoh(&self.buf.diag_max)?,
                 s.clone_dtoh(&self.buf.diag_counts)?,
                 s.clone_dtoh(&self.buf.dt.slice(..1))?,
-                s.clone_dtoh(&self.buf.time)?,
+                s.clone_dtoh(&self.buf.time.slice(..1))?,
             ))
         });
         let (sums, maxes, counts, dt, time) =

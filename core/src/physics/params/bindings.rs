@@ -27,6 +27,35 @@ pub const MF_SOLID_JAUMANN: u32 = 0;
 pub const MF_SOLID_TOTAL_LAGRANGIAN: u32 = 1;
 pub const MF_WALL_COUPLING_LENNARD_JONES_ONLY: u32 = 0;
 pub const MF_WALL_COUPLING_DYNAMIC: u32 = 1;
+#[doc = " A driven object's prescribed rigid motion (`motion` of a wall or a solid; evaluated by\n `motion_*` in device/motion.cuh, twin src/physics/motion.rs). Its particles move with a pivot\n c(t) = pivot + s(t) and turn about it by theta(t) about `axis`:\n   x(t) = c(t) + R(axis, theta(t)) (x(0) - pivot),\n   s(t)     = velocity I(t) + r(t) amplitude (sin(2 pi t / period + phase) - sin phase)  [L],\n   theta(t) = rate I(t) + r(t) angle (sin(2 pi t / angle_period + angle_phase)\n              - sin angle_phase)                                                       [rad],\n r(t) the smooth start over `ramp`, (1 - cos(pi t / ramp)) / 2 up to `ramp`, then 1 (1 without\n a ramp), and I(t) its integral over [0, t] (t without). A motion with only `velocity` and no\n ramp is steady: x += velocity dt, as before time-dependent motion existed."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct MfMotion {
+    #[doc = " the scene group it moves"]
+    pub group: i32,
+    #[doc = " [L/T]"]
+    pub velocity: [f32; 3usize],
+    #[doc = " [L] of the translation's oscillation"]
+    pub amplitude: [f32; 3usize],
+    #[doc = " [T] of the translation's oscillation (> 0 where amplitude != 0)"]
+    pub period: f32,
+    #[doc = " [rad]"]
+    pub phase: f32,
+    #[doc = " [L] the centre of rotation at t = 0"]
+    pub pivot: [f32; 3usize],
+    #[doc = " unit axis of rotation; (0, 0, 1) in 2D"]
+    pub axis: [f32; 3usize],
+    #[doc = " [rad/T] steady angular velocity"]
+    pub rate: f32,
+    #[doc = " [rad] amplitude of the angle's oscillation"]
+    pub angle: f32,
+    #[doc = " [T] (> 0 where angle != 0)"]
+    pub angle_period: f32,
+    #[doc = " [rad]"]
+    pub angle_phase: f32,
+    #[doc = " [T] smooth start; 0: none"]
+    pub ramp: f32,
+}
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct SphParams {
@@ -128,12 +157,9 @@ pub struct SphParams {
     pub wall_first_id: u32,
     #[doc = " 1: a dynamic wall particle's continuity density is held at\nrho >= rho0 after each update (DualSPHysics' DBC, \"to prevent\nabsorption of fluid particles by boundaries\"): a wall the water\nleaves returns to p = 0 instead of keeping a tension, and\npushes again as soon as water comes back; 0: unclamped"]
     pub wall_density_floor: i32,
-    #[doc = " how many driven groups (0 .. MF_MAX_DRIVEN): the particles of\nscene group driven_group[k] (any kind) move at\ndriven_velocity[k], whatever the forces (pistons, clamps)"]
+    #[doc = " how many driven objects (0 .. MF_MAX_DRIVEN): the particles of\nscene group driven_motion[k].group (any kind) follow\ndriven_motion[k], whatever the forces (pistons, clamps,\nflaps, a rotating tank)"]
     pub driven: i32,
-    #[doc = " their scene group ids"]
-    pub driven_group: [i32; 8usize],
-    #[doc = " [L/T]"]
-    pub driven_velocity: [[f32; 3usize]; 8usize],
+    pub driven_motion: [MfMotion; 8usize],
     #[doc = " 1: fluid particles with inflow_lo <= x[inflow_axis] < inflow_hi\nhave their velocity set to `inflow_velocity` every step (holds\nthe mean flow of a periodic channel)"]
     pub inflow: i32,
     #[doc = " 0, 1 or 2"]

@@ -87,13 +87,15 @@ impl SphParams {
         self.own_slab == 0 || (c >= self.own_lo && c < self.own_hi)
     }
 
-    /// Which driven group scene group `group` is (a piston, a clamp; any kind): k where
-    /// `driven_group[k] == group`, moving at `driven_velocity[k]` whatever the forces.
-    /// Twin: `driven_index` in cuda/device/particle.cuh.
+    /// Which driven object scene group `group` is (a piston, a clamp, a flap; any kind): k
+    /// where `driven_motion[k].group == group`, following `driven_motion[k]` whatever the
+    /// forces. Twin: `driven_index` in cuda/device/particle.cuh.
     #[inline]
     pub fn driven_index(&self, group: u32) -> Option<usize> {
-        let n = (self.driven.max(0) as usize).min(self.driven_group.len());
-        self.driven_group[..n].iter().position(|&g| g as u32 == group)
+        let n = (self.driven.max(0) as usize).min(self.driven_motion.len());
+        self.driven_motion[..n]
+            .iter()
+            .position(|m| m.group as u32 == group)
     }
 
     /// Whether scene group `group` is driven (`driven_index`).

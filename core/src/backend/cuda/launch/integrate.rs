@@ -63,14 +63,14 @@ pub fn kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
     let mut l = s.launch_builder(&kk.f);
     l.arg(p).arg(&n).arg(&mut b.dt);
     opt!(l, due.then_some(&b.red));
-    l.arg(&b.time)
+    l.arg(&mut b.time)
         .arg(&c.kind)
         .arg(&c.group)
         .arg(&c.pos)
         .arg(&mut c.vel)
         .arg(&b.acc);
     // SAFETY: the arguments of `Family::Kick`; dt_dev holds 2 floats; red null or the 3
-    // maxima of the forces pass; time the device clock (1 double).
+    // maxima of the forces pass; time the device clock (`Buffers::time`, 3 doubles).
     kk.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
 }
 

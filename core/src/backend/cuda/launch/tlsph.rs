@@ -134,15 +134,18 @@ pub fn tl_drift(
     }
     let ns = t.n_solid as u32;
     let kt = k.get(Family::TlDrift);
-    // SAFETY: the arguments of `Family::TlDrift`; dt_dev holds 2 floats; slot and disp as in
-    // `tl_stress`; group, vel (float4) and xsph hold n entries.
+    // SAFETY: the arguments of `Family::TlDrift`; dt_dev holds 2 floats; time the clock
+    // (`Buffers::time`, 3 doubles); slot and disp as in `tl_stress`; group, pos, vel (float4)
+    // and xsph hold n entries.
     kt.check(unsafe {
         s.launch_builder(&kt.f)
             .arg(p)
             .arg(&ns)
             .arg(&b.dt)
+            .arg(&b.time)
             .arg(&t.slot)
             .arg(&b.cur.group)
+            .arg(&b.cur.pos)
             .arg(&b.cur.vel)
             .arg(&b.xsph)
             .arg(&mut t.disp)
