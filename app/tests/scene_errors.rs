@@ -433,6 +433,80 @@ fn motion_law_errors_name_their_key() {
     );
 }
 
+/// A wave maker that cannot make its wave, and a damping zone that cannot damp (issue #57).
+#[test]
+fn wave_makers_and_damping_zones_refuse_what_they_cannot_do() {
+    let flume = include_str!("../../scenes/flume-2d.toml");
+    let wave = "wave = { paddle = \"piston\", height = 0.05, period = 1.2, depth = 0.3 }";
+    assert!(flume.contains(wave));
+    let with = |w: &str| flume.replace(wave, w);
+    // Miche: H <= 0.142 L tanh(kd) = 0.198 at T = 1.2, d = 0.3.
+    expect_error(
+        &with("wave = { paddle = \"piston\", height = 0.21, period = 1.2, depth = 0.3 }"),
+        "walls[1].motion.wave.height",
+        "Miche's limit",
+    );
+    // A wavelength under 10 spacings (T = 0.2: L = 0.062 < 0.1).
+    expect_error(
+        &with("wave = { paddle = \"piston\", height = 0.001, period = 0.2, depth = 0.3 }"),
+        "walls[1].motion.wave.period",
+        "under 10 particle spacings",
+    );
+    // Longer than the flume (T = 5: L = 8.5 > 6.35).
+    expect_error(
+        &with("wave = { paddle = \"piston\", height = 0.05, period = 5.0, depth = 0.3 }"),
+        "walls[1].motion.wave.period",
+        "longer than the domain",
+    );
+    // A stroke the domain behind the paddle cannot hold (H = 0.19 at T = 3: S = 0.5).
+    expect_error(
+        &with("wave = { paddle = \"piston\", height = 0.19, period = 3.0, depth = 0.3 }"),
+        "walls[1].motion.wave",
+        "leaves the domain",
+    );
+    expect_error(
+        &with("wave = { paddle = \"flap\", height = 0.05, period = 1.2, depth = 0.3 }"),
+        "walls[1].motion.wave.hinge",
+        "needs its hinge",
+    );
+    expect_error(
+        &with("wave = { paddle = \"piston\", height = 0.05, period = 1.2, depth = 0.3, hinge = [0.0, 0.0] }"),
+        "walls[1].motion.wave.hinge",
+        "no hinge",
+    );
+    Scene::from_toml(
+        &with("wave = { paddle = \"flap\", height = 0.05, period = 1.2, depth = 0.3, hinge = [0.0, 0.0] }"),
+        "flap.toml",
+    )
+    .expect("a flap hinged on the floor");
+    expect_error(
+        &with(&format!("velocity = [0.1, 0.0], {wave}")),
+        "walls[1].motion.wave",
+        "follows its wave alone",
+    );
+    expect_error(
+        &flume.replace("gravity = [0.0, -9.81]", "gravity = [-9.81, 0.0]"),
+        "walls[1].motion.wave",
+        "gravity must point along -y",
+    );
+    // The damping zone.
+    expect_error(
+        &flume.replace("end = 6.0\nstrength", "end = 7.0\nstrength"),
+        "damping_zone.end",
+        "outside the domain",
+    );
+    expect_error(
+        &flume.replace("end = 6.0\nstrength", "end = 4.0\nstrength"),
+        "damping_zone.end",
+        "needs a length",
+    );
+    expect_error(
+        &flume.replace("strength = 10.0", "strength = -1.0"),
+        "damping_zone.strength",
+        "",
+    );
+}
+
 #[test]
 fn driven_motion_wrong_length() {
     let bad = format!(

@@ -39,13 +39,22 @@ __device__ __forceinline__ double kick_end(const SphParams& p, double t, float d
     return p.integrator == MF_INTEGRATOR_LEAPFROG ? t + 0.5 * (double)dt : t + (double)dt;
 }
 
+// The damping zone's factor on a fluid particle's velocity over a kick of dt at coordinate c
+// along damping_axis: exp(-damping_rate r^2 dt), r = (c - start) / (end - start) in [0, 1]
+// (`damping` in sph_params.h). Twin: `damping_factor` in src/backend/cpu/integrate.rs.
+__device__ __forceinline__ float damping_factor(const SphParams& p, float c, float dt) {
+    const float r = fminf(fmaxf((c - p.damping_start) / (p.damping_end - p.damping_start), 0.0f), 1.0f);
+    return expf(-p.damping_rate * r * r * dt);
+}
+
 // The kick of one particle (kind k, group g, position x at the step's start t0, the kick
 // ending at te): v += dt a + r_step inflow_velocity
 // (r_step: the ramp's increase over the kick, 0 without a ramp: a uniform body force, so
 // that the fluid outside the band keeps pace with it); the velocity of the inflow band
 // (`p.inflow`: fluid particles with inflow_lo <= x[inflow_axis] < inflow_hi; twin:
 // `in_inflow_band`), r_now inflow_velocity, or a driven object's velocity at x at te
-// (`driven_velocity` in device/motion.cuh) instead; false where v stays (walls). Twin: `kick`
+// (`driven_velocity` in device/motion.cuh) instead; then a fluid particle in the damping zone
+// slowed (`damping_factor`); false where v stays (walls). Twin: `kick`
 // in src/backend/cpu/integrate.rs.
 template <int DIM>
 __device__ __forceinline__ bool kick_one(const SphParams& p, unsigned char k, unsigned g, const Vec<DIM>& x, float dt,
@@ -69,6 +78,7 @@ __device__ __forceinline__ bool kick_one(const SphParams& p, unsigned char k, un
     if (k == MF_KIND_BOUNDARY) return false;
     v = v + vload<DIM>(acc, i) * dt;
     v = v + u * r_step;
+    if (p.damping && k == MF_KIND_FLUID) v = v * damping_factor(p, x.c[p.damping_axis], dt);
     return true;
 }
 
@@ -114,7 +124,7 @@ __device__ void sph_kick_body(const SphParams p, unsigned n, float* __restrict__
         r_now = (float)r1;
         r_step = (float)(r1 - r0);
     }
-    const Vec<DIM> x = p.inflow || p.driven ? vload<DIM>(pos, i) : vzero<DIM>();
+    const Vec<DIM> x = p.inflow || p.driven || p.damping ? vload<DIM>(pos, i) : vzero<DIM>();
     Vec<DIM> v = vel_load<DIM>(vel, i);
     if (kick_one<DIM>(p, kind[i], driven_test_group(p, group, i), x, dt, r_now, r_step, t0, te, acc, i, v))
         vel_store<DIM>(vel, i, v);  // keeps rho, m

@@ -234,6 +234,16 @@ typedef struct SphParams {
                                    the band at r(t) inflow_velocity and every particle the kick
                                    integrates outside it accelerated by d(r inflow_velocity)/dt,
                                    r = (1 - cos(pi t / T_r)) / 2 up to T_r, then 1 */
+    int32_t damping;            /* 1: a damping zone (a sponge layer at a flume's far end, as
+                                   DualSPHysics' damping zone, Altomare et al. 2017, Coastal Eng.
+                                   127): the kick relaxes a fluid particle's velocity,
+                                   v *= exp(-damping_rate r^2 dt), r = (x[damping_axis] -
+                                   damping_start) / (damping_end - damping_start) clamped to
+                                   [0, 1]: nothing at the start, full strength from the end on */
+    int32_t damping_axis;       /* 0, 1 or 2 */
+    float damping_start;        /* [L] where the damping begins (either side of the end) */
+    float damping_end;          /* [L] where it reaches damping_rate */
+    float damping_rate;         /* [1/T] the relaxation rate at full strength */
 
     /* ---- beyond the paper: cohesion and density diffusion ---- */
     float cohesion;        /* [L^(d+1) M^-1 T^-2] gamma of the fluid-fluid cohesion force of

@@ -285,7 +285,18 @@ fn assert_paper_exact(s: &Scene, what: &str) {
 #[test]
 fn paper_exact_sets_every_switch() {
     for name in builtin_names() {
-        assert_paper_exact(&Scene::builtin(name).unwrap(), name);
+        let s = Scene::builtin(name).unwrap();
+        // The paper's forward Euler has no kick before the drift: a scene that moves a wall
+        // by a law (a rolling tank, a wave maker) is refused, and says why.
+        if ["sloshing-2d", "flume-2d"].contains(&name) {
+            let e = s.with_paper_exact().expect_err(name).to_string();
+            assert!(
+                e.contains("motion") && e.contains("kick before the drift"),
+                "{e}"
+            );
+            continue;
+        }
+        assert_paper_exact(&s, name);
     }
     // Every switch away from its paper value, in a scene with every table.
     let mut s = example();

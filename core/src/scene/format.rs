@@ -53,6 +53,22 @@ pub struct Inflow {
     pub ramp: f64,
 }
 
+/// A sponge layer (`[damping_zone]`): the kick relaxes the velocity of fluid particles in
+/// it, v *= exp(-strength r^2 dt), r rising from 0 at `start` to 1 at `end` along `axis`
+/// (and 1 beyond): the passive absorption at a flume's far end (DualSPHysics' damping
+/// zone, Altomare et al. 2017, Coastal Eng. 127).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DampingZone {
+    pub axis: Axis,
+    /// \[L\] where the damping begins along `axis`.
+    pub start: f64,
+    /// \[L\] where it reaches full strength (either side of `start`).
+    pub end: f64,
+    /// \[1/T\] the relaxation rate at full strength.
+    pub strength: f64,
+}
+
 fn is_zero(x: &f64) -> bool {
     *x == 0.0
 }
@@ -270,10 +286,48 @@ pub struct MotionLaw {
     /// sloshing tank, a stirrer). Default none.
     #[serde(default)]
     pub rotation: Option<Rotation>,
+    /// A wave maker's paddle: the stroke of a regular wave of given height and period by
+    /// linear wave-maker theory (a piston's oscillation or a flap's turn). Default none.
+    #[serde(default)]
+    pub wave: Option<WaveMaker>,
     /// \[T\] a smooth start, (1 - cos(pi t / ramp)) / 2 of every velocity up to `ramp`
     /// (an oscillation's amplitude grows with it). Default 0: none.
     #[serde(default)]
     pub ramp: f64,
+}
+
+/// A paddle making regular waves along +x in still water of `depth` over a floor, y up
+/// (`MotionLaw::wave`; `scene::wave`): the stroke S from the first-order transfer function
+/// H / S of Biesel (Dean & Dalrymple 1991, sec. 6.2) with the wave number from the linear
+/// dispersion relation. A piston moves by (S / 2) sin(2 pi t / period + phase) along x; a
+/// flap, hinged at `hinge` on the floor, turns its top at the still-water level by as much.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WaveMaker {
+    pub paddle: Paddle,
+    /// \[L\] the target wave height H (crest to trough).
+    pub height: f64,
+    /// \[T\] the wave period.
+    pub period: f64,
+    /// \[L\] the still-water depth at the paddle.
+    pub depth: f64,
+    /// \[rad\] default 0.
+    #[serde(default)]
+    pub phase: f64,
+    /// \[L\] a flap's hinge: the point on the floor about which it turns (the paddle's
+    /// face at the floor). Flaps only.
+    #[serde(default)]
+    pub hinge: Option<Vec<f64>>,
+}
+
+/// A wave maker's paddle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Paddle {
+    /// Moves back and forth along x, the same stroke over the depth.
+    Piston,
+    /// Turns about a hinge on the floor: the stroke grows from the floor to the surface.
+    Flap,
 }
 
 /// A sinusoidal translation of a driven object (`MotionLaw::oscillation`).
@@ -323,7 +377,7 @@ impl<'de> Deserialize<'de> for Motion {
             type Value = Motion;
             fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
                 f.write_str(
-                    "a velocity [vx, vy(, vz)] or a table of velocity, oscillation, rotation \
+                    "a velocity [vx, vy(, vz)] or a table of velocity, oscillation, rotation, wave \
                      and ramp",
                 )
             }

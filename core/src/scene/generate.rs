@@ -546,7 +546,9 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
                 group: obj.group,
                 position: p.map(|x| x as f32),
                 velocity: motion
-                    .map_or(velocity, |m| m.start_velocity(*p, dim))
+                    .map_or(velocity, |m| {
+                        m.start_velocity(*p, dim, super::wave::gravity(s))
+                    })
                     .map(|x| x as f32),
                 density: density as f32,
                 pressure: pressure as f32,

@@ -22,6 +22,7 @@ pub mod scheme;
 mod spatial;
 mod tagged_field;
 mod validate;
+pub mod wave;
 
 use std::path::{Path, PathBuf};
 
@@ -50,6 +51,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "impinging-3d",
         include_str!("../../../scenes/impinging-3d.toml"),
     ),
+    ("flume-2d", include_str!("../../../scenes/flume-2d.toml")),
     ("nozzle", include_str!("../../../scenes/nozzle.toml")),
     (
         "sloshing-2d",
@@ -383,6 +385,13 @@ fn scene_params(s: &SceneFile) -> SphParams {
         }
     }
     crate::scene::scheme::write_params(s, &mut p);
+    if let Some(z) = &s.damping_zone {
+        p.damping = 1;
+        p.damping_axis = z.axis.index() as i32;
+        p.damping_start = z.start as f32;
+        p.damping_end = z.end as f32;
+        p.damping_rate = z.strength as f32;
+    }
     if let Some(b) = &s.inflow {
         p.inflow = 1;
         p.inflow_axis = b.axis.index() as i32;
@@ -395,7 +404,7 @@ fn scene_params(s: &SceneFile) -> SphParams {
     }
     for (k, (group, motion)) in driven_objects(s).enumerate().take(p.driven_motion.len()) {
         p.driven = k as i32 + 1;
-        p.driven_motion[k] = motion.params(group, s.dimension as usize);
+        p.driven_motion[k] = motion.params(group, s.dimension as usize, wave::gravity(s));
     }
     params::derive(&mut p);
     p

@@ -5,7 +5,7 @@
 
 use glam::Vec3A;
 
-use super::format::{Motion, MotionLaw};
+use super::format::{Motion, MotionLaw, Paddle};
 use super::validate::Ctx;
 use super::SceneError;
 use crate::physics::dim::D3;
@@ -13,8 +13,9 @@ use crate::physics::params::MfMotion;
 
 impl Motion {
     /// The solver's form of this motion for scene group `group` in a `dim`-D scene (a 2D
-    /// scene turns about z). Assumes `check` passed.
-    pub fn params(&self, group: u32, dim: usize) -> MfMotion {
+    /// scene turns about z) under gravity `g` \[L/T^2\] (its magnitude: a wave maker's
+    /// stroke, `scene::wave`). Assumes `check` passed.
+    pub fn params(&self, group: u32, dim: usize, g: f64) -> MfMotion {
         let v3 = |v: &[f64]| {
             let mut a = [0.0f32; 3];
             for (o, x) in a.iter_mut().zip(v) {
@@ -47,6 +48,23 @@ impl Motion {
                     m.angle = r.amplitude as f32;
                     (m.angle_period, m.angle_phase) = (r.period as f32, r.phase as f32);
                 }
+                if let Some(w) = &l.wave {
+                    // A piston moves S / 2 along x; a flap turns about its hinge so that its
+                    // face at the still-water level moves as much (clockwise about z: the
+                    // top towards +x first).
+                    let s = w.paddling(g).stroke;
+                    match (w.paddle, &w.hinge) {
+                        (Paddle::Flap, Some(h)) => {
+                            m.pivot = v3(h);
+                            m.angle = -(0.5 * s / w.depth).atan() as f32;
+                            (m.angle_period, m.angle_phase) = (w.period as f32, w.phase as f32);
+                        }
+                        _ => {
+                            m.amplitude = [(0.5 * s) as f32, 0.0, 0.0];
+                            (m.period, m.phase) = (w.period as f32, w.phase as f32);
+                        }
+                    }
+                }
                 m.ramp = l.ramp as f32;
             }
         }
@@ -55,8 +73,8 @@ impl Motion {
 
     /// [L/T] The velocity at t = 0 of the object's particle at `x` (a ramped motion starts
     /// from rest): what generation gives it, and what the first kick would.
-    pub fn start_velocity(&self, x: [f64; 3], dim: usize) -> [f64; 3] {
-        let m = self.params(0, dim);
+    pub fn start_velocity(&self, x: [f64; 3], dim: usize, g: f64) -> [f64; 3] {
+        let m = self.params(0, dim, g);
         let x = Vec3A::new(x[0] as f32, x[1] as f32, x[2] as f32);
         let v = m.velocity_at::<D3>(x, 0.0, 0.0);
         [v.x as f64, v.y as f64, v.z as f64]
@@ -79,11 +97,19 @@ pub(super) fn check(c: &Ctx, field: &str, m: &Motion, euler: bool) -> Result<(),
         Motion::Velocity(v) => return c.vec(field, v),
         Motion::Law(l) => l,
     };
-    if l.velocity.is_none() && l.oscillation.is_none() && l.rotation.is_none() {
+    if l.velocity.is_none() && l.oscillation.is_none() && l.rotation.is_none() && l.wave.is_none() {
         return err(
             field.to_string(),
-            "the table gives no velocity, oscillation or rotation: nothing moves (a clamp is \
-             motion = [0, 0])",
+            "the table gives no velocity, oscillation, rotation or wave: nothing moves (a \
+             clamp is motion = [0, 0])",
+        );
+    }
+    if l.wave.is_some() && (l.velocity.is_some() || l.oscillation.is_some() || l.rotation.is_some())
+    {
+        return err(
+            format!("{field}.wave"),
+            "a wave maker's paddle follows its wave alone: leave out velocity, oscillation and \
+             rotation",
         );
     }
     if let Some(v) = &l.velocity {
@@ -145,7 +171,8 @@ pub(super) fn check(c: &Ctx, field: &str, m: &Motion, euler: bool) -> Result<(),
     if !(l.ramp >= 0.0 && l.ramp.is_finite()) {
         return err(format!("{field}.ramp"), "must be a number >= 0 [T]");
     }
-    let steady = m.params(0, c.dim).steady();
+    // (Any gravity: the wave's stroke is checked in `wave::check`.)
+    let steady = m.params(0, c.dim, 9.81).steady();
     if euler && !steady {
         return err(
             field.to_string(),

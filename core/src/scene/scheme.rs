@@ -34,7 +34,7 @@ use needs::*;
 use serde::{Deserialize, Serialize};
 
 use crate::scene::format::{
-    Domain, FluidBlock, Gauge, Inflow, Monitor, Output, Probe, SolidObject, Wall,
+    DampingZone, Domain, FluidBlock, Gauge, Inflow, Monitor, Output, Probe, SolidObject, Wall,
 };
 
 /// [-] Quadratic artificial viscosity of the paper's own scheme (`--paper-exact`), eq. (10)
@@ -77,6 +77,9 @@ pub struct SceneFile {
     /// A band whose fluid moves at a set velocity (a periodic channel's driver).
     #[serde(default)]
     pub inflow: Option<Inflow>,
+    /// A sponge layer that slows the fluid (a flume's passive absorption).
+    #[serde(default)]
+    pub damping_zone: Option<DampingZone>,
     /// Force monitors on wall objects (forces.csv, Strouhal number, Cd, Cl).
     #[serde(default)]
     pub monitors: Vec<Monitor>,
@@ -660,6 +663,11 @@ pub const FROM_SCENE: &[(&str, &str)] = &[
     ("inflow_hi", "[inflow] max"),
     ("inflow_velocity", "[inflow] velocity"),
     ("inflow_ramp", "[inflow] ramp"),
+    ("damping", "[damping_zone]"),
+    ("damping_axis", "[damping_zone] axis"),
+    ("damping_start", "[damping_zone] start"),
+    ("damping_end", "[damping_zone] end"),
+    ("damping_rate", "[damping_zone] strength"),
     (
         "wall_first_id",
         "Scene::setup: the first boundary particle's id",

@@ -6,6 +6,7 @@
 
 use super::format::*;
 use super::motion;
+use super::wave;
 use super::SceneError;
 use crate::physics::params::MF_MAX_DRIVEN;
 use crate::scene::scheme::*;
@@ -71,7 +72,7 @@ impl Ctx<'_> {
         Ok(())
     }
 
-    fn positive(&self, field: &str, x: f64) -> R {
+    pub(super) fn positive(&self, field: &str, x: f64) -> R {
         Rule::Positive
             .check(Some(x))
             .map_err(|r| self.err(field, r.reason))
@@ -220,6 +221,12 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
         c.opt_vec(&format!("{field}.velocity"), &o.velocity().cloned())?;
         if let Some(m) = o.motion() {
             motion::check(&c, &format!("{field}.motion"), m, euler)?;
+            if let Motion::Law(MotionLaw { wave: Some(_), .. }) = m {
+                return Err(c.err(
+                    format!("{field}.motion.wave"),
+                    "a wave maker's paddle is a box wall ([[walls]] shape = \"box\")",
+                ));
+            }
         }
         if o.velocity().is_some() && o.motion().is_some() {
             return Err(c.err(
@@ -268,6 +275,23 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
         let field = format!("walls[{i}]");
         if let Some(m) = w.motion() {
             motion::check(&c, &format!("{field}.motion"), m, euler)?;
+            if let Motion::Law(MotionLaw {
+                wave: Some(wave), ..
+            }) = m
+            {
+                let f = format!("{field}.motion.wave");
+                match w {
+                    Wall::Box { min, max, .. } => {
+                        c.corners(&field, min, max)?;
+                        wave::check(&c, &f, wave, s, min, max)?
+                    }
+                    _ => {
+                        return Err(
+                            c.err(f, "a wave maker's paddle is a box wall (shape = \"box\")")
+                        )
+                    }
+                }
+            }
         }
         if let Some(t) = w.remove_at() {
             c.non_negative(&format!("{field}.remove_at"), t)?;
@@ -400,6 +424,41 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
                  \"symplectic-euler\" or \"leapfrog\"): the ramp's velocity is set at the \
                  kick's time, which the forward Euler's fused drift-kick advances in the same \
                  pass on the GPU",
+            ));
+        }
+    }
+    if let Some(z) = &s.damping_zone {
+        let a = z.axis.index();
+        if a >= dim {
+            return Err(c.err(
+                "damping_zone.axis",
+                format!("axis {a} does not exist in a {dim}D scene"),
+            ));
+        }
+        for (key, x) in [("start", z.start), ("end", z.end)] {
+            if !(x.is_finite() && x >= dom.min[a] && x <= dom.max[a]) {
+                return Err(c.err(
+                    format!("damping_zone.{key}"),
+                    format!(
+                        "{x} is outside the domain [{}, {}] on axis {a}",
+                        dom.min[a], dom.max[a]
+                    ),
+                ));
+            }
+        }
+        if z.start == z.end {
+            return Err(c.err(
+                "damping_zone.end",
+                "the zone needs a length: end != start (the damping rises from start to end)",
+            ));
+        }
+        c.positive("damping_zone.strength", z.strength)?;
+        if euler {
+            return Err(c.err(
+                "damping_zone",
+                "the damping acts in the kick: it needs time.integrator \"symplectic-euler\" \
+                 or \"leapfrog\" (the forward Euler's fused drift-kick on the GPU has no \
+                 kick of its own)",
             ));
         }
     }

@@ -421,6 +421,17 @@ pub(crate) fn driven_law(dim: usize, v: Variant, group: i32) -> Setup {
     setup
 }
 
+/// `setup` with a damping zone along x over the domain's second half (issue #57): the
+/// kick's factor on the fluid, exp(-rate r^2 dt), rising from the middle.
+pub(crate) fn with_damping(mut setup: Setup) -> Setup {
+    let p = &mut setup.params;
+    (p.damping, p.damping_axis) = (1, 0);
+    p.damping_start = 0.5 * (p.domain_min[0] + p.domain_max[0]);
+    p.damping_end = p.domain_max[0];
+    p.damping_rate = 50.0;
+    setup
+}
+
 /// `setup` under the leapfrog: the symplectic Euler's stages with the kick spanning
 /// (dt_prev + dt) / 2 and the rates at the drift's midpoint.
 pub(crate) fn leapfrog(mut setup: Setup) -> Setup {

@@ -41,8 +41,11 @@ fn stages_3d_driven_solid_cohesion_continuity_euler() {
     ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
 )]
 fn stages_2d_wall_on_a_motion_law_symplectic() {
-    let setup = driven_law(2, V_2D_B, 0);
-    stages_on::<D2>("V_2D_B + wall oscillating and turning", setup);
+    let setup = with_damping(driven_law(2, V_2D_B, 0));
+    stages_on::<D2>(
+        "V_2D_B + wall oscillating and turning + damping zone",
+        setup,
+    );
 }
 
 #[test]

@@ -140,6 +140,16 @@ pub fn kick_end(p: &SphParams, t: f64, dt: f32) -> f64 {
     }
 }
 
+/// The damping zone's factor on a fluid particle's velocity over a kick of `dt` at
+/// coordinate `c` along `damping_axis`: exp(-damping_rate r^2 dt), r = (c - start) / (end -
+/// start) clamped to [0, 1] (a sponge layer, as DualSPHysics' damping zone, Altomare et al.
+/// 2017). Twin: `damping_factor` in cuda/integrate.cu.
+#[inline]
+pub fn damping_factor(p: &SphParams, c: f32, dt: f32) -> f32 {
+    let r = ((c - p.damping_start) / (p.damping_end - p.damping_start)).clamp(0.0, 1.0);
+    (-p.damping_rate * r * r * dt).exp()
+}
+
 /// The kick over `dt` (its span, `kick_span`) of the step that starts at `t0`, ending at
 /// time `t_end` (`kick_end`): v += dt a
 /// for fluid and solid particles; v = r(t_end) inflow_velocity for fluid in the inflow band
@@ -148,7 +158,8 @@ pub fn kick_end(p: &SphParams, t: f64, dt: f32) -> f64 {
 /// to every particle the kick integrates outside the band (a uniform body force: the
 /// fluid outside the band keeps pace with it without a pressure gradient along the
 /// channel); a driven object's velocity is set to its prescribed value at t_end
-/// (`driven_velocity`), whatever the forces. [L/T]
+/// (`driven_velocity`), whatever the forces; a fluid particle in the damping zone is then
+/// slowed (`damping_factor`). [L/T]
 pub fn kick<D: Dim>(p: &SphParams, dt: f32, (t0, t_end): (f64, f64), s: &mut State<D>) {
     let (kind, group, acc, pos) = (&s.kind, &s.group, &s.acc, &s.pos);
     let (r1, r0) = (ramp_share(p, t_end), ramp_share(p, t_end - dt as f64));
@@ -165,6 +176,9 @@ pub fn kick<D: Dim>(p: &SphParams, dt: f32, (t0, t_end): (f64, f64), s: &mut Sta
         if kind[i] as u32 != MF_KIND_BOUNDARY {
             *v += acc[i] * dt;
             *v += ramp_dv;
+            if p.damping != 0 && kind[i] as u32 == MF_KIND_FLUID {
+                *v = *v * damping_factor(p, D::comp(pos[i], p.damping_axis as usize), dt);
+            }
         }
         // Driven object (piston, clamp, flap): prescribed velocity.
         if let Some(u) = driven_velocity::<D>(p, group[i], pos[i], t0, t_end) {

@@ -172,6 +172,16 @@ pub struct SphParams {
     pub inflow_velocity: [f32; 3usize],
     #[doc = " [T] T_r: 0 = the mean flow from the start; > 0: a start from rest,\nthe band at r(t) inflow_velocity and every particle the kick\nintegrates outside it accelerated by d(r inflow_velocity)/dt,\nr = (1 - cos(pi t / T_r)) / 2 up to T_r, then 1"]
     pub inflow_ramp: f32,
+    #[doc = " 1: a damping zone (a sponge layer at a flume's far end, as\nDualSPHysics' damping zone, Altomare et al. 2017, Coastal Eng.\n127): the kick relaxes a fluid particle's velocity,\nv *= exp(-damping_rate r^2 dt), r = (x[damping_axis] -\ndamping_start) / (damping_end - damping_start) clamped to\n[0, 1]: nothing at the start, full strength from the end on"]
+    pub damping: i32,
+    #[doc = " 0, 1 or 2"]
+    pub damping_axis: i32,
+    #[doc = " [L] where the damping begins (either side of the end)"]
+    pub damping_start: f32,
+    #[doc = " [L] where it reaches damping_rate"]
+    pub damping_end: f32,
+    #[doc = " [1/T] the relaxation rate at full strength"]
+    pub damping_rate: f32,
     #[doc = " [L^(d+1) M^-1 T^-2] gamma of the fluid-fluid cohesion force of\nAkinci, Akinci & Teschner 2013 (droplets); 0 = off"]
     pub cohesion: f32,
     #[doc = " [-] delta of the density-diffusion term of Molteni & Colagrossi\n2009 in the continuity equation; 0 = off (the paper)"]
