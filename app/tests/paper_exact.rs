@@ -14,7 +14,12 @@ use meshfree_core::scene::{builtin_names, Scene};
 fn the_transform_sets_exactly_the_paper_options() {
     for name in builtin_names() {
         let s = Scene::builtin(name).unwrap();
-        let p = s.with_paper_exact().unwrap();
+        // A wall moved by a law needs a kick before the drift: refused under the paper's
+        // forward Euler (tests/scheme.rs in core checks the reason).
+        let Ok(p) = s.with_paper_exact() else {
+            assert!(["sloshing-2d", "flume-2d"].contains(&name), "{name}");
+            continue;
+        };
         let f = &s.file;
         let h = f.discretisation.h();
         let c = f.solid.as_ref().map_or(f.fluid.sound_speed, |m| {
