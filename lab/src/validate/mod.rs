@@ -33,6 +33,7 @@ pub mod cantilever;
 pub mod cylinder;
 pub mod cylinder_onset;
 pub mod dam_break;
+pub mod flume;
 pub mod gate;
 pub mod hydrostatic;
 pub mod plate;

@@ -5,7 +5,7 @@
 use super::check::Check;
 use super::ctx::Ctx;
 use super::{
-    cantilever, cylinder, cylinder_onset, dam_break, gate, hydrostatic, plate, poiseuille,
+    cantilever, cylinder, cylinder_onset, dam_break, flume, gate, hydrostatic, plate, poiseuille,
     taylor_green,
 };
 
@@ -67,6 +67,12 @@ pub const CASES: &[Case] = &[
         description: cantilever::DESCRIPTION,
         run: cantilever::run,
         quick: true,
+    },
+    Case {
+        name: flume::NAME,
+        description: flume::DESCRIPTION,
+        run: flume::run,
+        quick: false,
     },
     Case {
         name: gate::NAME,
