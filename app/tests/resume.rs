@@ -375,3 +375,54 @@ fn a_missing_damaged_or_foreign_checkpoint_is_refused_with_the_reason() {
     std::fs::write(out.join("forces.csv"), "t\n").unwrap();
     refused(&resume(&out), &["forces.csv", "damaged"]);
 }
+
+/// A wave maker's paddle and a damping zone (issues #54, #57) read the clock: a run
+/// stopped mid-way resumes from its checkpoint's time with the paddle where the run in one
+/// go has it, bit for bit.
+#[test]
+fn a_flume_stopped_and_resumed_equals_the_run_in_one_go() {
+    static STOP: AtomicBool = AtomicBool::new(false);
+    let dir = tempfile::tempdir().unwrap();
+    let text = Scene::builtin("flume-2d")
+        .unwrap()
+        .text
+        .replace("spacing = 0.01 ", "spacing = 0.02 ")
+        .replace("end = 12.0 ", "end = 0.4 ")
+        .replace("output_interval = 0.05", "output_interval = 0.025");
+    assert!(text.contains("end = 0.4 ") && text.contains("spacing = 0.02 "));
+    let path = dir.path().join("flume.toml");
+    std::fs::write(&path, text).unwrap();
+    let scene = Scene::from_file(&path).unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    let quiet = RunOptions {
+        backend: BackendChoice::Cpu,
+        progress: Progress::Quiet,
+        ..Default::default()
+    };
+    run::run(
+        &scene,
+        &RunOptions {
+            out_dir: Some(a.clone()),
+            ..quiet.clone()
+        },
+    )
+    .unwrap();
+    let err = run::run_observed(
+        &scene,
+        &RunOptions {
+            out_dir: Some(b.clone()),
+            interrupt: Some(&STOP),
+            ..quiet.clone()
+        },
+        &mut |f| {
+            if f.index == 4 {
+                STOP.store(true, Ordering::SeqCst);
+            }
+        },
+    )
+    .unwrap_err();
+    assert!(matches!(err, RunError::Interrupted { .. }), "{err}");
+    let done = run::resume(&b, &quiet).unwrap();
+    assert_eq!(done.status, RunStatus::Completed);
+    same_output(&a, &b);
+}
