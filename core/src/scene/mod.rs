@@ -11,6 +11,7 @@
 //! paper's own scheme; `input_limits.rs`: what a file may cost to read; `estimate.rs`: its
 //! size and memory before generation.
 
+mod ctx;
 mod error;
 pub mod estimate;
 pub mod format;
@@ -23,6 +24,7 @@ mod spatial;
 mod tagged_field;
 mod validate;
 pub mod wave;
+mod zones;
 
 use std::path::{Path, PathBuf};
 

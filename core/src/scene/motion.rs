@@ -5,8 +5,8 @@
 
 use glam::Vec3A;
 
+use super::ctx::Ctx;
 use super::format::{Motion, MotionLaw, Paddle};
-use super::validate::Ctx;
 use super::SceneError;
 use crate::physics::dim::D3;
 use crate::physics::params::MfMotion;

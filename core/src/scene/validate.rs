@@ -4,118 +4,19 @@
 //! (`scheme::single_precision`), sizes the solver can index (`estimate`); the keys of the scheme's tables are checked
 //! as `crate::scene::scheme` declares them. The first failure is returned.
 
+use super::ctx::{fmt, Ctx};
 use super::format::*;
 use super::motion;
 use super::wave;
+use super::zones;
 use super::SceneError;
 use crate::physics::params::MF_MAX_DRIVEN;
 use crate::scene::scheme::*;
 
-type R = Result<(), SceneError>;
+use super::ctx::R;
 
 /// [bytes] the longest scene `name` (a directory name on every file system).
 const MAX_NAME: usize = 100;
-
-pub(super) struct Ctx<'a> {
-    origin: &'a str,
-    pub(super) dim: usize,
-}
-
-impl Ctx<'_> {
-    pub(super) fn err(&self, field: impl Into<String>, reason: impl Into<String>) -> SceneError {
-        SceneError::Invalid {
-            origin: self.origin.to_string(),
-            field: field.into(),
-            reason: reason.into(),
-        }
-    }
-
-    pub(super) fn vec(&self, field: &str, v: &[f64]) -> R {
-        if v.len() != self.dim {
-            return Err(self.err(
-                field,
-                format!(
-                    "expected {} numbers (dimension = {}), found {}",
-                    self.dim,
-                    self.dim,
-                    v.len()
-                ),
-            ));
-        }
-        for (i, &x) in v.iter().enumerate() {
-            single_precision(x).map_err(|why| self.err(format!("{field}[{i}]"), why))?;
-        }
-        Ok(())
-    }
-
-    fn opt_vec(&self, field: &str, v: &Option<Vec<f64>>) -> R {
-        match v {
-            Some(v) => self.vec(field, v),
-            None => Ok(()),
-        }
-    }
-
-    fn corners(&self, field: &str, min: &[f64], max: &[f64]) -> R {
-        self.vec(&format!("{field}.min"), min)?;
-        self.vec(&format!("{field}.max"), max)?;
-        for a in 0..self.dim {
-            if min[a] >= max[a] {
-                return Err(self.err(
-                    format!("{field}.max"),
-                    format!(
-                        "max[{a}] = {} is not greater than min[{a}] = {}",
-                        max[a], min[a]
-                    ),
-                ));
-            }
-        }
-        Ok(())
-    }
-
-    pub(super) fn positive(&self, field: &str, x: f64) -> R {
-        Rule::Positive
-            .check(Some(x))
-            .map_err(|r| self.err(field, r.reason))
-    }
-
-    fn non_negative(&self, field: &str, x: f64) -> R {
-        Rule::NonNegative
-            .check(Some(x))
-            .map_err(|r| self.err(field, r.reason))
-    }
-
-    /// The box [lo, hi] (first `dim` axes) lies inside the domain.
-    fn inside(&self, field: &str, what: &str, lo: &[f64], hi: &[f64], d: &Domain) -> R {
-        for a in 0..self.dim {
-            let tol = 1e-9 * (d.max[a] - d.min[a]);
-            if lo[a] < d.min[a] - tol {
-                return Err(self.err(
-                    field,
-                    format!(
-                        "{what} reaches {} on axis {a}, below domain.min[{a}] = {}",
-                        fmt(lo[a]),
-                        d.min[a]
-                    ),
-                ));
-            }
-            if hi[a] > d.max[a] + tol {
-                return Err(self.err(
-                    field,
-                    format!(
-                        "{what} reaches {} on axis {a}, beyond domain.max[{a}] = {}",
-                        fmt(hi[a]),
-                        d.max[a]
-                    ),
-                ));
-            }
-        }
-        Ok(())
-    }
-}
-
-fn fmt(x: f64) -> String {
-    format!("{}", (x * 1e9).round() / 1e9)
-}
 
 /// Validate everything that does not need the particles.
 pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
@@ -126,10 +27,7 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
             reason: format!("must be 2 or 3, found {}", s.dimension),
         });
     }
-    let c = Ctx {
-        origin,
-        dim: s.dimension as usize,
-    };
+    let c = Ctx::new(origin, s.dimension as usize);
     let dim = c.dim;
     let euler = s.time.integrator == IntegratorChoice::Euler;
     if s.name.trim().is_empty() || s.name.contains(['/', '\\']) || s.name == "." || s.name == ".." {
@@ -389,79 +287,7 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
         ));
     }
     clamp_lattice(&c, s)?;
-    if let Some(b) = &s.inflow {
-        let a = b.axis.index();
-        if a >= dim {
-            return Err(c.err(
-                "inflow.axis",
-                format!("axis {a} does not exist in a {dim}D scene"),
-            ));
-        }
-        if !(b.min.is_finite() && b.max.is_finite() && b.min < b.max) {
-            return Err(c.err(
-                "inflow.max",
-                format!(
-                    "the band needs min < max, found min = {}, max = {}",
-                    b.min, b.max
-                ),
-            ));
-        }
-        if b.min < dom.min[a] || b.max > dom.max[a] {
-            return Err(c.err(
-                "inflow",
-                format!(
-                    "the band [{}, {}] reaches outside the domain [{}, {}] on axis {a}",
-                    b.min, b.max, dom.min[a], dom.max[a]
-                ),
-            ));
-        }
-        c.vec("inflow.velocity", &b.velocity)?;
-        c.non_negative("inflow.ramp", b.ramp)?;
-        if b.ramp > 0.0 && s.time.integrator == IntegratorChoice::Euler {
-            return Err(c.err(
-                "inflow.ramp",
-                "a ramped start needs a kick before the drift (time.integrator \
-                 \"symplectic-euler\" or \"leapfrog\"): the ramp's velocity is set at the \
-                 kick's time, which the forward Euler's fused drift-kick advances in the same \
-                 pass on the GPU",
-            ));
-        }
-    }
-    if let Some(z) = &s.damping_zone {
-        let a = z.axis.index();
-        if a >= dim {
-            return Err(c.err(
-                "damping_zone.axis",
-                format!("axis {a} does not exist in a {dim}D scene"),
-            ));
-        }
-        for (key, x) in [("start", z.start), ("end", z.end)] {
-            if !(x.is_finite() && x >= dom.min[a] && x <= dom.max[a]) {
-                return Err(c.err(
-                    format!("damping_zone.{key}"),
-                    format!(
-                        "{x} is outside the domain [{}, {}] on axis {a}",
-                        dom.min[a], dom.max[a]
-                    ),
-                ));
-            }
-        }
-        if z.start == z.end {
-            return Err(c.err(
-                "damping_zone.end",
-                "the zone needs a length: end != start (the damping rises from start to end)",
-            ));
-        }
-        c.positive("damping_zone.strength", z.strength)?;
-        if euler {
-            return Err(c.err(
-                "damping_zone",
-                "the damping acts in the kick: it needs time.integrator \"symplectic-euler\" \
-                 or \"leapfrog\" (the forward Euler's fused drift-kick on the GPU has no \
-                 kick of its own)",
-            ));
-        }
-    }
+    zones::check(&c, s)?;
     let mut names = std::collections::HashSet::new();
     for (i, m) in s.monitors.iter().enumerate() {
         let field = format!("monitors[{i}]");

@@ -10,8 +10,8 @@
 //!
 //! Breaking: Miche's limit H / L <= 0.142 tanh(kd).
 
+use super::ctx::Ctx;
 use super::format::{Paddle, WaveMaker};
-use super::validate::Ctx;
 use super::SceneError;
 use super::SceneFile;
 
