@@ -230,40 +230,57 @@ fn killed_and_resumed(backend: &str, t_end: f64, wait_ms: u64) {
     );
 }
 
-#[test]
-fn an_interrupted_run_resumes_and_a_finished_one_extends() {
-    static STOP: AtomicBool = AtomicBool::new(false);
-    let dir = tempfile::tempdir().unwrap();
-    let scene = Scene::from_file(scene_file(dir.path())).unwrap();
-    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
-    let quiet = RunOptions {
+/// Quiet runs on the CPU.
+fn quiet() -> RunOptions {
+    RunOptions {
         backend: BackendChoice::Cpu,
         progress: Progress::Quiet,
         ..Default::default()
-    };
+    }
+}
+
+/// `scene` run in one go into `dir/a`, and into `dir/b` stopped through `stop` at its
+/// frame `stop_at`: the two directories and the stopped run's error.
+fn one_go_and_stopped(
+    scene: &Scene,
+    dir: &Path,
+    stop_at: usize,
+    stop: &'static AtomicBool,
+    quiet: &RunOptions,
+) -> (PathBuf, PathBuf, RunError) {
+    let (a, b) = (dir.join("a"), dir.join("b"));
     run::run(
-        &scene,
+        scene,
         &RunOptions {
             out_dir: Some(a.clone()),
             ..quiet.clone()
         },
     )
     .unwrap();
-
     let err = run::run_observed(
-        &scene,
+        scene,
         &RunOptions {
             out_dir: Some(b.clone()),
-            interrupt: Some(&STOP),
+            interrupt: Some(stop),
             ..quiet.clone()
         },
         &mut |f| {
-            if f.index == 3 {
-                STOP.store(true, Ordering::SeqCst);
+            if f.index == stop_at {
+                stop.store(true, Ordering::SeqCst);
             }
         },
     )
     .unwrap_err();
+    (a, b, err)
+}
+
+#[test]
+fn an_interrupted_run_resumes_and_a_finished_one_extends() {
+    static STOP: AtomicBool = AtomicBool::new(false);
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Scene::from_file(scene_file(dir.path())).unwrap();
+    let quiet = quiet();
+    let (a, b, err) = one_go_and_stopped(&scene, dir.path(), 3, &STOP, &quiet);
     let RunError::Interrupted { summary, .. } = &err else {
         panic!("expected an interruption, got {err}")
     };
@@ -393,34 +410,8 @@ fn a_flume_stopped_and_resumed_equals_the_run_in_one_go() {
     let path = dir.path().join("flume.toml");
     std::fs::write(&path, text).unwrap();
     let scene = Scene::from_file(&path).unwrap();
-    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
-    let quiet = RunOptions {
-        backend: BackendChoice::Cpu,
-        progress: Progress::Quiet,
-        ..Default::default()
-    };
-    run::run(
-        &scene,
-        &RunOptions {
-            out_dir: Some(a.clone()),
-            ..quiet.clone()
-        },
-    )
-    .unwrap();
-    let err = run::run_observed(
-        &scene,
-        &RunOptions {
-            out_dir: Some(b.clone()),
-            interrupt: Some(&STOP),
-            ..quiet.clone()
-        },
-        &mut |f| {
-            if f.index == 4 {
-                STOP.store(true, Ordering::SeqCst);
-            }
-        },
-    )
-    .unwrap_err();
+    let quiet = quiet();
+    let (a, b, err) = one_go_and_stopped(&scene, dir.path(), 4, &STOP, &quiet);
     assert!(matches!(err, RunError::Interrupted { .. }), "{err}");
     let done = run::resume(&b, &quiet).unwrap();
     assert_eq!(done.status, RunStatus::Completed);

@@ -55,16 +55,8 @@ fn by_id(v: Vec<Particle>) -> Vec<Particle> {
     v
 }
 
-fn run_to(scene: &Scene, t: f64) -> (Vec<Particle>, Vec<Particle>, f64) {
-    let setup = scene.setup().unwrap();
-    let start = setup.particles.clone();
-    let mut s = cpu_solver(setup);
-    Stepper::default()
-        .advance_to(s.as_mut(), t)
-        .expect("healthy run");
-    let t = s.time();
-    (start, by_id(s.particles()), t)
-}
+mod common;
+use common::run_scene_to as run_to;
 
 #[test]
 fn piston_moves_at_its_speed_and_pushes_the_fluid() {

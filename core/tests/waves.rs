@@ -2,25 +2,13 @@
 //! Biesel's transfer function; the damping zone relaxes the fluid's velocity at its rate
 //! where it is at full strength and leaves the fluid before it alone.
 
-use meshfree_core::backend::cpu_solver;
-use meshfree_core::physics::particle::{Kind, Particle};
+use meshfree_core::physics::particle::Kind;
 use meshfree_core::scene::format::Paddle;
 use meshfree_core::scene::wave::{height_per_stroke, wave_number};
 use meshfree_core::scene::Scene;
-use meshfree_core::solver::step::Stepper;
 
-fn run_to(scene: &Scene, t: f64) -> (Vec<Particle>, Vec<Particle>, f64) {
-    let setup = scene.setup().unwrap();
-    let start = setup.particles.clone();
-    let mut s = cpu_solver(setup);
-    Stepper::default()
-        .advance_to(s.as_mut(), t)
-        .expect("healthy run");
-    let t = s.time();
-    let mut end = s.particles();
-    end.sort_by_key(|q| q.id);
-    (start, end, t)
-}
+mod common;
+use common::run_scene_to as run_to;
 
 const CHANNEL: &str = r#"
 dimension = 2

@@ -160,3 +160,18 @@ pub fn assert_long_run_close(
         dg.density_error
     );
 }
+
+/// `scene` run on the CPU to time `t`: its particles at the start, at the end (by id) and
+/// the time reached.
+pub fn run_scene_to(scene: &Scene, t: f64) -> (Vec<Particle>, Vec<Particle>, f64) {
+    let setup = scene.setup().unwrap();
+    let start = setup.particles.clone();
+    let mut s = meshfree_core::backend::cpu_solver(setup);
+    meshfree_core::solver::step::Stepper::default()
+        .advance_to(s.as_mut(), t)
+        .expect("healthy run");
+    let t = s.time();
+    let mut end = s.particles();
+    end.sort_by_key(|q| q.id);
+    (start, end, t)
+}
