@@ -68,7 +68,10 @@ pub(crate) fn wall_outlines(scene: &Scene) -> Vec<(Outline, Option<f64>)> {
                 },
                 w.remove_at(),
             )),
-            Wall::Segment { .. } | Wall::Cylinder { .. } => None,
+            Wall::Segment { .. }
+            | Wall::Cylinder { .. }
+            | Wall::Mesh { .. }
+            | Wall::Polygon { .. } => None,
         })
         .collect()
 }

@@ -417,3 +417,67 @@ fn a_flume_stopped_and_resumed_equals_the_run_in_one_go() {
     assert_eq!(done.status, RunStatus::Completed);
     same_output(&a, &b);
 }
+
+/// A scene's surface files (issue #53) travel with its run: the run copies them beside its
+/// scene (`surface-N.<ext>`), so the run resumes, bit for bit, after the original file is
+/// gone; `--overwrite` removes the copies with the rest of the run's files.
+#[test]
+fn a_run_with_a_surface_file_resumes_without_the_original() {
+    static STOP: AtomicBool = AtomicBool::new(false);
+    let dir = tempfile::tempdir().unwrap();
+    // dam-break-2d's tank as a polygon from a file of points, at twice the spacing.
+    std::fs::write(dir.path().join("tank.csv"), "x,y\n0,0\n4,0\n4,2\n0,2\n").unwrap();
+    let text = Scene::builtin("dam-break-2d")
+        .unwrap()
+        .text
+        .replace(
+            "shape = \"box-container\"\nmin = [0.0, 0.0]\nmax = [4.0, 2.0]",
+            "shape = \"polygon\"\npolygon = { file = \"tank.csv\" } # the tank\nsolid = \"outside\"",
+        )
+        .replacen("open_top = false", "# closed", 1)
+        .replace("spacing = 0.02 ", "spacing = 0.04 ")
+        .replace("min = [-0.1, -0.1] ", "min = [-0.2, -0.2] ")
+        .replace("max = [4.1, 2.1] ", "max = [4.2, 2.2] ")
+        .replace("end = 2.0 ", "end = 0.3 ");
+    assert!(
+        text.contains("tank.csv") && text.contains("end = 0.3 ") && text.contains("[4.2, 2.2]")
+    );
+    let path = dir.path().join("tank.toml");
+    std::fs::write(&path, text).unwrap();
+    let scene = Scene::from_file(&path).unwrap();
+    let quiet = quiet();
+    let (a, b, err) = one_go_and_stopped(&scene, dir.path(), 4, &STOP, &quiet);
+    assert!(matches!(err, RunError::Interrupted { .. }), "{err}");
+    let copy = std::fs::read_to_string(b.join("scene.toml")).unwrap();
+    assert!(
+        copy.contains("polygon = { file = \"surface-0.csv\" } # the tank"),
+        "{copy}"
+    );
+    assert_eq!(
+        std::fs::read(b.join("surface-0.csv")).unwrap(),
+        std::fs::read(dir.path().join("tank.csv")).unwrap()
+    );
+    std::fs::remove_file(dir.path().join("tank.csv")).unwrap();
+    let done = run::resume(&b, &quiet).unwrap();
+    assert_eq!(done.status, RunStatus::Completed);
+    same_output(&a, &b);
+    // A new run over it removes the copy with the rest (the scene has no surface file now:
+    // a box container).
+    let plain = Scene::builtin("dam-break-2d").unwrap();
+    let plain = plain
+        .with_overrides(&meshfree_core::scene::Overrides {
+            t_end: Some(0.02),
+            output_interval: None,
+        })
+        .unwrap();
+    run::run(
+        &plain,
+        &RunOptions {
+            out_dir: Some(b.clone()),
+            overwrite: true,
+            ..quiet
+        },
+    )
+    .unwrap();
+    assert!(!b.join("surface-0.csv").exists());
+}

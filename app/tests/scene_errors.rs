@@ -52,7 +52,15 @@ fn write(text: &str) -> (tempfile::TempDir, PathBuf) {
 /// Load `text` from a file; it must fail with the file's path, `field` and `reason` in the
 /// message. Also runs it through `run::run` and checks that no output directory appears.
 fn expect_error(text: &str, field: &str, reason: &str) -> SceneError {
+    expect_error_with(&[], text, field, reason)
+}
+
+/// `expect_error` with `files` (name, bytes) written beside the scene file: surfaces.
+fn expect_error_with(files: &[(&str, &[u8])], text: &str, field: &str, reason: &str) -> SceneError {
     let (dir, path) = write(text);
+    for (name, bytes) in files {
+        std::fs::write(dir.path().join(name), bytes).unwrap();
+    }
     let err = Scene::from_file(&path).expect_err("the scene should be refused");
     let msg = err.to_string();
     assert!(
@@ -75,7 +83,7 @@ fn expect_error(text: &str, field: &str, reason: &str) -> SceneError {
         .arg("--quiet")
         .output()
         .unwrap();
-    assert!(!o.status.success());
+    assert_eq!(o.status.code(), Some(2), "bad input exits with 2");
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(
         stderr.starts_with(&format!("error: {}: {field}: ", path.display())),
@@ -867,4 +875,150 @@ fn a_wrong_type_inside_a_wall_names_its_key() {
     // Inside a motion table, the key of the table.
     let text = format!("{BASE}motion = {{oscillation = {{amplitude = 0.1, period = 1.0}}}}\n");
     expect_error(&text, "walls[0].motion", "invalid type");
+}
+
+/// A 3D version of BASE whose walls are `wall` (a TOML table's keys).
+fn mesh_scene(wall: &str) -> String {
+    format!(
+        r#"dimension = 3
+name = "mesh"
+[domain]
+min = [0.0, 0.0, 0.0]
+max = [1.0, 1.0, 1.0]
+[discretisation]
+spacing = 0.05
+[time]
+end = 0.01
+output_interval = 0.005
+[fluid]
+density = 1000.0
+sound_speed = 30.0
+[boundary]
+strength = 100.0
+[[fluid_blocks]]
+min = [0.1, 0.1, 0.1]
+max = [0.5, 0.5, 0.5]
+[[walls]]
+shape = "mesh"
+{wall}
+"#
+    )
+}
+
+/// The unit cube's 12 triangles as ASCII STL, scaled by `s` and moved by `t`; without the
+/// triangles `drop`.
+fn cube_stl(s: f64, t: f64, drop: &[usize]) -> Vec<u8> {
+    let v = |i: u32| [(i & 1) as f64, ((i >> 1) & 1) as f64, (i >> 2) as f64].map(|x| x * s + t);
+    let quads = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let mut out = String::from("solid cube\n");
+    let tris = quads
+        .iter()
+        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]);
+    for (k, t) in tris.enumerate().filter(|(k, _)| !drop.contains(k)) {
+        out.push_str("facet normal 0 0 0\nouter loop\n");
+        for i in t {
+            let p = v(i);
+            out.push_str(&format!("vertex {} {} {}\n", p[0], p[1], p[2]));
+        }
+        out.push_str("endloop\nendfacet\n");
+        let _ = k;
+    }
+    out.push_str("endsolid cube\n");
+    out.into_bytes()
+}
+
+#[test]
+fn a_mesh_wall_of_a_good_cube_is_accepted() {
+    let (dir, path) = write(&mesh_scene(
+        "mesh = { file = \"cube.stl\", scale = 0.2, translate = [0.6, 0.6, 0.6] }",
+    ));
+    std::fs::write(dir.path().join("cube.stl"), cube_stl(1.0, 0.0, &[])).unwrap();
+    let s = Scene::from_file(&path).unwrap();
+    assert!(s.setup().is_ok());
+}
+
+#[test]
+fn mesh_files_that_cannot_be_volumes_are_refused_with_the_reason() {
+    let good = cube_stl(0.2, 0.6, &[]);
+    // Missing, unreadable, of no triangle, of an unknown format.
+    expect_error(
+        &mesh_scene("mesh = { file = \"none.stl\" }"),
+        "walls[0].mesh.file",
+        "cannot read the file",
+    );
+    expect_error_with(
+        &[("bad.stl", b"solid x\nnot an stl")],
+        &mesh_scene("mesh = { file = \"bad.stl\" }"),
+        "walls[0].mesh.file",
+        "not a readable STL file",
+    );
+    expect_error_with(
+        &[("empty.obj", b"v 0 0 0\n")],
+        &mesh_scene("mesh = { file = \"empty.obj\" }"),
+        "walls[0].mesh.file",
+        "holds no triangle",
+    );
+    expect_error_with(
+        &[("cube.step", &good)],
+        &mesh_scene("mesh = { file = \"cube.step\" }"),
+        "walls[0].mesh.file",
+        "not known from its extension",
+    );
+    // Open: two faces of six gone, a hole across the whole cube.
+    let open = cube_stl(0.2, 0.6, &[0, 1, 4, 5]);
+    expect_error_with(
+        &[("open.stl", &open)],
+        &mesh_scene("mesh = { file = \"open.stl\" }"),
+        "walls[0].mesh.file",
+        "is open: ",
+    );
+    // Outside the domain, and in millimetres.
+    expect_error_with(
+        &[("cube.stl", &good)],
+        &mesh_scene("mesh = { file = \"cube.stl\", translate = [0.5, 0.0, 0.0] }"),
+        "walls[0].mesh",
+        "beyond domain.max[0]",
+    );
+    let mm = cube_stl(200.0, 600.0, &[]);
+    expect_error_with(
+        &[("mm.stl", &mm)],
+        &mesh_scene("mesh = { file = \"mm.stl\" }"),
+        "walls[0].mesh",
+        "a file in millimetres? scale = 0.001",
+    );
+    // Keys: a bad scale, a polygon's points in 3D, a mesh in 2D.
+    expect_error_with(
+        &[("cube.stl", &good)],
+        &mesh_scene("mesh = { file = \"cube.stl\", scale = -1.0 }"),
+        "walls[0].mesh.scale",
+        "must be a positive number",
+    );
+    expect_error(
+        &mesh_scene("mesh = { points = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]] }"),
+        "walls[0].mesh.points",
+        "points make a 2D polygon",
+    );
+    expect_error(
+        &with(
+            "shape = \"box-container\"\nmin = [0.0, 0.0]\nmax = [1.0, 1.0]",
+            "shape = \"mesh\"\nmesh = { file = \"x.stl\" }",
+        ),
+        "walls[0].shape",
+        "use \"polygon\" in a 2D scene",
+    );
+    expect_error(
+        &with(
+            "shape = \"box-container\"\nmin = [0.0, 0.0]\nmax = [1.0, 1.0]",
+            "shape = \"polygon\"\npolygon = { points = [[0.0, 0.0], [1.0, 0.0]] }",
+        ),
+        "walls[0].polygon.points",
+        "at least 3 corners",
+    );
 }

@@ -43,6 +43,25 @@ pub const FRAME_PREFIX: &str = "particles_";
 /// A decomposed run's checkpoint pieces are `checkpoint-step<S>-rank<R>of<N>.bin`.
 pub const CHECKPOINT_PIECE_PREFIX: &str = "checkpoint-";
 
+/// The copies of the scene's surface files are `surface-<N>.<ext>` (`scene::geometry`).
+pub const SURFACE_PREFIX: &str = "surface-";
+
+/// The copy of the scene's surface file number `index`, of extension `ext` (`stl`, `csv`).
+pub fn surface_file(index: usize, ext: &str) -> String {
+    format!("{SURFACE_PREFIX}{index}.{ext}")
+}
+
+/// The index of a surface copy's name (`surface_file`'s inverse): digits after the prefix,
+/// then an extension of letters.
+pub fn surface_index(name: &str) -> Option<usize> {
+    let (digits, ext) = name.strip_prefix(SURFACE_PREFIX)?.split_once('.')?;
+    let plain = !digits.is_empty()
+        && digits.bytes().all(|b| b.is_ascii_digit())
+        && !ext.is_empty()
+        && ext.bytes().all(|b| b.is_ascii_alphanumeric());
+    plain.then(|| digits.parse().ok()).flatten()
+}
+
 /// \[bytes\] the longest name an object may give a file (`<name>.csv` stays well within the
 /// 255 bytes every file system takes).
 pub const MAX_STEM: usize = 100;
@@ -68,6 +87,7 @@ pub fn is_reserved(stem: &str) -> bool {
         .any(|f| f.split_once('.').is_some_and(|(base, _)| base == s))
         || s.starts_with(FRAME_PREFIX)
         || s.starts_with(CHECKPOINT_PIECE_PREFIX)
+        || s.starts_with(SURFACE_PREFIX)
 }
 
 /// Why `name` may not be the stem of a file the run writes for an object (a force

@@ -123,5 +123,56 @@ pub(super) fn check(a: CheckArgs) -> anyhow::Result<()> {
         setup.params.h,
         setup.params.n_cells
     )?;
+    for line in surface_lines(&s, &setup.particles) {
+        crate::outln!("  {line}")?;
+    }
     Ok(())
+}
+
+/// One line per surface of `s` (`mesh`, `polygon`, `inside`): its file, triangles (edges),
+/// box, volume (area), holes and orientation, and the particles its object made.
+fn surface_lines(
+    s: &Scene,
+    particles: &[meshfree_core::physics::particle::Particle],
+) -> Vec<String> {
+    let dim = s.file.dimension as usize;
+    let v = |p: &[f64; 3]| {
+        let xs: Vec<String> = p[..dim].iter().map(|x| format!("{x:.6}")).collect();
+        format!("[{}]", xs.join(", "))
+    };
+    meshfree_core::scene::geometry::surfaces(&s.file)
+        .into_iter()
+        .filter_map(|placed| {
+            let i = &placed.outline.loaded.get()?.info;
+            let made = particles.iter().filter(|p| p.group == placed.group).count();
+            let (elements, measure) = if dim == 3 {
+                ("triangles", "volume")
+            } else {
+                ("edges", "area")
+            };
+            let t = &i.topology;
+            let edges = if t.open_edges == 0 {
+                "closed".to_string()
+            } else {
+                format!(
+                    "{} open edges in {} hole(s), the largest {:.6} across (bridged)",
+                    t.open_edges, t.holes, t.largest_hole
+                )
+            };
+            let turned = if i.turned {
+                "; wound inward, turned outward"
+            } else {
+                ""
+            };
+            Some(format!(
+                "{}: {}: {} {elements}, box {} to {}, {measure} {:.6}, {edges}{turned}; {made} particles",
+                placed.field,
+                i.source,
+                i.elements,
+                v(&i.lo),
+                v(&i.hi),
+                i.volume
+            ))
+        })
+        .collect()
 }

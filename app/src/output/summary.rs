@@ -100,7 +100,8 @@ pub struct RunSummary {
 /// `writer` (its busy time) overlaps `stepping`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Timing {
-    /// Scene set-up: particle generation, the backend's start (on a GPU: context, modules,
+    /// Scene set-up: reading its surface files (`mesh`, `polygon`, `inside`) and building
+    /// their trees, particle generation, the backend's start (on a GPU: context, modules,
     /// upload), up to the first step.
     pub setup_seconds: f64,
     /// Stepping, as the `Stepper` clocked it (health checks included).

@@ -179,6 +179,7 @@ fn drive(
         .into_iter()
         .chain(set.writer.csv_names())
         .map(String::from)
+        .chain(set.surfaces.iter().cloned())
         .chain(events.file_names())
         .collect();
     // A run killed outright (kill -9, power) leaves `running` behind, not an older status.

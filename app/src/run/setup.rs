@@ -28,8 +28,11 @@ use crate::resume::Resume;
 
 /// A run set up, before its first step.
 pub(super) struct Setup<'o> {
-    /// The scene with the run's overrides (`--t-end`, `--output-interval`).
+    /// The scene with the run's overrides (`--t-end`, `--output-interval`), naming its
+    /// surfaces' copies in the run's directory.
     pub scene: Scene,
+    /// The names of those copies (`surface-N.<ext>`).
+    pub surfaces: Vec<String>,
     pub out_dir: std::path::PathBuf,
     pub solver: Box<dyn Solver>,
     pub info: BackendInfo,
@@ -64,6 +67,17 @@ impl<'o> Setup<'o> {
             output_interval: options.output_interval,
         })?;
         scene.check_size(options.max_particles)?;
+        // A fresh run copies its surfaces' files into its directory and its copy of the scene
+        // names them there; a resumed run's scene already does.
+        let (scene, surface_copies) = match resume {
+            None => scene.with_surface_copies()?,
+            Some(_) => (scene, Vec::new()),
+        };
+        let surfaces: Vec<String> = meshfree_core::scene::geometry::surfaces(&scene.file)
+            .into_iter()
+            .filter_map(|p| p.outline.file.clone())
+            .filter(|f| meshfree_core::run_files::surface_index(f).is_some())
+            .collect();
         let setup = scene.setup()?;
         let counts = Counts::of(&setup.particles);
         let with_solids = setup.has_solids();
@@ -101,7 +115,10 @@ impl<'o> Setup<'o> {
         let before = resume.map(|r| r.run.timing).unwrap_or_default();
         let clock = Clock {
             started,
-            setup_seconds: before.setup_seconds + started.elapsed().as_secs_f64(),
+            // Reading the scene's surface files happened with the scene, before this.
+            setup_seconds: before.setup_seconds
+                + scene.surfaces_seconds()
+                + started.elapsed().as_secs_f64(),
             before,
         };
 
@@ -140,6 +157,12 @@ impl<'o> Setup<'o> {
                 let monitors: Vec<String> =
                     scene.file.monitors.iter().map(|m| m.name.clone()).collect();
                 prepare_out_dir(&out_dir, options.overwrite, &monitors)?;
+                for copy in &surface_copies {
+                    let path = out_dir.join(&copy.name);
+                    (files::create_new(&path))
+                        .and_then(|mut f| f.write_all(&copy.bytes))
+                        .map_err(io_err(&path))?;
+                }
                 let scene_copy = out_dir.join(files::SCENE);
                 (files::create_new(&scene_copy))
                     .and_then(|mut f| f.write_all(scene.text.as_bytes()))
@@ -162,6 +185,7 @@ impl<'o> Setup<'o> {
         )?;
         Ok(Setup {
             scene,
+            surfaces,
             out_dir,
             solver,
             info,

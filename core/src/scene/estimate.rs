@@ -79,6 +79,15 @@ pub fn estimate(s: &SceneFile) -> Estimate {
     let dim = s.dimension as usize;
     let dx = s.discretisation.spacing;
     let mut n = 0.0;
+    // A surface's box (read with the scene), or nothing where it was not read: the checks
+    // refuse such a scene.
+    let boxed = |o: &super::format::Outline, grow: f64| {
+        o.loaded.get().map_or(0.0, |m| {
+            let lo: Vec<f64> = m.info.lo.iter().map(|x| x - grow).collect();
+            let hi: Vec<f64> = m.info.hi.iter().map(|x| x + grow).collect();
+            lattice(&lo, &hi, dx, dim) + 1.0
+        })
+    };
     for b in &s.fluid_blocks {
         n += lattice(&b.min, &b.max, dx, dim);
     }
@@ -87,6 +96,9 @@ pub fn estimate(s: &SceneFile) -> Estimate {
             SolidObject::Box { min, max, .. } => lattice(min, max, dx, dim),
             SolidObject::Disc { radius, .. } | SolidObject::Sphere { radius, .. } => {
                 points(2.0 * radius, dx).powi(dim as i32)
+            }
+            SolidObject::Mesh { mesh: o, .. } | SolidObject::Polygon { polygon: o, .. } => {
+                boxed(o, dx)
             }
         };
     }
@@ -115,6 +127,14 @@ pub fn estimate(s: &SceneFile) -> Estimate {
                 let rings = (2.0 * std::f64::consts::PI * radius / dx).round().max(1.0) + 1.0;
                 rings * *layers as f64 * depth
             }
+            // The box of the surface with its rows (the rows of a tank fill a thin band of it:
+            // a loose bound).
+            Wall::Mesh {
+                mesh: o, layers, ..
+            }
+            | Wall::Polygon {
+                polygon: o, layers, ..
+            } => boxed(o, (*layers as f64 + 1.0) * dx),
         };
     }
     let support = 2.0 * s.discretisation.h();

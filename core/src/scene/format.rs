@@ -202,6 +202,54 @@ pub struct FluidBlock {
     /// the dynamic walls that hold it too. Default false.
     #[serde(default)]
     pub hydrostatic: bool,
+    /// Only the lattice points of the box inside this closed surface (3D: a mesh file; 2D:
+    /// a polygon): a tank of any shape filled up to the box's top. Default none: the box.
+    #[serde(default)]
+    pub inside: Option<Outline>,
+}
+
+/// A closed surface put in place: a 3D object's `mesh` (a file: STL binary or ASCII, OBJ,
+/// PLY), a 2D object's `polygon` (its corners in `points`, or a text file of `x y` lines),
+/// a fluid block's `inside` (`scene::geometry`: read once with the scene, checked, turned
+/// outward where wound inward). The file is scaled, then turned, then moved.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Outline {
+    /// The file, relative to the scene file's directory.
+    #[serde(default)]
+    pub file: Option<String>,
+    /// \[L\] 2D: the polygon's corners in order (either way round), instead of a file.
+    #[serde(default)]
+    pub points: Option<Vec<Vec<f64>>>,
+    /// The file's unit in the scene's (0.001 for a file in mm and a scene in m). Default 1.
+    #[serde(default = "one")]
+    pub scale: f64,
+    /// \[deg\] 3D: turns about x, then y, then z (about the origin, after the scale); 2D:
+    /// one turn about z. Default none.
+    #[serde(default)]
+    pub rotate: Option<Vec<f64>>,
+    /// \[L\] a move after the turns, `dimension` numbers. Default none.
+    #[serde(default)]
+    pub translate: Option<Vec<f64>>,
+    /// The surface read from it (`geometry::load`, when the scene is read).
+    #[serde(skip)]
+    pub loaded: super::geometry::Loaded,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// Which side of a closed surface a wall's particles fill (`solid` of a mesh or polygon
+/// wall).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Side {
+    /// The surface is an obstacle: the rows lie inside it, the fluid around it.
+    #[default]
+    Inside,
+    /// The surface holds the fluid (a tank, a channel): the rows lie outside it.
+    Outside,
 }
 
 /// An elastic body. `shape` picks the variant; the other keys belong to that shape.
@@ -240,6 +288,22 @@ pub enum SolidObject {
         #[serde(default)]
         motion: Option<Motion>,
     },
+    /// 3D only: the domain's lattice points inside a closed surface from a file.
+    Mesh {
+        mesh: Outline,
+        #[serde(default)]
+        velocity: Option<Vec<f64>>,
+        #[serde(default)]
+        motion: Option<Motion>,
+    },
+    /// 2D only: the domain's lattice points inside a closed polygon.
+    Polygon {
+        polygon: Outline,
+        #[serde(default)]
+        velocity: Option<Vec<f64>>,
+        #[serde(default)]
+        motion: Option<Motion>,
+    },
 }
 
 impl SolidObject {
@@ -247,7 +311,9 @@ impl SolidObject {
         match self {
             SolidObject::Box { velocity, .. }
             | SolidObject::Disc { velocity, .. }
-            | SolidObject::Sphere { velocity, .. } => velocity.as_ref(),
+            | SolidObject::Sphere { velocity, .. }
+            | SolidObject::Mesh { velocity, .. }
+            | SolidObject::Polygon { velocity, .. } => velocity.as_ref(),
         }
     }
     /// The prescribed motion of a driven body (a clamp: a zero velocity), if any.
@@ -255,7 +321,22 @@ impl SolidObject {
         match self {
             SolidObject::Box { motion, .. }
             | SolidObject::Disc { motion, .. }
-            | SolidObject::Sphere { motion, .. } => motion.as_ref(),
+            | SolidObject::Sphere { motion, .. }
+            | SolidObject::Mesh { motion, .. }
+            | SolidObject::Polygon { motion, .. } => motion.as_ref(),
+        }
+    }
+    /// The surface of a mesh or polygon body.
+    pub fn outline(&self) -> Option<&Outline> {
+        match self {
+            SolidObject::Mesh { mesh: o, .. } | SolidObject::Polygon { polygon: o, .. } => Some(o),
+            _ => None,
+        }
+    }
+    pub fn outline_mut(&mut self) -> Option<&mut Outline> {
+        match self {
+            SolidObject::Mesh { mesh: o, .. } | SolidObject::Polygon { polygon: o, .. } => Some(o),
+            _ => None,
         }
     }
 }
@@ -439,6 +520,38 @@ pub enum Wall {
         #[serde(default)]
         motion: Option<Motion>,
     },
+    /// 3D: `layers` rows of boundary particles, the domain's lattice points within `layers`
+    /// spacings of a closed surface from a file, on its `solid` side: inside it (an
+    /// obstacle) or outside it (a tank or a channel that holds the fluid). Fluid and solids
+    /// on that side are not generated. Each particle's normal and distance to the surface
+    /// come from the surface's closest point.
+    Mesh {
+        mesh: Outline,
+        /// Default "inside".
+        #[serde(default)]
+        solid: Side,
+        /// Default 3.
+        #[serde(default = "default_layers")]
+        layers: u32,
+        #[serde(default)]
+        remove_at: Option<f64>,
+        #[serde(default)]
+        motion: Option<Motion>,
+    },
+    /// 2D: the same along a closed polygon.
+    Polygon {
+        polygon: Outline,
+        /// Default "inside".
+        #[serde(default)]
+        solid: Side,
+        /// Default 3.
+        #[serde(default = "default_layers")]
+        layers: u32,
+        #[serde(default)]
+        remove_at: Option<f64>,
+        #[serde(default)]
+        motion: Option<Motion>,
+    },
     /// Rings of boundary particles inward from `radius` (a cylinder along z in 3D).
     Cylinder {
         center: Vec<f64>,
@@ -459,7 +572,9 @@ impl Wall {
         match self {
             Wall::BoxContainer { layers, .. }
             | Wall::Cylinder { layers, .. }
-            | Wall::Segment { layers, .. } => *layers,
+            | Wall::Segment { layers, .. }
+            | Wall::Mesh { layers, .. }
+            | Wall::Polygon { layers, .. } => *layers,
             Wall::Box { .. } => 0,
         }
     }
@@ -468,7 +583,9 @@ impl Wall {
             Wall::BoxContainer { remove_at, .. }
             | Wall::Box { remove_at, .. }
             | Wall::Cylinder { remove_at, .. }
-            | Wall::Segment { remove_at, .. } => *remove_at,
+            | Wall::Segment { remove_at, .. }
+            | Wall::Mesh { remove_at, .. }
+            | Wall::Polygon { remove_at, .. } => *remove_at,
         }
     }
     /// The prescribed motion of a driven wall (a piston, a flap, a tank), if any.
@@ -477,7 +594,25 @@ impl Wall {
             Wall::BoxContainer { motion, .. }
             | Wall::Box { motion, .. }
             | Wall::Cylinder { motion, .. }
-            | Wall::Segment { motion, .. } => motion.as_ref(),
+            | Wall::Segment { motion, .. }
+            | Wall::Mesh { motion, .. }
+            | Wall::Polygon { motion, .. } => motion.as_ref(),
+        }
+    }
+    /// The surface of a mesh or polygon wall and the side its rows fill.
+    pub fn outline(&self) -> Option<(&Outline, Side)> {
+        match self {
+            Wall::Mesh { mesh: o, solid, .. }
+            | Wall::Polygon {
+                polygon: o, solid, ..
+            } => Some((o, *solid)),
+            _ => None,
+        }
+    }
+    pub fn outline_mut(&mut self) -> Option<&mut Outline> {
+        match self {
+            Wall::Mesh { mesh: o, .. } | Wall::Polygon { polygon: o, .. } => Some(o),
+            _ => None,
         }
     }
 }

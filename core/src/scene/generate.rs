@@ -10,6 +10,10 @@
 //!   apart along it; fluid and solids behind it (its left, within its length) are dropped.
 //! * `cylinder` walls: rings at radius `r - (k + 0.5) dx`, about dx apart along the ring;
 //!   in 3D repeated along z on the domain's lattice.
+//! * `mesh` (3D) and `polygon` (2D) walls: the domain's lattice points `domain.min + (i +
+//!   0.5) dx` within `layers` dx of the closed surface on its `solid` side; solids of those
+//!   shapes the domain's lattice points inside it; a fluid block's `inside` keeps the
+//!   block's lattice points inside its surface (`geometry::Surface::lattice`).
 //! * Overlaps: walls take precedence over solids, solids over fluid; within a kind an
 //!   earlier object over a later one. A particle is dropped when it lies within 0.5 dx of
 //!   a particle kept from a preceding object, or (fluid, solid) inside the region of a
@@ -29,6 +33,7 @@
 use rayon::prelude::*;
 
 use super::format::*;
+use super::geometry::{Pick, Surface};
 use super::spatial::{BoxIndex, Grid, Tiles, P3, PARALLEL_FROM};
 use crate::physics::particle::{Kind, Particle};
 use crate::scene::scheme::*;
@@ -68,6 +73,11 @@ enum Region<'a> {
         from: &'a [f64],
         to: &'a [f64],
     },
+    /// Inside a closed surface (`inside`), or outside it.
+    Surface {
+        surface: &'a Surface,
+        inside: bool,
+    },
 }
 
 impl Region<'_> {
@@ -94,7 +104,14 @@ impl Region<'_> {
                     (lo[k], hi[k]) = (center[k] - radius, center[k] + radius);
                 }
             }
-            Region::Column { .. } | Region::Behind { .. } => return None,
+            Region::Surface {
+                surface,
+                inside: true,
+            } => {
+                lo[..dim].copy_from_slice(&surface.info.lo[..dim]);
+                hi[..dim].copy_from_slice(&surface.info.hi[..dim]);
+            }
+            Region::Column { .. } | Region::Behind { .. } | Region::Surface { .. } => return None,
         }
         Some((lo, hi))
     }
@@ -117,6 +134,7 @@ impl Region<'_> {
                 let left = d[0] * q[1] - d[1] * q[0];
                 (0.0..=1.0).contains(&along) && left > 0.0
             }
+            Region::Surface { surface, inside } => surface.inside(p) == *inside,
         }
     }
 }
@@ -318,6 +336,25 @@ fn wall_hydrostatic(c: &Columns, p: &P3) -> Option<f64> {
     Some(hydrostatic_pressure(block, &c.g, c.rho0, p, c.dim).max(0.0))
 }
 
+/// The surface of an outline (read with the scene: `geometry::load_all`).
+fn loaded(o: &Outline) -> &Surface {
+    o.loaded
+        .get()
+        .expect("a validated scene's surfaces are read (geometry::check)")
+}
+
+/// A point whose first `dim` coordinates are `f(axis)` (0 past them).
+fn in_plane(dim: usize, f: impl Fn(usize) -> f64) -> P3 {
+    std::array::from_fn(|a| if a < dim { f(a) } else { 0.0 })
+}
+
+/// The box of `surface` grown by `grow` on every side, within the domain.
+fn clipped(surface: &Surface, grow: f64, domain: &Domain, dim: usize) -> (P3, P3) {
+    let lo = in_plane(dim, |a| (surface.info.lo[a] - grow).max(domain.min[a]));
+    let hi = in_plane(dim, |a| (surface.info.hi[a] + grow).min(domain.max[a]));
+    (lo, hi)
+}
+
 fn vec3(v: Option<&Vec<f64>>) -> P3 {
     let mut out = [0.0; 3];
     if let Some(v) = v {
@@ -337,13 +374,28 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
 
     let mut objects: Vec<Object> = Vec::new();
     for (i, b) in s.fluid_blocks.iter().enumerate() {
+        let points = match b.inside.as_ref() {
+            // The block's own lattice, inside the surface.
+            Some(o) => {
+                let surface = loaded(o);
+                let lo = in_plane(dim, |a| b.min[a].max(surface.info.lo[a]));
+                let hi = in_plane(dim, |a| b.max[a].min(surface.info.hi[a]));
+                let origin = vec3(Some(&b.min));
+                // The block's lattice points in [lo, hi] that the block itself holds.
+                let mut p = surface.lattice(&origin, dx, &lo, &hi, dim, Pick::Inside);
+                p.retain(|q| (0..dim).all(|a| q[a] < b.max[a] - 0.49 * dx));
+                p
+            }
+            None => box_points(&b.min, &b.max, dx, dim),
+        };
         objects.push(Object {
             group: i as u32,
             kind: Kind::Fluid,
-            points: box_points(&b.min, &b.max, dx, dim),
+            points,
             region: Region::Box(&b.min, &b.max),
         });
     }
+    let origin = vec3(Some(&s.domain.min));
     for (i, o) in s.solids.iter().enumerate() {
         let (points, region) = match o {
             SolidObject::Box { min, max, .. } => {
@@ -357,6 +409,17 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
                     radius: *radius,
                 },
             ),
+            SolidObject::Mesh { mesh: o, .. } | SolidObject::Polygon { polygon: o, .. } => {
+                let surface = loaded(o);
+                let (lo, hi) = clipped(surface, 0.0, &s.domain, dim);
+                (
+                    surface.lattice(&origin, dx, &lo, &hi, dim, Pick::Inside),
+                    Region::Surface {
+                        surface,
+                        inside: true,
+                    },
+                )
+            }
         };
         objects.push(Object {
             group: n_fluid + i as u32,
@@ -404,6 +467,27 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
                     radius: *radius,
                 },
             ),
+            Wall::Mesh {
+                mesh: o,
+                solid,
+                layers,
+                ..
+            }
+            | Wall::Polygon {
+                polygon: o,
+                solid,
+                layers,
+                ..
+            } => {
+                let surface = loaded(o);
+                let inside = *solid == Side::Inside;
+                let width = *layers as f64 * dx;
+                let (lo, hi) = clipped(surface, width, &s.domain, dim);
+                (
+                    surface.lattice(&origin, dx, &lo, &hi, dim, Pick::Band { inside, width }),
+                    Region::Surface { surface, inside },
+                )
+            }
         };
         objects.push(Object {
             group: n_fluid + n_solid + i as u32,
@@ -574,7 +658,9 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
 ///   max face; all faces where none is); a plate's back face is no surface;
 /// * segment: the segment's right side (its left holds the rows), d_B = distance from the
 ///   segment's line;
-/// * cylinder: the circle of `radius` (in-plane), normal radial outward; zero at the centre.
+/// * cylinder: the circle of `radius` (in-plane), normal radial outward; zero at the centre;
+/// * mesh and polygon: toward the surface's closest point (the rows lie on the solid side),
+///   d_B the distance to it.
 fn surface_at(w: &Wall, x: &P3, dim: usize, wet: &[[bool; 2]; 3]) -> ([f64; 3], f64) {
     let unit = |v: [f64; 3]| {
         let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
@@ -620,6 +706,10 @@ fn surface_at(w: &Wall, x: &P3, dim: usize, wet: &[[bool; 2]; 3]) -> ([f64; 3], 
         Wall::Cylinder { center, radius, .. } => {
             let (n, r) = unit([x[0] - center[0], x[1] - center[1], 0.0]);
             (n, radius - r)
+        }
+        Wall::Mesh { mesh: o, .. } | Wall::Polygon { polygon: o, .. } => {
+            let c = loaded(o).closest(x);
+            unit([c[0] - x[0], c[1] - x[1], c[2] - x[2]])
         }
     }
 }

@@ -16,6 +16,7 @@ mod error;
 pub mod estimate;
 pub mod format;
 mod generate;
+pub mod geometry;
 pub mod input_limits;
 mod motion;
 pub mod paper_exact;
@@ -37,6 +38,10 @@ use crate::solver::Setup;
 
 /// The built-in scenes: (name, TOML text). The files in `scenes/` are these.
 pub const BUILTIN: &[(&str, &str)] = &[
+    (
+        "cow-dam-break-3d",
+        include_str!("../../../scenes/cow-dam-break-3d.toml"),
+    ),
     (
         "dam-break-2d",
         include_str!("../../../scenes/dam-break-2d.toml"),
@@ -178,18 +183,29 @@ impl Scene {
         let path = path.as_ref();
         let origin = path.display().to_string();
         let text = input_limits::read(path, &origin)?;
-        let mut scene = Scene::from_toml(&text, &origin)?;
+        let mut scene = Scene::from_toml_in(&text, &origin, &geometry::base_of(path))?;
         scene.source = SceneSource::File(path.to_path_buf());
         Ok(scene)
     }
 
     /// Parse and validate TOML text; `origin` names it in errors. Text that would cost far
-    /// more to parse than a scene does is refused first (`input_limits`).
+    /// more to parse than a scene does is refused first (`input_limits`). Surface files
+    /// (`mesh`, `polygon`) are read relative to the working directory.
     pub fn from_toml(text: &str, origin: &str) -> Result<Scene, SceneError> {
+        Scene::from_toml_in(text, origin, &geometry::Base::Dir(PathBuf::new()))
+    }
+
+    /// `from_toml`, with surface files read from `base`.
+    pub fn from_toml_in(
+        text: &str,
+        origin: &str,
+        base: &geometry::Base,
+    ) -> Result<Scene, SceneError> {
         input_limits::check(text, origin)?;
         let de = toml::Deserializer::new(text);
         let file: SceneFile = serde_path_to_error::deserialize(de)
             .map_err(|e| SceneError::from_toml(origin, text, e))?;
+        geometry::load_all(&file, origin, base)?;
         validate::validate(&file, origin)?;
         Ok(Scene {
             file,
@@ -208,7 +224,8 @@ impl Scene {
                     name: name.to_string(),
                     known: builtin_names().join(", "),
                 })?;
-        let mut scene = Scene::from_toml(text, &format!("builtin:{n}"))?;
+        let mut scene =
+            Scene::from_toml_in(text, &format!("builtin:{n}"), &geometry::Base::Builtin)?;
         scene.source = SceneSource::Builtin(n.to_string());
         Ok(scene)
     }

@@ -158,6 +158,8 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
                 let hi: Vec<f64> = center.iter().map(|x| x + radius).collect();
                 c.inside(&field, "the shape", &lo, &hi, dom)?;
             }
+            // Read, placed and checked with the scene's other surfaces (`geometry::check`).
+            SolidObject::Mesh { .. } | SolidObject::Polygon { .. } => {}
         }
     }
     if !s.walls.is_empty() && s.boundary.is_none() {
@@ -264,8 +266,14 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
                 }
                 c.inside(&field, "the cylinder", &lo, &hi, dom)?;
             }
+            Wall::Mesh { layers, .. } | Wall::Polygon { layers, .. } => {
+                if *layers == 0 {
+                    return Err(c.err(format!("{field}.layers"), "must be at least 1"));
+                }
+            }
         }
     }
+    super::geometry::check(&c, s)?;
     let driven: Vec<String> = (s.solids.iter().enumerate())
         .filter(|(_, o)| o.motion().is_some())
         .map(|(i, _)| format!("solids[{i}]"))

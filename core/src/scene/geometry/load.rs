@@ -1,0 +1,324 @@
+//! Reading a surface (`load`): the file or points, the placement (scale, turns, move), the
+//! checks (no triangle, open beyond `MAX_HOLE`, no volume, not finite) and the outward
+//! orientation, then the trees that answer its queries.
+
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
+
+use super::read::{self, Format, Raw};
+use super::{winding, Base, From, Info, Shape, Surface, Topology, ASSETS, MAX_HOLE};
+use crate::scene::ctx::{fmt, Ctx, R};
+use crate::scene::format::Outline;
+use crate::scene::spatial::P3;
+
+/// The outline's transform applied to `v`: scale, then the turns (3D: about x, then y, then
+/// z; 2D: one about z) [deg], then the translation.
+fn place(o: &Outline, dim: usize, v: [f64; 3]) -> [f64; 3] {
+    let mut p = DVec3::from_array(v) * o.scale;
+    if let Some(r) = &o.rotate {
+        let turns: Vec<(DVec3, f64)> = if dim == 3 {
+            vec![(DVec3::X, r[0]), (DVec3::Y, r[1]), (DVec3::Z, r[2])]
+        } else {
+            vec![(DVec3::Z, r[0])]
+        };
+        for (axis, deg) in turns {
+            p = glam::DQuat::from_axis_angle(axis, deg.to_radians()) * p;
+        }
+    }
+    if let Some(t) = &o.translate {
+        for (a, x) in t.iter().enumerate() {
+            p[a] += x;
+        }
+    }
+    if dim == 2 {
+        p.z = 0.0;
+    }
+    p.to_array()
+}
+
+/// Reads, places, checks and orients the surface of outline `o` (at `field`), for a scene of
+/// `dim` dimensions whose files are at `base`. `volume`: it must enclose a volume (a fluid
+/// block's `inside`, a solid, a wall): a surface open beyond `MAX_HOLE` is refused.
+pub(in crate::scene) fn load(
+    c: &Ctx,
+    field: &str,
+    o: &Outline,
+    base: &Base,
+) -> Result<Surface, crate::scene::SceneError> {
+    let dim = c.dim;
+    let started = std::time::Instant::now();
+    check_keys(c, field, o)?;
+    let (raw, source, from) = match (&o.file, &o.points) {
+        (Some(file), None) => {
+            let f = format!("{field}.file");
+            let format = Format::of(file).ok_or_else(|| {
+                c.err(
+                    &f,
+                    format!(
+                        "{file:?}: the format is not known from its extension (.stl, .obj, .ply{})",
+                        if dim == 2 {
+                            ", or .csv/.txt/.dat of x y points"
+                        } else {
+                            ""
+                        }
+                    ),
+                )
+            })?;
+            if (format == Format::Points) != (dim == 2) {
+                return Err(c.err(&f, if dim == 2 {
+                    format!("{file:?}: a 2D polygon is read from a text file of x y points (.csv, .txt, .dat); the slice of a 3D mesh is not supported yet")
+                } else {
+                    format!("{file:?}: a 3D surface is an STL, OBJ or PLY file")
+                }));
+            }
+            let (bytes, from) = match base {
+                Base::Builtin => ASSETS
+                    .iter()
+                    .find(|(n, _)| *n == file)
+                    .map(|(_, b)| (b.to_vec(), From::Asset(b)))
+                    .ok_or_else(|| {
+                        c.err(&f, format!("{file:?}: no asset of that name is built in"))
+                    })?,
+                Base::Dir(dir) => {
+                    let path = dir.join(file);
+                    let bytes = read::bytes_of(&path)
+                        .map_err(|why| c.err(&f, format!("{}: {why}", path.display())))?;
+                    (bytes, From::Path(path))
+                }
+            };
+            let raw =
+                read::parse(&bytes, format).map_err(|why| c.err(&f, format!("{file:?}: {why}")))?;
+            (raw, file.clone(), from)
+        }
+        (None, Some(points)) => {
+            let mut raw = Raw::default();
+            for (k, p) in points.iter().enumerate() {
+                c.vec(&format!("{field}.points[{k}]"), p)?;
+                raw.vertices.push([p[0], p[1], 0.0]);
+            }
+            (raw, "points".to_string(), From::Points)
+        }
+        _ => unreachable!("check_keys"),
+    };
+    let mut raw = raw;
+    for v in raw.vertices.iter_mut() {
+        *v = place(o, dim, *v);
+    }
+    if let Some(k) = raw
+        .vertices
+        .iter()
+        .position(|v| v.iter().any(|x| !x.is_finite()))
+    {
+        return Err(c.err(
+            field,
+            format!("{source}: vertex {k} is not finite ({:?})", raw.vertices[k]),
+        ));
+    }
+    let mut surface = if dim == 3 {
+        mesh_surface(c, field, raw, source)
+    } else {
+        polygon_surface(c, field, raw, source)
+    }?;
+    surface.from = from;
+    surface.info.read_seconds = started.elapsed().as_secs_f64();
+    Ok(surface)
+}
+
+fn check_keys(c: &Ctx, field: &str, o: &Outline) -> R {
+    match (&o.file, &o.points) {
+        (Some(_), Some(_)) => {
+            return Err(c.err(format!("{field}.points"), "give file or points, not both"))
+        }
+        (None, None) => {
+            return Err(c.err(
+                field,
+                if c.dim == 2 {
+                    "needs file (x y points) or points"
+                } else {
+                    "needs file (STL, OBJ or PLY)"
+                },
+            ))
+        }
+        (None, Some(_)) if c.dim == 3 => {
+            return Err(c.err(
+                format!("{field}.points"),
+                "points make a 2D polygon; a 3D surface is a file (STL, OBJ or PLY)",
+            ))
+        }
+        _ => {}
+    }
+    if !(o.scale.is_finite() && o.scale > 0.0) {
+        return Err(c.err(
+            format!("{field}.scale"),
+            format!("must be a positive number, found {}", o.scale),
+        ));
+    }
+    if let Some(r) = &o.rotate {
+        let n = if c.dim == 3 { 3 } else { 1 };
+        if r.len() != n || r.iter().any(|x| !x.is_finite()) {
+            return Err(c.err(
+                format!("{field}.rotate"),
+                format!(
+                    "expected {n} finite angle(s) in degrees ({}), found {r:?}",
+                    if n == 3 {
+                        "about x, then y, then z"
+                    } else {
+                        "about z"
+                    }
+                ),
+            ));
+        }
+    }
+    c.opt_vec(&format!("{field}.translate"), &o.translate)
+}
+
+fn mesh_surface(
+    c: &Ctx,
+    field: &str,
+    raw: Raw,
+    source: String,
+) -> Result<Surface, crate::scene::SceneError> {
+    if raw.triangles.is_empty() {
+        return Err(c.err(
+            format!("{field}.file"),
+            format!("{source}: the file holds no triangle"),
+        ));
+    }
+    let mut tris = raw.triangles;
+    let v = &raw.vertices;
+    let (lo, hi) = bounds(v);
+    let diag = (0..3).map(|a| (hi[a] - lo[a]).powi(2)).sum::<f64>().sqrt();
+    // Signed volume, sum of a . (b x c) / 6: negative for inward normals.
+    let p = |i: u32| DVec3::from_array(v[i as usize]);
+    let volume: f64 = tris
+        .par_iter()
+        .map(|t| p(t[0]).dot(p(t[1]).cross(p(t[2]))) / 6.0)
+        .sum();
+    let turned = volume < 0.0;
+    if turned {
+        for t in tris.iter_mut() {
+            t.swap(1, 2);
+        }
+    }
+    // The edges, parry's tree (distances) and the winding tree (inside), each on its own
+    // threads: about a second each for a million triangles.
+    let tree_vertices: Vec<parry3d_f64::math::Vector> = v
+        .iter()
+        .map(|q| parry3d_f64::math::Vector::new(q[0], q[1], q[2]))
+        .collect();
+    let (topology, (tree, winding)) = rayon::join(
+        || Topology::of(v, &tris),
+        || {
+            rayon::join(
+                || parry3d_f64::shape::TriMesh::new(tree_vertices, tris.clone()),
+                || {
+                    winding::Winding::new(
+                        tris.iter().map(|t| [p(t[0]), p(t[1]), p(t[2])]).collect(),
+                    )
+                },
+            )
+        },
+    );
+    if topology.largest_hole > MAX_HOLE * diag {
+        return Err(c.err(format!("{field}.file"), format!(
+            "{source} is open: {} open edges in {} hole(s), the largest {} across around ({}, {}, {}); a volume needs a closed surface (holes up to {} % of its size, {}, are bridged)",
+            topology.open_edges, topology.holes, fmt(topology.largest_hole),
+            fmt(topology.hole_at[0]), fmt(topology.hole_at[1]), fmt(topology.hole_at[2]),
+            MAX_HOLE * 100.0, fmt(MAX_HOLE * diag))));
+    }
+    let box_volume = (0..3).map(|a| hi[a] - lo[a]).product::<f64>();
+    if volume.abs() <= 1e-9 * box_volume.max(f64::MIN_POSITIVE) {
+        return Err(c.err(format!("{field}.file"), format!("{source} encloses no volume (flat, or its triangles cancel): a volume needs a closed surface")));
+    }
+    let tree = tree.map_err(|e| c.err(format!("{field}.file"), format!("{source}: {e}")))?;
+    Ok(Surface {
+        from: From::Points,
+        info: Info {
+            source,
+            elements: tris.len(),
+            lo,
+            hi,
+            volume: volume.abs(),
+            topology,
+            turned,
+            read_seconds: 0.0,
+        },
+        shape: Shape::Mesh { tree, winding },
+    })
+}
+
+fn polygon_surface(
+    c: &Ctx,
+    field: &str,
+    raw: Raw,
+    source: String,
+) -> Result<Surface, crate::scene::SceneError> {
+    let mut corners: Vec<DVec2> = raw
+        .vertices
+        .iter()
+        .map(|v| DVec2::new(v[0], v[1]))
+        .collect();
+    // A closing corner equal to the first is the same corner.
+    if corners.len() > 1 && corners.first() == corners.last() {
+        corners.pop();
+    }
+    let key = if source == "points" { "points" } else { "file" };
+    if corners.len() < 3 {
+        return Err(c.err(
+            format!("{field}.{key}"),
+            format!(
+                "{source}: a polygon needs at least 3 corners, found {}",
+                corners.len()
+            ),
+        ));
+    }
+    let n = corners.len();
+    let area: f64 = (0..n)
+        .map(|k| corners[k].perp_dot(corners[(k + 1) % n]))
+        .sum::<f64>()
+        / 2.0;
+    let (lo, hi) = bounds(&raw.vertices);
+    if area.abs() <= 1e-9 * ((hi[0] - lo[0]) * (hi[1] - lo[1])).max(f64::MIN_POSITIVE) {
+        return Err(c.err(
+            format!("{field}.{key}"),
+            format!("{source}: the polygon encloses no area"),
+        ));
+    }
+    let turned = area < 0.0;
+    if turned {
+        corners.reverse();
+    }
+    let line = parry2d_f64::shape::Polyline::new(
+        corners
+            .iter()
+            .map(|q| parry2d_f64::math::Vector::new(q.x, q.y))
+            .collect(),
+        Some((0..n as u32).map(|k| [k, (k + 1) % n as u32]).collect()),
+    );
+    Ok(Surface {
+        from: From::Points,
+        info: Info {
+            source,
+            elements: n,
+            lo,
+            hi,
+            volume: area.abs(),
+            topology: Topology::default(),
+            turned,
+            read_seconds: 0.0,
+        },
+        shape: Shape::Polygon { line, corners },
+    })
+}
+
+fn bounds(v: &[[f64; 3]]) -> (P3, P3) {
+    let mut lo = [f64::MAX; 3];
+    let mut hi = [f64::MIN; 3];
+    for p in v {
+        for a in 0..3 {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+    }
+    (lo, hi)
+}

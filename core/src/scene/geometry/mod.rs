@@ -1,0 +1,294 @@
+//! Surfaces from files and point lists (issue #53): the `mesh` (3D) and `polygon` (2D) shapes
+//! of walls, solids and fluid blocks (`format::Outline`). A surface is read once, when the
+//! scene is (`load`), moved into place (scale, rotate, translate), checked (a volume must be
+//! closed up to small holes) and oriented (outward), and then answers the generator's
+//! questions: which lattice points are inside (the generalised winding number, `winding.rs`,
+//! robust to small holes and self-intersections), how far a point is from the surface and
+//! where its closest point is (parry's bounding-volume trees: `parry3d-f64`'s `TriMesh`, and
+//! `parry2d-f64`'s `Polyline` for a polygon). Lengths are the scene's [L].
+//!
+//! `read.rs`: the file formats; `load.rs`: reading, placing and checking one surface;
+//! `objects.rs`: the scene's surfaces; `copies.rs`: a run's copies of their files; `winding.rs`: the fast winding number; `topology.rs`: the
+//! checks of a surface's edges (holes) and orientation.
+
+mod copies;
+mod load;
+mod objects;
+pub mod read;
+mod topology;
+mod winding;
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use glam::{DVec2, DVec3};
+use parry2d_f64::query::PointQuery as _;
+use parry3d_f64::query::PointQuery as _;
+use rayon::prelude::*;
+
+use super::spatial::P3;
+pub use copies::SurfaceCopy;
+use load::load;
+pub(in crate::scene) use objects::{check, load_all};
+pub use objects::{surfaces, Placed};
+pub use topology::Topology;
+
+/// Where a scene's surface files are: beside the scene file, or (a built-in scene) among the
+/// assets compiled into the binary (`ASSETS`).
+#[derive(Clone, Debug)]
+pub enum Base {
+    Dir(PathBuf),
+    Builtin,
+}
+
+/// The surface files the built-in scenes use, by the name they give (relative to `scenes/`,
+/// so that the files in `scenes/` read the same files from the repository); their sources
+/// and licences are in `assets/meshes/LICENSES.md`.
+pub const ASSETS: &[(&str, &[u8])] = &[(
+    "../assets/meshes/spot.obj",
+    include_bytes!("../../../../assets/meshes/spot.obj"),
+)];
+
+/// A surface in place: its queries and what `meshfree check` reports of it.
+pub struct Surface {
+    shape: Shape,
+    /// Where its file is (a run copies it into its directory: `copies.rs`).
+    from: From,
+    /// What was read: the file (or "points"), its triangles or segments, its box, the
+    /// volume (3D) or area (2D) it encloses, and its edges.
+    pub info: Info,
+}
+
+/// A surface's report.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Info {
+    /// The file as the scene names it, or "points".
+    pub source: String,
+    /// Triangles (3D) or edges (2D).
+    pub elements: usize,
+    /// \[L\] the box of the surface in place.
+    pub lo: P3,
+    pub hi: P3,
+    /// \[L^d\] the volume (3D) or area (2D) it encloses.
+    pub volume: f64,
+    /// Its edges: open ones, holes, the largest hole.
+    pub topology: Topology,
+    /// Whether it was wound inward (its normals pointing in) and was turned outward.
+    pub turned: bool,
+    /// \[s\] reading, placing, checking it and building its trees.
+    pub read_seconds: f64,
+}
+
+/// The file a surface was read from.
+enum From {
+    Path(PathBuf),
+    Asset(&'static [u8]),
+    /// The scene's own `points`.
+    Points,
+}
+
+enum Shape {
+    Mesh {
+        tree: parry3d_f64::shape::TriMesh,
+        winding: winding::Winding,
+    },
+    Polygon {
+        line: parry2d_f64::shape::Polyline,
+        corners: Vec<DVec2>,
+    },
+}
+
+/// The loaded surface of an `Outline` (set once by `load_all`, when the scene is read).
+/// Equal whatever it holds and not serialised: the scene's text is the outline's identity.
+#[derive(Clone, Default)]
+pub struct Loaded(std::sync::OnceLock<Arc<Surface>>);
+
+impl Loaded {
+    /// The surface, once read.
+    pub fn get(&self) -> Option<&Surface> {
+        self.0.get().map(|s| &**s)
+    }
+}
+
+impl PartialEq for Loaded {
+    fn eq(&self, _: &Loaded) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Debug for Loaded {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.get() {
+            Some(s) => write!(f, "Loaded({}, {} elements)", s.info.source, s.info.elements),
+            None => write!(f, "Loaded(none)"),
+        }
+    }
+}
+
+/// A hole may span this share of the surface's box diagonal and the surface still be a
+/// volume: the winding number bridges it (Barill et al. 2018's soups). Larger, and which
+/// side is inside is a guess: refused.
+pub const MAX_HOLE: f64 = 0.1;
+
+impl Surface {
+    /// Whether `p` is inside: winding number above 1/2.
+    pub fn inside(&self, p: &P3) -> bool {
+        match &self.shape {
+            Shape::Mesh { winding, .. } => winding.at(DVec3::from_array(*p)) > 0.5,
+            Shape::Polygon { corners, .. } => {
+                polygon_winding(corners, DVec2::new(p[0], p[1])) > 0.5
+            }
+        }
+    }
+
+    /// The closest point of the surface to `p` (in 2D, z = p's).
+    pub fn closest(&self, p: &P3) -> P3 {
+        match &self.shape {
+            Shape::Mesh { tree, .. } => {
+                let q = parry3d_f64::math::Vector::new(p[0], p[1], p[2]);
+                let c = tree.project_local_point(q, false).point;
+                [c.x, c.y, c.z]
+            }
+            Shape::Polygon { line, .. } => {
+                let q = parry2d_f64::math::Vector::new(p[0], p[1]);
+                let c = line.project_local_point(q, false).point;
+                [c.x, c.y, p[2]]
+            }
+        }
+    }
+
+    /// The distance from `p` to the surface [L].
+    pub fn distance(&self, p: &P3) -> f64 {
+        let c = self.closest(p);
+        (0..3).map(|a| (c[a] - p[a]).powi(2)).sum::<f64>().sqrt()
+    }
+
+    /// The points of the lattice `origin + (i + 0.5) dx` (first `dim` axes; z = 0 in 2D)
+    /// inside the box [lo, hi] that `pick` selects: inside the surface, or in the band of
+    /// `width` behind it on one side. The lattice is walked in blocks of `BLOCK` points a
+    /// side: a block whose centre is farther from the surface than its half diagonal (plus
+    /// the band) is all on one side, decided by one winding number; the others point by
+    /// point. In lattice order (x fastest), in parallel.
+    pub fn lattice(
+        &self,
+        origin: &P3,
+        dx: f64,
+        lo: &P3,
+        hi: &P3,
+        dim: usize,
+        pick: Pick,
+    ) -> Vec<P3> {
+        const BLOCK: i64 = 8;
+        let range = |a: usize| -> (i64, i64) {
+            if a >= dim {
+                return (0, 1);
+            }
+            let first = ((lo[a] - origin[a]) / dx - 0.5).ceil() as i64;
+            let last = ((hi[a] - origin[a]) / dx - 0.5).floor() as i64;
+            (first, (last + 1).max(first))
+        };
+        let r = [range(0), range(1), range(2)];
+        let blocks = |a: usize| ((r[a].1 - r[a].0) + BLOCK - 1) / BLOCK;
+        let nb = [blocks(0), blocks(1), blocks(2)];
+        let coord = |a: usize, i: i64| {
+            if a < dim {
+                origin[a] + (i as f64 + 0.5) * dx
+            } else {
+                0.0
+            }
+        };
+        let band = match pick {
+            Pick::Inside => 0.0,
+            Pick::Band { width, .. } => width,
+        };
+        let take = |inside: bool, dist: f64| match pick {
+            Pick::Inside => inside,
+            Pick::Band {
+                inside: side,
+                width,
+            } => inside == side && dist <= width,
+        };
+        let half_diag = 0.5 * (BLOCK as f64) * dx * (dim as f64).sqrt();
+        let n_blocks = (nb[0] * nb[1] * nb[2]).max(0) as usize;
+        let per_block: Vec<Vec<(i64, P3)>> = (0..n_blocks)
+            .into_par_iter()
+            .map(|b| {
+                let b = b as i64;
+                let bi = [b % nb[0], (b / nb[0]) % nb[1], b / (nb[0] * nb[1])];
+                let span = |a: usize| {
+                    let s = r[a].0 + bi[a] * BLOCK;
+                    let e = if a < dim { (s + BLOCK).min(r[a].1) } else { 1 };
+                    (s, e)
+                };
+                let (sx, sy, sz) = (span(0), span(1), span(2));
+                let center: P3 = std::array::from_fn(|a| {
+                    let (s, e) = [sx, sy, sz][a];
+                    0.5 * (coord(a, s) + coord(a, e - 1))
+                });
+                let mut out = Vec::new();
+                // A block far from the surface is all on the side of its centre, and (a
+                // wall's band) none of it within the band.
+                let far = self.distance(&center) > half_diag + band;
+                let whole = match pick {
+                    _ if !far => false,
+                    Pick::Inside if self.inside(&center) => true,
+                    _ => return out,
+                };
+                for k in sz.0..sz.1 {
+                    for j in sy.0..sy.1 {
+                        for i in sx.0..sx.1 {
+                            let p = [coord(0, i), coord(1, j), coord(2, k)];
+                            let keep = whole || {
+                                let dist = if band > 0.0 { self.distance(&p) } else { 0.0 };
+                                (band == 0.0 || dist <= band) && take(self.inside(&p), dist)
+                            };
+                            if keep {
+                                let key = ((k - r[2].0) * (r[1].1 - r[1].0) + (j - r[1].0))
+                                    * (r[0].1 - r[0].0)
+                                    + (i - r[0].0);
+                                out.push((key, p));
+                            }
+                        }
+                    }
+                }
+                out
+            })
+            .collect();
+        let mut all: Vec<(i64, P3)> = per_block.into_iter().flatten().collect();
+        all.par_sort_unstable_by_key(|(k, _)| *k);
+        all.into_iter().map(|(_, p)| p).collect()
+    }
+}
+
+/// What `Surface::lattice` keeps.
+#[derive(Clone, Copy, Debug)]
+pub enum Pick {
+    /// The points inside the surface.
+    Inside,
+    /// The points on the `inside` side (or outside) within `width` of the surface: a wall's
+    /// layers.
+    Band { inside: bool, width: f64 },
+}
+
+/// The winding number of the closed polygon `corners` at `p` (sum of the signed angles
+/// its edges subtend, / 2 pi): 1 inside an anticlockwise polygon, 0 outside.
+fn polygon_winding(corners: &[DVec2], p: DVec2) -> f64 {
+    let n = corners.len();
+    let mut sum = 0.0;
+    for k in 0..n {
+        let a = corners[k] - p;
+        let b = corners[(k + 1) % n] - p;
+        sum += a.perp_dot(b).atan2(a.dot(b));
+    }
+    sum / (2.0 * std::f64::consts::PI)
+}
+
+/// The directory a scene file's surfaces are read from: the file's own.
+pub fn base_of(scene_file: &Path) -> Base {
+    Base::Dir(
+        scene_file
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default(),
+    )
+}
