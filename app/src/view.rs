@@ -41,19 +41,51 @@ struct Live {
     time: f64,
     snapshot: Snapshot,
     /// The walls drawn as outlines in 3D, with the time each is removed at (gates).
-    outlines: Vec<(Outline, Option<f64>)>,
+    outlines: WallLines,
     /// Whether to offer the viewer a fill of its vertex buffers on the GPU
     /// (`Readback::gl_interop`); cleared where the backend refuses (its first error is said).
     device_fill: bool,
 }
 
-/// The scene's box walls (containers by their inside, obstacles and gates), as outlines
-/// for the 3D viewer. Driven walls move and cylinders are no boxes: left out (`b` shows
-/// their particles).
-pub(crate) fn wall_outlines(scene: &Scene) -> Vec<(Outline, Option<f64>)> {
+/// What the 3D viewer draws of the standing walls, each with the time it is removed at
+/// (gates): boxes by their outline, walls from surface files by their edges.
+#[derive(Debug, Default)]
+pub(crate) struct WallLines {
+    pub boxes: Vec<(Outline, Option<f64>)>,
+    pub surfaces: Vec<(Vec<Segment>, Option<f64>)>,
+}
+
+/// A drawn edge: from, to \[L\].
+pub(crate) type Segment = [[f32; 3]; 2];
+
+/// [edges] a surface with more edges is drawn by its feature edges alone
+/// (`Surface::edges`).
+const MAX_EDGES: usize = 200_000;
+
+/// The scene's walls for the 3D viewer (`WallLines`): its box walls (containers by their
+/// inside, obstacles and gates) and its mesh walls. Driven walls move and cylinders are no
+/// boxes: left out (`b` shows their particles).
+pub(crate) fn wall_lines(scene: &Scene) -> WallLines {
     if scene.file.dimension != 3 {
-        return Vec::new();
+        return WallLines::default();
     }
+    let surfaces = (scene.file.walls.iter())
+        .filter(|w| w.motion().is_none())
+        .filter_map(|w| {
+            let (o, _) = w.outline()?;
+            let edges = o.loaded.get()?.edges(MAX_EDGES);
+            let edges = edges.iter().map(|e| e.map(|p| p.map(|x| x as f32)));
+            Some((edges.collect(), w.remove_at()))
+        })
+        .collect();
+    WallLines {
+        boxes: wall_outlines(scene),
+        surfaces,
+    }
+}
+
+/// The box walls of a 3D scene.
+fn wall_outlines(scene: &Scene) -> Vec<(Outline, Option<f64>)> {
     let corner = |v: &[f64]| -> [f32; 3] { std::array::from_fn(|i| v[i] as f32) };
     scene
         .file
@@ -90,7 +122,7 @@ impl Live {
         );
         let stepper = Stepper::new(scene.gates()).with_end(scene.file.time.end);
         Ok(Live {
-            outlines: wall_outlines(&scene),
+            outlines: wall_lines(&scene),
             scene,
             backend,
             solver,
@@ -220,15 +252,11 @@ impl Live {
     }
 }
 
-/// A frame's dimension, domain, drawn radius and the wall outlines standing at `t` [T]
-/// (gates leave the picture when they are removed): for the live solver and for a
+/// A frame's dimension, domain, drawn radius and the wall outlines and edges standing at `t`
+/// [T] (gates leave the picture when they are removed): for the live solver and for a
 /// recorded run alike.
-pub(crate) fn frame_meta(
-    p: &SphParams,
-    t: f64,
-    outlines: &[(Outline, Option<f64>)],
-    out: &mut FrameData,
-) {
+pub(crate) fn frame_meta(p: &SphParams, t: f64, walls: &WallLines, out: &mut FrameData) {
+    let standing = |removed: &Option<f64>| removed.is_none_or(|r| t < r);
     out.dim = p.dim as u8;
     out.domain_min = p.domain_min;
     out.domain_max = p.domain_max;
@@ -239,10 +267,14 @@ pub(crate) fn frame_meta(
     out.particle_radius = 0.5 * p.dx;
     out.outlines.clear();
     out.outlines.extend(
-        (outlines.iter())
-            .filter(|(_, removed)| removed.is_none_or(|r| t < r))
+        (walls.boxes.iter())
+            .filter(|(_, removed)| standing(removed))
             .map(|(o, _)| *o),
     );
+    out.edges.clear();
+    for (edges, _) in walls.surfaces.iter().filter(|(_, r)| standing(r)) {
+        out.edges.extend_from_slice(edges);
+    }
 }
 
 /// The window's error; without a display (where the window's error names a path inside
@@ -720,6 +752,23 @@ mod tests {
         live.frame(Field::Speed, &mut frame);
         assert_eq!(frame.outlines, vec![o[0].0]);
         // 2D scenes have none.
-        assert!(wall_outlines(&Scene::load("dam-break-2d").unwrap()).is_empty());
+        let flat = wall_lines(&Scene::load("dam-break-2d").unwrap());
+        assert!(flat.boxes.is_empty() && flat.surfaces.is_empty());
+    }
+
+    #[test]
+    fn the_cow_is_drawn_by_its_edges() {
+        let scene = Scene::load("cow-dam-break-3d").unwrap();
+        let lines = wall_lines(&scene);
+        assert_eq!(lines.boxes.len(), 2);
+        assert_eq!(lines.surfaces.len(), 1);
+        // A closed surface of 5,856 triangles has 8,784 edges, inside the cow's box.
+        let (edges, removed) = &lines.surfaces[0];
+        assert_eq!((edges.len(), *removed), (8784, None));
+        assert!(edges.iter().flatten().all(|p| p[0] > 1.79 && p[0] < 2.32));
+        let mut live = Live::new(scene, meshfree_core::backend::BackendChoice::Cpu).unwrap();
+        let mut frame = FrameData::default();
+        live.frame(Field::Speed, &mut frame);
+        assert_eq!(frame.edges.len(), 8784);
     }
 }

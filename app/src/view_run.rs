@@ -13,16 +13,16 @@ use meshfree::output::RecordedRun;
 use meshfree_core::solver::frame;
 use meshfree_core::solver::Shown;
 use meshfree_viewer::{
-    Field, FrameData, LiveSource, Outline, Panel, RenderOptions, Status, Timeline, ViewOptions,
+    Field, FrameData, LiveSource, Panel, RenderOptions, Status, Timeline, ViewOptions,
 };
 
-use crate::view::{field, frame_meta, shown, wall_outlines, window_error};
+use crate::view::{field, frame_meta, shown, wall_lines, window_error, WallLines};
 
 /// A run's frames as the viewer draws them: the scene's dimension, domain, particle radius
 /// and box walls (gates leave at their removal time), around each frame read.
 struct Recorded {
     run: RecordedRun,
-    outlines: Vec<(Outline, Option<f64>)>,
+    outlines: WallLines,
     /// The frame shown and its index.
     index: usize,
     frame: frame::FrameData,
@@ -35,7 +35,7 @@ impl Recorded {
     fn open(dir: &Path) -> anyhow::Result<Recorded> {
         let run = RecordedRun::open(dir)?;
         Ok(Recorded {
-            outlines: wall_outlines(&run.scene),
+            outlines: wall_lines(&run.scene),
             run,
             index: usize::MAX,
             frame: frame::FrameData::default(),

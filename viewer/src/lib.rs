@@ -188,6 +188,9 @@ pub struct FrameData {
     /// Boxes drawn as outlines in 3D (a container's inside, obstacles); the 3D camera
     /// frames their union when there are any, else the domain.
     pub outlines: Vec<Outline>,
+    /// Segments (from, to) \[L\] drawn as the outlines are, in 3D: the edges of walls from
+    /// surface files, so the picture shows the geometry a user brought.
+    pub edges: Vec<[[f32; 3]; 2]>,
 }
 
 /// An axis-aligned box drawn as an outline (its 12 edges) in 3D.

@@ -1,5 +1,6 @@
-//! Outlines of boxes (a container's inside, obstacles) in 3D: each edge an instanced quad a
-//! few pixels wide (core profile lines are one pixel), depth-tested against the particles.
+//! Outlines of boxes (a container's inside, obstacles) and of wall surfaces (their edges) in
+//! 3D: each edge an instanced quad a few pixels wide (core profile lines are one pixel),
+//! depth-tested against the particles.
 
 use glam::{Mat4, Vec3};
 use glow::HasContext;
@@ -85,12 +86,14 @@ impl Outlines {
         }
     }
 
-    /// Draws the boxes' edges `width` pixels wide into the bound framebuffer, whose
-    /// particle viewport is `viewport` pixels; depth-tested, not written.
+    /// Draws the boxes' edges and the `segments` `width` pixels wide into the bound
+    /// framebuffer, whose particle viewport is `viewport` pixels; depth-tested, not written.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) unsafe fn draw(
         &mut self,
         gl: &glow::Context,
         boxes: &[Outline],
+        segments: &[[[f32; 3]; 2]],
         view_proj: Mat4,
         viewport: (f32, f32),
         width: f32,
@@ -101,6 +104,10 @@ impl Outlines {
                 self.edges
                     .extend_from_slice(&[a.x, a.y, a.z, c.x, c.y, c.z]);
             }
+        }
+        for [a, c] in segments {
+            self.edges.extend_from_slice(a);
+            self.edges.extend_from_slice(c);
         }
         // SAFETY: the bytes of the live `edges` (its pointer and its size in bytes, borrowed
         // for as long as `bytes`): f32 has no padding and every byte may be read as a u8.

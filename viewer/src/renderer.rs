@@ -489,10 +489,12 @@ impl Renderer {
             }
             self.splat.want = splat;
             // Outlines, then the surface over them: the water lets them through.
-            if frame.dim == 3 && opts.outlines && !frame.outlines.is_empty() {
+            let lines = !frame.outlines.is_empty() || !frame.edges.is_empty();
+            if frame.dim == 3 && opts.outlines && lines {
                 self.outlines.draw(
                     gl,
                     &frame.outlines,
+                    &frame.edges,
                     m.proj * m.view,
                     (sw as f32, h as f32),
                     1.5 * s as f32,
@@ -744,6 +746,7 @@ mod tests {
             domain_max: [1.0, 1.0, 0.0],
             particle_radius: 0.01,
             outlines: Vec::new(),
+            edges: Vec::new(),
         }
     }
 

@@ -163,6 +163,39 @@ impl Surface {
         (0..3).map(|a| (c[a] - p[a]).powi(2)).sum::<f64>().sqrt()
     }
 
+    /// A 3D surface's edges (from, to) \[L\] to draw it by: every edge where it has at most
+    /// `max`, else its feature edges alone (open, or between triangles whose normals differ
+    /// by more than 30 degrees); none for a polygon.
+    pub fn edges(&self, max: usize) -> Vec<[[f64; 3]; 2]> {
+        let Shape::Mesh { tree, .. } = &self.shape else {
+            return Vec::new();
+        };
+        let (v, tris) = (tree.vertices(), tree.indices());
+        let mut keys: Vec<(u64, u32)> = (tris.iter().enumerate())
+            .flat_map(|(i, t)| {
+                (0..3).map(move |k| {
+                    let (a, b) = (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]));
+                    ((u64::from(a) << 32) | u64::from(b), i as u32)
+                })
+            })
+            .collect();
+        keys.par_sort_unstable();
+        let runs: Vec<&[(u64, u32)]> = keys.chunk_by(|a, b| a.0 == b.0).collect();
+        let normal = |i: u32| {
+            let t = tris[i as usize].map(|k| v[k as usize]);
+            (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero()
+        };
+        let all = runs.len() <= max;
+        let cos30 = 30f64.to_radians().cos();
+        runs.iter()
+            .filter(|run| all || run.len() != 2 || normal(run[0].1).dot(normal(run[1].1)) < cos30)
+            .map(|run| {
+                let (a, b) = ((run[0].0 >> 32) as usize, (run[0].0 & 0xffff_ffff) as usize);
+                [[v[a].x, v[a].y, v[a].z], [v[b].x, v[b].y, v[b].z]]
+            })
+            .collect()
+    }
+
     /// The points of the lattice `origin + (i + 0.5) dx` (first `dim` axes; z = 0 in 2D)
     /// inside the box [lo, hi] that `pick` selects: inside the surface, or in the band of
     /// `width` behind it on one side. The lattice is walked in blocks of `BLOCK` points a
