@@ -340,3 +340,74 @@ fn a_polygon_tank_makes_the_box_containers_particles() {
         .filter(|p| p.kind == Kind::Boundary)
         .all(|p| rows.contains(&key(p))));
 }
+
+#[test]
+fn a_sphere_sliced_through_its_centre_is_a_disc() {
+    // The 2D cut of the 3D sphere file: a polygon of radius about 1 (the icosphere's chords
+    // make it a little smaller), filled and walled as a disc.
+    let dir = tempfile::tempdir().unwrap();
+    let (v, f) = icosphere(1.0, 4);
+    let file = write(dir.path(), "stl-binary", &v, &f);
+    let dx = 0.02;
+    let text = format!(
+        r#"dimension = 2
+name = "slice"
+[domain]
+min = [-1.5, -1.5]
+max = [1.5, 1.5]
+[discretisation]
+spacing = {dx}
+[time]
+end = 0.1
+output_interval = 0.1
+[fluid]
+density = 1000.0
+sound_speed = 20.0
+[boundary]
+strength = 10.0
+[[fluid_blocks]]
+min = [-1.2, -1.2]
+max = [1.2, 1.2]
+inside = {{ file = "{file}", slice = 0.0, scale = 0.5, translate = [0.2, 0.0] }}
+[[walls]]
+shape = "polygon"
+polygon = {{ file = "{file}", slice = 0.0, scale = 0.5, rotate = [30.0], translate = [0.2, 0.0] }}
+solid = "outside"
+layers = 2
+"#
+    );
+    let scene = Scene::from_toml_in(&text, "slice", &base(dir.path())).unwrap();
+    let p = scene.particles();
+    let c = Counts::of(&p);
+    let area = c.fluid as f64 * dx * dx;
+    let exact = PI * 0.25;
+    assert!(
+        (area / exact - 1.0).abs() < 0.02,
+        "{} fluid: area {area} against {exact}",
+        c.fluid
+    );
+    for q in p.iter() {
+        let r = ((q.position[0] as f64 - 0.2).powi(2) + (q.position[1] as f64).powi(2)).sqrt();
+        match q.kind {
+            Kind::Fluid => assert!(r < 0.5, "fluid at r = {r}"),
+            _ => assert!(r > 0.49 && r < 0.5 + 2.0 * dx + 1e-6, "wall at r = {r}"),
+        }
+    }
+    // A plane that misses the mesh, and slice in the wrong place, are refused.
+    let missed = text.replace(
+        "slice = 0.0, scale = 0.5, translate",
+        "slice = 3.0, scale = 0.5, translate",
+    );
+    let e = Scene::from_toml_in(&missed, "slice", &base(dir.path())).unwrap_err();
+    assert!(
+        e.to_string().contains("fluid_blocks[0].inside.slice: ")
+            && e.to_string().contains("cuts no triangle"),
+        "{e}"
+    );
+    let points = text.replace(
+        &format!("polygon = {{ file = \"{file}\", slice = 0.0,"),
+        "polygon = { points = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], slice = 0.0,",
+    );
+    let e = Scene::from_toml_in(&points, "slice", &base(dir.path())).unwrap_err();
+    assert!(e.to_string().contains("walls[0].polygon.slice: "), "{e}");
+}

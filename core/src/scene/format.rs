@@ -231,6 +231,11 @@ pub struct Outline {
     /// \[L\] a move after the turns, `dimension` numbers. Default none.
     #[serde(default)]
     pub translate: Option<Vec<f64>>,
+    /// \[L\] 2D: the polygon is the cut of a 3D mesh file (STL, OBJ, PLY) by the plane z =
+    /// `slice` (in the scene's unit: after the scale, before the turn and the move, which are
+    /// the polygon's). Default none.
+    #[serde(default)]
+    pub slice: Option<f64>,
     /// The surface read from it (`geometry::load`, when the scene is read).
     #[serde(skip)]
     pub loaded: super::geometry::Loaded,

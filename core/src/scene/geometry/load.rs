@@ -64,11 +64,19 @@ pub(in crate::scene) fn load(
                     ),
                 )
             })?;
-            if (format == Format::Points) != (dim == 2) {
-                return Err(c.err(&f, if dim == 2 {
-                    format!("{file:?}: a 2D polygon is read from a text file of x y points (.csv, .txt, .dat); the slice of a 3D mesh is not supported yet")
+            // 2D reads points, or a 3D mesh with `slice`; 3D reads a mesh.
+            let points_file = format == Format::Points;
+            if dim == 3 && points_file {
+                return Err(c.err(
+                    &f,
+                    format!("{file:?}: a 3D surface is an STL, OBJ or PLY file"),
+                ));
+            }
+            if dim == 2 && points_file == o.slice.is_some() {
+                return Err(c.err(&f, if points_file {
+                    format!("{file:?}: a file of points is a polygon already: slice cuts a 3D mesh (STL, OBJ, PLY)")
                 } else {
-                    format!("{file:?}: a 3D surface is an STL, OBJ or PLY file")
+                    format!("{file:?}: a 3D mesh in a 2D scene needs slice (the plane z = slice that cuts it); or give a text file of x y points")
                 }));
             }
             let (bytes, from) = match base {
@@ -101,6 +109,9 @@ pub(in crate::scene) fn load(
         _ => unreachable!("check_keys"),
     };
     let mut raw = raw;
+    if let Some(z) = o.slice {
+        raw = slice(c, field, &raw, z / o.scale, &source)?;
+    }
     for v in raw.vertices.iter_mut() {
         *v = place(o, dim, *v);
     }
@@ -122,6 +133,49 @@ pub(in crate::scene) fn load(
     surface.from = from;
     surface.info.read_seconds = started.elapsed().as_secs_f64();
     Ok(surface)
+}
+
+/// The cut of `raw`'s triangles by the plane z = `z` (the file's unit): its segments as a
+/// soup (vertices in pairs), each oriented with the inside on its left where the triangles
+/// are wound outward (an outward normal n gives the direction (-n_y, n_x)). A vertex on the
+/// plane counts as above it.
+fn slice(
+    c: &Ctx,
+    field: &str,
+    raw: &Raw,
+    z: f64,
+    source: &str,
+) -> Result<Raw, crate::scene::SceneError> {
+    let mut out = Raw::default();
+    for t in &raw.triangles {
+        let p = t.map(|i| DVec3::from_array(raw.vertices[i as usize]));
+        let above = p.map(|q| q.z >= z);
+        let cut: Vec<DVec3> = (0..3)
+            .filter(|&k| above[k] != above[(k + 1) % 3])
+            .map(|k| {
+                let (a, b) = (p[k], p[(k + 1) % 3]);
+                a + (b - a) * ((z - a.z) / (b.z - a.z))
+            })
+            .collect();
+        if cut.len() != 2 {
+            continue;
+        }
+        let n = (p[1] - p[0]).cross(p[2] - p[0]);
+        let (mut a, mut b) = (cut[0], cut[1]);
+        if (b - a).dot(DVec3::new(-n.y, n.x, 0.0)) < 0.0 {
+            std::mem::swap(&mut a, &mut b);
+        }
+        let k = out.vertices.len() as u32;
+        out.vertices.extend([[a.x, a.y, 0.0], [b.x, b.y, 0.0]]);
+        out.triangles.push([k, k + 1, k + 1]);
+    }
+    if out.vertices.is_empty() {
+        let (lo, hi) = bounds(&raw.vertices);
+        return Err(c.err(format!("{field}.slice"), format!(
+            "{source}: the plane z = {} cuts no triangle (the mesh's z runs from {} to {} in the file's unit)",
+            fmt(z), fmt(lo[2]), fmt(hi[2]))));
+    }
+    Ok(out)
 }
 
 fn check_keys(c: &Ctx, field: &str, o: &Outline) -> R {
@@ -146,6 +200,20 @@ fn check_keys(c: &Ctx, field: &str, o: &Outline) -> R {
             ))
         }
         _ => {}
+    }
+    if let Some(z) = o.slice {
+        let why = if c.dim == 3 {
+            Some("slice cuts a 3D mesh into a 2D scene's polygon; a 3D scene takes the mesh whole")
+        } else if o.file.is_none() {
+            Some("slice cuts a mesh file; points are a polygon already")
+        } else if !z.is_finite() {
+            Some("must be a finite number")
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            return Err(c.err(format!("{field}.slice"), why));
+        }
     }
     if !(o.scale.is_finite() && o.scale > 0.0) {
         return Err(c.err(
@@ -253,30 +321,33 @@ fn polygon_surface(
     raw: Raw,
     source: String,
 ) -> Result<Surface, crate::scene::SceneError> {
-    let mut corners: Vec<DVec2> = raw
-        .vertices
-        .iter()
-        .map(|v| DVec2::new(v[0], v[1]))
-        .collect();
-    // A closing corner equal to the first is the same corner.
-    if corners.len() > 1 && corners.first() == corners.last() {
-        corners.pop();
-    }
+    let at = |i: u32| {
+        let v = raw.vertices[i as usize];
+        DVec2::new(v[0], v[1])
+    };
     let key = if source == "points" { "points" } else { "file" };
-    if corners.len() < 3 {
-        return Err(c.err(
-            format!("{field}.{key}"),
-            format!(
-                "{source}: a polygon needs at least 3 corners, found {}",
-                corners.len()
-            ),
-        ));
-    }
-    let n = corners.len();
-    let area: f64 = (0..n)
-        .map(|k| corners[k].perp_dot(corners[(k + 1) % n]))
-        .sum::<f64>()
-        / 2.0;
+    // A cut mesh is a soup of segments (its `triangles` hold each as [a, b, b]); points are
+    // one closed loop of corners (a closing corner equal to the first is the same).
+    let mut segments: Vec<[DVec2; 2]> = if raw.triangles.is_empty() {
+        let mut corners: Vec<DVec2> = (0..raw.vertices.len() as u32).map(at).collect();
+        if corners.len() > 1 && corners.first() == corners.last() {
+            corners.pop();
+        }
+        if corners.len() < 3 {
+            return Err(c.err(
+                format!("{field}.{key}"),
+                format!(
+                    "{source}: a polygon needs at least 3 corners, found {}",
+                    corners.len()
+                ),
+            ));
+        }
+        let n = corners.len();
+        (0..n).map(|k| [corners[k], corners[(k + 1) % n]]).collect()
+    } else {
+        raw.triangles.iter().map(|t| [at(t[0]), at(t[1])]).collect()
+    };
+    let area: f64 = segments.iter().map(|s| s[0].perp_dot(s[1])).sum::<f64>() / 2.0;
     let (lo, hi) = bounds(&raw.vertices);
     if area.abs() <= 1e-9 * ((hi[0] - lo[0]) * (hi[1] - lo[1])).max(f64::MIN_POSITIVE) {
         return Err(c.err(
@@ -286,20 +357,22 @@ fn polygon_surface(
     }
     let turned = area < 0.0;
     if turned {
-        corners.reverse();
+        for s in segments.iter_mut() {
+            s.swap(0, 1);
+        }
     }
+    let n = segments.len() as u32;
     let line = parry2d_f64::shape::Polyline::new(
-        corners
-            .iter()
+        (segments.iter().flatten())
             .map(|q| parry2d_f64::math::Vector::new(q.x, q.y))
             .collect(),
-        Some((0..n as u32).map(|k| [k, (k + 1) % n as u32]).collect()),
+        Some((0..n).map(|k| [2 * k, 2 * k + 1]).collect()),
     );
     Ok(Surface {
         from: From::Points,
         info: Info {
             source,
-            elements: n,
+            elements: segments.len(),
             lo,
             hi,
             volume: area.abs(),
@@ -307,7 +380,7 @@ fn polygon_surface(
             turned,
             read_seconds: 0.0,
         },
-        shape: Shape::Polygon { line, corners },
+        shape: Shape::Polygon { line, segments },
     })
 }
 

@@ -94,7 +94,8 @@ enum Shape {
     },
     Polygon {
         line: parry2d_f64::shape::Polyline,
-        corners: Vec<DVec2>,
+        /// (from, to), the inside on the left.
+        segments: Vec<[DVec2; 2]>,
     },
 }
 
@@ -135,8 +136,8 @@ impl Surface {
     pub fn inside(&self, p: &P3) -> bool {
         match &self.shape {
             Shape::Mesh { winding, .. } => winding.at(DVec3::from_array(*p)) > 0.5,
-            Shape::Polygon { corners, .. } => {
-                polygon_winding(corners, DVec2::new(p[0], p[1])) > 0.5
+            Shape::Polygon { segments, .. } => {
+                polygon_winding(segments, DVec2::new(p[0], p[1])) > 0.5
             }
         }
     }
@@ -303,16 +304,15 @@ pub enum Pick {
     Band { inside: bool, width: f64 },
 }
 
-/// The winding number of the closed polygon `corners` at `p` (sum of the signed angles
-/// its edges subtend, / 2 pi): 1 inside an anticlockwise polygon, 0 outside.
-fn polygon_winding(corners: &[DVec2], p: DVec2) -> f64 {
-    let n = corners.len();
-    let mut sum = 0.0;
-    for k in 0..n {
-        let a = corners[k] - p;
-        let b = corners[(k + 1) % n] - p;
-        sum += a.perp_dot(b).atan2(a.dot(b));
-    }
+/// The winding number of closed loops of `segments` at `p` (the sum of the signed angles
+/// they subtend, / 2 pi): 1 inside an anticlockwise loop, 0 outside.
+fn polygon_winding(segments: &[[DVec2; 2]], p: DVec2) -> f64 {
+    let sum: f64 = (segments.iter())
+        .map(|[a, b]| {
+            let (a, b) = (*a - p, *b - p);
+            a.perp_dot(b).atan2(a.dot(b))
+        })
+        .sum();
     sum / (2.0 * std::f64::consts::PI)
 }
 
