@@ -231,6 +231,11 @@ pub struct Outline {
     /// \[L\] a move after the turns, `dimension` numbers. Default none.
     #[serde(default)]
     pub translate: Option<Vec<f64>>,
+    /// Relax the particles near the surface against it (`geometry::pack`: Zhu et al. 2021),
+    /// so that a curved surface is smooth at the particle scale, not stair-stepped. Default
+    /// false: the lattice points.
+    #[serde(default)]
+    pub pack: bool,
     /// \[L\] 2D: the polygon is the cut of a 3D mesh file (STL, OBJ, PLY) by the plane z =
     /// `slice` (in the scene's unit: after the scale, before the turn and the move, which are
     /// the polygon's). Default none.

@@ -33,6 +33,7 @@
 use rayon::prelude::*;
 
 use super::format::*;
+use super::geometry::pack::Side as PackSide;
 use super::geometry::{Pick, Surface};
 use super::spatial::{BoxIndex, Grid, Tiles, P3, PARALLEL_FROM};
 use crate::physics::particle::{Kind, Particle};
@@ -348,6 +349,21 @@ fn in_plane(dim: usize, f: impl Fn(usize) -> f64) -> P3 {
     std::array::from_fn(|a| if a < dim { f(a) } else { 0.0 })
 }
 
+/// `points` relaxed against `surface` where the outline asks (`pack`).
+fn packed(
+    o: &Outline,
+    surface: &Surface,
+    points: &mut [P3],
+    dx: f64,
+    dim: usize,
+    side: PackSide,
+    fixed: impl Fn(&P3) -> bool + Sync,
+) {
+    if o.pack {
+        super::geometry::pack::pack(surface, points, dx, dim, side, fixed);
+    }
+}
+
 /// The box of `surface` grown by `grow` on every side, within the domain.
 fn clipped(surface: &Surface, grow: f64, domain: &Domain, dim: usize) -> (P3, P3) {
     let lo = in_plane(dim, |a| (surface.info.lo[a] - grow).max(domain.min[a]));
@@ -384,6 +400,16 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
                 // The block's lattice points in [lo, hi] that the block itself holds.
                 let mut p = surface.lattice(&origin, dx, &lo, &hi, dim, Pick::Inside);
                 p.retain(|q| (0..dim).all(|a| q[a] < b.max[a] - 0.49 * dx));
+                // Packed against the surface; the block's own faces (a free surface, say)
+                // hold their rows.
+                let on_face = |q: &P3| {
+                    (0..dim).any(|a| q[a] < b.min[a] + 2.0 * dx || q[a] > b.max[a] - 2.0 * dx)
+                };
+                let inside = PackSide {
+                    inside: true,
+                    depth: None,
+                };
+                packed(o, surface, &mut p, dx, dim, inside, on_face);
                 p
             }
             None => box_points(&b.min, &b.max, dx, dim),
@@ -412,8 +438,14 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
             SolidObject::Mesh { mesh: o, .. } | SolidObject::Polygon { polygon: o, .. } => {
                 let surface = loaded(o);
                 let (lo, hi) = clipped(surface, 0.0, &s.domain, dim);
+                let mut p = surface.lattice(&origin, dx, &lo, &hi, dim, Pick::Inside);
+                let inside = PackSide {
+                    inside: true,
+                    depth: None,
+                };
+                packed(o, surface, &mut p, dx, dim, inside, |_| false);
                 (
-                    surface.lattice(&origin, dx, &lo, &hi, dim, Pick::Inside),
+                    p,
                     Region::Surface {
                         surface,
                         inside: true,
@@ -483,10 +515,14 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
                 let inside = *solid == Side::Inside;
                 let width = *layers as f64 * dx;
                 let (lo, hi) = clipped(surface, width, &s.domain, dim);
-                (
-                    surface.lattice(&origin, dx, &lo, &hi, dim, Pick::Band { inside, width }),
-                    Region::Surface { surface, inside },
-                )
+                let pick = Pick::Band { inside, width };
+                let mut p = surface.lattice(&origin, dx, &lo, &hi, dim, pick);
+                let side = PackSide {
+                    inside,
+                    depth: Some(width),
+                };
+                packed(o, surface, &mut p, dx, dim, side, |_| false);
+                (p, Region::Surface { surface, inside })
             }
         };
         objects.push(Object {

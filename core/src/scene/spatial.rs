@@ -188,6 +188,20 @@ impl Grid {
 }
 
 impl Grid {
+    /// Calls `f(i)` for every point i of the grid closer than `r` (at most the cell size)
+    /// to `p`.
+    pub(super) fn for_each_near(&self, p: &P3, r: f64, mut f: impl FnMut(usize)) {
+        self.visit_near(p, r, |i| {
+            f(i);
+            false
+        });
+    }
+
+    /// Point `i` as given to `new`.
+    pub(super) fn point(&self, i: usize) -> &P3 {
+        &self.points[i]
+    }
+
     /// The smallest `tags[i]` of the grid's points i closer than `r` (at most the cell size)
     /// to `p`, None where none is (`tags` is indexed as the points given to `new`).
     pub(super) fn min_tag_near(&self, p: &P3, r: f64, tags: &[u32]) -> Option<u32> {

@@ -14,6 +14,7 @@
 mod copies;
 mod load;
 mod objects;
+pub mod pack;
 pub mod read;
 mod topology;
 mod winding;
