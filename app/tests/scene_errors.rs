@@ -336,7 +336,8 @@ fn missing_file() {
 #[test]
 fn unknown_builtin() {
     let e = Scene::builtin("dam-brake-2d").unwrap_err();
-    assert!(e.to_string().contains("known: dam-break-2d"), "{e}");
+    let m = e.to_string();
+    assert!(m.contains("(known: ") && m.contains(" dam-break-2d, "), "{e}");
 }
 
 #[test]
