@@ -337,7 +337,10 @@ fn missing_file() {
 fn unknown_builtin() {
     let e = Scene::builtin("dam-brake-2d").unwrap_err();
     let m = e.to_string();
-    assert!(m.contains("(known: ") && m.contains(" dam-break-2d, "), "{e}");
+    assert!(
+        m.contains("(known: ") && m.contains(" dam-break-2d, "),
+        "{e}"
+    );
 }
 
 #[test]
