@@ -243,7 +243,17 @@ pub struct Outline {
     pub slice: Option<f64>,
     /// The surface read from it (`geometry::load`, when the scene is read).
     #[serde(skip)]
-    pub loaded: super::geometry::Loaded,
+    pub loaded: super::geometry::surface::Loaded,
+}
+
+impl Outline {
+    /// The surface read from it (with the scene: `geometry::load_all`; the scene's checks
+    /// refuse an outline not read).
+    pub fn surface(&self) -> &super::geometry::Surface {
+        self.loaded
+            .get()
+            .expect("a validated scene's surfaces are read (geometry::check)")
+    }
 }
 
 fn one() -> f64 {

@@ -24,6 +24,7 @@ pub mod scheme;
 mod spatial;
 mod tagged_field;
 mod validate;
+mod wall_surface;
 pub mod wave;
 mod zones;
 
@@ -332,7 +333,7 @@ impl Scene {
         let wall_surface = if params.no_slip as u32 == params::MF_NO_SLIP_WALL_VELOCITY {
             Vec::new()
         } else {
-            let (first, surface) = generate::wall_surface(&self.file, &particles);
+            let (first, surface) = wall_surface::wall_surface(&self.file, &particles);
             params.wall_first_id = first;
             surface
         };

@@ -3,7 +3,8 @@
 //! run's copy of the scene names those, so that `run --resume`, `render` and `view` read the
 //! run's directory alone, wherever the original files have gone.
 
-use super::{objects::surfaces, From};
+use super::objects::surfaces;
+use super::surface::From;
 use crate::scene::{Scene, SceneError};
 
 /// A file to write into the run's directory.

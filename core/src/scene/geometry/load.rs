@@ -5,8 +5,11 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
+use super::base::{Base, ASSETS};
 use super::read::{self, Format, Raw};
-use super::{winding, Base, From, Info, Shape, Surface, Topology, ASSETS, MAX_HOLE};
+use super::surface::{From, Info, Shape, Surface, MAX_HOLE};
+use super::topology::Topology;
+use super::winding;
 use crate::scene::ctx::{fmt, Ctx, R};
 use crate::scene::format::Outline;
 use crate::scene::spatial::P3;

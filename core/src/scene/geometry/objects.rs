@@ -2,7 +2,9 @@
 //! the scene's checks), and checked against the domain and the spacing (`check`, one of
 //! the scene's checks: `validate.rs`).
 
-use super::{load, Base, Surface};
+use super::base::Base;
+use super::load::load;
+use super::surface::Surface;
 use crate::scene::ctx::{fmt, Ctx, R};
 use crate::scene::format::{Outline, SolidObject, Wall};
 use crate::scene::scheme::SceneFile;
@@ -98,8 +100,7 @@ pub(in crate::scene) fn load_all(
     for (field, _, o, _) in outlines(s) {
         if o.loaded.get().is_none() {
             let surface: Surface = load(&c, &field, o, base)?;
-            // Set once: a second reader of the same outline has its own copy.
-            let _ = o.loaded.0.set(std::sync::Arc::new(surface));
+            o.loaded.set(surface);
         }
     }
     Ok(())

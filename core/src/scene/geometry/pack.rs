@@ -13,7 +13,7 @@
 
 use rayon::prelude::*;
 
-use super::Surface;
+use super::surface::Surface;
 use crate::scene::spatial::{Grid, P3};
 
 /// \[spacings\] the particles that move: within this distance of the surface.
