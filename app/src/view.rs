@@ -253,7 +253,7 @@ impl Live {
 }
 
 /// A frame's dimension, domain, drawn radius and the wall outlines and edges standing at `t`
-/// [T] (gates leave the picture when they are removed): for the live solver and for a
+/// \[T\] (gates leave the picture when they are removed): for the live solver and for a
 /// recorded run alike.
 pub(crate) fn frame_meta(p: &SphParams, t: f64, walls: &WallLines, out: &mut FrameData) {
     let standing = |removed: &Option<f64>| removed.is_none_or(|r| t < r);

@@ -8,7 +8,7 @@ use crate::physics::particle::{Kind, Particle};
 use crate::scene::scheme::SceneFile;
 
 /// The wall surface seen from boundary point `x` of wall `w`: the unit normal into the
-/// fluid [-] and the distance d_B >= 0 of `x` behind the surface [L], from the wall's own
+/// fluid \[-\] and the distance d_B >= 0 of `x` behind the surface \[L\], from the wall's own
 /// shape (Morris, Fox & Zhu 1997's no-slip walls need both, `Setup::wall_surface`).
 /// * box-container: the nearest point of the box [min, max] (the fluid's side; at a corner
 ///   the corner itself, so the normal is diagonal there);

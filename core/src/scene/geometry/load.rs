@@ -15,7 +15,7 @@ use crate::scene::format::Outline;
 use crate::scene::spatial::P3;
 
 /// The outline's transform applied to `v`: scale, then the turns (3D: about x, then y, then
-/// z; 2D: one about z) [deg], then the translation.
+/// z; 2D: one about z) \[deg\], then the translation.
 fn place(o: &Outline, dim: usize, v: [f64; 3]) -> [f64; 3] {
     let mut p = DVec3::from_array(v) * o.scale;
     if let Some(r) = &o.rotate {

@@ -5,7 +5,7 @@
 //! questions: which lattice points are inside (the generalised winding number, `winding.rs`,
 //! robust to small holes and self-intersections), how far a point is from the surface and
 //! where its closest point is (parry's bounding-volume trees: `parry3d-f64`'s `TriMesh`, and
-//! `parry2d-f64`'s `Polyline` for a polygon). Lengths are the scene's [L].
+//! `parry2d-f64`'s `Polyline` for a polygon). Lengths are the scene's \[L\].
 //!
 //! `base.rs`: where the files are; `read.rs`: the file formats; `load.rs`: reading, placing
 //! and checking one surface; `surface.rs`: a surface in place and its queries (inside,

@@ -9,7 +9,7 @@
 //! feels no push across it), by a step capped at `MAX_STEP` spacings, and is then held on
 //! its side of the surface at least half a spacing from it (and, in a wall's band, at most
 //! its depth less half a spacing). Particles farther in stay on the lattice, as neighbours. On the CPU
-//! (rayon), where the scene is generated. Lengths [L].
+//! (rayon), where the scene is generated. Lengths \[L\].
 
 use rayon::prelude::*;
 

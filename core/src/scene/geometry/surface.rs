@@ -1,6 +1,6 @@
 //! A surface in place (`Surface`): its queries (inside by the winding number, the closest
 //! point and distance by parry's trees, the lattice points it selects) and its report
-//! (`Info`); `Loaded`, the slot of an `Outline` that holds it. Lengths [L].
+//! (`Info`); `Loaded`, the slot of an `Outline` that holds it. Lengths \[L\].
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -129,7 +129,7 @@ impl Surface {
         }
     }
 
-    /// The distance from `p` to the surface [L].
+    /// The distance from `p` to the surface \[L\].
     pub fn distance(&self, p: &P3) -> f64 {
         let c = self.closest(p);
         (0..3).map(|a| (c[a] - p[a]).powi(2)).sum::<f64>().sqrt()

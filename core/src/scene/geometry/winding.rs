@@ -6,7 +6,7 @@
 //! and clouds", ACM TOG 37(4)): a tree of triangle clusters, each replaced far from p
 //! (beyond `BETA` times its radius) by its first-order (dipole) term, so a query costs
 //! about log(triangles) cluster visits instead of every triangle. Lengths in the surface's
-//! unit [L]; w is dimensionless.
+//! unit \[L\]; w is dimensionless.
 //!
 //! parry (which answers the distances, `super`) has no winding number: this is ours.
 
