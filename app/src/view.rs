@@ -72,7 +72,7 @@ pub(crate) fn wall_lines(scene: &Scene) -> WallLines {
     let surfaces = (scene.file.walls.iter())
         .filter(|w| w.motion().is_none())
         .filter_map(|w| {
-            let (o, _) = w.outline()?;
+            let o = w.outline()?;
             let edges = o.loaded.get()?.edges(MAX_EDGES);
             let edges = edges.iter().map(|e| e.map(|p| p.map(|x| x as f32)));
             Some((edges.collect(), w.remove_at()))

@@ -347,12 +347,6 @@ impl SolidObject {
         }
     }
     /// The surface of a mesh or polygon body.
-    pub fn outline(&self) -> Option<&Outline> {
-        match self {
-            SolidObject::Mesh { mesh: o, .. } | SolidObject::Polygon { polygon: o, .. } => Some(o),
-            _ => None,
-        }
-    }
     pub fn outline_mut(&mut self) -> Option<&mut Outline> {
         match self {
             SolidObject::Mesh { mesh: o, .. } | SolidObject::Polygon { polygon: o, .. } => Some(o),
@@ -619,13 +613,10 @@ impl Wall {
             | Wall::Polygon { motion, .. } => motion.as_ref(),
         }
     }
-    /// The surface of a mesh or polygon wall and the side its rows fill.
-    pub fn outline(&self) -> Option<(&Outline, Side)> {
+    /// The surface of a mesh or polygon wall.
+    pub fn outline(&self) -> Option<&Outline> {
         match self {
-            Wall::Mesh { mesh: o, solid, .. }
-            | Wall::Polygon {
-                polygon: o, solid, ..
-            } => Some((o, *solid)),
+            Wall::Mesh { mesh: o, .. } | Wall::Polygon { polygon: o, .. } => Some(o),
             _ => None,
         }
     }
