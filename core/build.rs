@@ -42,7 +42,7 @@ struct Header {
     out: &'static str,
     /// The committed copy, used where libclang cannot be loaded.
     committed: &'static str,
-    /// A C type to bind besides the `MF_*` constants.
+    /// The C types to bind besides the `MF_*` constants (a regular expression).
     ty: Option<&'static str>,
 }
 
@@ -51,7 +51,7 @@ const HEADERS: [Header; 2] = [
         path: "cuda/sph_params.h",
         out: "sph_params.rs",
         committed: "src/physics/params/bindings.rs",
-        ty: Some("SphParams"),
+        ty: Some("SphParams|MfBody"),
     },
     Header {
         path: "cuda/sph_consts.h",

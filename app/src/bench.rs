@@ -259,6 +259,7 @@ pub fn dam_break(dim: u32, n_fluid: usize) -> Setup {
         params: p,
         particles: out,
         wall_surface: Vec::new(),
+        bodies: Vec::new(),
     }
 }
 

@@ -1,7 +1,8 @@
 //! The scene's force monitors during a run (`[[monitors]]`): when each samples next, its
 //! samples and its `<name>.csv`. The force itself is `Solver::wall_forces` (on the solver's
 //! own state; summed on the device by the CUDA backend), whose sum is
-//! `meshfree_core::measure::monitor::wall_force`'s.
+//! `meshfree_core::measure::monitor::wall_force`'s. With them, the floating bodies'
+//! `floating.csv`, a row per body every output interval (`Solver::bodies`).
 
 use std::path::{Path, PathBuf};
 
@@ -12,7 +13,7 @@ use meshfree_core::scene::{format, Scene};
 use meshfree_core::solver::step::reached;
 use meshfree_core::solver::Solver;
 
-use crate::output::ForcesCsv;
+use crate::output::{FloatingCsv, ForcesCsv};
 
 /// The scene's monitors during a run: when each samples next, its samples and its CSV.
 pub struct Monitors {
@@ -22,6 +23,18 @@ pub struct Monitors {
     dim: i32,
     /// [L] domain extent along y, for the blockage ratio.
     height: f64,
+    /// The floating bodies' CSV, where the scene has any.
+    floating: Option<Floating>,
+}
+
+/// `floating.csv` and when it takes its next rows.
+struct Floating {
+    csv: FloatingCsv,
+    path: PathBuf,
+    /// [T] every output interval.
+    interval: f64,
+    next: f64,
+    gravity: [f32; 3],
 }
 
 struct Active {
@@ -41,6 +54,9 @@ pub struct MonitorsState {
     pub samples: Vec<Vec<ForceSample>>,
     /// (file name in the run directory, bytes).
     pub files: Vec<(String, u64)>,
+    /// [T] the next rows of `floating.csv` (none without floating bodies).
+    #[serde(default)]
+    pub floating_next: Option<f64>,
 }
 
 impl Monitors {
@@ -69,8 +85,23 @@ impl Monitors {
                 path,
             });
         }
+        let floating = if f.walls.iter().any(|w| w.floating().is_some()) {
+            let path = dir.join(crate::output::files::FLOATING);
+            let csv = FloatingCsv::open(&path, resume.is_some()).map_err(|e| (path.clone(), e))?;
+            let p = scene.params();
+            Some(Floating {
+                csv,
+                path,
+                interval: f.time.output_interval,
+                next: resume.and_then(|r| r.floating_next).unwrap_or(0.0),
+                gravity: p.gravity,
+            })
+        } else {
+            None
+        };
         Ok(Monitors {
             list,
+            floating,
             rho0: f.fluid.density,
             dim: f.dimension as i32,
             height: f.domain.max[1] - f.domain.min[1],
@@ -81,29 +112,39 @@ impl Monitors {
     pub fn file_names(&self) -> Vec<String> {
         (self.list.iter())
             .map(|m| crate::output::files::monitor_file(&m.spec.name))
+            .chain(
+                self.floating
+                    .as_ref()
+                    .map(|_| crate::output::files::FLOATING.to_string()),
+            )
             .collect()
     }
 
     /// The monitors' part of a checkpoint (every row so far flushed).
     pub fn state(&self) -> Result<MonitorsState, (PathBuf, std::io::Error)> {
         let mut files = Vec::new();
-        for m in &self.list {
-            let len = std::fs::metadata(&m.path)
-                .map_err(|e| (m.path.clone(), e))?
+        let paths =
+            (self.list.iter().map(|m| &m.path)).chain(self.floating.as_ref().map(|f| &f.path));
+        for path in paths {
+            let len = std::fs::metadata(path)
+                .map_err(|e| (path.clone(), e))?
                 .len();
-            let name = m.path.file_name().unwrap_or_default().to_string_lossy();
+            let name = path.file_name().unwrap_or_default().to_string_lossy();
             files.push((name.into_owned(), len));
         }
         Ok(MonitorsState {
             next: self.list.iter().map(|m| m.next).collect(),
             samples: self.list.iter().map(|m| m.samples.clone()).collect(),
             files,
+            floating_next: self.floating.as_ref().map(|f| f.next),
         })
     }
 
     /// The time of the next sample, if there is a monitor.
     pub fn next_time(&self) -> Option<f64> {
-        self.list.iter().map(|m| m.next).min_by(f64::total_cmp)
+        (self.list.iter().map(|m| m.next))
+            .chain(self.floating.as_ref().map(|f| f.next))
+            .min_by(f64::total_cmp)
     }
 
     /// Sample every monitor whose time the clock reached (`step::reached`): one call of
@@ -112,6 +153,13 @@ impl Monitors {
         let t = solver.time();
         if self.next_time().is_none_or(|n| !reached(t, n)) {
             return Ok(());
+        }
+        if let Some(f) = self.floating.as_mut().filter(|f| reached(t, f.next)) {
+            let bodies = solver.bodies();
+            f.csv
+                .write(t, f.gravity, &bodies)
+                .map_err(|e| (f.path.clone(), e))?;
+            f.next = ((t / f.interval + 1e-9).floor() + 1.0) * f.interval;
         }
         let due: Vec<usize> = (0..self.list.len())
             .filter(|&k| reached(t, self.list[k].next))

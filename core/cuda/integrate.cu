@@ -70,8 +70,9 @@ __device__ __forceinline__ bool kick_one(const SphParams& p, unsigned char k, un
             return true;
         }
     }
-    // Driven object: prescribed velocity, whatever the forces.
-    if (const int dk = driven_index(p, g); dk >= 0) {
+    // Driven object: prescribed velocity, whatever the forces; a floating body's particles
+    // are left to its kick (sph_body_velocity in bodies.cu).
+    if (const int dk = driven_index(p, g); dk >= 0 && !p.driven_motion[dk].floating) {
         v = driven_velocity<DIM>(p, dk, x, t0, te);
         return true;
     }
@@ -82,15 +83,7 @@ __device__ __forceinline__ bool kick_one(const SphParams& p, unsigned char k, un
     return true;
 }
 
-// dt_dev holds 2 floats: [0] this step's dt (written by the kick, the drift-kick or
-// sph_step_size), [1] the last completed step's (written by the drift; 0 before the first
-// step): the leapfrog's kick spans their mean.
-
-// The time a kick spans [T]: dt, or under the leapfrog (dt_prev + dt) / 2, from the middle
-// of the last step to the middle of this one. Twin: `kick_span` in cpu/integrate.rs.
-__device__ __forceinline__ float kick_span(const SphParams& p, const float* __restrict__ dt_dev, float dt) {
-    return p.integrator == MF_INTEGRATOR_LEAPFROG ? 0.5f * (dt_dev[1] + dt) : dt;
-}
+// dt_dev: see `kick_span` in device/step_size.cuh.
 
 // The step's dt: from the forces pass's maxima `red` where given (every thread computes it,
 // the first writes it to dt_dev[0]), else the one sph_step_size wrote to dt_dev[0].
@@ -164,8 +157,9 @@ __device__ __forceinline__ Vec<DIM> drift_one(const SphParams& p, unsigned n, un
     }
     Vec<DIM> x = vload<DIM>(pos, i);
     // A driven object follows its prescribed motion (no XSPH), whatever its kind.
+    // A floating body's particles were moved by its drift (sph_body_move in bodies.cu).
     const int dk = driven_index(p, g);
-    if (k == MF_KIND_BOUNDARY && dk < 0) return x;
+    if (k == MF_KIND_BOUNDARY && (dk < 0 || p.driven_motion[dk].floating)) return x;
     if (dk >= 0) {
         x = driven_moved<DIM>(p, dk, x, dt, t0);
     } else {

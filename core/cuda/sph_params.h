@@ -100,7 +100,45 @@ typedef struct MfMotion {
     float angle_period;   /* [T] (> 0 where angle != 0) */
     float angle_phase;    /* [rad] */
     float ramp;           /* [T] smooth start; 0: none */
+    int32_t floating;     /* 1: a floating body's group (`MfBody`): the other fields are unused,
+                             the kick and the drift leave its particles to the bodies' stages
+                             (cuda/bodies.cu), which move them with the body */
 } MfMotion;
+
+/* A floating rigid body (`floating` of a wall): the wall's particles, moved rigidly by the
+ * force and torque the fluid exerts on them (device/body.cuh, twin src/physics/body.rs). One
+ * per floating wall, in an array beside the particles (`Setup::bodies`). Its group is also a
+ * driven group (`MfMotion::floating`), so that the walls' shortcuts treat its particles as
+ * moving. The first fields come from the scene (the mass properties of the wall's shape);
+ * the rest is its state, advanced by the scheme's integrator: the momenta by the kick (at
+ * the kick's time: half steps under the leapfrog), the pose by the drift. Double precision
+ * throughout: a body's pose is the sum of many small moves. 2D: rotation about z only, the
+ * mass and inertia per unit depth. */
+typedef struct MfBody {
+    int32_t group;          /* the wall's scene group */
+    int32_t free;           /* bits 0-2: free to move along x, y, z; bits 3-5: free to turn
+                               about x, y, z (a fixed one is held: its force or torque is
+                               taken up by the constraint) */
+    double mass;            /* [M] */
+    double inertia[9];      /* [M L^2] about the centre of mass, in the body's frame (its axes
+                               at t = 0: the scene's), row-major */
+    double centre[3];       /* [L] the centre of mass */
+    double orientation[4];  /* the unit quaternion (w, x, y, z) from the body's frame to the
+                               scene's */
+    double velocity[3];     /* [L/T] the centre's */
+    double momentum[3];     /* [M L^2/T] the angular momentum about the centre, scene frame */
+    double omega[3];        /* [rad/T] the angular velocity, scene frame (from momentum) */
+    double force[3];        /* [M L T^-2] the fluid's on the particles, of the last kick
+                               (gravity's, mass x g, comes on top) */
+    double torque[3];       /* [M L^2 T^-2] the fluid's about the centre, of the last kick */
+    double contact[3];      /* [M L T^-2] the walls' and other bodies' on the particles, of the
+                               last kick: the Lennard-Jones repulsion of eq. (17) between its
+                               particles and theirs */
+    double contact_torque[3]; /* [M L^2 T^-2] its torque about the centre */
+    double shift[3];        /* [L] the last drift's move of the centre */
+    double turn[9];         /* the last drift's rotation (scene frame, row-major): a particle
+                               at x goes to centre + turn (x - centre + shift) */
+} MfBody;
 
 typedef struct SphParams {
     /* ---- geometry and neighbour grid ---- */

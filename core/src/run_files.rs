@@ -9,6 +9,8 @@ pub const DIAGNOSTICS: &str = "diagnostics.csv";
 pub const CLUSTERS: &str = "clusters.csv";
 /// The solid bodies' motion.
 pub const BODIES: &str = "bodies.csv";
+/// The floating rigid bodies' pose, velocities and loads.
+pub const FLOATING: &str = "floating.csv";
 /// Void fractions (`[output] voids`).
 pub const VOIDS: &str = "voids.csv";
 /// `[[probes]]` samples, all probes in one file.
@@ -25,10 +27,11 @@ pub const SCENE: &str = "scene.toml";
 pub const CHECKPOINT: &str = "checkpoint.bin";
 
 /// Every file above.
-pub const FILES: [&str; 10] = [
+pub const FILES: [&str; 11] = [
     DIAGNOSTICS,
     CLUSTERS,
     BODIES,
+    FLOATING,
     VOIDS,
     PROBES,
     GAUGES,

@@ -82,6 +82,7 @@ fn drop(cohesion: f32, rim_speed: f32) -> meshfree_core::solver::Setup {
         params: p,
         particles,
         wall_surface: Vec::new(),
+        bodies: Vec::new(),
     }
 }
 

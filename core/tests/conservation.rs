@@ -47,6 +47,7 @@ fn momentum_is_conserved_without_walls_or_gravity() {
             params: p,
             particles: ps.clone(),
             wall_surface: Vec::new(),
+            bodies: Vec::new(),
         });
         assert!(s.has_solids());
         let before = momentum(s.as_mut());
@@ -124,6 +125,7 @@ fn spinning_elastic_disc_in_free_fall_keeps_its_shape() {
         params: p,
         particles: ps,
         wall_surface: Vec::new(),
+        bodies: Vec::new(),
     });
     while s.time() < 0.3 {
         s.step();

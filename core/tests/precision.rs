@@ -33,6 +33,7 @@ fn compressed_block() -> Setup {
         params: p,
         particles,
         wall_surface: Vec::new(),
+        bodies: Vec::new(),
     }
 }
 

@@ -273,6 +273,7 @@ fn displaced_and_forced(p: SphParams, ps: Vec<Particle>) -> CpuSolver<D2> {
         params: p,
         particles: ps,
         wall_surface: Vec::new(),
+        bodies: Vec::new(),
     });
     solver.build_grid();
     solver.time_step();
@@ -562,6 +563,7 @@ fn steps_run_and_conserve_momentum() {
             params: p,
             particles: ps,
             wall_surface: Vec::new(),
+            bodies: Vec::new(),
         });
         s.advance(200);
         s.check().unwrap_or_else(|f| panic!("euler {euler}: {f}"));

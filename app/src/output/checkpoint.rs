@@ -31,7 +31,7 @@ use std::path::Path;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
-use meshfree_core::solver::checkpoint::SolverCheckpoint;
+use meshfree_core::solver::checkpoint::{BodyState, SolverCheckpoint};
 
 mod pieces;
 pub use pieces::{
@@ -53,6 +53,9 @@ struct Header<R> {
     steps: u64,
     dt: f32,
     arrays: Vec<ArrayEntry>,
+    /// The floating bodies' states (exact: JSON's numbers read back to the same f64).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    bodies: Vec<BodyState>,
     /// Only in the index of a checkpoint in pieces.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pieces: Option<PieceList>,
@@ -158,6 +161,7 @@ fn write_file<R: Serialize>(
         time: solver.time,
         steps: solver.steps,
         dt: solver.dt,
+        bodies: solver.bodies.clone(),
         arrays: ARRAYS
             .iter()
             .map(|&(name, ty)| ArrayEntry {
@@ -250,6 +254,7 @@ fn read_file<R: DeserializeOwned>(path: &Path) -> Result<Contents<R>, String> {
         time: header.time,
         steps: header.steps,
         dt: header.dt,
+        bodies: header.bodies,
         ..SolverCheckpoint::default()
     };
     let expected: Vec<(&str, &str)> = ARRAYS.to_vec();

@@ -17,8 +17,8 @@ use std::io;
 use std::path::{Path, PathBuf};
 
 pub use meshfree_core::run_files::{
-    frame_file, monitor_file, BODIES, CHECKPOINT, CLUSTERS, DIAGNOSTICS, FILES, GAUGES, PROBES,
-    SCENE, SERIES, SUMMARY, VOIDS,
+    frame_file, monitor_file, BODIES, CHECKPOINT, CLUSTERS, DIAGNOSTICS, FILES, FLOATING, GAUGES,
+    PROBES, SCENE, SERIES, SUMMARY, VOIDS,
 };
 
 /// The output index of a particle file's name (`frame`'s inverse).

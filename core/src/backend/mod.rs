@@ -69,6 +69,14 @@ pub fn create(
     layout: Layout,
     mut setup: Setup,
 ) -> Result<Box<dyn Solver>, BackendError> {
+    if layout != Layout::One && !setup.bodies.is_empty() {
+        return Err(BackendError::Decomposition(format!(
+            "the scene has {} floating bodies, which run in one domain for now (their force \
+             would be summed over one subdomain's particles): run it without --decompose, \
+             --gpus or --mpi",
+            setup.bodies.len()
+        )));
+    }
     if layout != Layout::One {
         // Every subdomain holds the solids' arrays where the scene has solids: its halo may
         // bring some (`SphParams::own_solids`).

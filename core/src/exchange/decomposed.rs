@@ -81,6 +81,7 @@ pub fn part(setup: &Setup, slab: &Slab) -> Setup {
             .cloned()
             .collect(),
         wall_surface: setup.wall_surface.clone(),
+        bodies: setup.bodies.clone(),
     }
 }
 

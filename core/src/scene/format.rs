@@ -489,8 +489,9 @@ impl<'de> Deserialize<'de> for Motion {
 
 /// Fixed boundary particles. Any wall may be a gate, removed at `remove_at`, or driven:
 /// `motion` (`Motion`) moves all its particles rigidly (a piston, a flap, a sloshing
-/// tank); at most
-/// `MF_MAX_DRIVEN` (8) driven objects (solids or walls) per scene.
+/// tank). A box, cylinder, mesh or polygon wall may instead float: `floating`
+/// (`Floating`) makes it a rigid body that the fluid moves. At most `MF_MAX_DRIVEN` (8)
+/// driven or floating objects (solids or walls) per scene.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Wall {
@@ -518,6 +519,8 @@ pub enum Wall {
         remove_at: Option<f64>,
         #[serde(default)]
         motion: Option<Motion>,
+        #[serde(default)]
+        floating: Option<Floating>,
     },
     /// 2D: `layers` rows of boundary particles along the segment `from` -> `to`, on its
     /// left looking from `from` to `to` (the side away from the fluid), about dx apart. Fluid
@@ -551,6 +554,8 @@ pub enum Wall {
         remove_at: Option<f64>,
         #[serde(default)]
         motion: Option<Motion>,
+        #[serde(default)]
+        floating: Option<Floating>,
     },
     /// 2D: the same along a closed polygon.
     Polygon {
@@ -565,6 +570,8 @@ pub enum Wall {
         remove_at: Option<f64>,
         #[serde(default)]
         motion: Option<Motion>,
+        #[serde(default)]
+        floating: Option<Floating>,
     },
     /// Rings of boundary particles inward from `radius` (a cylinder along z in 3D).
     Cylinder {
@@ -577,6 +584,8 @@ pub enum Wall {
         remove_at: Option<f64>,
         #[serde(default)]
         motion: Option<Motion>,
+        #[serde(default)]
+        floating: Option<Floating>,
     },
 }
 
@@ -613,6 +622,16 @@ impl Wall {
             | Wall::Polygon { motion, .. } => motion.as_ref(),
         }
     }
+    /// The rigid body a floating wall is, if it floats.
+    pub fn floating(&self) -> Option<&Floating> {
+        match self {
+            Wall::Box { floating, .. }
+            | Wall::Cylinder { floating, .. }
+            | Wall::Mesh { floating, .. }
+            | Wall::Polygon { floating, .. } => floating.as_ref(),
+            Wall::BoxContainer { .. } | Wall::Segment { .. } => None,
+        }
+    }
     /// The surface of a mesh or polygon wall.
     pub fn outline(&self) -> Option<&Outline> {
         match self {
@@ -626,6 +645,33 @@ impl Wall {
             _ => None,
         }
     }
+}
+
+/// `floating = { density = 500 }`: the wall is a rigid body moved by the fluid's force and
+/// torque on its particles and by gravity (`physics::body`), its mass, centre of mass and
+/// inertia those of its shape's solid (a box, a disc or a cylinder along z across the
+/// domain, the inside of a mesh or polygon) at `density`, or of `mass`. Its particles are
+/// the wall's rows; it meets the fluid as a moving dynamic wall.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Floating {
+    /// \[M L^-d\] the body's density: its mass is density x its shape's volume (area per unit
+    /// depth in 2D). Give this or `mass`.
+    #[serde(default)]
+    pub density: Option<f64>,
+    /// \[M\] the body's mass (per unit depth in 2D), instead of `density`.
+    #[serde(default)]
+    pub mass: Option<f64>,
+    /// The axes along which it may move. Default all of the scene's: `["x", "y"]` in 2D.
+    #[serde(default)]
+    pub moves: Option<Vec<Axis>>,
+    /// The axes about which it may turn. Default all: `["z"]` in 2D, `["x", "y", "z"]` in 3D;
+    /// `[]` holds its orientation.
+    #[serde(default)]
+    pub turns: Option<Vec<Axis>>,
+    /// \[L/T\] its initial velocity. Default zero.
+    #[serde(default)]
+    pub velocity: Option<Vec<f64>>,
 }
 
 fn default_layers() -> u32 {

@@ -11,6 +11,7 @@
 //! paper's own scheme; `input_limits.rs`: what a file may cost to read; `estimate.rs`: its
 //! size and memory before generation.
 
+mod bodies;
 mod ctx;
 mod error;
 pub mod estimate;
@@ -58,6 +59,10 @@ pub const BUILTIN: &[(&str, &str)] = &[
     (
         "impinging-3d",
         include_str!("../../../scenes/impinging-3d.toml"),
+    ),
+    (
+        "floating-box-2d",
+        include_str!("../../../scenes/floating-box-2d.toml"),
     ),
     ("flume-2d", include_str!("../../../scenes/flume-2d.toml")),
     ("nozzle", include_str!("../../../scenes/nozzle.toml")),
@@ -341,6 +346,7 @@ impl Scene {
             params,
             particles,
             wall_surface,
+            bodies: bodies::bodies(&self.file, |i| self.wall_group(i)),
         })
     }
 
@@ -425,6 +431,19 @@ fn scene_params(s: &SceneFile) -> SphParams {
     for (k, (group, motion)) in driven_objects(s).enumerate().take(p.driven_motion.len()) {
         p.driven = k as i32 + 1;
         p.driven_motion[k] = motion.params(group, s.dimension as usize, wave::gravity(s));
+    }
+    // A floating body's group is driven too, by its body (`MfMotion::floating`).
+    let base = (s.fluid_blocks.len() + s.solids.len()) as i32;
+    for (i, _, _) in bodies::floating_walls(s) {
+        let k = p.driven as usize;
+        if k < p.driven_motion.len() {
+            p.driven = k as i32 + 1;
+            p.driven_motion[k] = params::MfMotion {
+                group: base + i as i32,
+                floating: 1,
+                ..Default::default()
+            };
+        }
     }
     params::derive(&mut p);
     p

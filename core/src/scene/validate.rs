@@ -274,21 +274,24 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
         }
     }
     super::geometry::check(&c, s)?;
+    super::bodies::check(&c, s, euler)?;
     let driven: Vec<String> = (s.solids.iter().enumerate())
         .filter(|(_, o)| o.motion().is_some())
-        .map(|(i, _)| format!("solids[{i}]"))
+        .map(|(i, _)| format!("solids[{i}].motion"))
         .chain(
             (s.walls.iter().enumerate())
                 .filter(|(_, w)| w.motion().is_some())
-                .map(|(i, _)| format!("walls[{i}]")),
+                .map(|(i, _)| format!("walls[{i}].motion")),
         )
+        .chain(super::bodies::floating_walls(s).map(|(i, _, _)| format!("walls[{i}].floating")))
         .collect();
     let most = MF_MAX_DRIVEN as usize;
     if driven.len() > most {
         return Err(c.err(
-            format!("{}.motion", driven[most]),
+            driven[most].clone(),
             format!(
-                "at most {most} driven objects (motion) per scene; found {} ({})",
+                "at most {most} driven or floating objects (motion, floating) per scene; \
+                 found {} ({})",
                 driven.len(),
                 driven.join(", ")
             ),

@@ -5,7 +5,8 @@
 //!
 //! Kept: everything a step reads that an earlier step wrote. Positions, velocities and
 //! density, the deviatoric stress and the solids' density departure from rest, the
-//! total-Lagrangian displacements, the clock, the step count and the last step size; the
+//! total-Lagrangian displacements, the floating bodies' states (`BodyState`), the clock, the
+//! step count and the last step size; the
 //! ids, kinds, groups and masses with them, to check that the restored scene is the saved
 //! one. The pressure rides along (a restored solver reads back as the saved one did).
 //! Left out: what a step writes before it reads it (accelerations, XSPH velocities,
@@ -19,6 +20,7 @@
 
 use crate::exchange::Slab;
 use crate::physics::dim::Dim;
+use crate::physics::params::MfBody;
 use crate::physics::state::{SolidState, State};
 
 /// One rank's share of a decomposed solver's state (`Persist::save_pieces`): the slab it
@@ -104,6 +106,78 @@ pub struct SolverCheckpoint {
     /// \[L\] the total-Lagrangian displacements u = x - X0, in solid space (the reference's
     /// order, not the storage's); empty under the Jaumann rate.
     pub tl_disp: Vec<[f32; 3]>,
+    /// The floating rigid bodies' states (`Setup::bodies`' order); empty without.
+    #[serde(default)]
+    pub bodies: Vec<BodyState>,
+}
+
+/// A floating body's state for a restart: the fields of `MfBody` that its steps change
+/// (its constants, mass, inertia and free axes, the scene gives again).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct BodyState {
+    pub group: i32,
+    pub centre: [f64; 3],
+    pub orientation: [f64; 4],
+    pub velocity: [f64; 3],
+    pub momentum: [f64; 3],
+    pub omega: [f64; 3],
+    pub force: [f64; 3],
+    pub torque: [f64; 3],
+    pub contact: [f64; 3],
+    pub contact_torque: [f64; 3],
+    pub shift: [f64; 3],
+    pub turn: [f64; 9],
+}
+
+impl BodyState {
+    pub fn of(b: &MfBody) -> BodyState {
+        BodyState {
+            group: b.group,
+            centre: b.centre,
+            orientation: b.orientation,
+            velocity: b.velocity,
+            momentum: b.momentum,
+            omega: b.omega,
+            force: b.force,
+            torque: b.torque,
+            contact: b.contact,
+            contact_torque: b.contact_torque,
+            shift: b.shift,
+            turn: b.turn,
+        }
+    }
+
+    /// The states `saved` put back into the scene's `bodies`; an error where they are not
+    /// the scene's (another count, or another group).
+    pub fn restore_all(saved: &[BodyState], bodies: &mut [MfBody]) -> Result<(), String> {
+        if saved.len() != bodies.len() {
+            return Err(format!(
+                "it holds {} floating bodies and the scene has {}",
+                saved.len(),
+                bodies.len()
+            ));
+        }
+        for (s, b) in saved.iter().zip(bodies.iter_mut()) {
+            if s.group != b.group {
+                return Err(format!(
+                    "its floating body of group {} is the scene's of group {}",
+                    s.group, b.group
+                ));
+            }
+            b.centre = s.centre;
+            b.orientation = s.orientation;
+            b.velocity = s.velocity;
+            b.momentum = s.momentum;
+            b.omega = s.omega;
+            b.force = s.force;
+            b.torque = s.torque;
+            b.contact = s.contact;
+            b.contact_torque = s.contact_torque;
+            b.shift = s.shift;
+            b.turn = s.turn;
+        }
+        Ok(())
+    }
 }
 
 impl SolverCheckpoint {
@@ -136,6 +210,7 @@ impl SolverCheckpoint {
             }),
             rho_dev: solid.map_or_else(Vec::new, |s| s.rho_dev.clone()),
             tl_disp: tl_disp.iter().map(|&v| D::to3(v)).collect(),
+            bodies: Vec::new(),
         }
     }
 
@@ -294,6 +369,7 @@ impl SolverCheckpoint {
             stress: pick(&self.stress, &keep),
             rho_dev: pick(&self.rho_dev, &keep),
             tl_disp: Vec::new(),
+            bodies: self.bodies.clone(),
         }
     }
 

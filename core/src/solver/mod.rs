@@ -10,7 +10,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::physics::params::{SphParams, MF_NO_SLIP_WALL_VELOCITY};
+use crate::physics::params::{MfBody, SphParams, MF_NO_SLIP_WALL_VELOCITY};
 use crate::physics::particle::{Kind, Particle};
 
 pub mod checkpoint;
@@ -38,6 +38,9 @@ pub struct Setup {
     /// Fox & Zhu 1997); empty otherwise. One entry per boundary particle, none per fluid
     /// particle.
     pub wall_surface: Vec<[f32; 4]>,
+    /// The floating rigid bodies (`floating` walls, `physics::body`) at t = 0, in the order
+    /// of their walls; each one's group is a driven group with `MfMotion::floating`.
+    pub bodies: Vec<MfBody>,
 }
 
 impl Setup {

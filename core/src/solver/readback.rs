@@ -105,6 +105,12 @@ pub trait Readback {
         include_walls: bool,
         out: &mut Vec<PointSample>,
     );
+    /// The floating rigid bodies as they are now (`Setup::bodies`' order: pose, momenta,
+    /// last load); none by default (a solver without bodies, or a decomposed one, which
+    /// refuses them).
+    fn bodies(&mut self) -> Vec<crate::physics::params::MfBody> {
+        Vec::new()
+    }
     /// `Setup::wall_surface` as the solver took it (empty unless `no_slip`), for the force
     /// monitors, which take the wall pair terms from the CPU force stage.
     fn wall_surface(&self) -> &[[f32; 4]];

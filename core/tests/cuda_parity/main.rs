@@ -52,6 +52,7 @@ use compare::*;
 use setups::*;
 
 mod device;
+mod floating;
 mod monitors;
 mod passes;
 mod probes;

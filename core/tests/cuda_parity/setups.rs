@@ -270,6 +270,7 @@ pub(crate) fn scene_with(dim: usize, v: Variant, vel_amp: f32) -> Setup {
         params: p,
         particles: out,
         wall_surface: Vec::new(),
+        bodies: Vec::new(),
     }
 }
 

@@ -39,6 +39,10 @@ pub fn driven_velocity<D: Dim>(
     t: f64,
 ) -> Option<D::V> {
     let m = &p.driven_motion[p.driven_index(group)?];
+    // A floating body's particles: its kick sets them (`bodies::kick`).
+    if m.floating != 0 {
+        return None;
+    }
     Some(if m.steady() {
         D::from3(m.velocity)
     } else {
@@ -52,6 +56,10 @@ pub fn driven_velocity<D: Dim>(
 #[inline]
 pub fn driven_moved<D: Dim>(p: &SphParams, group: u32, x: D::V, dt: f32, t0: f64) -> Option<D::V> {
     let m = &p.driven_motion[p.driven_index(group)?];
+    // A floating body's particles: its drift moved them (`bodies::drift`).
+    if m.floating != 0 {
+        return None;
+    }
     Some(if m.steady() {
         x + D::from3(m.velocity) * dt
     } else {

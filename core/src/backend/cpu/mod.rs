@@ -1,6 +1,7 @@
 //! The CPU backend: the stages of `Solver` on rayon, in 2D and 3D from one source.
 //! Twin of `src/backend/cuda/`; each stage module names its CUDA file.
 
+mod bodies;
 mod density;
 mod forces;
 mod grid;
@@ -18,7 +19,7 @@ pub use density::pressure;
 pub use forces::{cohesion_over_r, ForceSum};
 pub use grid::{cell_coords, cell_index, Grid};
 pub use integrate::smooth_ramp;
-pub use monitor::{refresh_pressure, wall_force};
+pub use monitor::{refresh_pressure, wall_force, wall_load};
 pub use probes::PointSum;
 pub use rates::shift_velocity;
 pub use reduce::step_size;
@@ -27,10 +28,10 @@ pub use tlsph::TlBodies;
 
 use crate::backend::fault;
 use crate::physics::dim::Dim;
-use crate::physics::params::{needs_density_gradient, SphParams, MF_DENSITY_CONTINUITY};
+use crate::physics::params::{needs_density_gradient, MfBody, SphParams, MF_DENSITY_CONTINUITY};
 use crate::physics::particle::Particle;
 use crate::physics::state::State;
-use crate::solver::checkpoint::SolverCheckpoint;
+use crate::solver::checkpoint::{BodyState, SolverCheckpoint};
 use crate::solver::frame::{Fields, FrameData, PendingFrame, Ready};
 use crate::solver::{
     BackendInfo, Diagnostics, Fault, Persist, PointSample, Readback, Setup, Solver,
@@ -57,6 +58,8 @@ pub struct CpuSolver<D: Dim> {
     /// The total-Lagrangian bodies (`crate::physics::tlsph`); `None` under the Jaumann rate or
     /// without solids.
     tl: Option<TlBodies<D>>,
+    /// The floating rigid bodies (`physics::body`), advanced in the kick and the drift.
+    bodies: Vec<MfBody>,
     time: f64,
     steps: u64,
     dt: f32,
@@ -93,6 +96,7 @@ impl<D: Dim> CpuSolver<D> {
             grad_rho: None,
             iface: None,
             wall_surface: setup.wall_surface,
+            bodies: setup.bodies,
             time: 0.0,
             steps: 0,
             dt: 0.0,
@@ -210,12 +214,22 @@ impl<D: Dim> Solver for CpuSolver<D> {
     fn kick(&mut self) {
         let dt = integrate::kick_span(&self.params, self.dt_prev, self.dt);
         let t_end = integrate::kick_end(&self.params, self.time, self.dt);
+        // The bodies' loads from the state the force stage saw, before the kick.
+        let loads = bodies::loads(
+            &self.params,
+            &self.grid,
+            &self.wall_surface,
+            &self.bodies,
+            &self.state,
+        );
         integrate::kick(&self.params, dt, (self.time, t_end), &mut self.state);
+        bodies::kick(&self.params, dt, &loads, &mut self.bodies, &mut self.state);
     }
     fn drift(&mut self) {
         if let Some(tl) = self.tl.as_mut() {
             tl.drift(&self.params, self.dt, self.time, &self.state);
         }
+        bodies::drift(self.dt, &mut self.bodies, &mut self.state);
         integrate::drift(&self.params, self.dt, self.time, &mut self.state);
         self.grid_stale = true;
         self.time += self.dt as f64;
@@ -268,6 +282,9 @@ impl<D: Dim> Readback for CpuSolver<D> {
     fn wall_surface(&self) -> &[[f32; 4]] {
         &self.wall_surface
     }
+    fn bodies(&mut self) -> Vec<MfBody> {
+        self.bodies.clone()
+    }
     fn sample_points(
         &mut self,
         points: &[[f32; 3]],
@@ -304,12 +321,15 @@ impl<D: Dim> Readback for CpuSolver<D> {
 impl<D: Dim> Persist for CpuSolver<D> {
     fn save(&mut self) -> SolverCheckpoint {
         let disp = self.tl.as_ref().map_or(&[][..], |t| &t.disp[..]);
-        SolverCheckpoint::of_state(&self.state, self.time, self.steps, self.dt, disp)
+        let mut c = SolverCheckpoint::of_state(&self.state, self.time, self.steps, self.dt, disp);
+        c.bodies = self.bodies.iter().map(BodyState::of).collect();
+        c
     }
     fn restore(&mut self, saved: &SolverCheckpoint) -> Result<(), String> {
         let state = saved.to_state(&self.state)?;
         let n_solid = self.tl.as_ref().map_or(0, |t| t.disp.len());
         let disp = saved.tl_displacements::<D>(n_solid)?;
+        BodyState::restore_all(&saved.bodies, &mut self.bodies)?;
         self.state = state;
         if let Some(tl) = self.tl.as_mut() {
             tl.disp = disp;

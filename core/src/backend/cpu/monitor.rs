@@ -12,8 +12,9 @@
 //! 2D: [M T^-2]).
 
 use super::density::pressure;
-use super::forces::ForceSum;
+use super::forces::{lennard_jones, ForceSum};
 use super::grid::Grid;
+use crate::physics::body::Load;
 use crate::physics::dim::Dim;
 use crate::physics::pairs::couples;
 use crate::physics::params::{SphParams, MF_KIND_BOUNDARY};
@@ -44,7 +45,28 @@ pub fn wall_force<D: Dim>(
     surface: &[[f32; 4]],
     group: u32,
 ) -> [f64; 3] {
-    let mut force = [0.0f64; 3];
+    wall_load(p, s, grid, surface, group, None).force
+}
+
+/// `wall_force` as a floating body's `Load` (`physics::body`): with a `centre` \[L\] the
+/// torque about it \[M L^2 T^-2\], sum of (x_j - centre) x f_j over the wall particles j;
+/// and the contacts: the Lennard-Jones repulsion of eq. (17) on each particle j from every
+/// boundary particle of another group closer than r0 (its repulsive branch), m_j C0 [(r0/r)^p1 - (r0/r)^p2] r_ji / r,
+/// with its torque. Without a centre, the force alone (a monitor).
+pub fn wall_load<D: Dim>(
+    p: &SphParams,
+    s: &State<D>,
+    grid: &Grid,
+    surface: &[[f32; 4]],
+    group: u32,
+    centre: Option<[f64; 3]>,
+) -> Load {
+    let mut load = Load::default();
+    let torque = |t: &mut [f64; 3], u: [f64; 3], f: [f64; 3]| {
+        t[0] += u[1] * f[2] - u[2] * f[1];
+        t[1] += u[2] * f[0] - u[0] * f[2];
+        t[2] += u[0] * f[1] - u[1] * f[0];
+    };
     for j in 0..s.len() {
         // A halo copy's force is summed by the subdomain that owns it (`SphParams::owns`).
         if s.kind[j] as u32 != MF_KIND_BOUNDARY
@@ -53,19 +75,37 @@ pub fn wall_force<D: Dim>(
         {
             continue;
         }
+        let (mut fj, mut cj) = ([0.0f64; 3], [0.0f64; 3]);
         grid.for_each_neighbor::<D>(p, &s.pos, s.pos[j], |i, r_ji, r2| {
-            // The force stage computes no acceleration of a wall particle.
             if s.kind[i] as u32 == MF_KIND_BOUNDARY {
+                // The force stage computes no acceleration of a wall particle; a body's
+                // particle meets another object's by contact.
+                if centre.is_some() && s.group[i] != group && r2 < p.lj_r0 * p.lj_r0 {
+                    let a = D::to3(lennard_jones::<D>(p, r_ji, r2.sqrt())); // eq. (17)
+                    for (c, a) in cj.iter_mut().zip(a) {
+                        *c += s.mass[j] as f64 * a as f64;
+                    }
+                }
                 return;
             }
             // The force stage's pair term of wall particle j on particle i, alone.
             let mut f = ForceSum::new(p, s, surface, None, i, D::V::default());
             f.add(p, j, -r_ji, r2); // r_ij = x_i - x_j
             let a = D::to3(f.acc);
-            for (f, a) in force.iter_mut().zip(a) {
+            for (f, a) in fj.iter_mut().zip(a) {
                 *f -= s.mass[i] as f64 * a as f64;
             }
         });
+        for a in 0..3 {
+            load.force[a] += fj[a];
+            load.contact[a] += cj[a];
+        }
+        if let Some(c) = centre {
+            let x = D::to3(s.pos[j]);
+            let u = [0, 1, 2].map(|a| x[a] as f64 - c[a]);
+            torque(&mut load.torque, u, fj);
+            torque(&mut load.contact_torque, u, cj);
+        }
     }
-    force
+    load
 }

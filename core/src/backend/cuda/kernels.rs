@@ -101,6 +101,12 @@ pub enum Family {
     WallForce,
     WallForceFluid,
     SumPartials,
+    BodyLoad,
+    BodyLoadFluid,
+    BodyKick,
+    BodyVelocity,
+    BodyDrift,
+    BodyMove,
     TlSlots,
     TlStress,
     TlForces,
@@ -144,6 +150,14 @@ macro_rules! forces_params {
     };
 }
 
+/// The parameters of a floating body's load (`cuda/monitor.cu`'s `sph_body_load*`), with and
+/// without solids.
+const BODY_LOAD_PARAMS: &str =
+    "const SphParams p, unsigned n, const MfBody* bodies, unsigned body, \
+     const unsigned* cell_start, const float* pos, const float* vel, const float* rho, \
+     const float* pr, const unsigned char* kind, const unsigned* group, const float* stress, \
+     const unsigned* id, const float* surf, double* partial";
+
 /// The parameters of the force monitors' pair sums (`cuda/monitor.cu`), with and without
 /// solids.
 const WALL_FORCE_PARAMS: &str =
@@ -154,7 +168,7 @@ const WALL_FORCE_PARAMS: &str =
 
 impl Family {
     /// Every family, in the order of the discriminants.
-    pub const ALL: [Family; 39] = [
+    pub const ALL: [Family; 45] = [
         Family::GridHist,
         Family::ScanLocal,
         Family::ScanOne,
@@ -180,6 +194,12 @@ impl Family {
         Family::WallForce,
         Family::WallForceFluid,
         Family::SumPartials,
+        Family::BodyLoad,
+        Family::BodyLoadFluid,
+        Family::BodyKick,
+        Family::BodyVelocity,
+        Family::BodyDrift,
+        Family::BodyMove,
         Family::TlSlots,
         Family::TlStress,
         Family::TlForces,
@@ -370,6 +390,35 @@ impl Family {
             ),
             Family::WallForce => ("monitor", "sph_wall_force", Dims, WALL_FORCE_PARAMS),
             Family::WallForceFluid => ("monitor", "sph_wall_force_fluid", Dims, WALL_FORCE_PARAMS),
+            Family::BodyLoad => ("monitor", "sph_body_load", Dims, BODY_LOAD_PARAMS),
+            Family::BodyLoadFluid => ("monitor", "sph_body_load_fluid", Dims, BODY_LOAD_PARAMS),
+            Family::BodyKick => (
+                "bodies",
+                "sph_body_kick",
+                One,
+                "const SphParams p, unsigned n_bodies, const float* dt_dev, const double* load, \
+                 MfBody* bodies",
+            ),
+            Family::BodyVelocity => (
+                "bodies",
+                "sph_body_velocity",
+                Dims,
+                "unsigned n, unsigned n_bodies, const MfBody* bodies, const unsigned char* kind, \
+                 const unsigned* group, const float* pos, float* vel",
+            ),
+            Family::BodyDrift => (
+                "bodies",
+                "sph_body_drift",
+                One,
+                "unsigned n_bodies, const float* dt_dev, MfBody* bodies",
+            ),
+            Family::BodyMove => (
+                "bodies",
+                "sph_body_move",
+                Dims,
+                "unsigned n, unsigned n_bodies, const MfBody* bodies, const unsigned char* kind, \
+                 const unsigned* group, float* pos",
+            ),
             Family::SumPartials => (
                 "reduce",
                 "sph_sum_partials",

@@ -5,6 +5,7 @@
 //! device, and the simulated time is accumulated there in double precision. The host reads
 //! back only for `time`, `check`, `diagnostics`, `particles` and `remove_group`.
 
+mod body_buffers;
 mod buffers;
 mod capture;
 mod device;
@@ -38,6 +39,7 @@ use crate::solver::{BackendInfo, Fault, Setup, Solver};
 pub use device::{device_count, driver_version, NVCC_VERSION};
 pub use subdomain::CudaHalo;
 
+use body_buffers::BodyBuffers;
 use buffers::Buffers;
 use capture::Capturer;
 use device::Device;
@@ -88,6 +90,8 @@ pub struct CudaSolver<D: Dim> {
     /// The total-Lagrangian bodies (`cuda/tlsph.cu`); `None` under the Jaumann rate or
     /// without solids.
     tl: Option<TlBuffers>,
+    /// The floating rigid bodies (`cuda/bodies.cu`); `None` without.
+    bodies: Option<BodyBuffers>,
     /// `Setup::wall_surface` (empty unless `no_slip`); on the device in `buf`.
     wall_surface: Vec<[f32; 4]>,
     steps: u64,
@@ -187,8 +191,14 @@ impl<D: Dim> CudaSolver<D> {
         } else {
             None
         };
+        let bodies = if setup.bodies.is_empty() {
+            None
+        } else {
+            Some(BodyBuffers::new(&dev.stream, &setup.bodies).map_err(|e| oom(n, e))?)
+        };
         Ok(CudaSolver {
             tl,
+            bodies,
             dev,
             k,
             params: p,
@@ -487,9 +497,19 @@ impl<D: Dim> Solver for CudaSolver<D> {
             .leave(Mark::StepSizeDue, true, By::TimeStep);
     }
     fn kick(&mut self) {
+        // The bodies' loads from the state the force stage saw, before the kick.
+        if let Some(bb) = self.bodies.as_mut() {
+            launch::body_loads(&self.k, &self.dev.stream, &self.params, &self.buf, bb);
+        }
         launch::kick(&self.k, &self.dev.stream, &self.params, &mut self.buf);
+        if let Some(bb) = self.bodies.as_mut() {
+            launch::body_kick(&self.k, &self.dev.stream, &self.params, &mut self.buf, bb);
+        }
     }
     fn drift(&mut self) {
+        if let Some(bb) = self.bodies.as_mut() {
+            launch::body_drift(&self.k, &self.dev.stream, &self.params, &mut self.buf, bb);
+        }
         if let Some(t) = self.tl.as_mut() {
             launch::tl_drift(&self.k, &self.dev.stream, &self.params, &mut self.buf, t);
         }

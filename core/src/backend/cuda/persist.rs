@@ -2,8 +2,8 @@
 //! displacements read back, and written again with the clock on restore.
 
 use crate::physics::dim::Dim;
-use crate::solver::checkpoint::SolverCheckpoint;
-use crate::solver::{Persist, Solver};
+use crate::solver::checkpoint::{BodyState, SolverCheckpoint};
+use crate::solver::{Persist, Readback, Solver};
 
 use super::CudaSolver;
 
@@ -12,13 +12,22 @@ impl<D: Dim> Persist for CudaSolver<D> {
         let state = self.download_state();
         let disp = self.tl_displacement().unwrap_or_default();
         let (time, dt) = (self.time(), self.dt());
-        SolverCheckpoint::of_state(&state, time, self.steps, dt, &disp)
+        let mut c = SolverCheckpoint::of_state(&state, time, self.steps, dt, &disp);
+        c.bodies = self.bodies().iter().map(BodyState::of).collect();
+        c
     }
     fn restore(&mut self, saved: &SolverCheckpoint) -> Result<(), String> {
         let state = saved.to_state(&self.download_state())?;
         let n_solid = self.tl.as_ref().map_or(0, |t| t.n_solid);
         let disp = saved.tl_displacements::<D>(n_solid)?;
+        let mut bodies = self.bodies();
+        BodyState::restore_all(&saved.bodies, &mut bodies)?;
         self.upload_state(&state);
+        if let Some(bb) = self.bodies.as_mut() {
+            if let Err(e) = bb.write(&self.dev.stream, &bodies) {
+                self.sync_err("restoring the floating bodies", e)
+            }
+        }
         let s = &self.dev.stream;
         let written = self.tl.as_mut().map_or(Ok(()), |t| {
             t.write_disp::<D>(s, &disp).and_then(|_| t.clear_slots(s))

@@ -134,6 +134,19 @@ impl<D: Dim> Readback for CudaSolver<D> {
     fn wall_surface(&self) -> &[[f32; 4]] {
         &self.wall_surface
     }
+    /// Read back (`BodyBuffers::read`): a few hundred bytes per body.
+    fn bodies(&mut self) -> Vec<crate::physics::params::MfBody> {
+        let Some(bb) = self.bodies.as_ref() else {
+            return Vec::new();
+        };
+        match bb.read(&self.dev.stream) {
+            Ok(v) => {
+                self.d2h += std::mem::size_of_val(&v[..]) as u64;
+                v
+            }
+            Err(e) => self.sync_err("reading the floating bodies back", e),
+        }
+    }
     /// One kernel over the points (`cuda/probes.cu`) after a grid build where the particles
     /// moved since the last (which leaves the stepping as it was: the next step's build finds
     /// the same order; a replayed graph first takes one single step, `advance`). Uploads the

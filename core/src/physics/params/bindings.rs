@@ -55,6 +55,43 @@ pub struct MfMotion {
     pub angle_phase: f32,
     #[doc = " [T] smooth start; 0: none"]
     pub ramp: f32,
+    #[doc = " 1: a floating body's group (`MfBody`): the other fields are unused,\nthe kick and the drift leave its particles to the bodies' stages\n(cuda/bodies.cu), which move them with the body"]
+    pub floating: i32,
+}
+#[doc = " A floating rigid body (`floating` of a wall): the wall's particles, moved rigidly by the\n force and torque the fluid exerts on them (device/body.cuh, twin src/physics/body.rs). One\n per floating wall, in an array beside the particles (`Setup::bodies`). Its group is also a\n driven group (`MfMotion::floating`), so that the walls' shortcuts treat its particles as\n moving. The first fields come from the scene (the mass properties of the wall's shape);\n the rest is its state, advanced by the scheme's integrator: the momenta by the kick (at\n the kick's time: half steps under the leapfrog), the pose by the drift. Double precision\n throughout: a body's pose is the sum of many small moves. 2D: rotation about z only, the\n mass and inertia per unit depth."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct MfBody {
+    #[doc = " the wall's scene group"]
+    pub group: i32,
+    #[doc = " bits 0-2: free to move along x, y, z; bits 3-5: free to turn\nabout x, y, z (a fixed one is held: its force or torque is\ntaken up by the constraint)"]
+    pub free: i32,
+    #[doc = " [M]"]
+    pub mass: f64,
+    #[doc = " [M L^2] about the centre of mass, in the body's frame (its axes\nat t = 0: the scene's), row-major"]
+    pub inertia: [f64; 9usize],
+    #[doc = " [L] the centre of mass"]
+    pub centre: [f64; 3usize],
+    #[doc = " the unit quaternion (w, x, y, z) from the body's frame to the\nscene's"]
+    pub orientation: [f64; 4usize],
+    #[doc = " [L/T] the centre's"]
+    pub velocity: [f64; 3usize],
+    #[doc = " [M L^2/T] the angular momentum about the centre, scene frame"]
+    pub momentum: [f64; 3usize],
+    #[doc = " [rad/T] the angular velocity, scene frame (from momentum)"]
+    pub omega: [f64; 3usize],
+    #[doc = " [M L T^-2] the fluid's on the particles, of the last kick\n(gravity's, mass x g, comes on top)"]
+    pub force: [f64; 3usize],
+    #[doc = " [M L^2 T^-2] the fluid's about the centre, of the last kick"]
+    pub torque: [f64; 3usize],
+    #[doc = " [M L T^-2] the walls' and other bodies' on the particles, of the\nlast kick: the Lennard-Jones repulsion of eq. (17) between its\nparticles and theirs"]
+    pub contact: [f64; 3usize],
+    #[doc = " [M L^2 T^-2] its torque about the centre"]
+    pub contact_torque: [f64; 3usize],
+    #[doc = " [L] the last drift's move of the centre"]
+    pub shift: [f64; 3usize],
+    #[doc = " the last drift's rotation (scene frame, row-major): a particle\nat x goes to centre + turn (x - centre + shift)"]
+    pub turn: [f64; 9usize],
 }
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]

@@ -135,6 +135,50 @@ impl Surface {
         (0..3).map(|a| (c[a] - p[a]).powi(2)).sum::<f64>().sqrt()
     }
 
+    /// The volume (3D) or area (2D) it encloses \[L^d\], its centroid \[L\] and the inertia
+    /// tensor of that solid about the centroid at unit density \[L^(d+2)\] (row-major; 2D:
+    /// the zz entry alone, per unit depth): a floating body's mass properties. 3D through
+    /// parry's `MassProperties::from_trimesh` (tetrahedra from the centroid); 2D from Green's
+    /// theorem over the segments (inside on their left).
+    pub fn solid_properties(&self) -> (f64, [f64; 3], [f64; 9]) {
+        match &self.shape {
+            Shape::Mesh { tree, .. } => {
+                let m = parry3d_f64::mass_properties::MassProperties::from_trimesh(
+                    1.0,
+                    tree.vertices(),
+                    tree.indices(),
+                );
+                let i = m.reconstruct_inertia_matrix();
+                let c = m.local_com;
+                let cols = [i.x_axis, i.y_axis, i.z_axis];
+                let mut t = [0.0; 9];
+                for (r, row) in t.chunks_mut(3).enumerate() {
+                    for (k, v) in row.iter_mut().enumerate() {
+                        *v = cols[k][r];
+                    }
+                }
+                (m.mass(), [c.x, c.y, c.z], t)
+            }
+            Shape::Polygon { segments, .. } => {
+                let (mut a, mut cx, mut cy, mut i0) = (0.0, 0.0, 0.0, 0.0);
+                for [p, q] in segments {
+                    let k = p.x * q.y - q.x * p.y;
+                    a += 0.5 * k;
+                    cx += (p.x + q.x) * k / 6.0;
+                    cy += (p.y + q.y) * k / 6.0;
+                    i0 += (p.x * p.x + p.x * q.x + q.x * q.x + p.y * p.y + p.y * q.y + q.y * q.y)
+                        * k
+                        / 12.0;
+                }
+                let c = [cx / a, cy / a, 0.0];
+                let mut t = [0.0; 9];
+                // About the centroid (parallel axes), and the same sign as the area.
+                t[8] = (i0 - a * (c[0] * c[0] + c[1] * c[1])) * a.signum();
+                (a.abs(), c, t)
+            }
+        }
+    }
+
     /// A 3D surface's edges (from, to) \[L\] to draw it by: every edge where it has at most
     /// `max`, else its feature edges alone (open, or between triangles whose normals differ
     /// by more than 30 degrees); none for a polygon.

@@ -52,6 +52,7 @@ pub struct StepGraph(pub cudarc::driver::CudaGraph, pub bool);
 // so it moves between threads with the solver but is never shared.
 unsafe impl Send for StepGraph {}
 
+mod bodies;
 mod exchange;
 mod grid;
 mod integrate;
@@ -61,6 +62,7 @@ mod tlsph;
 #[cfg(feature = "interop")]
 mod view;
 
+pub use bodies::*;
 pub use exchange::*;
 pub use grid::*;
 pub use integrate::*;

@@ -15,7 +15,7 @@ use crate::physics::params::SphParams;
 /// Most blocks of one wall group's pass (`sph_wall_force_*`): its threads stride over the
 /// storage, so any grid covers it; this bounds the partial sums of a large system (a few
 /// kB per group) and the final pass's work.
-const WALL_FORCE_BLOCKS: usize = 1024;
+pub(crate) const WALL_FORCE_BLOCKS: usize = 1024;
 
 /// The force [M L T^-2] on the wall particles of each of `groups` (`Readback::wall_forces`),
 /// in their order: the grid rebuilt from the current positions (`build_grid`: the drift
@@ -112,7 +112,7 @@ pub fn wall_forces(
 
 /// out[3 g + k] = the sum over b < n_blocks of partial[(g n_blocks + b) 3 + k], for each
 /// of `slots` slots g, in a fixed order (`sph_sum_partials`).
-fn sum_partials(
+pub(super) fn sum_partials(
     k: &Kernels,
     s: &Arc<CudaStream>,
     n_blocks: u32,
