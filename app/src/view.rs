@@ -63,14 +63,14 @@ pub(crate) type Segment = [[f32; 3]; 2];
 const MAX_EDGES: usize = 200_000;
 
 /// The scene's walls for the 3D viewer (`WallLines`): its box walls (containers by their
-/// inside, obstacles and gates) and its mesh walls. Driven walls move and cylinders are no
-/// boxes: left out (`b` shows their particles).
+/// inside, obstacles and gates) and its mesh walls. Driven and floating walls move, and
+/// cylinders are no boxes: left out (`b` shows their particles).
 pub(crate) fn wall_lines(scene: &Scene) -> WallLines {
     if scene.file.dimension != 3 {
         return WallLines::default();
     }
     let surfaces = (scene.file.walls.iter())
-        .filter(|w| w.motion().is_none())
+        .filter(|w| w.motion().is_none() && w.floating().is_none())
         .filter_map(|w| {
             let o = w.outline()?;
             let edges = o.loaded.get()?.edges(MAX_EDGES);
@@ -91,7 +91,7 @@ fn wall_outlines(scene: &Scene) -> Vec<(Outline, Option<f64>)> {
         .file
         .walls
         .iter()
-        .filter(|w| w.motion().is_none())
+        .filter(|w| w.motion().is_none() && w.floating().is_none())
         .filter_map(|w| match w {
             Wall::BoxContainer { min, max, .. } | Wall::Box { min, max, .. } => Some((
                 Outline {
