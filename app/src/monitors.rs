@@ -31,7 +31,7 @@ pub struct Monitors {
 struct Floating {
     csv: FloatingCsv,
     path: PathBuf,
-    /// [T] every output interval.
+    /// \[T\] every output interval.
     interval: f64,
     next: f64,
     gravity: [f32; 3],
@@ -54,7 +54,7 @@ pub struct MonitorsState {
     pub samples: Vec<Vec<ForceSample>>,
     /// (file name in the run directory, bytes).
     pub files: Vec<(String, u64)>,
-    /// [T] the next rows of `floating.csv` (none without floating bodies).
+    /// \[T\] the next rows of `floating.csv` (none without floating bodies).
     #[serde(default)]
     pub floating_next: Option<f64>,
 }

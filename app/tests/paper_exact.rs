@@ -14,10 +14,14 @@ use meshfree_core::scene::{builtin_names, Scene};
 fn the_transform_sets_exactly_the_paper_options() {
     for name in builtin_names() {
         let s = Scene::builtin(name).unwrap();
-        // A wall moved by a law needs a kick before the drift: refused under the paper's
-        // forward Euler (tests/scheme.rs in core checks the reason).
+        // A wall moved by a law, and a floating one, need a kick before the drift: refused
+        // under the paper's forward Euler (tests/scheme.rs and tests/floating.rs in core check
+        // the reason).
         let Ok(p) = s.with_paper_exact() else {
-            assert!(["sloshing-2d", "flume-2d"].contains(&name), "{name}");
+            assert!(
+                ["sloshing-2d", "flume-2d", "floating-box-2d"].contains(&name),
+                "{name}"
+            );
             continue;
         };
         let f = &s.file;

@@ -384,7 +384,7 @@ fn more_driven_objects_than_the_solver_holds() {
     expect_error(
         &format!("{BASE}{}", walls(9)),
         "walls[9].motion",
-        "at most 8 driven objects",
+        "at most 8 driven or floating objects",
     );
 }
 

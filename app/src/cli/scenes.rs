@@ -126,7 +126,55 @@ pub(super) fn check(a: CheckArgs) -> anyhow::Result<()> {
     for line in surface_lines(&s, &setup.particles) {
         crate::outln!("  {line}")?;
     }
+    for line in body_lines(&s, &setup) {
+        crate::outln!("  {line}")?;
+    }
     Ok(())
+}
+
+/// One line per floating body: its wall, mass, centre of mass, the principal moments of its
+/// inertia tensor's diagonal, its free axes and the particles it has.
+fn body_lines(s: &Scene, setup: &meshfree_core::solver::Setup) -> Vec<String> {
+    let dim = s.file.dimension as usize;
+    let base = s.wall_group(0) as i32;
+    setup
+        .bodies
+        .iter()
+        .map(|b| {
+            let made = (setup.particles.iter())
+                .filter(|p| p.group as i32 == b.group)
+                .count();
+            let c: Vec<String> = b.centre[..dim].iter().map(|x| format!("{x:.6}")).collect();
+            let inertia = if dim == 2 {
+                format!("{:.6e}", b.inertia[8])
+            } else {
+                format!(
+                    "[{:.6e}, {:.6e}, {:.6e}]",
+                    b.inertia[0], b.inertia[4], b.inertia[8]
+                )
+            };
+            let axes = |from: i32| -> String {
+                let a: Vec<&str> = (0..3)
+                    .filter(|k| b.free & (1 << (from + k)) != 0)
+                    .map(|k| ["x", "y", "z"][k as usize])
+                    .collect();
+                if a.is_empty() {
+                    "none".into()
+                } else {
+                    a.join(", ")
+                }
+            };
+            format!(
+                "walls[{}].floating: mass {:.6}, centre of mass [{}], inertia {inertia}, moves \
+                 along {}, turns about {}; {made} particles",
+                b.group - base,
+                b.mass,
+                c.join(", "),
+                axes(0),
+                axes(3)
+            )
+        })
+        .collect()
 }
 
 /// One line per surface of `s` (`mesh`, `polygon`, `inside`): its file, triangles (edges),

@@ -4,8 +4,7 @@
 
 use super::ctx::{fmt, Ctx, R};
 use super::format::{Axis, Floating, Side, Wall};
-use super::scheme::NoSlip;
-use super::SceneFile;
+use super::scheme::{NoSlip, SceneFile};
 use crate::physics::body::{free_bits, matrix};
 use crate::physics::params::MfBody;
 
