@@ -95,17 +95,22 @@ __device__ void sph_check_body(const SphParams p, unsigned n, const unsigned cha
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
     const unsigned char k = kind[i];
-    if (k == MF_KIND_BOUNDARY) return;
-    const Vec<DIM> x = vload<DIM>(pos, i), v = vel_load<DIM>(vel, i);
+    // A wall particle is checked for its place alone (cpu/reduce.rs): a driven or floating
+    // one may move out of the domain; its density is a wall's.
+    const bool wall = k == MF_KIND_BOUNDARY;
+    const Vec<DIM> x = vload<DIM>(pos, i);
     unsigned code = 0;
     for (int a = 0; a < DIM && !code; ++a)
         if (!isfinite(x.c[a])) code = MF_FAULT_NON_FINITE_POSITION;
-    for (int a = 0; a < DIM && !code; ++a)
-        if (!isfinite(v.c[a])) code = MF_FAULT_NON_FINITE_VELOCITY;
-    const float r = rho[i];
-    if (!code && !isfinite(r)) code = MF_FAULT_NON_FINITE_DENSITY;
-    const float r0 = rest_density(p, k);
-    if (!code && (r < MF_DENSITY_SANE_LOW * r0 || r > MF_DENSITY_SANE_HIGH * r0)) code = MF_FAULT_DENSITY_RANGE;
+    if (!wall) {
+        const Vec<DIM> v = vel_load<DIM>(vel, i);
+        for (int a = 0; a < DIM && !code; ++a)
+            if (!isfinite(v.c[a])) code = MF_FAULT_NON_FINITE_VELOCITY;
+        const float r = rho[i];
+        if (!code && !isfinite(r)) code = MF_FAULT_NON_FINITE_DENSITY;
+        const float r0 = rest_density(p, k);
+        if (!code && (r < MF_DENSITY_SANE_LOW * r0 || r > MF_DENSITY_SANE_HIGH * r0)) code = MF_FAULT_DENSITY_RANGE;
+    }
     for (int a = 0; a < DIM && !code; ++a)
         if (!p.periodic[a] && (x.c[a] < p.domain_min[a] || x.c[a] > p.domain_max[a])) code = MF_FAULT_ESCAPED;
     if (code) atomicMax(first, ~(((unsigned long long)i << MF_FAULT_SLOT_SHIFT) | code));

@@ -83,25 +83,27 @@ pub fn diagnostics<D: Dim>(p: &SphParams, s: &State<D>) -> Diagnostics {
 /// The first slot (in storage order) that is not healthy, with its fault code and value.
 pub fn first_fault<D: Dim>(p: &SphParams, s: &State<D>) -> Option<(usize, u32, f32)> {
     (0..s.len()).into_par_iter().find_map_first(|i| {
-        if s.kind[i] as u32 == MF_KIND_BOUNDARY {
-            return None;
-        }
+        // A wall particle is checked for its place alone: a driven or floating one may move
+        // out of the domain (a body that sinks through the floor); its density is a wall's.
+        let wall = s.kind[i] as u32 == MF_KIND_BOUNDARY;
         let x = D::to3(s.pos[i]);
         let v = D::to3(s.vel[i]);
         if let Some(c) = x.iter().find(|c| !c.is_finite()) {
             return Some((i, MF_FAULT_NON_FINITE_POSITION, *c));
         }
-        if let Some(c) = v.iter().find(|c| !c.is_finite()) {
-            return Some((i, MF_FAULT_NON_FINITE_VELOCITY, *c));
-        }
-        if !s.rho[i].is_finite() {
-            return Some((i, MF_FAULT_NON_FINITE_DENSITY, s.rho[i]));
-        }
-        let rho0 = p.rest_density(s.kind[i]);
-        if s.rho[i] < MF_DENSITY_SANE_LOW as f32 * rho0
-            || s.rho[i] > MF_DENSITY_SANE_HIGH as f32 * rho0
-        {
-            return Some((i, MF_FAULT_DENSITY_RANGE, s.rho[i]));
+        if !wall {
+            if let Some(c) = v.iter().find(|c| !c.is_finite()) {
+                return Some((i, MF_FAULT_NON_FINITE_VELOCITY, *c));
+            }
+            if !s.rho[i].is_finite() {
+                return Some((i, MF_FAULT_NON_FINITE_DENSITY, s.rho[i]));
+            }
+            let rho0 = p.rest_density(s.kind[i]);
+            if s.rho[i] < MF_DENSITY_SANE_LOW as f32 * rho0
+                || s.rho[i] > MF_DENSITY_SANE_HIGH as f32 * rho0
+            {
+                return Some((i, MF_FAULT_DENSITY_RANGE, s.rho[i]));
+            }
         }
         for a in 0..D::D {
             if p.periodic[a] == 0 && (x[a] < p.domain_min[a] || x[a] > p.domain_max[a]) {

@@ -72,7 +72,7 @@ pub fn body_loads(
         k,
         s,
         blocks as u32,
-        2 * bb.n_bodies as u32,
+        4 * bb.n_bodies as u32,
         &bb.partial,
         &mut bb.load,
     );
