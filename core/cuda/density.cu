@@ -4,6 +4,7 @@
 // parity test: tests/cuda_parity/.
 #include "device/entries.cuh"
 #include "device/kernel.cuh"
+#include "device/mdbc.cuh"
 #include "device/neighbours.cuh"
 #include "device/packing.cuh"
 #include "device/pairs.cuh"
@@ -87,19 +88,23 @@ __device__ void density_impl(const SphParams p, unsigned n, const unsigned* __re
     const unsigned char ki = i < n ? kind[i] : (unsigned char)MF_KIND_BOUNDARY;
     // Boundary particles carry density and pressure only with dynamic walls (Crespo 2007).
     const bool active = i < n && (ki != MF_KIND_BOUNDARY || p.wall_coupling != 0);
+    // mDBC walls took theirs from their ghost nodes (sph_wall_density).
+    const bool summed = ki != MF_KIND_BOUNDARY || p.wall_coupling != MF_WALL_COUPLING_MDBC;
     float r = 0.0f;
     if (p.density_form == MF_DENSITY_SUMMATION) {
         float sum_w = 0.0f;
-        if (active)
+        if (active && summed)
             for_each_neighbor_split<DIM, L>(p, cell_start, pos, vload<DIM>(pos, i), lane,
                                             [&](unsigned j, Vec<DIM>, float r2, float) {
                                                 if (couples(p, kind[j]) && meets(p, ki, kind[j]))
                                                     sum_w += kernel_w(p, sqrtf(r2));
                                             });
         sum_w = lane_sum<L>(sum_w);  // every lane of the warp takes part
-        if (active && lane == 0) {
+        if (active && summed && lane == 0) {
             r = mass_of<DIM>(pos, vel, i) * sum_w;  // eq. (8), number-density form (Hu & Adams 2006)
             rho[i] = r;
+        } else if (active && lane == 0) {
+            r = rho[i];
         }
     } else if (active && lane == 0) {
         r = rho[i];
@@ -149,6 +154,60 @@ __device__ __forceinline__ float tait_density(const SphParams& p, float pr) {
     const float base = fmaxf(1.0f + (pr - p.background_pressure) / p.tait_b, powf(0.1f, p.tait_gamma));
     return p.rho0 * powf(base, 1.0f / p.tait_gamma);
 }
+
+// Modified dynamic walls (MF_WALL_COUPLING_MDBC; English et al. 2022, device/mdbc.cuh):
+// each wall particle a's density from its ghost node x_g = x_a + 2 d_B n in the fluid
+// (surface: Setup::wall_surface as float4 (n, d_B) at id - wall_first_id, n turned as its wall
+// has turned by the clock's time, wall_normal_now: a floating body of bodies, a turning driven
+// wall; bodies null where n_bodies is 0), by the first-order
+// corrected interpolation of the fluid particles around x_g (GhostSums), its pressure cloned
+// back to x_a with the hydrostatic term (mdbc_clone) and the Tait density of that; rho0
+// where no fluid is near, held at rho0 or more under wall_density_floor; then its Tait
+// pressure, eq. (9), and the w slot of vel. A wall particle without a normal, and every other
+// particle, is left as it is. One thread per particle, the CPU's neighbour order. Launched
+// before the density pass (launch/passes.rs), which then leaves the walls' densities alone.
+// Twin: `wall_density` in cpu/density.rs.
+template <int DIM>
+__device__ void sph_wall_density_body(const SphParams p, unsigned n, const unsigned* __restrict__ cell_start,
+                                      const float* __restrict__ pos, float* __restrict__ vel,
+                                      const unsigned char* __restrict__ kind, const unsigned* __restrict__ id,
+                                      const unsigned* __restrict__ group, const float* __restrict__ surface,
+                                      const double* __restrict__ clock, const MfBody* __restrict__ bodies,
+                                      unsigned n_bodies, float* __restrict__ rho, float* __restrict__ pr) {
+    const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n || kind[i] != MF_KIND_BOUNDARY) return;
+    const float4 s = reinterpret_cast<const float4*>(surface)[id[i] - p.wall_first_id];
+    if (s.x == 0.0f && s.y == 0.0f && s.z == 0.0f) return;
+    double nn[3] = {(double)s.x, (double)s.y, (double)s.z};
+    wall_normal_now<DIM>(p, bodies, n_bodies, clock[0], group[i], nn);
+    const float two_dn[3] = {2.0f * s.w * (float)nn[0], 2.0f * s.w * (float)nn[1], 2.0f * s.w * (float)nn[2]};
+    Vec<DIM> xg = vload<DIM>(pos, i);
+#pragma unroll
+    for (int a = 0; a < DIM; ++a) xg.c[a] += two_dn[a];
+    GhostSums g;
+    for_each_neighbor_split<DIM, 1>(p, cell_start, pos, xg, 0, [&](unsigned j, Vec<DIM> r, float r2, float) {
+        if (kind[j] != MF_KIND_FLUID) return;
+        float w, f;
+        kernel_wf(p, sqrtf(r2), w, f);
+        const float r3[3] = {r.c[0], r.c[1], DIM == 3 ? r.c[DIM - 1] : 0.0f};
+        g.add(DIM, r3, w, f, mass_of<DIM>(pos, vel, j), rho[j]);
+    });
+    float out = p.rho0, rho_g;
+    if (g.density(DIM, p.rho0, p.dx, rho_g)) {
+        // The ghost node's pressure, eq. (9), cloned back to the wall particle.
+        const float pr_g = pressure(p, MF_KIND_BOUNDARY, rho_g, 0.0f);
+        out = tait_density(p, mdbc_clone(p, pr_g, nn, s.w));
+    }
+    if (p.wall_density_floor != 0) out = fmaxf(out, p.rho0);
+    rho[i] = out;
+    pr[i] = pressure(p, MF_KIND_BOUNDARY, out, 0.0f);  // eq. (9)
+    reinterpret_cast<float4*>(vel)[i].w = vel_w(MF_KIND_BOUNDARY, out);
+}
+MF_ENTRY2(sph_wall_density,
+          (const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, float* vel,
+           const unsigned char* kind, const unsigned* id, const unsigned* group, const float* surface,
+           const double* clock, const MfBody* bodies, unsigned n_bodies, float* rho, float* pr),
+          (p, n, cell_start, pos, vel, kind, id, group, surface, clock, bodies, n_bodies, rho, pr))
 
 // The fluid's pressure extrapolated to each body's particle b and its Tait density, as
 // float2 (P'_b, rho'_b) in iface (solid_fluid_pressure = EXTRAPOLATED; Adami, Hu & Adams

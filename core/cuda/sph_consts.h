@@ -84,6 +84,18 @@
 #define MF_JACOBI_OFF_MIN 1e-20f
 #define MF_JACOBI_PIVOT_MIN 1e-30f
 
+/* mDBC (English et al. 2022; device/mdbc.cuh, src/physics/mdbc.rs): the smallest |det A| of
+ * a ghost node's corrected system (dimensionless) solved at first order; below it (too few
+ * fluid neighbours, on too few sides) the Shepard sum. The reference code's `determlimit`. */
+#define MF_MDBC_DET_MIN 1e-3
+/* ... and the smallest kernel sum sum V W [-] at the ghost node solved at first order: a ghost
+ * node barely in the fluid (by a free surface) takes the Shepard sum (DualSPHysics 5.2's 0.1). */
+#define MF_MDBC_SUM_MIN 0.1
+/* ... and the largest scaled condition number dx^2 |A| |A^-1| (infinity norms) solved at first
+ * order: an ill-conditioned ghost node (between a wall and a free surface) takes the Shepard
+ * sum (DualSPHysics 5.2's 50). */
+#define MF_MDBC_COND_MAX 50.0
+
 /* ---- probes (Solver::sample_points) ---- */
 
 /* Floats per point that the probes kernel writes (sph_sample_points, device/probes.cuh):

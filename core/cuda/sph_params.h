@@ -76,6 +76,10 @@
 /* How wall particles act (`wall_coupling`). */
 #define MF_WALL_COUPLING_LENNARD_JONES_ONLY 0 /* eq. (17) alone: the paper's walls */
 #define MF_WALL_COUPLING_DYNAMIC 1            /* dynamic walls (Crespo et al. 2007), with eq. (17) */
+#define MF_WALL_COUPLING_MDBC 2               /* modified dynamic walls (English et al. 2022): each
+                                                 wall particle's density from its ghost node in
+                                                 the fluid (density.cu), no continuity of its
+                                                 own; the rest as dynamic walls */
 
 /* A driven object's prescribed rigid motion (`motion` of a wall or a solid; evaluated by
  * `motion_*` in device/motion.cuh, twin src/physics/motion.rs). Its particles move with a pivot
@@ -234,9 +238,11 @@ typedef struct SphParams {
     int32_t attractive; /* 1: the force acts for r < support (cohesive beyond r0); 0: r < r0 */
     float lj_range;        /* derived: [L] the force acts for r < lj_range: support where
                               attractive, else lj_r0 */
-    int32_t wall_coupling; /* 1: dynamic walls (Crespo 2007): boundary particles carry density
-                              and Tait pressure, enter the pressure and viscosity sums (no
-                              leaks, no-slip); 0: the paper's form, Lennard-Jones only */
+    int32_t wall_coupling; /* MF_WALL_COUPLING_*: DYNAMIC (Crespo 2007): boundary particles
+                              carry density and Tait pressure, enter the pressure and viscosity
+                              sums (no leaks, no-slip); MDBC: as DYNAMIC, their density from
+                              the ghost node (needs Setup::wall_surface); LENNARD_JONES_ONLY (0):
+                              the paper's form. Nonzero: the walls carry density */
     int32_t no_slip;       /* MF_NO_SLIP_*: the laminar term between a fluid particle A and a
                               dynamic wall particle B. MORRIS (Morris, Fox & Zhu 1997): B
                               takes the velocity v_w - (d_B / d_A) (v_A - v_w), with d_A, d_B

@@ -22,11 +22,12 @@ __device__ __forceinline__ float pressure(const SphParams& p, unsigned char kind
 }
 
 // Whether a particle of kind k has rates (RateSum in rates.cuh: d rho/dt, XSPH, stress
-// rate): every kind but the paper's walls (a dynamic wall has its d rho/dt). The forces pass
+// rate): every kind but walls other than dynamic ones (a dynamic wall has its d rho/dt; an
+// mDBC wall takes its density from its ghost node, the paper's has none). The forces pass
 // records the accepted candidates of these particles for the rates pass (PairBits in
-// device/neighbours.cuh).
+// device/neighbours.cuh). Twin: `has_rates` in src/physics/pairs.rs.
 __device__ __forceinline__ bool has_rates(const SphParams& p, unsigned char k) {
-    return k != MF_KIND_BOUNDARY || p.wall_coupling != 0;
+    return k != MF_KIND_BOUNDARY || p.wall_coupling == MF_WALL_COUPLING_DYNAMIC;
 }
 
 __device__ __forceinline__ float sound_speed(const SphParams& p, unsigned char kind) {

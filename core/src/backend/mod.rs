@@ -77,6 +77,16 @@ pub fn create(
             setup.bodies.len()
         )));
     }
+    if layout != Layout::One
+        && setup.params.wall_coupling as u32 == crate::physics::params::MF_WALL_COUPLING_MDBC
+    {
+        return Err(BackendError::Decomposition(
+            "mDBC walls run in one domain for now (a wall particle's ghost node, up to twice \
+             the wall's depth away, reads fluid beyond a subdomain's halo): run it without \
+             --decompose, --gpus or --mpi, or with [boundary] wall_coupling = \"dynamic\""
+                .into(),
+        ));
+    }
     if layout != Layout::One {
         // Every subdomain holds the solids' arrays where the scene has solids: its halo may
         // bring some (`SphParams::own_solids`).

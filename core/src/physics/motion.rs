@@ -107,6 +107,13 @@ impl MfMotion {
         ([0, 1, 2].map(|a| self.shift(r, w, a)), self.turn(r, q))
     }
 
+    /// `u` turned as the object has turned by time `t` \[T\]: by theta(t) about its axis
+    /// (`pose`, `rotate`). Twin: `motion_turn` and `motion_rotate` in `cuda/device/motion.cuh`.
+    pub fn turn_vector<D: Dim>(&self, t: f64, u: &mut [f64; 3]) {
+        let (_, q) = self.pose(t);
+        self.rotate::<D>(q, u);
+    }
+
     /// `u` turned by `q` \[rad\] about the unit axis (Rodrigues; about z in 2D).
     fn rotate<D: Dim>(&self, q: f64, u: &mut [f64; 3]) {
         let (c, s) = (q.cos(), q.sin());

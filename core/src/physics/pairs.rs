@@ -8,7 +8,8 @@
 
 use crate::physics::dim::Dim;
 use crate::physics::params::{
-    SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID, MF_SOLID_FLUID_PRESSURE_EXTRAPOLATED,
+    SphParams, MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID,
+    MF_SOLID_FLUID_PRESSURE_EXTRAPOLATED, MF_WALL_COUPLING_DYNAMIC,
 };
 
 /// The minimum-image separation r_i - r_j \[L\]: on a periodic axis of length len the image
@@ -38,6 +39,15 @@ pub fn separation<D: Dim>(p: &SphParams, xi: D::V, xj: D::V) -> D::V {
 #[inline]
 pub fn couples(p: &SphParams, kj: u8) -> bool {
     kj as u32 != MF_KIND_BOUNDARY || p.wall_coupling != 0
+}
+
+/// Whether a particle of kind `k` has rates (d rho/dt, XSPH, stress rate): every kind but
+/// walls other than dynamic ones (an mDBC wall takes its density from its ghost node,
+/// `backend::cpu::density::wall_density`; the paper's carries none). Twin: `has_rates` in
+/// `cuda/device/particle.cuh`.
+#[inline]
+pub fn has_rates(p: &SphParams, k: u8) -> bool {
+    k as u32 != MF_KIND_BOUNDARY || p.wall_coupling as u32 == MF_WALL_COUPLING_DYNAMIC
 }
 
 /// Whether particles of kinds `ki` and `kj` meet at all: a solid and a wall particle skip

@@ -587,7 +587,7 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
     let hydrostatic_walls = s
         .boundary
         .as_ref()
-        .is_some_and(|b| b.wall_coupling == WallCoupling::Dynamic && b.hydrostatic_walls);
+        .is_some_and(|b| b.wall_coupling != WallCoupling::LennardJonesOnly && b.hydrostatic_walls);
     let support = 2.0 * s.discretisation.h();
     let hydrostatic: Vec<usize> = (0..n_fluid as usize)
         .filter(|&i| hydrostatic_walls && s.fluid_blocks[i].hydrostatic)

@@ -334,8 +334,9 @@ impl Scene {
             });
         }
         let mut params = self.params();
-        // The wall surface for Morris et al.'s no-slip walls: per boundary particle only.
-        let wall_surface = if params.no_slip as u32 == params::MF_NO_SLIP_WALL_VELOCITY {
+        // The wall surface for Morris et al.'s no-slip walls and mDBC: per boundary particle
+        // only.
+        let wall_surface = if !params::needs_wall_surface(&params) {
             Vec::new()
         } else {
             let (first, surface) = wall_surface::wall_surface(&self.file, &particles);

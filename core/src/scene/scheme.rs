@@ -228,6 +228,13 @@ choice! {
         /// density and pressure like fluid but do not move; they enter the pressure and
         /// viscosity sums (no leaks, no-slip), and the Lennard-Jones force acts as well.
         Dynamic = "dynamic" => MF_WALL_COUPLING_DYNAMIC,
+        /// Modified dynamic walls (English et al. 2022, Comput. Part. Mech. 9, 1-15; mDBC):
+        /// as dynamic walls, but each wall particle takes its density from its ghost node,
+        /// its mirror across the wall surface into the fluid, by a first-order corrected
+        /// interpolation of the fluid there, extrapolated back along the normal. The fluid
+        /// comes up to the wall surface (no gap of about h) and the walls read the fluid's
+        /// pressure; needs every wall particle's normal (`check` says where one is missing).
+        Mdbc = "mdbc" => MF_WALL_COUPLING_MDBC,
         /// The paper's form: the Lennard-Jones force of eq. (17) only.
         LennardJonesOnly = "lennard-jones-only" => MF_WALL_COUPLING_LENNARD_JONES_ONLY,
     }

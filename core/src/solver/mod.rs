@@ -10,7 +10,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::physics::params::{MfBody, SphParams, MF_NO_SLIP_WALL_VELOCITY};
+use crate::physics::params::{needs_wall_surface, MfBody, SphParams};
 use crate::physics::particle::{Kind, Particle};
 
 pub mod checkpoint;
@@ -34,8 +34,9 @@ pub struct Setup {
     pub particles: Vec<Particle>,
     /// Per boundary particle, at index id - `params.wall_first_id`: the unit normal of the
     /// nearest wall surface, pointing into the fluid (x, y, z; z = 0 in 2D) [-], and the
-    /// particle's distance behind that surface d_B \[L\]. Only for `params.no_slip` (Morris,
-    /// Fox & Zhu 1997); empty otherwise. One entry per boundary particle, none per fluid
+    /// particle's distance behind that surface d_B \[L\]. Only where
+    /// `params::needs_wall_surface` (Morris, Fox & Zhu 1997's no-slip walls, mDBC); empty
+    /// otherwise. One entry per boundary particle, none per fluid
     /// particle.
     pub wall_surface: Vec<[f32; 4]>,
     /// The floating rigid bodies (`floating` walls, `physics::body`) at t = 0, in the order
@@ -51,7 +52,7 @@ impl Setup {
     /// Why `wall_surface` cannot serve `params.no_slip`: a boundary particle whose id falls
     /// outside it. None when it can, or when no_slip is off.
     pub fn wall_surface_error(&self) -> Option<String> {
-        if self.params.no_slip as u32 == MF_NO_SLIP_WALL_VELOCITY {
+        if !needs_wall_surface(&self.params) {
             return None;
         }
         let (first, n) = (self.params.wall_first_id, self.wall_surface.len());
@@ -60,7 +61,7 @@ impl Setup {
             .find(|q| q.kind == Kind::Boundary && (q.id < first || (q.id - first) as usize >= n))
             .map(|q| {
                 format!(
-                    "no_slip needs a wall surface entry for every boundary particle: particle {} \
+                    "no_slip and mdbc need a wall surface entry for every boundary particle: particle {} \
                      is outside ids {first}..{} of Setup::wall_surface",
                     q.id,
                     first as usize + n

@@ -1,5 +1,5 @@
 //! The stages and long runs under each fluid scheme: the lean kernels, density diffusion in
-//! each form, the leapfrog, Morris's no-slip walls, shifting, background pressure, the walls'
+//! each form, the leapfrog, Morris's no-slip walls, mDBC walls, shifting, background pressure, the walls'
 //! density floor, and grids of several scan blocks.
 
 use super::*;
@@ -360,6 +360,47 @@ fn stages_2d_fluid_only_no_slip_walls_symplectic() {
 fn diagnostics_after_200_steps_2d_no_slip_walls_euler() {
     let setup = with_no_slip(scene_with(2, V_2D_A, 0.05), 2.0);
     long_run_on::<D2>("V_2D_A + Morris no-slip walls", setup, 200);
+}
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_2d_mdbc_walls_summation_euler() {
+    // The ghost nodes' density under the summation density (the walls keep theirs).
+    stages_on::<D2>("V_2D_A + mDBC walls", with_mdbc(scene(2, V_2D_A)));
+}
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_3d_mdbc_walls_continuity_euler() {
+    // Under the continuity density, where the grid build applies the equation of state
+    // and the density pass launches only the walls' ghost nodes.
+    stages_on::<D3>("V_3D_B + mDBC walls", with_mdbc(scene(3, V_3D_B)));
+}
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn diagnostics_after_200_steps_2d_mdbc_walls_continuity() {
+    let setup = with_mdbc(fluid_only_of(scene_with(2, V_2D_DELTA, 0.05)));
+    long_run_on::<D2>("V_2D_DELTA fluid only + mDBC walls", setup, 200);
+}
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn diagnostics_after_200_steps_3d_mdbc_walls_continuity() {
+    let setup = with_mdbc(fluid_only_of(scene_with(3, V_3D_B, 0.05)));
+    long_run_on::<D3>("V_3D_B fluid only + mDBC walls", setup, 200);
 }
 
 /// `setup` with particle shifting (`shifting` = 0.2): the shift velocity joins the XSPH

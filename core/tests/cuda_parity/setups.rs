@@ -449,6 +449,19 @@ pub(crate) fn with_no_slip(mut setup: Setup, beta_max: f32) -> Setup {
     let p = &mut setup.params;
     p.no_slip = params::MF_NO_SLIP_MORRIS as i32;
     p.no_slip_beta_max = beta_max;
+    with_wall_surface(setup)
+}
+
+/// `setup` with mDBC walls (`MF_WALL_COUPLING_MDBC`), their surface as `with_no_slip`'s.
+pub(crate) fn with_mdbc(mut setup: Setup) -> Setup {
+    setup.params.wall_coupling = params::MF_WALL_COUPLING_MDBC as i32;
+    with_wall_surface(setup)
+}
+
+/// `Setup::wall_surface` of `scene_with`'s walls: the floor at y = 0 and, in 3D, the lid of
+/// z at lz; each wall particle's normal toward the nearest point of the fluid's slab.
+fn with_wall_surface(mut setup: Setup) -> Setup {
+    let p = &setup.params;
     let d3 = p.dim == 3;
     let lz = p.domain_max[2] - 3.0 * p.dx; // `scene_with`: the domain's z runs to lz + 3 dx
     let lo = [f32::NEG_INFINITY, 0.0, 0.0];

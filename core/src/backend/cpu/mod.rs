@@ -45,7 +45,7 @@ pub struct CpuSolver<D: Dim> {
     /// Whether the particles moved (or were removed) since the last `build_grid`, or none
     /// was built: `sample_points` then builds one.
     grid_stale: bool,
-    /// `Setup::wall_surface` (empty unless `no_slip`).
+    /// `Setup::wall_surface` (empty unless `params::needs_wall_surface`).
     wall_surface: Vec<[f32; 4]>,
     /// The density gradient stage's output in storage order (`rates::density_gradient`),
     /// which the rates stage reads; None until that stage ran since the last sort, or where
@@ -156,6 +156,14 @@ impl<D: Dim> Solver for CpuSolver<D> {
         self.sort();
     }
     fn density(&mut self) {
+        density::wall_density(
+            &self.params,
+            &self.grid,
+            &mut self.state,
+            &self.wall_surface,
+            &self.bodies,
+            self.time,
+        );
         density::density(&self.params, &self.grid, &mut self.state);
     }
     fn density_gradient(&mut self) {

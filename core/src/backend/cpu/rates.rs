@@ -12,7 +12,7 @@ use super::grid::Grid;
 use crate::consts::{MF_MOMENT_DET_MIN, MF_SHIFT_ANTI_CLUMP, MF_SHIFT_SURFACE_MARGIN};
 use crate::physics::dim::Dim;
 use crate::physics::kernel;
-use crate::physics::pairs::{couples, extrapolated_pair, meets, same_body};
+use crate::physics::pairs::{couples, extrapolated_pair, has_rates, meets, same_body};
 use crate::physics::params::{
     needs_density_gradient, SphParams, MF_DIFFUSION_FOURTAKAS, MF_INTEGRATOR_LEAPFROG,
     MF_KIND_BOUNDARY, MF_KIND_FLUID, MF_KIND_SOLID,
@@ -152,7 +152,7 @@ pub fn rates<D: Dim>(
                 stress_rate: D::zero(),
             };
             let ki = kind[i];
-            if ki as u32 == MF_KIND_BOUNDARY && p.wall_coupling == 0 {
+            if !has_rates(p, ki) {
                 return o;
             }
             let (vi, rhoi) = (vel[i], rho[i]);

@@ -85,7 +85,8 @@ pub struct Buffers {
     /// each; with solids (read only where `pairs::extrapolated`).
     pub iface: Option<CudaSlice<f32>>,
     /// `Setup::wall_surface` as float4 per boundary particle (by id - wall_first_id; not
-    /// reordered by the grid); only with `no_slip`.
+    /// reordered by the grid); only where `params::needs_wall_surface` (Morris's no-slip
+    /// walls, mDBC).
     pub wall_surface: Option<CudaSlice<f32>>,
     // grid
     pub cell: CudaSlice<u32>,

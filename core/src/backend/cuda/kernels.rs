@@ -83,6 +83,7 @@ pub enum Family {
     GridScatter,
     GridGather,
     Density,
+    WallDensity,
     SolidInterface,
     GradRho,
     Forces,
@@ -168,7 +169,7 @@ const WALL_FORCE_PARAMS: &str =
 
 impl Family {
     /// Every family, in the order of the discriminants.
-    pub const ALL: [Family; 45] = [
+    pub const ALL: [Family; 46] = [
         Family::GridHist,
         Family::ScanLocal,
         Family::ScanOne,
@@ -176,6 +177,7 @@ impl Family {
         Family::GridScatter,
         Family::GridGather,
         Family::Density,
+        Family::WallDensity,
         Family::SolidInterface,
         Family::GradRho,
         Family::Forces,
@@ -271,6 +273,15 @@ impl Family {
                 "const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, \
                  float* vel, const unsigned char* kind, float* rho, float* pr, float* rho_dev, \
                  const float* stress, float* art",
+            ),
+            Family::WallDensity => (
+                "density",
+                "sph_wall_density",
+                Dims,
+                "const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, \
+                 float* vel, const unsigned char* kind, const unsigned* id, const unsigned* group, \
+                 const float* surface, const double* clock, const MfBody* bodies, \
+                 unsigned n_bodies, float* rho, float* pr",
             ),
             Family::SolidInterface => (
                 "density",

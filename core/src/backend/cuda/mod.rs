@@ -92,7 +92,8 @@ pub struct CudaSolver<D: Dim> {
     tl: Option<TlBuffers>,
     /// The floating rigid bodies (`cuda/bodies.cu`); `None` without.
     bodies: Option<BodyBuffers>,
-    /// `Setup::wall_surface` (empty unless `no_slip`); on the device in `buf`.
+    /// `Setup::wall_surface` (empty unless `params::needs_wall_surface`); on the device in
+    /// `buf`.
     wall_surface: Vec<[f32; 4]>,
     steps: u64,
     /// Whether the grid's cell ranges list the particles at their current positions: set
@@ -455,7 +456,13 @@ impl<D: Dim> Solver for CudaSolver<D> {
         self.grid_current = true;
     }
     fn density(&mut self) {
-        launch::density(&self.k, &self.dev.stream, &self.params, &mut self.buf);
+        launch::density(
+            &self.k,
+            &self.dev.stream,
+            &self.params,
+            &mut self.buf,
+            self.bodies.as_ref(),
+        );
     }
     fn solid_interface(&mut self) {
         launch::solid_interface(&self.k, &self.dev.stream, &self.params, &mut self.buf);

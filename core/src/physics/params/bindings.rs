@@ -27,6 +27,7 @@ pub const MF_SOLID_JAUMANN: u32 = 0;
 pub const MF_SOLID_TOTAL_LAGRANGIAN: u32 = 1;
 pub const MF_WALL_COUPLING_LENNARD_JONES_ONLY: u32 = 0;
 pub const MF_WALL_COUPLING_DYNAMIC: u32 = 1;
+pub const MF_WALL_COUPLING_MDBC: u32 = 2;
 #[doc = " A driven object's prescribed rigid motion (`motion` of a wall or a solid; evaluated by\n `motion_*` in device/motion.cuh, twin src/physics/motion.rs). Its particles move with a pivot\n c(t) = pivot + s(t) and turn about it by theta(t) about `axis`:\n   x(t) = c(t) + R(axis, theta(t)) (x(0) - pivot),\n   s(t)     = velocity I(t) + r(t) amplitude (sin(2 pi t / period + phase) - sin phase)  [L],\n   theta(t) = rate I(t) + r(t) angle (sin(2 pi t / angle_period + angle_phase)\n              - sin angle_phase)                                                       [rad],\n r(t) the smooth start over `ramp`, (1 - cos(pi t / ramp)) / 2 up to `ramp`, then 1 (1 without\n a ramp), and I(t) its integral over [0, t] (t without). A motion with only `velocity` and no\n ramp is steady: x += velocity dt, as before time-dependent motion existed."]
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
@@ -184,7 +185,7 @@ pub struct SphParams {
     pub attractive: i32,
     #[doc = " derived: [L] the force acts for r < lj_range: support where\nattractive, else lj_r0"]
     pub lj_range: f32,
-    #[doc = " 1: dynamic walls (Crespo 2007): boundary particles carry density\nand Tait pressure, enter the pressure and viscosity sums (no\nleaks, no-slip); 0: the paper's form, Lennard-Jones only"]
+    #[doc = " MF_WALL_COUPLING_*: DYNAMIC (Crespo 2007): boundary particles\ncarry density and Tait pressure, enter the pressure and viscosity\nsums (no leaks, no-slip); MDBC: as DYNAMIC, their density from\nthe ghost node (needs Setup::wall_surface); LENNARD_JONES_ONLY (0):\nthe paper's form. Nonzero: the walls carry density"]
     pub wall_coupling: i32,
     #[doc = " MF_NO_SLIP_*: the laminar term between a fluid particle A and a\ndynamic wall particle B. MORRIS (Morris, Fox & Zhu 1997): B\ntakes the velocity v_w - (d_B / d_A) (v_A - v_w), with d_A, d_B\nthe distances of A and B from the wall surface and v_w the\nwall's velocity, so v_AB = beta (v_A - v_w),\nbeta = min(no_slip_beta_max, 1 + d_B / d_A); needs\nSetup::wall_surface. The laminar term only: pressure, density\nand artificial viscosity see v_w"]
     pub no_slip: i32,

@@ -29,6 +29,13 @@ pub fn needs_density_gradient(p: &SphParams) -> bool {
     p.solid_density_diffusion > 0.0 || p.fluid_density_gradient != 0
 }
 
+/// Whether the solver needs each wall particle's surface (`Setup::wall_surface`: its normal
+/// into the fluid and its distance behind the surface): Morris's no-slip walls and mDBC's
+/// ghost nodes read it.
+pub fn needs_wall_surface(p: &SphParams) -> bool {
+    p.no_slip == MF_NO_SLIP_MORRIS as i32 || p.wall_coupling == MF_WALL_COUPLING_MDBC as i32
+}
+
 /// Fill the derived fields (marked "derived" in the header) from the primary ones.
 /// Needs `dim`, `kernel`, `h`, `dx`, `rho0`, `c0`, `tait_gamma`, the domain and `periodic`,
 /// `attractive` and `lj_r0`, `density_diffusion` and `density_diffusion_form`.

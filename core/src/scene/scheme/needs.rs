@@ -82,11 +82,11 @@ pub(super) fn morris_walls(s: &SceneFile, no_slip: &NoSlip) -> Result<(), Refusa
     let dynamic = s
         .boundary
         .as_ref()
-        .is_some_and(|b| b.wall_coupling == WallCoupling::Dynamic);
+        .is_some_and(|b| b.wall_coupling != WallCoupling::LennardJonesOnly);
     if *no_slip == NoSlip::Morris && (!dynamic || s.fluid.viscosity <= 0.0) {
         return Err(Refusal::new(
             "\"morris\" acts on the laminar viscosity between fluid and dynamic wall particles: \
-             it needs wall_coupling = \"dynamic\" and fluid.viscosity > 0",
+             it needs wall_coupling = \"dynamic\" or \"mdbc\" and fluid.viscosity > 0",
         ));
     }
     Ok(())

@@ -6,12 +6,20 @@ use std::sync::Arc;
 use cudarc::driver::{CudaStream, PushKernelArg};
 
 use super::{cfg, grid::stamps, integrate::clear_red, scheme, NULL};
+use crate::backend::cuda::body_buffers::BodyBuffers;
 use crate::backend::cuda::buffers::Buffers;
 use crate::backend::cuda::handover::{By, Mark};
 use crate::backend::cuda::kernels::{Family, Kernels};
 use crate::physics::params::SphParams;
 
-pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
+pub fn density(
+    k: &Kernels,
+    s: &Arc<CudaStream>,
+    p: &SphParams,
+    b: &mut Buffers,
+    bodies: Option<&BodyBuffers>,
+) {
+    wall_density(k, s, p, b, bodies);
     if b.n == 0 || b.handover.take(Mark::EosApplied, By::Density) {
         return;
     }
@@ -34,6 +42,52 @@ pub fn density(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers)
     // slots; rho_dev null without solids, else n entries; art null without artificial stress
     // (then stress is not read), else both hold n_sym planes of n.
     kd.check(unsafe { l.launch(cfg(b.n * lanes)).map(|_| ()) });
+}
+
+/// mDBC walls (`MF_WALL_COUPLING_MDBC`): each wall particle's density, pressure and w slot
+/// from its ghost node (`sph_wall_density`), first in the density stage, whether or not the
+/// grid build applied the equation of state (it did so from the walls' old densities); the
+/// normals of floating bodies (`bodies`) and turning walls turned to the clock's time.
+/// Nothing under other wall couplings.
+fn wall_density(
+    k: &Kernels,
+    s: &Arc<CudaStream>,
+    p: &SphParams,
+    b: &mut Buffers,
+    bodies: Option<&BodyBuffers>,
+) {
+    if p.wall_coupling as u32 != crate::physics::params::MF_WALL_COUPLING_MDBC || b.n == 0 {
+        return;
+    }
+    let n = b.n as u32;
+    let surface = b
+        .wall_surface
+        .as_ref()
+        .expect("mDBC walls hold Setup::wall_surface on the device (CudaSolver::new checks it)");
+    let n_bodies = bodies.map_or(0, |bb| bb.n_bodies as u32);
+    let c = &mut b.cur;
+    let kw = k.get(Family::WallDensity);
+    let mut l = s.launch_builder(&kw.f);
+    l.arg(p)
+        .arg(&n)
+        .arg(&b.cell_start)
+        .arg(&c.pos)
+        .arg(&mut c.vel)
+        .arg(&c.kind)
+        .arg(&c.id)
+        .arg(&c.group)
+        .arg(surface)
+        .arg(&b.time);
+    match bodies {
+        Some(bb) => l.arg(&bb.bodies),
+        None => l.arg(&NULL),
+    };
+    l.arg(&n_bodies).arg(&mut c.rho).arg(&mut c.p);
+    // SAFETY: the arguments of `Family::WallDensity`; surface holds 4 floats per boundary
+    // particle, indexed by id - wall_first_id (every boundary id is in range:
+    // `Setup::wall_surface_error`); the clock's first double is the time; bodies null where
+    // n_bodies is 0, else n_bodies records; vel is written only in the walls' w slots.
+    kw.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
 }
 
 /// The fluid's pressure extrapolated to the bodies' particles (`Buffers::iface`), which the
