@@ -47,9 +47,9 @@ pub const CANNOT_YET: &str = "\
   a pivot, started over a smooth ramp. No time series from a file, no sequence of laws, and
   no turn or oscillation under the forward Euler (issue #54).
 - **Floating bodies.** A box, cylinder, mesh or polygon wall floats (`floating`), moved by
-  the fluid's force and torque and by gravity, on the CPU and the GPU (the GPU's path not yet
-  run on a device: unverified); but in one domain
-  only (not with `--decompose`, `--gpus` or `--mpi`), not on a periodic axis, not with
+  the fluid's force and torque and by gravity, on the CPU and the GPU (the GPU's matched the
+  CPU's on an H100; its contacts' fix of 2026-12-07 has not run on a device yet); but in one
+  domain only (not with `--decompose`, `--gpus` or `--mpi`), not on a periodic axis, not with
   Morris's no-slip walls, and counted among the 8 driven objects. A body meets walls and
   other bodies through the repulsion of eq. (17) alone: no friction and no damping (a body
   dropped on the floor bounces on it until the water calms it), no joints, springs or
