@@ -24,6 +24,9 @@
 //!   `cuda/device/*.cuh`) are not compiled on their own, but a change to any file under
 //!   `cuda/` (nested folders included) reruns the build. The PTX text of each module is
 //!   kept beside its fatbin for the kernel table's test (`src/backend/cuda/kernels.rs`).
+//!   A module compiled before in the same target profile, from the same sources, nvcc and
+//!   flags, is copied from `<target>/<profile>/build/meshfree-core-nvcc/` instead of being
+//!   compiled again, whichever OUT_DIR a feature set gives the crate.
 //! * Test cfgs: `MESHFREE_REQUIRE_CUDA=1` sets `meshfree_require_cuda`, under which the GPU
 //!   tests (`tests/cuda_parity/`) are not `#[ignore]`d and fail without a usable GPU;
 //!   `MESHFREE_REQUIRE_LIBCLANG=1` sets `meshfree_require_libclang`, and bindings made by
@@ -379,6 +382,12 @@ fn cuda_modules(out: &Path) {
     // Every file under cuda/ (a module includes the shared headers), for the reuse test below.
     let tree = cuda_tree_digest();
     let reused = std::sync::atomic::AtomicUsize::new(0);
+    // OUT_DIR is `<target>/<profile>/build/meshfree-core-<hash>/out`.
+    let cache = out
+        .ancestors()
+        .nth(2)
+        .unwrap_or(out)
+        .join("meshfree-core-nvcc");
     let compile = |src: &PathBuf| -> (String, PathBuf, PathBuf) {
         let stem = src.file_stem().unwrap().to_string_lossy().into_owned();
         let dst = out.join(format!("{stem}.fatbin"));
@@ -413,12 +422,26 @@ fn cuda_modules(out: &Path) {
         .arg("-o")
         .arg(&dst);
         let shown = format!("{cmd:?}");
-        // The build script reruns whenever HEAD moves (`commit`): a module whose sources
-        // under cuda/, nvcc release and command are those of its last compile keeps its
-        // fatbin and PTX instead of minutes of nvcc.
-        let key = format!("{tree:016x} {version} {shown}");
+        // The build script reruns whenever HEAD moves (`commit`) and in every OUT_DIR that a
+        // change of features or build dependencies opens (CI's `--features mpi` test build
+        // is one: a second 1000 s nvcc pass once pushed CI past its limit). A module whose
+        // sources under cuda/, nvcc release and flags are those of an earlier compile in this
+        // target profile keeps that fatbin and PTX, from the profile's shared cache
+        // (`<target>/<profile>/build/meshfree-core-nvcc/`), instead of minutes of nvcc.
+        let flags: Vec<String> = cmd
+            .get_args()
+            .map(|a| a.to_string_lossy().into_owned())
+            .filter(|a| !a.starts_with(&*out.to_string_lossy()))
+            .collect();
+        let key = format!("{tree:016x} {version} {} {flags:?}", nvcc.display());
+        let cached = |ext: &str| cache.join(format!("{stem}.{:016x}.{ext}", fnv(key.as_bytes())));
         let stamp = out.join(format!("{stem}.key"));
         if dst.exists() && text.exists() && fs::read_to_string(&stamp).is_ok_and(|k| k == key) {
+            reused.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            return (stem, dst, text);
+        }
+        if fs::copy(cached("fatbin"), &dst).is_ok() && fs::copy(cached("ptx"), &text).is_ok() {
+            fs::write(&stamp, &key).expect("write the module's compile key");
             reused.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
             return (stem, dst, text);
         }
@@ -446,6 +469,15 @@ fn cuda_modules(out: &Path) {
         // The rest (preprocessed sources, one cubin per target) is large and unused.
         let _ = fs::remove_dir_all(&keep);
         fs::write(&stamp, &key).expect("write the module's compile key");
+        // Into the shared cache through a temporary name, so that a concurrent build never
+        // reads half a file (the PTX last: its presence marks the pair complete).
+        let _ = fs::create_dir_all(&cache);
+        for (from, ext) in [(&dst, "fatbin"), (&text, "ptx")] {
+            let tmp = cached(&format!("{ext}.{}", std::process::id()));
+            if fs::copy(from, &tmp).is_ok() {
+                let _ = fs::rename(&tmp, cached(ext));
+            }
+        }
         (stem, dst, text)
     };
     // The modules on `NUM_JOBS` threads (cargo's -j), each nvcc on every core: the machine
@@ -540,16 +572,18 @@ fn cuda_tree_digest() -> u64 {
     let mut files = Vec::new();
     walk(Path::new("cuda"), &mut files);
     files.sort();
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut bytes = Vec::new();
     for p in files {
-        let bytes = p.to_string_lossy().into_owned().into_bytes();
-        for b in bytes
-            .iter()
-            .chain(&[0])
-            .chain(&fs::read(&p).unwrap_or_default())
-        {
-            h = (h ^ *b as u64).wrapping_mul(0x0100_0000_01b3);
-        }
+        bytes.extend(p.to_string_lossy().as_bytes());
+        bytes.push(0);
+        bytes.extend(fs::read(&p).unwrap_or_default());
     }
-    h
+    fnv(&bytes)
+}
+
+/// FNV-1a, 64 bits.
+fn fnv(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ *b as u64).wrapping_mul(0x0100_0000_01b3)
+    })
 }
