@@ -2,7 +2,8 @@
 //! samples and its `<name>.csv`. The force itself is `Solver::wall_forces` (on the solver's
 //! own state; summed on the device by the CUDA backend), whose sum is
 //! `meshfree_core::measure::monitor::wall_force`'s. With them, the floating bodies'
-//! `floating.csv`, a row per body every output interval (`Solver::bodies`).
+//! `floating.csv`, a row per body every output interval (`Solver::bodies`), and the open
+//! boundaries' `open_boundaries.csv`, a row per boundary likewise (`Readback::open_tally`).
 
 use std::path::{Path, PathBuf};
 
@@ -13,7 +14,7 @@ use meshfree_core::scene::{format, Scene};
 use meshfree_core::solver::step::reached;
 use meshfree_core::solver::Solver;
 
-use crate::output::{FloatingCsv, ForcesCsv};
+use crate::output::{FloatingCsv, ForcesCsv, OpenCsv};
 
 /// The scene's monitors during a run: when each samples next, its samples and its CSV.
 pub struct Monitors {
@@ -25,6 +26,17 @@ pub struct Monitors {
     height: f64,
     /// The floating bodies' CSV, where the scene has any.
     floating: Option<Floating>,
+    /// The open boundaries' CSV, where the scene has any.
+    open: Option<Open>,
+}
+
+/// `open_boundaries.csv` and when it takes its next rows.
+struct Open {
+    csv: OpenCsv,
+    path: PathBuf,
+    /// \[T\] every output interval.
+    interval: f64,
+    next: f64,
 }
 
 /// `floating.csv` and when it takes its next rows.
@@ -57,6 +69,9 @@ pub struct MonitorsState {
     /// \[T\] the next rows of `floating.csv` (none without floating bodies).
     #[serde(default)]
     pub floating_next: Option<f64>,
+    /// \[T\] the next rows of `open_boundaries.csv` (none without open boundaries).
+    #[serde(default)]
+    pub open_next: Option<f64>,
 }
 
 impl Monitors {
@@ -99,9 +114,22 @@ impl Monitors {
         } else {
             None
         };
+        let open = if f.open_boundaries.is_empty() {
+            None
+        } else {
+            let path = dir.join(crate::output::files::OPEN_BOUNDARIES);
+            let csv = OpenCsv::open(&path, resume.is_some()).map_err(|e| (path.clone(), e))?;
+            Some(Open {
+                csv,
+                path,
+                interval: f.time.output_interval,
+                next: resume.and_then(|r| r.open_next).unwrap_or(0.0),
+            })
+        };
         Ok(Monitors {
             list,
             floating,
+            open,
             rho0: f.fluid.density,
             dim: f.dimension as i32,
             height: f.domain.max[1] - f.domain.min[1],
@@ -117,14 +145,20 @@ impl Monitors {
                     .as_ref()
                     .map(|_| crate::output::files::FLOATING.to_string()),
             )
+            .chain(
+                self.open
+                    .as_ref()
+                    .map(|_| crate::output::files::OPEN_BOUNDARIES.to_string()),
+            )
             .collect()
     }
 
     /// The monitors' part of a checkpoint (every row so far flushed).
     pub fn state(&self) -> Result<MonitorsState, (PathBuf, std::io::Error)> {
         let mut files = Vec::new();
-        let paths =
-            (self.list.iter().map(|m| &m.path)).chain(self.floating.as_ref().map(|f| &f.path));
+        let paths = (self.list.iter().map(|m| &m.path))
+            .chain(self.floating.as_ref().map(|f| &f.path))
+            .chain(self.open.as_ref().map(|o| &o.path));
         for path in paths {
             let len = std::fs::metadata(path)
                 .map_err(|e| (path.clone(), e))?
@@ -137,6 +171,7 @@ impl Monitors {
             samples: self.list.iter().map(|m| m.samples.clone()).collect(),
             files,
             floating_next: self.floating.as_ref().map(|f| f.next),
+            open_next: self.open.as_ref().map(|o| o.next),
         })
     }
 
@@ -144,6 +179,7 @@ impl Monitors {
     pub fn next_time(&self) -> Option<f64> {
         (self.list.iter().map(|m| m.next))
             .chain(self.floating.as_ref().map(|f| f.next))
+            .chain(self.open.as_ref().map(|o| o.next))
             .min_by(f64::total_cmp)
     }
 
@@ -160,6 +196,11 @@ impl Monitors {
                 .write(t, f.gravity, &bodies)
                 .map_err(|e| (f.path.clone(), e))?;
             f.next = ((t / f.interval + 1e-9).floor() + 1.0) * f.interval;
+        }
+        if let Some(o) = self.open.as_mut().filter(|o| reached(t, o.next)) {
+            let tally = solver.open_tally();
+            o.csv.write(t, &tally).map_err(|e| (o.path.clone(), e))?;
+            o.next = ((t / o.interval + 1e-9).floor() + 1.0) * o.interval;
         }
         let due: Vec<usize> = (0..self.list.len())
             .filter(|&k| reached(t, self.list[k].next))

@@ -362,6 +362,7 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
         fault_frame: None,
         monitors: Vec::new(),
         bodies: Vec::new(),
+        open_boundaries: Vec::new(),
         checkpoint_time: None,
         resumed_from: Vec::new(),
     };

@@ -78,6 +78,25 @@ fn check_writes_nothing() {
     assert!(String::from_utf8_lossy(&o.stdout).contains("2026 particles"));
 }
 
+/// `check` reports an open line as one: its length and that its sides come from its order.
+#[test]
+fn check_reports_an_open_line() {
+    let o = meshfree(&["check", "beach-2d"]);
+    assert!(o.status.success());
+    let out = String::from_utf8_lossy(&o.stdout);
+    let line = out
+        .lines()
+        .find(|l| l.contains("walls[1].polygon"))
+        .unwrap_or_else(|| panic!("{out}"));
+    // The beach: from (2.5, 0) to (5, 0.5), 2.5495 long.
+    assert!(
+        line.contains("1 edges")
+            && line.contains("length 2.549510")
+            && line.contains("open: its sides from its faces' order"),
+        "{line}"
+    );
+}
+
 #[test]
 fn unknown_scene_fails() {
     let o = meshfree(&["run", "no-such-scene", "--quiet"]);

@@ -19,7 +19,15 @@ fn the_transform_sets_exactly_the_paper_options() {
         // the reason).
         let Ok(p) = s.with_paper_exact() else {
             assert!(
-                ["sloshing-2d", "flume-2d", "floating-box-2d"].contains(&name),
+                [
+                    "sloshing-2d",
+                    "flume-2d",
+                    "beach-2d",
+                    "floating-box-2d",
+                    "channel-open-2d",
+                    "nozzle-open"
+                ]
+                .contains(&name),
                 "{name}"
             );
             continue;

@@ -64,6 +64,16 @@ fn meshfree() -> Command {
     Command::new(std::env::var_os("MESHFREE_BIN").unwrap_or(env!("CARGO_BIN_EXE_meshfree").into()))
 }
 
+/// Run `cmd`, which must succeed (else its stderr in the failure).
+fn succeeded(cmd: &mut Command) {
+    let out = cmd.output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 fn summary_json(dir: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
 }
@@ -198,16 +208,11 @@ fn killed_and_resumed(backend: &str, t_end: f64, wait_ms: u64) {
         "checkpoint at t = {killed_at}"
     );
 
-    let resumed = meshfree()
-        .args(["run", "--resume"])
-        .arg(&b)
-        .args(["--backend", backend, "--quiet"])
-        .output()
-        .unwrap();
-    assert!(
-        resumed.status.success(),
-        "{}",
-        String::from_utf8_lossy(&resumed.stderr)
+    succeeded(
+        meshfree()
+            .args(["run", "--resume"])
+            .arg(&b)
+            .args(["--backend", backend, "--quiet"]),
     );
     same_output(&a, &b);
     let (sa, sb) = (summary_json(&a), summary_json(&b));
@@ -480,4 +485,45 @@ fn a_run_with_a_surface_file_resumes_without_the_original() {
     )
     .unwrap();
     assert!(!b.join("surface-0.csv").exists());
+}
+
+/// A floating body's run resumes (its `floating.csv` is the monitors' file of the
+/// checkpoint) and ends with the rows of the run in one go.
+#[test]
+fn a_floating_run_resumes_with_its_rows() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (a, b) = (tmp.path().join("a"), tmp.path().join("b"));
+    let go = |dir: &Path, t_end: &str| {
+        succeeded(
+            meshfree()
+                .args([
+                    "run",
+                    "floating-box-2d",
+                    "--backend",
+                    "cpu",
+                    "--format",
+                    "none",
+                ])
+                .args([
+                    "--output-interval",
+                    "0.025",
+                    "--quiet",
+                    "--t-end",
+                    t_end,
+                    "--out",
+                ])
+                .arg(dir),
+        )
+    };
+    go(&a, "0.1");
+    go(&b, "0.05");
+    succeeded(
+        meshfree()
+            .args(["run", "--resume"])
+            .arg(&b)
+            .args(["--t-end", "0.1", "--quiet"]),
+    );
+    let rows = |d: &Path| std::fs::read_to_string(d.join("floating.csv")).unwrap();
+    assert_eq!(rows(&a).lines().count(), 1 + 5);
+    assert_eq!(rows(&a), rows(&b));
 }

@@ -9,6 +9,7 @@
 #include "device/entries.cuh"
 #include "device/grid.cuh"
 #include "device/motion.cuh"
+#include "device/open.cuh"
 #include "device/packing.cuh"
 #include "device/particle.cuh"
 #include "device/step_size.cuh"
@@ -18,7 +19,7 @@
 // is driven (its one use here; 4 B per particle less in every other scene).
 __device__ __forceinline__ unsigned driven_test_group(const SphParams& p, const unsigned* __restrict__ group,
                                                       unsigned i) {
-    return p.driven ? group[i] : 0u;
+    return p.driven || p.open_count ? group[i] : 0u;
 }
 
 // The ramp of a ramped start [-] (`inflow_ramp` T_r > 0): r = (1 - cos(pi t / T_r)) / 2 for
@@ -60,6 +61,16 @@ template <int DIM>
 __device__ __forceinline__ bool kick_one(const SphParams& p, unsigned char k, unsigned g, const Vec<DIM>& x, float dt,
                                          float r_now, float r_step, double t0, double te,
                                          const float* __restrict__ acc, unsigned i, Vec<DIM>& v) {
+    // An open boundary's buffer: an inlet's prescribed velocity, an outlet's as it is
+    // (`buffer_velocity` in src/physics/open.rs).
+    if (const int ob = open_index(p, g); ob >= 0) {
+        const MfOpen& o = p.open[ob];
+        if (o.kind != MF_OPEN_INLET) return false;
+        const float r = (float)smooth_ramp((double)o.ramp, te);
+#pragma unroll
+        for (int d = 0; d < DIM; ++d) v.c[d] = o.velocity[d] * r;
+        return true;
+    }
     Vec<DIM> u;
 #pragma unroll
     for (int d = 0; d < DIM; ++d) u.c[d] = p.inflow_velocity[d];
@@ -162,6 +173,8 @@ __device__ __forceinline__ Vec<DIM> drift_one(const SphParams& p, unsigned n, un
     if (k == MF_KIND_BOUNDARY && (dk < 0 || p.driven_motion[dk].floating)) return x;
     if (dk >= 0) {
         x = driven_moved<DIM>(p, dk, x, dt, t0);
+    } else if (open_index(p, g) >= 0) {
+        x = x + v * dt;  // an open boundary's buffer: no XSPH, no shifting
     } else {
         x = x + (v + vload<DIM>(xsph, i)) * dt;  // eq. (18)
     }

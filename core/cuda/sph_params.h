@@ -36,6 +36,13 @@
 /* The most driven groups (objects with a `motion`) a scene may have. */
 #define MF_MAX_DRIVEN 8
 
+/* The most open boundaries (`[[open_boundaries]]`: inlets and outlets) a scene may have. */
+#define MF_MAX_OPEN 4
+
+/* What an open boundary is (`MfOpen::kind`). */
+#define MF_OPEN_INLET 0  /* particles made in its buffer at a prescribed velocity enter the fluid */
+#define MF_OPEN_OUTLET 1 /* the fluid that enters its buffer coasts out and is removed */
+
 /* Particle kinds (the `kind` array). */
 #define MF_KIND_FLUID 0
 #define MF_KIND_SOLID 1
@@ -144,6 +151,32 @@ typedef struct MfBody {
                                at x goes to centre + turn (x - centre + shift) */
 } MfBody;
 
+/* An open boundary (`[[open_boundaries]]`; device/open.cuh, twin src/physics/open.rs): a buffer
+ * box behind a plane normal to one axis, of `depth` along it. s = sign (x[axis] - plane) [L] is
+ * a point's distance on the fluid's side of the plane (negative in the buffer). The buffer's
+ * particles are fluid of scene group `group`; the open-boundary stage, first in each step:
+ *  - inlet: a buffer particle at s >= 0 joins the fluid (group `through`) and a copy of it
+ *    takes its place depth behind (new id); a fluid particle in the box (s < 0) is removed;
+ *    the kick sets the buffer's velocity to r(t) velocity (r the smooth start over `ramp`);
+ *  - outlet: a fluid particle in the box joins the buffer; a buffer particle beyond the box
+ *    (s < -depth, or outside it sideways) is removed, and one back at s >= 0 rejoins the
+ *    fluid (group `through`); the kick leaves the buffer's velocity as it entered.
+ * The drift moves buffer particles at their velocity, without XSPH or shifting; their
+ * density follows the continuity equation (or the summation) as the fluid's. */
+typedef struct MfOpen {
+    int32_t kind;       /* MF_OPEN_INLET or MF_OPEN_OUTLET */
+    int32_t group;      /* the buffer's scene group */
+    int32_t through;    /* the scene group of the particles that left the buffer for the fluid */
+    int32_t axis;       /* 0, 1 or 2: the plane's normal */
+    float sign;         /* +1 or -1: the inward normal (into the fluid) is sign e_axis */
+    float plane;        /* [L] the plane's coordinate on `axis` */
+    float depth;        /* [L] the buffer's depth behind the plane */
+    float lo[3];        /* [L] the buffer box's lower corner (sideways extent) */
+    float hi[3];        /* [L] its upper corner */
+    float velocity[3];  /* [L/T] inlet: the prescribed velocity (pointing into the fluid) */
+    float ramp;         /* [T] inlet: the smooth start of the velocity; 0: none */
+} MfOpen;
+
 typedef struct SphParams {
     /* ---- geometry and neighbour grid ---- */
     int32_t dim;           /* 2 or 3 */
@@ -173,6 +206,12 @@ typedef struct SphParams {
                               where it dips (a wake, a vortex core), so the fluid does not tear
                               there (tensile instability); 0 = off (the paper); not for a free
                               surface, where the pressure must fall to zero */
+    int32_t gradient_correction; /* 1: the fluid-fluid pressure term of eq. (7) takes the kernel
+                              gradient renormalised by the mean of the pair's matrices
+                              L = (sum_j V_j (x_j - x_i) (x) grad W_ij)^-T (Bonet & Lok 1999),
+                              blended to the plain gradient where the kernel sum falls below
+                              0.95 (none below 0.7: the free surface's top row, spray);
+                              CPU backend only; 0 = off (the paper) */
     float alpha;           /* [-] artificial viscosity, linear term, eq. (10) */
     float beta;            /* [-] artificial viscosity, quadratic term, eq. (10) */
     float av_eta2;         /* derived: [L^2] 0.001 h^2, singularity guard in mu_ij, eq. (10) */
@@ -278,6 +317,8 @@ typedef struct SphParams {
                                    the band at r(t) inflow_velocity and every particle the kick
                                    integrates outside it accelerated by d(r inflow_velocity)/dt,
                                    r = (1 - cos(pi t / T_r)) / 2 up to T_r, then 1 */
+    int32_t open_count;         /* how many open boundaries (0 .. MF_MAX_OPEN) */
+    MfOpen open[MF_MAX_OPEN];
     int32_t damping;            /* 1: a damping zone (a sponge layer at a flume's far end, as
                                    DualSPHysics' damping zone, Altomare et al. 2017, Coastal Eng.
                                    127): the kick relaxes a fluid particle's velocity,

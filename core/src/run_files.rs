@@ -11,6 +11,8 @@ pub const CLUSTERS: &str = "clusters.csv";
 pub const BODIES: &str = "bodies.csv";
 /// The floating rigid bodies' pose, velocities and loads.
 pub const FLOATING: &str = "floating.csv";
+/// The open boundaries' particles and mass in and out.
+pub const OPEN_BOUNDARIES: &str = "open_boundaries.csv";
 /// Void fractions (`[output] voids`).
 pub const VOIDS: &str = "voids.csv";
 /// `[[probes]]` samples, all probes in one file.
@@ -27,11 +29,12 @@ pub const SCENE: &str = "scene.toml";
 pub const CHECKPOINT: &str = "checkpoint.bin";
 
 /// Every file above.
-pub const FILES: [&str; 11] = [
+pub const FILES: [&str; 12] = [
     DIAGNOSTICS,
     CLUSTERS,
     BODIES,
     FLOATING,
+    OPEN_BOUNDARIES,
     VOIDS,
     PROBES,
     GAUGES,

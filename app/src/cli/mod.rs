@@ -1,7 +1,7 @@
 //! The command line (clap derive). `main.rs` parses `Cli` and calls `cli::main`; each
 //! command's arguments and handler are in the file named for it (`run.rs`, `scenes.rs` for
 //! `scenes` and `check`, `bench.rs`, `view.rs` for `view` and `render`, `compare.rs`,
-//! `validate.rs`, `stability.rs`, `chart.rs`, `docs.rs`).
+//! `validate.rs`, `stability.rs`, `chart.rs`, `docs.rs`, `waves.rs`).
 
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand};
@@ -20,6 +20,7 @@ mod scenes;
 mod stability;
 mod validate;
 mod view;
+mod waves;
 
 pub use bench::{BenchArgs, BenchMode, PaperBenchArgs, PeersBenchArgs};
 pub use chart::ChartArgs;
@@ -30,6 +31,7 @@ pub use scenes::{scene_rows, CheckArgs, SceneRow, ScenesArgs};
 pub use stability::StabilityArgs;
 pub use validate::ValidateArgs;
 pub use view::{RenderArgs, ViewArgs};
+pub use waves::{WavesArgs, WavesReport};
 
 /// The parser of a `Named` option: its values with their help in `--help`.
 fn named<T: Named>() -> impl TypedValueParser<Value = T> {
@@ -110,6 +112,10 @@ pub enum Command {
     /// Compare two particle CSV files (`run --format csv`, or another code's export in the same
     /// columns): per-field error norms and the worst particles.
     Compare(CompareArgs),
+    /// Regular waves at a run's gauges (gauges.csv): each gauge's mean level and wave height
+    /// over whole periods, and the incident and reflected heights and the reflection
+    /// coefficient from two or more gauges (Mansard & Funke 1980).
+    Waves(WavesArgs),
     /// Accuracy cases against published references (hydrostatic tank, dam break, Poiseuille,
     /// Taylor-Green, cylinder, onset of shedding, oscillating plate, elastic gate): plots,
     /// report.md and report.json; exits non-zero when a check fails.
@@ -198,6 +204,7 @@ pub fn main(cli: Cli) -> anyhow::Result<()> {
         Command::Check(a) => scenes::check(a),
         Command::Bench(a) => bench::bench(a),
         Command::Compare(a) => compare::compare(a),
+        Command::Waves(a) => waves::waves(a),
         Command::Validate(a) => validate::validate(a),
         Command::Stability(a) => stability::stability(a),
         Command::Chart(a) => chart::chart(a),

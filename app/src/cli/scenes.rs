@@ -129,7 +129,48 @@ pub(super) fn check(a: CheckArgs) -> anyhow::Result<()> {
     for line in body_lines(&s, &setup) {
         crate::outln!("  {line}")?;
     }
+    for line in open_lines(&setup) {
+        crate::outln!("  {line}")?;
+    }
     Ok(())
+}
+
+/// One line per open boundary: its kind, plane, depth and buffer particles; for an inlet,
+/// the particles and mass a second it lets in at full velocity (its buffer's particles times
+/// the velocity along the normal over the depth).
+fn open_lines(setup: &meshfree_core::solver::Setup) -> Vec<String> {
+    let p = &setup.params;
+    let axis = ["x", "y", "z"];
+    p.open[..p.open_count.max(0) as usize]
+        .iter()
+        .enumerate()
+        .map(|(b, o)| {
+            let (n, mass) = (setup.particles.iter())
+                .filter(|q| q.group as i32 == o.group)
+                .fold((0usize, 0.0f64), |(n, m), q| (n + 1, m + q.mass as f64));
+            let a = o.axis as usize;
+            let sign = if o.sign > 0.0 { "+" } else { "-" };
+            let head = format!(
+                "open_boundaries[{b}]: {} at {} = {}, normal {sign}{}, {} deep",
+                if o.is_inlet() { "inlet" } else { "outlet" },
+                axis[a],
+                o.plane,
+                axis[a],
+                o.depth
+            );
+            if o.is_inlet() {
+                let rate = (o.sign * o.velocity[a]) as f64 / o.depth as f64;
+                format!(
+                    "{head}, {n} buffer particles: about {:.0} particles and {:.6} mass a \
+                     second in at full velocity",
+                    n as f64 * rate,
+                    mass * rate
+                )
+            } else {
+                format!("{head}: removes what flows out")
+            }
+        })
+        .collect()
 }
 
 /// One line per floating body: its wall, mass, centre of mass, the principal moments of its
@@ -178,7 +219,8 @@ fn body_lines(s: &Scene, setup: &meshfree_core::solver::Setup) -> Vec<String> {
 }
 
 /// One line per surface of `s` (`mesh`, `polygon`, `inside`): its file, triangles (edges),
-/// box, volume (area), holes and orientation, and the particles its object made.
+/// box, volume (area; an open one's own area or length), holes and orientation, and the
+/// particles its object made.
 fn surface_lines(
     s: &Scene,
     particles: &[meshfree_core::physics::particle::Particle],
@@ -193,13 +235,16 @@ fn surface_lines(
         .filter_map(|placed| {
             let i = &placed.outline.loaded.get()?.info;
             let made = particles.iter().filter(|p| p.group == placed.group).count();
-            let (elements, measure) = if dim == 3 {
-                ("triangles", "volume")
-            } else {
-                ("edges", "area")
+            let (elements, measure, size) = match (dim, i.open) {
+                (3, false) => ("triangles", "volume", i.volume),
+                (_, false) => ("edges", "area", i.volume),
+                (3, true) => ("triangles", "area", i.area),
+                (_, true) => ("edges", "length", i.area),
             };
             let t = &i.topology;
-            let edges = if t.open_edges == 0 {
+            let edges = if i.open {
+                "open: its sides from its faces' order".to_string()
+            } else if t.open_edges == 0 {
                 "closed".to_string()
             } else {
                 format!(
@@ -219,7 +264,7 @@ fn surface_lines(
                 i.elements,
                 v(&i.lo),
                 v(&i.hi),
-                i.volume
+                size
             ))
         })
         .collect()

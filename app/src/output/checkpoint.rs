@@ -56,6 +56,9 @@ struct Header<R> {
     /// The floating bodies' states (exact: JSON's numbers read back to the same f64).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     bodies: Vec<BodyState>,
+    /// The open boundaries' next id and tallies (exact, as the bodies'); absent without.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    open: Option<meshfree_core::physics::open::OpenState>,
     /// Only in the index of a checkpoint in pieces.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pieces: Option<PieceList>,
@@ -162,6 +165,7 @@ fn write_file<R: Serialize>(
         steps: solver.steps,
         dt: solver.dt,
         bodies: solver.bodies.clone(),
+        open: solver.open.clone(),
         arrays: ARRAYS
             .iter()
             .map(|&(name, ty)| ArrayEntry {
@@ -255,6 +259,7 @@ fn read_file<R: DeserializeOwned>(path: &Path) -> Result<Contents<R>, String> {
         steps: header.steps,
         dt: header.dt,
         bodies: header.bodies,
+        open: header.open,
         ..SolverCheckpoint::default()
     };
     let expected: Vec<(&str, &str)> = ARRAYS.to_vec();

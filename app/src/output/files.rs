@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 
 pub use meshfree_core::run_files::{
     frame_file, monitor_file, BODIES, CHECKPOINT, CLUSTERS, DIAGNOSTICS, FILES, FLOATING, GAUGES,
-    PROBES, SCENE, SERIES, SUMMARY, VOIDS,
+    OPEN_BOUNDARIES, PROBES, SCENE, SERIES, SUMMARY, VOIDS,
 };
 
 /// The output index of a particle file's name (`frame`'s inverse).

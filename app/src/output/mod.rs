@@ -1,7 +1,7 @@
 //! Run output: binary VTK particle files with a `.pvd` series for ParaView (`vtk`) or
 //! particle CSV (`particles_csv`), written by the writer thread (`writer`); the diagnostics
 //! CSV (`diagnostics`), the force monitors' CSV (`forces_csv`), the elastic bodies' CSV
-//! (`bodies_csv`), the floating bodies' (`floating_csv`) and the JSON run summary (`summary`). A finished run's frames are read back
+//! (`bodies_csv`), the floating bodies' (`floating_csv`), the open boundaries' (`open_csv`) and the JSON run summary (`summary`). A finished run's frames are read back
 //! by `frames` (its VTU files by `vtu_read`) for `render DIR` and `view DIR`.
 pub mod bodies_csv;
 pub mod checkpoint;
@@ -10,6 +10,7 @@ pub mod files;
 pub mod floating_csv;
 pub mod forces_csv;
 pub mod frames;
+pub mod open_csv;
 pub mod particles_csv;
 pub mod summary;
 pub mod vtk;
@@ -21,6 +22,7 @@ pub use diagnostics::DiagnosticsCsv;
 pub use floating_csv::FloatingCsv;
 pub use forces_csv::ForcesCsv;
 pub use frames::{RecordedFrame, RecordedRun};
+pub use open_csv::OpenCsv;
 pub use particles_csv::{read_particles_csv, write_particles_csv};
 pub use summary::{RunStatus, RunSummary, Timing};
 pub use vtk::{write_vtu, PvdSeries};

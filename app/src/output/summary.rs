@@ -80,6 +80,10 @@ pub struct RunSummary {
     /// volume) and of radius of gyration over the outputs (`analysis::bodies`).
     #[serde(default)]
     pub bodies: Vec<BodySummary>,
+    /// The open boundaries (`[[open_boundaries]]`' order): the particles and mass \[M\] in
+    /// and out through each since the run began (over every part of a resumed run).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub open_boundaries: Vec<meshfree_core::physics::open::OpenTally>,
     /// The simulated time \[T\] of the last checkpoint (`checkpoint.bin`, from which `meshfree
     /// run --resume` continues); none where the run wrote none.
     #[serde(default)]

@@ -69,8 +69,18 @@ pub(super) fn check(r: &Resume) -> Result<(), String> {
             ));
         }
     }
-    let monitors: Vec<String> = (r.scene.file.monitors.iter())
+    let f = &r.scene.file;
+    // The monitors' part holds the force monitors' files, `floating.csv` and
+    // `open_boundaries.csv` (`monitors::Monitors::state`), each where the scene has them.
+    let monitors: Vec<String> = (f.monitors.iter())
         .map(|m| files::monitor_file(&m.name))
+        .chain(
+            f.walls
+                .iter()
+                .any(|w| w.floating().is_some())
+                .then(|| files::FLOATING.to_string()),
+        )
+        .chain((!f.open_boundaries.is_empty()).then(|| files::OPEN_BOUNDARIES.to_string()))
         .collect();
     let parts = [
         (

@@ -223,6 +223,7 @@ impl Ctx {
             0.0
         };
         s.final_diagnostics = Some(self.solver.diagnostics());
+        s.open_boundaries = self.solver.open_tally();
         s.timing = Timing {
             total_seconds: s.wall_seconds,
             ..self.timing()

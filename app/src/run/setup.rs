@@ -271,6 +271,7 @@ impl<'o> Setup<'o> {
             fault_frame: None,
             monitors: Vec::new(),
             bodies: Vec::new(),
+            open_boundaries: Vec::new(),
             checkpoint_time: self.checkpoint_time,
             resumed_from: self.resumed_from.clone(),
         }

@@ -87,6 +87,24 @@ pub fn create(
                 .into(),
         ));
     }
+    if setup.params.open_count > 0 && layout != Layout::One {
+        // Open boundaries (`physics::open`) change the particle count: in one domain only
+        // for now (issue #55).
+        return Err(BackendError::Decomposition(
+            "the scene has open boundaries, which run in one domain for now: run it without \
+             --decompose, --gpus or --mpi"
+                .into(),
+        ));
+    }
+    if setup.params.gradient_correction != 0 && layout != Layout::One {
+        // A halo particle's matrix would miss the neighbours beyond the halo.
+        return Err(BackendError::Decomposition(
+            "[fluid] gradient_correction runs in one domain for now (a particle's matrix at \
+             the halo's edge would miss its neighbours beyond it): run it without \
+             --decompose, --gpus or --mpi"
+                .into(),
+        ));
+    }
     if layout != Layout::One {
         // Every subdomain holds the solids' arrays where the scene has solids: its halo may
         // bring some (`SphParams::own_solids`).

@@ -91,6 +91,11 @@ pub fn estimate(s: &SceneFile) -> Estimate {
     for b in &s.fluid_blocks {
         n += lattice(&b.min, &b.max, dx, dim);
     }
+    // An inlet's buffer from the start; an outlet's fills as the fluid enters it (the fluid
+    // it holds left the domain's count as much as it joined it: a bound, not the count).
+    for o in &s.open_boundaries {
+        n += lattice(&o.min, &o.max, dx, dim);
+    }
     for o in &s.solids {
         n += match o {
             SolidObject::Box { min, max, .. } => lattice(min, max, dx, dim),
@@ -128,13 +133,27 @@ pub fn estimate(s: &SceneFile) -> Estimate {
                 rings * *layers as f64 * depth
             }
             // The box of the surface with its rows (the rows of a tank fill a thin band of it:
-            // a loose bound).
+            // a loose bound). An open surface's rows (a sea bed, a terrain) lie on one side:
+            // at most twice its area times the rows' depth and a spacing, and in 2D the
+            // discs at its two ends, where that is less.
             Wall::Mesh {
                 mesh: o, layers, ..
             }
             | Wall::Polygon {
                 polygon: o, layers, ..
-            } => boxed(o, (*layers as f64 + 1.0) * dx),
+            } => {
+                let depth = (*layers as f64 + 1.0) * dx;
+                let band = o.loaded.get().filter(|m| m.info.open).map(|m| {
+                    let ends = if dim == 2 {
+                        2.0 * std::f64::consts::PI * (depth / dx).powi(2)
+                    } else {
+                        0.0
+                    };
+                    2.0 * m.info.area * depth / dx.powi(dim as i32) + ends
+                });
+                let boxed = boxed(o, depth);
+                band.map_or(boxed, |b| b.min(boxed))
+            }
         };
     }
     let support = 2.0 * s.discretisation.h();

@@ -12,6 +12,9 @@ use serde::{Deserialize, Serialize};
 use crate::named::Named;
 use crate::solver::frame::{Field, Fields};
 
+mod motion;
+pub use motion::{Motion, MotionLaw, Oscillation, Paddle, Rotation, WaveMaker};
+
 /// Coordinate axis names.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -53,6 +56,8 @@ pub struct Inflow {
     pub ramp: f64,
 }
 
+pub use super::open::{OpenBoundary, OpenKind};
+
 /// A sponge layer (`[damping_zone]`): the kick relaxes the velocity of fluid particles in
 /// it, v *= exp(-strength r^2 dt), r rising from 0 at `start` to 1 at `end` along `axis`
 /// (and 1 beyond): the passive absorption at a flume's far end (DualSPHysics' damping
@@ -69,7 +74,7 @@ pub struct DampingZone {
     pub strength: f64,
 }
 
-fn is_zero(x: &f64) -> bool {
+pub(super) fn is_zero(x: &f64) -> bool {
     *x == 0.0
 }
 
@@ -211,7 +216,9 @@ pub struct FluidBlock {
 /// A closed surface put in place: a 3D object's `mesh` (a file: STL binary or ASCII, OBJ,
 /// PLY), a 2D object's `polygon` (its corners in `points`, or a text file of `x y` lines),
 /// a fluid block's `inside` (`scene::geometry`: read once with the scene, checked, turned
-/// outward where wound inward). The file is scaled, then turned, then moved.
+/// outward where wound inward). A wall's surface may be open (`Side`: `solid` = "back" or
+/// "front" in 3D, "left" or "right" in 2D): it is then taken as the file orders it, and a
+/// 2D line's points are not closed into a loop. The file is scaled, then turned, then moved.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Outline {
@@ -260,16 +267,46 @@ fn one() -> f64 {
     1.0
 }
 
-/// Which side of a closed surface a wall's particles fill (`solid` of a mesh or polygon
-/// wall).
+/// Which side of its surface a mesh or polygon wall's rows fill (`solid`). A closed surface
+/// (turned outward where wound inward) has an inside and an outside; an open one (a
+/// terrain, a sea bed, a sheet, a profile line) has two faces, told apart by the order of
+/// its corners as the file gives them: the rows lie within `layers` spacings of it on that
+/// side, and fluid and solids on that side are not generated (beyond its edges too: the
+/// side of a point is that of the surface's closest point). A 2D sea bed with a beach, the
+/// water above it: `shape = "polygon"`, `polygon = { points = [[0, 0.1], [2, 0.1], [3,
+/// 0.4]] }`, `solid = "right"`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Side {
-    /// The surface is an obstacle: the rows lie inside it, the fluid around it.
+    /// A closed surface is an obstacle: the rows lie inside it, the fluid around it.
     #[default]
     Inside,
-    /// The surface holds the fluid (a tank, a channel): the rows lie outside it.
+    /// A closed surface holds the fluid (a tank, a channel): the rows lie outside it.
     Outside,
+    /// 3D, an open (or any) mesh: the rows lie behind its faces, against their normals
+    /// (a triangle's normal points to where its corners turn anticlockwise, as in STL).
+    Back,
+    /// 3D, an open (or any) mesh: the rows lie in front of its faces.
+    Front,
+    /// 2D, an open line of `points` (or a file of them): the rows lie on its left, walking
+    /// from its first point to its last.
+    Left,
+    /// 2D, an open line: the rows lie on its right (a sea bed given from the paddle to the
+    /// beach, with the water above it).
+    Right,
+}
+
+impl Side {
+    /// The surface is open: its side comes from its faces' orientation, not from an inside.
+    pub fn open(self) -> bool {
+        !matches!(self, Side::Inside | Side::Outside)
+    }
+
+    /// The rows lie where `geometry::Surface::inside` is true: inside a closed surface,
+    /// behind an open mesh's faces, left of an open line.
+    pub fn inside(self) -> bool {
+        matches!(self, Side::Inside | Side::Back | Side::Left)
+    }
 }
 
 /// An elastic body. `shape` picks the variant; the other keys belong to that shape.
@@ -355,138 +392,6 @@ impl SolidObject {
     }
 }
 
-/// A driven object's prescribed rigid motion (`motion` of a wall or a solid): a velocity
-/// `[vx, vy(, vz)]` [L/T] (steady: a piston, a clamp with zeros), or a table of laws
-/// (`MotionLaw`). The solver's form and equations: `MfMotion` (`physics::motion`).
-#[derive(Clone, Debug, PartialEq, Serialize)]
-#[serde(untagged)]
-pub enum Motion {
-    Velocity(Vec<f64>),
-    Law(MotionLaw),
-}
-
-/// `motion = { velocity, oscillation, rotation, ramp }`: a translation at `velocity` plus an
-/// oscillation, and a turn about a pivot, each started smoothly over `ramp` where given.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MotionLaw {
-    /// \[L/T\] steady translation. Default none.
-    #[serde(default)]
-    pub velocity: Option<Vec<f64>>,
-    /// A sinusoidal translation: displacement amplitude (sin(2 pi t / period + phase) - sin
-    /// phase) (a piston wave maker, a shaken tank). Default none.
-    #[serde(default)]
-    pub oscillation: Option<Oscillation>,
-    /// A turn about `pivot`, at a steady `rate` plus an oscillation of the angle (a flap, a
-    /// sloshing tank, a stirrer). Default none.
-    #[serde(default)]
-    pub rotation: Option<Rotation>,
-    /// A wave maker's paddle: the stroke of a regular wave of given height and period by
-    /// linear wave-maker theory (a piston's oscillation or a flap's turn). Default none.
-    #[serde(default)]
-    pub wave: Option<WaveMaker>,
-    /// \[T\] a smooth start, (1 - cos(pi t / ramp)) / 2 of every velocity up to `ramp`
-    /// (an oscillation's amplitude grows with it). Default 0: none.
-    #[serde(default)]
-    pub ramp: f64,
-}
-
-/// A paddle making regular waves along +x in still water of `depth` over a floor, y up
-/// (`MotionLaw::wave`; `scene::wave`): the stroke S from the first-order transfer function
-/// H / S of Biesel (Dean & Dalrymple 1991, sec. 6.2) with the wave number from the linear
-/// dispersion relation. A piston moves by (S / 2) sin(2 pi t / period + phase) along x; a
-/// flap, hinged at `hinge` on the floor, turns its top at the still-water level by as much.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct WaveMaker {
-    pub paddle: Paddle,
-    /// \[L\] the target wave height H (crest to trough).
-    pub height: f64,
-    /// \[T\] the wave period.
-    pub period: f64,
-    /// \[L\] the still-water depth at the paddle.
-    pub depth: f64,
-    /// \[rad\] default 0.
-    #[serde(default)]
-    pub phase: f64,
-    /// \[L\] a flap's hinge: the point on the floor about which it turns (the paddle's
-    /// face at the floor). Flaps only.
-    #[serde(default)]
-    pub hinge: Option<Vec<f64>>,
-}
-
-/// A wave maker's paddle.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Paddle {
-    /// Moves back and forth along x, the same stroke over the depth.
-    Piston,
-    /// Turns about a hinge on the floor: the stroke grows from the floor to the surface.
-    Flap,
-}
-
-/// A sinusoidal translation of a driven object (`MotionLaw::oscillation`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Oscillation {
-    /// \[L\] displacement amplitude, one number per axis.
-    pub amplitude: Vec<f64>,
-    /// \[T\] > 0.
-    pub period: f64,
-    /// \[rad\] Default 0: the object starts at its place, moving at its fastest.
-    #[serde(default)]
-    pub phase: f64,
-}
-
-/// A turn of a driven object about `pivot` (`MotionLaw::rotation`): theta(t) = rate t +
-/// amplitude (sin(2 pi t / period + phase) - sin phase), positive anticlockwise about `axis`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Rotation {
-    /// \[L\] the centre of rotation at t = 0 (it moves with the translation).
-    pub pivot: Vec<f64>,
-    /// 3D: the axis, any length (normalised). 2D scenes turn about z: leave it out.
-    #[serde(default)]
-    pub axis: Option<Vec<f64>>,
-    /// \[rad/T\] steady angular velocity. Default 0.
-    #[serde(default)]
-    pub rate: f64,
-    /// \[rad\] amplitude of the angle's oscillation. Default 0.
-    #[serde(default)]
-    pub amplitude: f64,
-    /// \[T\] period of the angle's oscillation (> 0 where `amplitude` is not 0).
-    #[serde(default)]
-    pub period: f64,
-    /// \[rad\] Default 0.
-    #[serde(default)]
-    pub phase: f64,
-}
-
-impl<'de> Deserialize<'de> for Motion {
-    /// A sequence is a velocity, a table a `MotionLaw` (its own errors: an unknown key, a
-    /// wrong type, name the key), anything else an error that says both forms.
-    fn deserialize<De: serde::Deserializer<'de>>(d: De) -> Result<Self, De::Error> {
-        use serde::de::value::{MapAccessDeserializer, SeqAccessDeserializer};
-        struct Form;
-        impl<'de> serde::de::Visitor<'de> for Form {
-            type Value = Motion;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str(
-                    "a velocity [vx, vy(, vz)] or a table of velocity, oscillation, rotation, wave \
-                     and ramp",
-                )
-            }
-            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, a: A) -> Result<Motion, A::Error> {
-                Vec::<f64>::deserialize(SeqAccessDeserializer::new(a)).map(Motion::Velocity)
-            }
-            fn visit_map<A: serde::de::MapAccess<'de>>(self, a: A) -> Result<Motion, A::Error> {
-                MotionLaw::deserialize(MapAccessDeserializer::new(a)).map(Motion::Law)
-            }
-        }
-        d.deserialize_any(Form)
-    }
-}
-
 /// Fixed boundary particles. Any wall may be a gate, removed at `remove_at`, or driven:
 /// `motion` (`Motion`) moves all its particles rigidly (a piston, a flap, a sloshing
 /// tank). A box, cylinder, mesh or polygon wall may instead float: `floating`
@@ -538,10 +443,11 @@ pub enum Wall {
         motion: Option<Motion>,
     },
     /// 3D: `layers` rows of boundary particles, the domain's lattice points within `layers`
-    /// spacings of a closed surface from a file, on its `solid` side: inside it (an
-    /// obstacle) or outside it (a tank or a channel that holds the fluid). Fluid and solids
-    /// on that side are not generated. Each particle's normal and distance to the surface
-    /// come from the surface's closest point.
+    /// spacings of a surface from a file, on its `solid` side (`Side`): inside a closed
+    /// surface (an obstacle) or outside it (a tank or a channel that holds the fluid); behind
+    /// or in front of an open one (a terrain, a sheet). Fluid and solids on that side are not
+    /// generated. Each particle's normal and distance to the surface come from the surface's
+    /// closest point.
     Mesh {
         mesh: Outline,
         /// Default "inside".
@@ -557,7 +463,8 @@ pub enum Wall {
         #[serde(default)]
         floating: Option<Floating>,
     },
-    /// 2D: the same along a closed polygon.
+    /// 2D: the same along a closed polygon, or (`solid` = "left" or "right") along an open
+    /// line through the points in their order.
     Polygon {
         polygon: Outline,
         /// Default "inside".

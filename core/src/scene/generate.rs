@@ -105,10 +105,11 @@ impl Region<'_> {
                     (lo[k], hi[k]) = (center[k] - radius, center[k] + radius);
                 }
             }
+            // Behind an open surface is a half-space, not its box.
             Region::Surface {
                 surface,
                 inside: true,
-            } => {
+            } if !surface.info.open => {
                 lo[..dim].copy_from_slice(&surface.info.lo[..dim]);
                 hi[..dim].copy_from_slice(&surface.info.hi[..dim]);
             }
@@ -505,7 +506,7 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
                 ..
             } => {
                 let surface = o.surface();
-                let inside = *solid == Side::Inside;
+                let inside = solid.inside();
                 let width = *layers as f64 * dx;
                 let (lo, hi) = clipped(surface, width, &s.domain, dim);
                 let pick = Pick::Band { inside, width };
@@ -526,14 +527,32 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
         });
     }
 
-    // Precedence: walls, then solids, then fluid; within a kind, scene order.
-    let rank = |k: Kind| match k {
+    // The inlets' buffers (`[[open_boundaries]]`): fluid on the box's lattice, of the
+    // buffer's group. An outlet's buffer starts empty.
+    let n_objects = objects.len();
+    let inlets: Vec<usize> = (0..s.open_boundaries.len())
+        .filter(|&b| s.open_boundaries[b].kind == OpenKind::Inlet)
+        .collect();
+    for &b in &inlets {
+        let o = &s.open_boundaries[b];
+        objects.push(Object {
+            group: super::open::buffer_group(s, b),
+            kind: Kind::Fluid,
+            points: box_points(&o.min, &o.max, dx, dim),
+            region: Region::Box(&o.min, &o.max),
+        });
+    }
+
+    // Precedence: walls, then solids, then the inlets' buffers, then fluid; within a kind,
+    // scene order.
+    let rank = |i: usize| match objects[i].kind {
         Kind::Boundary => 0,
         Kind::Solid => 1,
-        Kind::Fluid => 2,
+        Kind::Fluid if i >= n_objects => 2,
+        Kind::Fluid => 3,
     };
     let mut order: Vec<usize> = (0..objects.len()).collect();
-    order.sort_by_key(|&i| (rank(objects[i].kind), objects[i].group));
+    order.sort_by_key(|&i| (rank(i), objects[i].group));
 
     // The objects in precedence order, each against the ones before it: a grid of the points
     // kept so far near the object, then its points tested in parallel (each test reads only
@@ -615,6 +634,12 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
     for (i, obj) in objects.iter().enumerate() {
         // A driven object starts at its motion's velocity there (`Motion::start_velocity`).
         let (rho_ref, velocity, motion) = match obj.kind {
+            // An inlet's buffer: at its velocity at t = 0 (none under a ramp).
+            Kind::Fluid if i >= n_objects => {
+                let o = &s.open_boundaries[inlets[i - n_objects]];
+                let r = if o.ramp > 0.0 { 0.0 } else { 1.0 };
+                (f.density, vec3(o.velocity.as_ref()).map(|u| r * u), None)
+            }
             Kind::Fluid => {
                 let mut v = vec3(s.fluid_blocks[i].velocity.as_ref());
                 if let Some(b) = s.inflow.as_ref().filter(|b| b.ramp > 0.0) {
@@ -642,7 +667,7 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
         let first = out.len() as u32;
         let particle = |(j, p): (usize, &P3)| {
             let (mut density, mut pressure) = (rho_ref, 0.0);
-            if obj.kind == Kind::Fluid && s.fluid_blocks[i].hydrostatic {
+            if obj.kind == Kind::Fluid && i < n_objects && s.fluid_blocks[i].hydrostatic {
                 pressure = hydrostatic_pressure(&s.fluid_blocks[i], &g, f.density, p, dim);
                 density = f.density * (1.0 + pressure / tait_b).powf(1.0 / f.gamma);
             }

@@ -20,6 +20,7 @@ mod generate;
 pub mod geometry;
 pub mod input_limits;
 mod motion;
+mod open;
 pub mod paper_exact;
 pub mod scheme;
 mod spatial;
@@ -40,6 +41,10 @@ use crate::solver::Setup;
 
 /// The built-in scenes: (name, TOML text). The files in `scenes/` are these.
 pub const BUILTIN: &[(&str, &str)] = &[
+    (
+        "channel-open-2d",
+        include_str!("../../../scenes/channel-open-2d.toml"),
+    ),
     (
         "cow-dam-break-3d",
         include_str!("../../../scenes/cow-dam-break-3d.toml"),
@@ -65,7 +70,12 @@ pub const BUILTIN: &[(&str, &str)] = &[
         include_str!("../../../scenes/floating-box-2d.toml"),
     ),
     ("flume-2d", include_str!("../../../scenes/flume-2d.toml")),
+    ("beach-2d", include_str!("../../../scenes/beach-2d.toml")),
     ("nozzle", include_str!("../../../scenes/nozzle.toml")),
+    (
+        "nozzle-open",
+        include_str!("../../../scenes/nozzle-open.toml"),
+    ),
     (
         "sloshing-2d",
         include_str!("../../../scenes/sloshing-2d.toml"),
@@ -429,6 +439,7 @@ fn scene_params(s: &SceneFile) -> SphParams {
             *o = *v as f32;
         }
     }
+    open::write_params(s, &mut p);
     for (k, (group, motion)) in driven_objects(s).enumerate().take(p.driven_motion.len()) {
         p.driven = k as i32 + 1;
         p.driven_motion[k] = motion.params(group, s.dimension as usize, wave::gravity(s));

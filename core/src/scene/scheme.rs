@@ -34,7 +34,8 @@ use needs::*;
 use serde::{Deserialize, Serialize};
 
 use crate::scene::format::{
-    DampingZone, Domain, FluidBlock, Gauge, Inflow, Monitor, Output, Probe, SolidObject, Wall,
+    DampingZone, Domain, FluidBlock, Gauge, Inflow, Monitor, OpenBoundary, Output, Probe,
+    SolidObject, Wall,
 };
 
 /// [-] Quadratic artificial viscosity of the paper's own scheme (`--paper-exact`), eq. (10)
@@ -77,6 +78,9 @@ pub struct SceneFile {
     /// A band whose fluid moves at a set velocity (a periodic channel's driver).
     #[serde(default)]
     pub inflow: Option<Inflow>,
+    /// Inlets and outlets: buffers that make and remove particles (an open channel).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub open_boundaries: Vec<OpenBoundary>,
     /// A sponge layer that slows the fluid (a flume's passive absorption).
     #[serde(default)]
     pub damping_zone: Option<DampingZone>,
@@ -432,6 +436,20 @@ table! {
             check: [Fraction("0.2 is the usual value; larger moves particles by more than the flow does")],
             param: [p.shifting],
         },
+        /// true: the fluid-fluid pressure term of eq. (7) takes the kernel gradient
+        /// renormalised (Bonet & Lok 1999; Oger et al. 2007) by the mean of the pair's
+        /// matrices L = (sum_j V_j (x_j - x_i) (x) grad_i W_ij)^-T, which keeps momentum
+        /// conserved; blended to the plain gradient where the particle's kernel sum
+        /// sum_j V_j W_ij falls below 0.95, none below 0.7 (a free surface's top row, spray).
+        /// Gravity waves then run at their linear speed: the plain gradient makes a standing
+        /// wave 4-7 % fast at every resolution and damps it 2x faster (docs/journal,
+        /// 2026-12-07 waves); CPU backend only for now.
+        gradient_correction: bool {
+            default: [false, "off: the paper's eq. (7); the CUDA backend has no correction yet"],
+            paper: [is false, "eq. (7) as it stands"],
+            check: [Any],
+            param: [p.gradient_correction],
+        },
         /// [M L^-d L^2/T^2] background pressure added to the equation of state (fluid and
         /// dynamic walls), for confined flows whose pressure dips below zero (wakes, vortex
         /// cores), where the fluid would otherwise tear; not for a free surface.
@@ -670,6 +688,11 @@ pub const FROM_SCENE: &[(&str, &str)] = &[
     ("inflow_hi", "[inflow] max"),
     ("inflow_velocity", "[inflow] velocity"),
     ("inflow_ramp", "[inflow] ramp"),
+    ("open_count", "[[open_boundaries]]"),
+    (
+        "open",
+        "each of [[open_boundaries]]: its box, normal, velocity and groups",
+    ),
     ("damping", "[damping_zone]"),
     ("damping_axis", "[damping_zone] axis"),
     ("damping_start", "[damping_zone] start"),

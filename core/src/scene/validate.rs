@@ -299,6 +299,7 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
     }
     clamp_lattice(&c, s)?;
     zones::check(&c, s)?;
+    super::open::check(&c, s)?;
     let mut names = std::collections::HashSet::new();
     for (i, m) in s.monitors.iter().enumerate() {
         let field = format!("monitors[{i}]");

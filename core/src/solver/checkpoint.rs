@@ -109,6 +109,11 @@ pub struct SolverCheckpoint {
     /// The floating rigid bodies' states (`Setup::bodies`' order); empty without.
     #[serde(default)]
     pub bodies: Vec<BodyState>,
+    /// The open boundaries' next id and tallies; None without open boundaries. Under open
+    /// boundaries the fluid's particles are not the scene's (`mismatch` compares the
+    /// others).
+    #[serde(default)]
+    pub open: Option<crate::physics::open::OpenState>,
 }
 
 /// A floating body's state for a restart: the fields of `MfBody` that its steps change
@@ -211,6 +216,33 @@ impl SolverCheckpoint {
             rho_dev: solid.map_or_else(Vec::new, |s| s.rho_dev.clone()),
             tl_disp: tl_disp.iter().map(|&v| D::to3(v)).collect(),
             bodies: Vec::new(),
+            open: None,
+        }
+    }
+
+    /// The open boundaries' state of this checkpoint, for a scene with the parameters `p`:
+    /// one with open boundaries must have it, one without must not.
+    pub fn open_state(
+        &self,
+        p: &crate::physics::params::SphParams,
+    ) -> Result<crate::physics::open::OpenState, String> {
+        use crate::physics::open::OpenState;
+        let saved = self;
+        let n = p.open_count.max(0) as usize;
+        match &saved.open {
+            None if n == 0 => Ok(OpenState::default()),
+            Some(o) if o.tally.len() == n && saved.id.iter().all(|&i| i < o.next_id) => {
+                Ok(o.clone())
+            }
+            Some(o) if o.tally.len() == n => Err(format!(
+                "it holds a particle id at or past its next new id {}",
+                o.next_id
+            )),
+            Some(o) => Err(format!(
+                "it holds {} open boundaries and the scene {n}",
+                o.tally.len()
+            )),
+            None => Err(format!("it holds no open boundaries and the scene {n}")),
         }
     }
 
@@ -273,10 +305,21 @@ impl SolverCheckpoint {
                 "its arrays disagree in length ({n} ids; {lengths:?})"
             ));
         }
-        if n != like.id.len() {
+        // Under open boundaries the fluid's particles come and go: the others are compared.
+        let fluid = crate::physics::params::MF_KIND_FLUID as u8;
+        let open = self.open.is_some();
+        let compared = |kind: &[u8]| -> Vec<usize> {
+            (0..kind.len())
+                .filter(|&i| !(open && kind[i] == fluid))
+                .collect()
+        };
+        let (mine, theirs) = (compared(&self.kind), compared(like.kind));
+        if mine.len() != theirs.len() {
             return Some(format!(
-                "it holds {n} particles and the scene has {}",
-                like.id.len()
+                "it holds {} {}particles and the scene has {}",
+                mine.len(),
+                if open { "wall and solid " } else { "" },
+                theirs.len()
             ));
         }
         let solids = like.solids;
@@ -289,12 +332,11 @@ impl SolverCheckpoint {
             ));
         }
         // Compare by id: the two storages are ordered differently.
-        let by_id = |ids: &[u32]| {
-            let mut order: Vec<usize> = (0..ids.len()).collect();
+        let by_id = |ids: &[u32], mut order: Vec<usize>| {
             order.sort_unstable_by_key(|&i| ids[i]);
             order
         };
-        let (mine, theirs) = (by_id(&self.id), by_id(like.id));
+        let (mine, theirs) = (by_id(&self.id, mine), by_id(like.id, theirs));
         for (&a, &b) in mine.iter().zip(&theirs) {
             let (id, other) = (self.id[a], like.id[b]);
             if id != other {
@@ -370,6 +412,7 @@ impl SolverCheckpoint {
             rho_dev: pick(&self.rho_dev, &keep),
             tl_disp: Vec::new(),
             bodies: self.bodies.clone(),
+            open: self.open.clone(),
         }
     }
 

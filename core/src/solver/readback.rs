@@ -111,6 +111,12 @@ pub trait Readback {
     fn bodies(&mut self) -> Vec<crate::physics::params::MfBody> {
         Vec::new()
     }
+    /// Each open boundary's tally of the particles and mass in and out since the run began
+    /// (`[[open_boundaries]]`' order); none by default (a solver without open boundaries,
+    /// or a decomposed one, which refuses them).
+    fn open_tally(&mut self) -> Vec<crate::physics::open::OpenTally> {
+        Vec::new()
+    }
     /// `Setup::wall_surface` as the solver took it (empty unless `no_slip`), for the force
     /// monitors, which take the wall pair terms from the CPU force stage.
     fn wall_surface(&self) -> &[[f32; 4]];

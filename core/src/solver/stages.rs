@@ -15,6 +15,13 @@ use crate::solver::{BackendInfo, Fault, Persist, Readback};
 macro_rules! stage_list {
     ($then:ident) => {
         $then! {
+            /// The open boundaries (`[[open_boundaries]]`, `physics::open::fate`): an
+            /// inlet's buffer particles that reached the fluid join it and are replaced
+            /// behind, fluid that entered an outlet joins its buffer, and particles past a
+            /// buffer are removed: the particle count changes. First in the step, so that
+            /// the grid build sorts the new particles in. Nothing without open boundaries
+            /// (the default does nothing).
+            OpenBoundaries: fn open_boundaries(&mut self) {}
             /// Neighbour search: cell index, sort by (cell, id), cell ranges, reorder.
             BuildGrid: fn build_grid(&mut self);
             /// Density by summation, eq. (8) (nothing for the continuity form); the Tait
@@ -147,6 +154,7 @@ pub trait Solver: Readback + Persist + Send {
     /// eq. (19), takes every rate at the old velocity; the symplectic Euler kicks first and
     /// takes the rates, positions, density and stress from the new velocity.
     fn step(&mut self) {
+        self.open_boundaries();
         self.build_grid();
         self.density();
         self.solid_interface();
@@ -320,6 +328,7 @@ mod tests {
         assert_eq!(
             euler,
             [
+                "open_boundaries",
                 "build_grid",
                 "density",
                 "solid_interface",
@@ -334,6 +343,7 @@ mod tests {
         assert_eq!(
             other,
             [
+                "open_boundaries",
                 "build_grid",
                 "density",
                 "solid_interface",

@@ -175,3 +175,63 @@ pub fn run_scene_to(scene: &Scene, t: f64) -> (Vec<Particle>, Vec<Particle>, f64
     end.sort_by_key(|q| q.id);
     (start, end, t)
 }
+
+/// A plane channel between an inlet and an outlet (`[[open_boundaries]]`), as TOML: H = 0.1
+/// high and 0.5 long at dx = 0.01 (10 particles across), water (rho0 = 1000, nu = 0.01),
+/// the inlet's buffer x in [-0.03, 0] at U = 0.5, the outlet's x in [0.5, 0.53]; in 3D a duct
+/// 0.08 deep across z, periodic there. For `tests/open.rs` and the parity tests.
+pub fn open_channel(dim: usize) -> String {
+    let (z, zmax, zp) = if dim == 3 {
+        (", 0.0", ", 0.08", ", true")
+    } else {
+        ("", "", "")
+    };
+    format!(
+        r#"
+dimension = {dim}
+name = "channel-open"
+[domain]
+min = [-0.05, -0.04{z}]
+max = [0.60, 0.14{zmax}]
+periodic = [false, false{zp}]
+[discretisation]
+spacing = 0.01
+[time]
+end = 1.5
+output_interval = 0.25
+[fluid]
+density = 1000.0
+sound_speed = 10.0
+viscosity = 0.01
+alpha = 0.0
+xsph = 0.0
+[boundary]
+strength = 1.0
+wall_coupling = "dynamic"
+wall_density_floor = true
+[[fluid_blocks]]
+min = [0.0, 0.0{z}]
+max = [0.5, 0.1{zmax}]
+velocity = [0.5, 0.0{z}]
+[[walls]]
+shape = "box"
+min = [-0.05, -0.03{z}]
+max = [0.60, 0.0{zmax}]
+[[walls]]
+shape = "box"
+min = [-0.05, 0.1{z}]
+max = [0.60, 0.13{zmax}]
+[[open_boundaries]]
+kind = "inlet"
+min = [-0.03, 0.0{z}]
+max = [0.0, 0.1{zmax}]
+normal = [1.0, 0.0{z}]
+velocity = [0.5, 0.0{z}]
+[[open_boundaries]]
+kind = "outlet"
+min = [0.5, 0.0{z}]
+max = [0.53, 0.1{zmax}]
+normal = [-1.0, 0.0{z}]
+"#
+    )
+}

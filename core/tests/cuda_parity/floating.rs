@@ -23,13 +23,31 @@ pub(crate) fn floating_with(dim: usize, v: Variant, density: f64, on_floor: bool
     if on_floor {
         let body = |q: &Particle| q.group == 2;
         let r0 = setup.params.lj_r0;
-        let top = (setup.particles.iter())
-            .filter(|q| q.kind == Kind::Boundary && !body(q))
-            .map(|q| q.position[1])
-            .fold(f32::MIN, f32::max);
         let low = (setup.particles.iter().filter(|q| body(q)))
             .map(|q| q.position[1])
             .fold(f32::MAX, f32::min);
+        // The floor under the body: the highest wall particle below it within its extent
+        // across (x, and z in 3D), not the top of a side wall.
+        let span = |a: usize| {
+            (setup.particles.iter().filter(|q| body(q)))
+                .map(|q| q.position[a])
+                .fold((f32::MAX, f32::MIN), |(lo, hi), x| (lo.min(x), hi.max(x)))
+        };
+        let across: Vec<(usize, (f32, f32))> = [0, 2]
+            .into_iter()
+            .filter(|&a| a < dim)
+            .map(|a| (a, span(a)))
+            .collect();
+        let top = (setup.particles.iter())
+            .filter(|q| q.kind == Kind::Boundary && !body(q) && q.position[1] < low)
+            .filter(|q| {
+                across
+                    .iter()
+                    .all(|&(a, (lo, hi))| q.position[a] >= lo && q.position[a] <= hi)
+            })
+            .map(|q| q.position[1])
+            .fold(f32::MIN, f32::max);
+        assert!(top > f32::MIN, "no floor under the body");
         let shift = top + 0.9 * r0 - low;
         for q in setup.particles.iter_mut().filter(|q| body(q)) {
             q.position[1] += shift;
@@ -141,7 +159,12 @@ fn same_path<D: Dim>(label: &str, setup: Setup) -> (MfBody, MfBody) {
         moved > 1e-3 && turned > 0.05,
         "the body did not move ({moved}, {turned})"
     );
-    assert!(dist(bc.force, [0.0; 3]) > 0.0, "no load on the body");
+    // A load of some kind: the fluid's, or a contact's (the heavy sphere lowered onto the
+    // floor meets no fluid within these 150 steps: its fluid load is 0 on both backends).
+    assert!(
+        dist(bc.force, [0.0; 3]) > 0.0 || dist(bc.contact, [0.0; 3]) > 0.0,
+        "no load on the body"
+    );
     // The contacts' force (zero where the body meets no other object) on both alike.
     assert!(
         dist(bc.contact, bg.contact) <= 1e-2 * dist(bc.contact, [0.0; 3]),
@@ -155,7 +178,7 @@ fn same_path<D: Dim>(label: &str, setup: Setup) -> (MfBody, MfBody) {
     assert!(dist(bc.centre, bg.centre) < 1e-5, "centres apart");
     assert!(dist(bc.velocity, bg.velocity) < 1e-3 * (1.0 + dist(bc.velocity, [0.0; 3])));
     assert!(dist(bc.omega, bg.omega) < 1e-3 * dist(bc.omega, [0.0; 3]));
-    assert!(dist(bc.force, bg.force) < 1e-2 * dist(bc.force, [0.0; 3]));
+    assert!(dist(bc.force, bg.force) <= 1e-2 * dist(bc.force, [0.0; 3]));
     assert!(
         worst < 1e-5,
         "a body particle is {worst} apart on the two backends"

@@ -13,7 +13,8 @@
 //! path (`monitor::wall_force`) on wall objects in flow, with and without bodies.
 //! Total-Lagrangian bodies (`cuda/tlsph.cu`): the stage scenes with `solid_stress`,
 //! `solid_forces` and the displacements compared too (2D and 3D, both integrators), and runs
-//! of 100-200 steps through captured graphs, one with a body removed halfway.
+//! of 100-200 steps through captured graphs, one with a body removed halfway. Open
+//! boundaries (`cuda/open.cu`): a channel's particles made, removed and moved alike.
 //!
 //! The tests that need a GPU are `#[ignore]`d unless the build had `MESHFREE_REQUIRE_CUDA=1`
 //! (`build.rs` turns it into the cfg `meshfree_require_cuda`); `-- --include-ignored` runs
@@ -24,7 +25,7 @@
 //!
 //! The files: `setups` builds the scenes, `compare` runs and compares the stages, and the
 //! tests are grouped by what they compare: `stages`, `schemes`, `passes`, `device`, `probes`,
-//! `monitors` and `total_lagrangian`.
+//! `monitors`, `floating`, `open` and `total_lagrangian`.
 #![cfg(feature = "cuda")]
 
 #[path = "../common/mod.rs"]
@@ -54,6 +55,7 @@ use setups::*;
 mod device;
 mod floating;
 mod monitors;
+mod open;
 mod passes;
 mod probes;
 mod schemes;

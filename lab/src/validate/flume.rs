@@ -58,6 +58,45 @@ fn waves(series: &[(f64, f64)]) -> (f64, f64, usize) {
     (heights.iter().sum::<f64>() / k as f64, period, k)
 }
 
+/// The free surface's elevation above `depth` \[L\] at each of the scene's gauges (2D,
+/// vertical lines), sampled every `span[2]` from `span[0]` to `span[1]` \[T\]: (t, eta) per
+/// gauge; a dry moment leaves no sample.
+pub(super) fn surface_series(
+    sim: &mut Sim,
+    scene: &meshfree_core::scene::Scene,
+    [from, end, every]: [f64; 3],
+    depth: f64,
+) -> anyhow::Result<Vec<Vec<(f64, f64)>>> {
+    let dx = scene.file.discretisation.spacing;
+    let lines: Vec<Vec<[f64; 3]>> = (scene.file.gauges.iter())
+        .map(|g| gauge_points(g, dx, 2))
+        .collect();
+    let points: Vec<[f32; 3]> = (lines.iter())
+        .flat_map(|l| l.iter().map(|p| p.map(|x| x as f32)))
+        .collect();
+    let mut eta: Vec<Vec<(f64, f64)>> = vec![Vec::new(); lines.len()];
+    let mut samples = Vec::new();
+    let mut t = from;
+    sim.advance_to(t)?;
+    while t <= end + 1e-9 {
+        sim.solver.sample_points(&points, false, &mut samples);
+        let mut at = 0;
+        for (k, line) in lines.iter().enumerate() {
+            let colour: Vec<f32> = samples[at..at + line.len()]
+                .iter()
+                .map(|s| s.colour)
+                .collect();
+            if let Some(s) = surface(line, &colour) {
+                eta[k].push((sim.solver.time(), s.position[1] - depth));
+            }
+            at += line.len();
+        }
+        t += every;
+        sim.advance_to(t)?;
+    }
+    Ok(eta)
+}
+
 struct Outcome {
     dx: f64,
     /// Per gauge: its x, the mean height and period, and how many waves.
@@ -76,36 +115,11 @@ fn simulate(ctx: &Ctx, dx: f64) -> anyhow::Result<Outcome> {
         scene.gates(),
         format!("dx = {dx} (H / dx = {})", H / dx),
     )?;
-    let lines: Vec<(f64, Vec<[f64; 3]>)> = (scene.file.gauges.iter())
-        .map(|g| (g.start[0], gauge_points(g, dx, 2)))
-        .collect();
-    let points: Vec<[f32; 3]> = (lines.iter())
-        .flat_map(|(_, l)| l.iter().map(|p| p.map(|x| x as f32)))
-        .collect();
-    let mut eta: Vec<Vec<(f64, f64)>> = vec![Vec::new(); lines.len()];
-    let mut samples = Vec::new();
-    let mut t = FROM;
-    sim.advance_to(t)?;
-    while t <= END + 1e-9 {
-        sim.solver.sample_points(&points, false, &mut samples);
-        let mut at = 0;
-        for (k, (_, line)) in lines.iter().enumerate() {
-            let colour: Vec<f32> = samples[at..at + line.len()]
-                .iter()
-                .map(|s| s.colour)
-                .collect();
-            if let Some(s) = surface(line, &colour) {
-                eta[k].push((sim.solver.time(), s.position[1] - DEPTH));
-            }
-            at += line.len();
-        }
-        t += EVERY;
-        sim.advance_to(t)?;
-    }
-    let gauges = (lines.iter().zip(&eta))
-        .map(|((x, _), e)| {
+    let eta = surface_series(&mut sim, &scene, [FROM, END, EVERY], DEPTH)?;
+    let gauges = (scene.file.gauges.iter().zip(&eta))
+        .map(|(g, e)| {
             let (h, p, n) = waves(e);
-            (*x, h, p, n)
+            (g.start[0], h, p, n)
         })
         .collect();
     Ok(Outcome {

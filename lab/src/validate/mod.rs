@@ -38,6 +38,7 @@ pub mod gate;
 pub mod hydrostatic;
 pub mod plate;
 pub mod poiseuille;
+pub mod standing_wave;
 pub mod surge_gauges;
 pub mod taylor_green;
 

@@ -6,7 +6,7 @@ use super::check::Check;
 use super::ctx::Ctx;
 use super::{
     cantilever, cylinder, cylinder_onset, dam_break, flume, gate, hydrostatic, plate, poiseuille,
-    taylor_green,
+    standing_wave, taylor_green,
 };
 
 /// One validation case.
@@ -66,6 +66,12 @@ pub const CASES: &[Case] = &[
         name: cantilever::NAME,
         description: cantilever::DESCRIPTION,
         run: cantilever::run,
+        quick: true,
+    },
+    Case {
+        name: standing_wave::NAME,
+        description: standing_wave::DESCRIPTION,
+        run: standing_wave::run,
         quick: true,
     },
     Case {

@@ -4,6 +4,8 @@
 use rayon::prelude::*;
 
 use crate::physics::dim::Dim;
+pub use crate::physics::open::smooth_ramp;
+use crate::physics::open::{buffer_velocity, open_index};
 use crate::physics::params::{
     SphParams, MF_INTEGRATOR_EULER, MF_INTEGRATOR_LEAPFROG, MF_KIND_BOUNDARY, MF_KIND_FLUID,
     MF_KIND_SOLID,
@@ -122,20 +124,6 @@ pub fn ramp_share(p: &SphParams, t: f64) -> f64 {
     }
 }
 
-/// The ramp's shape alone [-]: (1 - cos(pi t / T_r)) / 2 for 0 <= t < T_r, 0 before, 1 after,
-/// and 1 for T_r <= 0 (no ramp), at time t \[T\] of a ramp T_r \[T\] (`ramp_share`; the lattice
-/// Boltzmann reference's band, `lab/src/lbm/street.rs`).
-#[inline]
-pub fn smooth_ramp(tr: f64, t: f64) -> f64 {
-    if tr <= 0.0 || t >= tr {
-        1.0
-    } else if t <= 0.0 {
-        0.0
-    } else {
-        0.5 * (1.0 - (std::f64::consts::PI * t / tr).cos())
-    }
-}
-
 /// The time a kick taken at time t (the step's start) [T] brings the velocities to: t + dt,
 /// under the leapfrog t + dt / 2 (its velocities live at half steps). Twin: `kick_end` in
 /// `cuda/integrate.cu`.
@@ -159,7 +147,8 @@ pub fn damping_factor(p: &SphParams, c: f32, dt: f32) -> f32 {
 }
 
 /// The kick over `dt` (its span, `kick_span`) of the step that starts at `t0`, ending at
-/// time `t_end` (`kick_end`): v += dt a
+/// time `t_end` (`kick_end`): an open boundary's buffer at its velocity
+/// (`open::buffer_velocity`), else v += dt a
 /// for fluid and solid particles; v = r(t_end) inflow_velocity for fluid in the inflow band
 /// (`in_inflow_band`; r = 1 without a ramp, `ramp_share`), and under a ramped start the
 /// mean flow's increase over the span, (r(t_end) - r(t_end - dt)) inflow_velocity, added
@@ -175,6 +164,11 @@ pub fn kick<D: Dim>(p: &SphParams, dt: f32, (t0, t_end): (f64, f64), s: &mut Sta
     let band_v = u * r1 as f32;
     let ramp_dv = u * (r1 - r0) as f32;
     s.vel.par_iter_mut().enumerate().for_each(|(i, v)| {
+        // An open boundary's buffer: an inlet's prescribed velocity, an outlet's as it is.
+        if let Some(u) = buffer_velocity::<D>(p, group[i], *v, t_end) {
+            *v = u;
+            return;
+        }
         // Inflow band: the velocity is set, not integrated (holds the mean flow of a
         // periodic channel, wiping the wake that comes round).
         if in_inflow_band::<D>(p, kind[i], pos[i]) {
@@ -195,7 +189,7 @@ pub fn kick<D: Dim>(p: &SphParams, dt: f32, (t0, t_end): (f64, f64), s: &mut Sta
     });
 }
 
-/// The drift: x += dt (v + xsph), eq. (18); rho += dt d rho/dt (for solids, rho_dev += dt
+/// The drift: x += dt (v + xsph), eq. (18) (an open boundary's buffer x += dt v); rho += dt d rho/dt (for solids, rho_dev += dt
 /// d rho/dt and rho = rho0_s + rho_dev); S += dt dS/dt. With the
 /// paper's forward Euler, eq. (19), it runs before the kick (x^{n+1} takes v^n); with the
 /// symplectic Euler after it (x^{n+1} takes v^{n+1}). Boundary particles stay put (their
@@ -206,6 +200,10 @@ pub fn drift<D: Dim>(p: &SphParams, dt: f32, t0: f64, s: &mut State<D>) {
     s.pos.par_iter_mut().enumerate().for_each(|(i, x)| {
         if let Some(y) = driven_moved::<D>(p, group[i], *x, dt, t0) {
             *x = y;
+            wrap::<D>(p, x);
+        } else if open_index(p, group[i]).is_some() {
+            // An open boundary's buffer moves at its velocity: no XSPH, no shifting.
+            *x += vel[i] * dt;
             wrap::<D>(p, x);
         } else if kind[i] as u32 != MF_KIND_BOUNDARY {
             *x += (vel[i] + xsph[i]) * dt;

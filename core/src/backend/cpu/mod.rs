@@ -8,6 +8,7 @@ mod grid;
 mod integrate;
 mod interface;
 mod monitor;
+mod open;
 mod probes;
 mod rates;
 mod reduce;
@@ -28,6 +29,7 @@ pub use tlsph::TlBodies;
 
 use crate::backend::fault;
 use crate::physics::dim::Dim;
+use crate::physics::open::{OpenState, OpenTally};
 use crate::physics::params::{needs_density_gradient, MfBody, SphParams, MF_DENSITY_CONTINUITY};
 use crate::physics::particle::Particle;
 use crate::physics::state::State;
@@ -60,6 +62,8 @@ pub struct CpuSolver<D: Dim> {
     tl: Option<TlBodies<D>>,
     /// The floating rigid bodies (`physics::body`), advanced in the kick and the drift.
     bodies: Vec<MfBody>,
+    /// The open boundaries' next id and tally (`open::open_boundaries`).
+    open: OpenState,
     time: f64,
     steps: u64,
     dt: f32,
@@ -97,6 +101,7 @@ impl<D: Dim> CpuSolver<D> {
             iface: None,
             wall_surface: setup.wall_surface,
             bodies: setup.bodies,
+            open: OpenState::start(&p, &setup.particles),
             time: 0.0,
             steps: 0,
             dt: 0.0,
@@ -152,6 +157,11 @@ impl<D: Dim> Solver for CpuSolver<D> {
     fn has_solids(&self) -> bool {
         self.state.solid.is_some()
     }
+    fn open_boundaries(&mut self) {
+        if open::open_boundaries(&self.params, &mut self.state, &mut self.open) {
+            self.grid_stale = true;
+        }
+    }
     fn build_grid(&mut self) {
         self.sort();
     }
@@ -165,6 +175,7 @@ impl<D: Dim> Solver for CpuSolver<D> {
             self.time,
         );
         density::density(&self.params, &self.grid, &mut self.state);
+        open::buffer_density(&self.params, &self.grid, &mut self.state);
     }
     fn density_gradient(&mut self) {
         self.grad_rho = rates::density_gradient(&self.params, &self.grid, &self.state);
@@ -293,6 +304,9 @@ impl<D: Dim> Readback for CpuSolver<D> {
     fn bodies(&mut self) -> Vec<MfBody> {
         self.bodies.clone()
     }
+    fn open_tally(&mut self) -> Vec<OpenTally> {
+        self.open.tally.clone()
+    }
     fn sample_points(
         &mut self,
         points: &[[f32; 3]],
@@ -331,6 +345,7 @@ impl<D: Dim> Persist for CpuSolver<D> {
         let disp = self.tl.as_ref().map_or(&[][..], |t| &t.disp[..]);
         let mut c = SolverCheckpoint::of_state(&self.state, self.time, self.steps, self.dt, disp);
         c.bodies = self.bodies.iter().map(BodyState::of).collect();
+        c.open = (self.params.open_count > 0).then(|| self.open.clone());
         c
     }
     fn restore(&mut self, saved: &SolverCheckpoint) -> Result<(), String> {
@@ -338,6 +353,7 @@ impl<D: Dim> Persist for CpuSolver<D> {
         let n_solid = self.tl.as_ref().map_or(0, |t| t.disp.len());
         let disp = saved.tl_displacements::<D>(n_solid)?;
         BodyState::restore_all(&saved.bodies, &mut self.bodies)?;
+        self.open = saved.open_state(&self.params)?;
         self.state = state;
         if let Some(tl) = self.tl.as_mut() {
             tl.disp = disp;

@@ -92,6 +92,9 @@ pub struct CudaSolver<D: Dim> {
     tl: Option<TlBuffers>,
     /// The floating rigid bodies (`cuda/bodies.cu`); `None` without.
     bodies: Option<BodyBuffers>,
+    /// The open boundaries' next id (on the host) and tally (4 doubles per boundary on the
+    /// device: `OpenTally`'s fields); `None` without open boundaries.
+    open: Option<(u32, CudaSlice<f64>)>,
     /// `Setup::wall_surface` (empty unless `params::needs_wall_surface`); on the device in
     /// `buf`.
     wall_surface: Vec<[f32; 4]>,
@@ -160,6 +163,14 @@ impl<D: Dim> CudaSolver<D> {
         if let Some(e) = setup.wall_surface_error() {
             return Err(BackendError::Cuda(e));
         }
+        if setup.params.gradient_correction != 0 {
+            // `--backend auto` takes the CPU for such a scene.
+            return Err(BackendError::Cuda(
+                "[fluid] gradient_correction runs on the CPU backend only for now: run with \
+                 --backend cpu, or without the correction"
+                    .into(),
+            ));
+        }
         let p = setup.params;
         let dev = Device::open_ordinal(ordinal)?;
         let mut k = Kernels::load(&dev, D::D)?;
@@ -197,9 +208,22 @@ impl<D: Dim> CudaSolver<D> {
         } else {
             Some(BodyBuffers::new(&dev.stream, &setup.bodies).map_err(|e| oom(n, e))?)
         };
+        // Open boundaries change the particle count in their stage, which a graph cannot
+        // replay: their scenes step without graphs.
+        let open = if p.open_count > 0 {
+            let start = crate::physics::open::OpenState::start(&p, &setup.particles);
+            let tally = dev
+                .stream
+                .alloc_zeros::<f64>(4 * p.open_count as usize)
+                .map_err(|e| oom(n, e))?;
+            Some((start.next_id, tally))
+        } else {
+            None
+        };
         Ok(CudaSolver {
             tl,
             bodies,
+            open,
             dev,
             k,
             params: p,
@@ -217,7 +241,8 @@ impl<D: Dim> CudaSolver<D> {
             clock: None,
             capturer: None,
             graph: None,
-            graphs: std::env::var("MESHFREE_CUDA_GRAPHS").map_or(true, |v| v != "0"),
+            graphs: p.open_count == 0
+                && std::env::var("MESHFREE_CUDA_GRAPHS").map_or(true, |v| v != "0"),
             fused: std::env::var("MESHFREE_CUDA_FUSED").map_or(true, |v| v != "0"),
             lanes_n: whole,
             _d: PhantomData,
@@ -450,6 +475,42 @@ impl<D: Dim> Solver for CudaSolver<D> {
     fn has_solids(&self) -> bool {
         self.buf.cur.stress.is_some()
     }
+    fn open_boundaries(&mut self) {
+        let Some((next_id, tally)) = self.open.as_mut() else {
+            return;
+        };
+        let words = subdomain::halo_words::<D>(self.buf.cur.stress.is_some());
+        let s = self.dev.stream.clone();
+        let r = launch::open::open_boundaries::<D>(
+            &self.k,
+            &s,
+            &self.params,
+            &mut self.buf,
+            tally,
+            *next_id,
+            (words, buffers::nsym::<D>()),
+        );
+        let done = match r {
+            Ok(d) => d,
+            Err(e) => self.sync_err("making and removing the open boundaries' particles", e),
+        };
+        if done.born + done.removed == 0 {
+            return;
+        }
+        if let Some((next_id, _)) = self.open.as_mut() {
+            *next_id += done.born as u32;
+        }
+        // Every particle made or removed is fluid.
+        self.buf.kinds[0] = self.buf.kinds[0] + done.born - done.removed;
+        // The cells the last drift filed are those of the old slots.
+        if self.buf.handover.take(Mark::CellsFiled, By::Storage) {
+            if let Err(e) = self.dev.stream.memset_zeros(&mut self.buf.count) {
+                self.sync_err("clearing the cell counts", e)
+            }
+        }
+        self.grid_current = false;
+        self.graph = None;
+    }
     fn build_grid(&mut self) {
         launch::build_grid(&self.k, &self.dev.stream, &self.params, &mut self.buf);
         self.tl_map_slots();
@@ -463,6 +524,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
             &mut self.buf,
             self.bodies.as_ref(),
         );
+        launch::open::buffer_density(&self.k, &self.dev.stream, &self.params, &mut self.buf);
     }
     fn solid_interface(&mut self) {
         launch::solid_interface(&self.k, &self.dev.stream, &self.params, &mut self.buf);

@@ -2,9 +2,12 @@
 //! displacements read back, and written again with the clock on restore.
 
 use crate::physics::dim::Dim;
+use crate::physics::open::OpenState;
+use crate::physics::params::needs_density_gradient;
 use crate::solver::checkpoint::{BodyState, SolverCheckpoint};
 use crate::solver::{Persist, Readback, Solver};
 
+use super::buffers::Buffers;
 use super::CudaSolver;
 
 impl<D: Dim> Persist for CudaSolver<D> {
@@ -14,6 +17,12 @@ impl<D: Dim> Persist for CudaSolver<D> {
         let (time, dt) = (self.time(), self.dt());
         let mut c = SolverCheckpoint::of_state(&state, time, self.steps, dt, &disp);
         c.bodies = self.bodies().iter().map(BodyState::of).collect();
+        if let Some((next_id, _)) = self.open {
+            c.open = Some(OpenState {
+                next_id,
+                tally: self.open_tally(),
+            });
+        }
         c
     }
     fn restore(&mut self, saved: &SolverCheckpoint) -> Result<(), String> {
@@ -22,7 +31,32 @@ impl<D: Dim> Persist for CudaSolver<D> {
         let disp = saved.tl_displacements::<D>(n_solid)?;
         let mut bodies = self.bodies();
         BodyState::restore_all(&saved.bodies, &mut bodies)?;
-        self.upload_state(&state);
+        let open = saved.open_state(&self.params)?;
+        if state.len() == self.buf.n {
+            self.upload_state(&state);
+        } else {
+            // Open boundaries: another particle count than the solver holds.
+            self.buf = Buffers::new(
+                &self.dev.stream,
+                &state,
+                self.buf.n_cells,
+                &self.wall_surface,
+                needs_density_gradient(&self.params),
+            )
+            .map_err(|e| super::oom(state.len(), e).to_string())?;
+            self.grid_current = false;
+        }
+        if let Some((next_id, tally)) = self.open.as_mut() {
+            *next_id = open.next_id;
+            let t: Vec<f64> = open
+                .tally
+                .iter()
+                .flat_map(|t| [t.count_in as f64, t.mass_in, t.count_out as f64, t.mass_out])
+                .collect();
+            if let Err(e) = self.dev.stream.memcpy_htod(&t[..], tally) {
+                self.sync_err("restoring the open boundaries' tally", e)
+            }
+        }
         if let Some(bb) = self.bodies.as_mut() {
             if let Err(e) = bb.write(&self.dev.stream, &bodies) {
                 self.sync_err("restoring the floating bodies", e)

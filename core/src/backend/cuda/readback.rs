@@ -147,6 +147,24 @@ impl<D: Dim> Readback for CudaSolver<D> {
             Err(e) => self.sync_err("reading the floating bodies back", e),
         }
     }
+    fn open_tally(&mut self) -> Vec<crate::physics::open::OpenTally> {
+        let Some((_, tally)) = self.open.as_ref() else {
+            return Vec::new();
+        };
+        let t = match self.dev.stream.clone_dtoh(tally) {
+            Ok(t) => t,
+            Err(e) => self.sync_err("reading the open boundaries' tally back", e),
+        };
+        self.d2h += 8 * t.len() as u64;
+        t.chunks(4)
+            .map(|c| crate::physics::open::OpenTally {
+                count_in: c[0] as u64,
+                mass_in: c[1],
+                count_out: c[2] as u64,
+                mass_out: c[3],
+            })
+            .collect()
+    }
     /// One kernel over the points (`cuda/probes.cu`) after a grid build where the particles
     /// moved since the last (which leaves the stepping as it was: the next step's build finds
     /// the same order; a replayed graph first takes one single step, `advance`). Uploads the

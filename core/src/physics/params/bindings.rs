@@ -9,6 +9,9 @@ pub const MF_INTEGRATOR_SYMPLECTIC_EULER: u32 = 1;
 pub const MF_INTEGRATOR_LEAPFROG: u32 = 2;
 pub const MF_CELL_REACH: u32 = 2;
 pub const MF_MAX_DRIVEN: u32 = 8;
+pub const MF_MAX_OPEN: u32 = 4;
+pub const MF_OPEN_INLET: u32 = 0;
+pub const MF_OPEN_OUTLET: u32 = 1;
 pub const MF_KIND_FLUID: u32 = 0;
 pub const MF_KIND_SOLID: u32 = 1;
 pub const MF_KIND_BOUNDARY: u32 = 2;
@@ -94,6 +97,33 @@ pub struct MfBody {
     #[doc = " the last drift's rotation (scene frame, row-major): a particle\nat x goes to centre + turn (x - centre + shift)"]
     pub turn: [f64; 9usize],
 }
+#[doc = " An open boundary (`[[open_boundaries]]`; device/open.cuh, twin src/physics/open.rs): a buffer\n box behind a plane normal to one axis, of `depth` along it. s = sign (x[axis] - plane) [L] is\n a point's distance on the fluid's side of the plane (negative in the buffer). The buffer's\n particles are fluid of scene group `group`; the open-boundary stage, first in each step:\n  - inlet: a buffer particle at s >= 0 joins the fluid (group `through`) and a copy of it\n    takes its place depth behind (new id); a fluid particle in the box (s < 0) is removed;\n    the kick sets the buffer's velocity to r(t) velocity (r the smooth start over `ramp`);\n  - outlet: a fluid particle in the box joins the buffer; a buffer particle beyond the box\n    (s < -depth, or outside it sideways) is removed, and one back at s >= 0 rejoins the\n    fluid (group `through`); the kick leaves the buffer's velocity as it entered.\n The drift moves buffer particles at their velocity, without XSPH or shifting; their\n density follows the continuity equation (or the summation) as the fluid's."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct MfOpen {
+    #[doc = " MF_OPEN_INLET or MF_OPEN_OUTLET"]
+    pub kind: i32,
+    #[doc = " the buffer's scene group"]
+    pub group: i32,
+    #[doc = " the scene group of the particles that left the buffer for the fluid"]
+    pub through: i32,
+    #[doc = " 0, 1 or 2: the plane's normal"]
+    pub axis: i32,
+    #[doc = " +1 or -1: the inward normal (into the fluid) is sign e_axis"]
+    pub sign: f32,
+    #[doc = " [L] the plane's coordinate on `axis`"]
+    pub plane: f32,
+    #[doc = " [L] the buffer's depth behind the plane"]
+    pub depth: f32,
+    #[doc = " [L] the buffer box's lower corner (sideways extent)"]
+    pub lo: [f32; 3usize],
+    #[doc = " [L] its upper corner"]
+    pub hi: [f32; 3usize],
+    #[doc = " [L/T] inlet: the prescribed velocity (pointing into the fluid)"]
+    pub velocity: [f32; 3usize],
+    #[doc = " [T] inlet: the smooth start of the velocity; 0: none"]
+    pub ramp: f32,
+}
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct SphParams {
@@ -135,6 +165,8 @@ pub struct SphParams {
     pub tait_b: f32,
     #[doc = " [M L^-d L^2/T^2] background pressure added to eq. (9) for fluid and\ndynamic wall particles: keeps a confined flow's pressure positive\nwhere it dips (a wake, a vortex core), so the fluid does not tear\nthere (tensile instability); 0 = off (the paper); not for a free\nsurface, where the pressure must fall to zero"]
     pub background_pressure: f32,
+    #[doc = " 1: the fluid-fluid pressure term of eq. (7) takes the kernel\ngradient renormalised by the mean of the pair's matrices\nL = (sum_j V_j (x_j - x_i) (x) grad W_ij)^-T (Bonet & Lok 1999),\nblended to the plain gradient where the kernel sum falls below\n0.95 (none below 0.7: the free surface's top row, spray);\nCPU backend only; 0 = off (the paper)"]
+    pub gradient_correction: i32,
     #[doc = " [-] artificial viscosity, linear term, eq. (10)"]
     pub alpha: f32,
     #[doc = " [-] artificial viscosity, quadratic term, eq. (10)"]
@@ -210,6 +242,9 @@ pub struct SphParams {
     pub inflow_velocity: [f32; 3usize],
     #[doc = " [T] T_r: 0 = the mean flow from the start; > 0: a start from rest,\nthe band at r(t) inflow_velocity and every particle the kick\nintegrates outside it accelerated by d(r inflow_velocity)/dt,\nr = (1 - cos(pi t / T_r)) / 2 up to T_r, then 1"]
     pub inflow_ramp: f32,
+    #[doc = " how many open boundaries (0 .. MF_MAX_OPEN)"]
+    pub open_count: i32,
+    pub open: [MfOpen; 4usize],
     #[doc = " 1: a damping zone (a sponge layer at a flume's far end, as\nDualSPHysics' damping zone, Altomare et al. 2017, Coastal Eng.\n127): the kick relaxes a fluid particle's velocity,\nv *= exp(-damping_rate r^2 dt), r = (x[damping_axis] -\ndamping_start) / (damping_end - damping_start) clamped to\n[0, 1]: nothing at the start, full strength from the end on"]
     pub damping: i32,
     #[doc = " 0, 1 or 2"]

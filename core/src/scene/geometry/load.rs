@@ -40,17 +40,26 @@ fn place(o: &Outline, dim: usize, v: [f64; 3]) -> [f64; 3] {
 }
 
 /// Reads, places, checks and orients the surface of outline `o` (at `field`), for a scene of
-/// `dim` dimensions whose files are at `base`. `volume`: it must enclose a volume (a fluid
-/// block's `inside`, a solid, a wall): a surface open beyond `MAX_HOLE` is refused.
+/// `dim` dimensions whose files are at `base`. A closed surface (a fluid block's `inside`, a
+/// solid, a wall around a volume) must enclose one: open beyond `MAX_HOLE`, it is refused.
+/// An `open` one (a wall's sheet or line, `Side::open`) keeps the file's orientation and
+/// need enclose nothing; a 2D line's points are not closed into a loop.
 pub(in crate::scene) fn load(
     c: &Ctx,
     field: &str,
     o: &Outline,
+    open: bool,
     base: &Base,
 ) -> Result<Surface, crate::scene::SceneError> {
     let dim = c.dim;
     let started = std::time::Instant::now();
     check_keys(c, field, o)?;
+    if open && o.slice.is_some() {
+        return Err(c.err(
+            format!("{field}.slice"),
+            "the cut of a mesh is a closed polygon (solid = \"inside\" or \"outside\"); an open line is given by its points, or a file of x y points",
+        ));
+    }
     let (raw, source, from) = match (&o.file, &o.points) {
         (Some(file), None) => {
             let f = format!("{field}.file");
@@ -129,9 +138,9 @@ pub(in crate::scene) fn load(
         ));
     }
     let mut surface = if dim == 3 {
-        mesh_surface(c, field, raw, source)
+        mesh_surface(c, field, raw, source, open)
     } else {
-        polygon_surface(c, field, raw, source)
+        polygon_surface(c, field, raw, source, open)
     }?;
     surface.from = from;
     surface.info.read_seconds = started.elapsed().as_secs_f64();
@@ -248,6 +257,7 @@ fn mesh_surface(
     field: &str,
     raw: Raw,
     source: String,
+    open: bool,
 ) -> Result<Surface, crate::scene::SceneError> {
     if raw.triangles.is_empty() {
         return Err(c.err(
@@ -265,14 +275,18 @@ fn mesh_surface(
         .par_iter()
         .map(|t| p(t[0]).dot(p(t[1]).cross(p(t[2]))) / 6.0)
         .sum();
-    let turned = volume < 0.0;
+    // An open surface keeps its faces as given: they say which side is which.
+    let turned = volume < 0.0 && !open;
     if turned {
         for t in tris.iter_mut() {
             t.swap(1, 2);
         }
     }
     // The edges, parry's tree (distances) and the winding tree (inside), each on its own
-    // threads: about a second each for a million triangles.
+    // threads: about a second each for a million triangles. An open surface's side is
+    // parry's instead: the sign against the pseudo-normal (angle-weighted at a vertex,
+    // Baerentzen & Aanaes 2005) of the closest point's feature, which its tree then holds;
+    // it needs no winding number.
     let tree_vertices: Vec<parry3d_f64::math::Vector> = v
         .iter()
         .map(|q| parry3d_f64::math::Vector::new(q[0], q[1], q[2]))
@@ -281,24 +295,37 @@ fn mesh_surface(
         || Topology::of(v, &tris),
         || {
             rayon::join(
-                || parry3d_f64::shape::TriMesh::new(tree_vertices, tris.clone()),
                 || {
-                    winding::Winding::new(
-                        tris.iter().map(|t| [p(t[0]), p(t[1]), p(t[2])]).collect(),
-                    )
+                    let flags = if open {
+                        parry3d_f64::shape::TriMeshFlags::ORIENTED
+                    } else {
+                        parry3d_f64::shape::TriMeshFlags::empty()
+                    };
+                    parry3d_f64::shape::TriMesh::with_flags(tree_vertices, tris.clone(), flags)
+                },
+                || {
+                    winding::Winding::new(if open {
+                        Vec::new()
+                    } else {
+                        tris.iter().map(|t| [p(t[0]), p(t[1]), p(t[2])]).collect()
+                    })
                 },
             )
         },
     );
-    if topology.largest_hole > MAX_HOLE * diag {
+    if topology.largest_hole > MAX_HOLE * diag && !open {
         return Err(c.err(format!("{field}.file"), format!(
-            "{source} is open: {} open edges in {} hole(s), the largest {} across around ({}, {}, {}); a volume needs a closed surface (holes up to {} % of its size, {}, are bridged)",
+            "{source} is open: {} open edges in {} hole(s), the largest {} across around ({}, {}, {}); a volume needs a closed surface (holes up to {} % of its size, {}, are bridged); a wall of an open surface, a terrain or a sheet, takes solid = \"back\" or \"front\" of its faces",
             topology.open_edges, topology.holes, fmt(topology.largest_hole),
             fmt(topology.hole_at[0]), fmt(topology.hole_at[1]), fmt(topology.hole_at[2]),
             MAX_HOLE * 100.0, fmt(MAX_HOLE * diag))));
     }
+    let area: f64 = tris
+        .par_iter()
+        .map(|t| 0.5 * (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0])).length())
+        .sum();
     let box_volume = (0..3).map(|a| hi[a] - lo[a]).product::<f64>();
-    if volume.abs() <= 1e-9 * box_volume.max(f64::MIN_POSITIVE) {
+    if volume.abs() <= 1e-9 * box_volume.max(f64::MIN_POSITIVE) && !open {
         return Err(c.err(format!("{field}.file"), format!("{source} encloses no volume (flat, or its triangles cancel): a volume needs a closed surface")));
     }
     let tree = tree.map_err(|e| c.err(format!("{field}.file"), format!("{source}: {e}")))?;
@@ -309,12 +336,18 @@ fn mesh_surface(
             elements: tris.len(),
             lo,
             hi,
-            volume: volume.abs(),
+            volume: if open { 0.0 } else { volume.abs() },
+            area,
             topology,
             turned,
+            open,
             read_seconds: 0.0,
         },
-        shape: Shape::Mesh { tree, winding },
+        shape: Shape::Mesh {
+            tree,
+            winding,
+            open,
+        },
     })
 }
 
@@ -323,7 +356,11 @@ fn polygon_surface(
     field: &str,
     raw: Raw,
     source: String,
+    open: bool,
 ) -> Result<Surface, crate::scene::SceneError> {
+    if open {
+        return line_surface(c, field, raw, source);
+    }
     let at = |i: u32| {
         let v = raw.vertices[i as usize];
         DVec2::new(v[0], v[1])
@@ -379,11 +416,74 @@ fn polygon_surface(
             lo,
             hi,
             volume: area.abs(),
+            area: segments.iter().map(|[a, b]| a.distance(*b)).sum(),
             topology: Topology::default(),
             turned,
+            open: false,
             read_seconds: 0.0,
         },
-        shape: Shape::Polygon { line, segments },
+        shape: Shape::Polygon {
+            line,
+            segments,
+            open: false,
+        },
+    })
+}
+
+/// An open 2D line through `raw`'s points in their order (a wall's `solid` = "left" or
+/// "right"): parry's polyline with its pseudo-normals (`ORIENTED`: a point on the left of
+/// the walk is "inside", the bisector deciding at a corner).
+fn line_surface(
+    c: &Ctx,
+    field: &str,
+    raw: Raw,
+    source: String,
+) -> Result<Surface, crate::scene::SceneError> {
+    let key = if source == "points" { "points" } else { "file" };
+    let mut corners: Vec<DVec2> = raw
+        .vertices
+        .iter()
+        .map(|v| DVec2::new(v[0], v[1]))
+        .collect();
+    corners.dedup();
+    if corners.len() < 2 {
+        return Err(c.err(
+            format!("{field}.{key}"),
+            format!(
+                "{source}: a line needs at least 2 distinct points, found {}",
+                corners.len()
+            ),
+        ));
+    }
+    let n = corners.len();
+    let segments: Vec<[DVec2; 2]> = (1..n).map(|k| [corners[k - 1], corners[k]]).collect();
+    let line = parry2d_f64::shape::Polyline::with_flags(
+        (corners.iter())
+            .map(|q| parry2d_f64::math::Vector::new(q.x, q.y))
+            .collect(),
+        Some((1..n as u32).map(|k| [k - 1, k]).collect()),
+        parry2d_f64::shape::PolylineFlags::ORIENTED,
+    );
+    let (lo, hi) = bounds(&raw.vertices);
+    Ok(Surface {
+        from: From::Points,
+        info: Info {
+            source,
+            elements: segments.len(),
+            lo,
+            hi,
+            volume: 0.0,
+            area: segments.iter().map(|[a, b]| a.distance(*b)).sum(),
+            topology: Topology::default(),
+            turned: false,
+            open: true,
+            read_seconds: 0.0,
+        },
+        shape: Shape::Polygon {
+            line,
+            segments,
+            open: true,
+        },
     })
 }
 

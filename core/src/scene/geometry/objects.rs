@@ -6,80 +6,79 @@ use super::base::Base;
 use super::load::load;
 use super::surface::Surface;
 use crate::scene::ctx::{fmt, Ctx, R};
-use crate::scene::format::{Outline, SolidObject, Wall};
+use crate::scene::format::{Outline, Side, SolidObject, Wall};
 use crate::scene::scheme::SceneFile;
 use crate::scene::SceneError;
 
 /// An object's surface in a scene: the key that holds it, the object's group (`generate`'s
-/// numbering: fluid blocks, solids, walls) and, for a wall, the thickness of its rows outside
-/// the surface (0 where they lie inside it).
+/// numbering: fluid blocks, solids, walls), for a wall the thickness of its rows outside
+/// the surface's box (0 where they lie inside a closed surface, or are clipped to the
+/// domain beside an open one), and whether it is open (`Side::open`: a wall's sheet or line).
 pub struct Placed<'a> {
     pub field: String,
     pub group: u32,
     pub outline: &'a Outline,
     pub grow: f64,
+    pub open: bool,
 }
 
 /// Every surface of `s`: the fluid blocks' `inside`, the solids' and the walls' `mesh` or
 /// `polygon`, in that order.
 pub fn surfaces(s: &SceneFile) -> Vec<Placed<'_>> {
-    outlines(s)
-        .into_iter()
-        .map(|(field, group, outline, grow)| Placed {
-            field,
-            group,
-            outline,
-            grow,
-        })
-        .collect()
-}
-
-fn outlines(s: &SceneFile) -> Vec<(String, u32, &Outline, f64)> {
     let dx = s.discretisation.spacing;
     let (n_fluid, n_solid) = (s.fluid_blocks.len() as u32, s.solids.len() as u32);
-    let mut out: Vec<(String, u32, &Outline, f64)> = Vec::new();
+    let volume = |field: String, group: u32, outline| Placed {
+        field,
+        group,
+        outline,
+        grow: 0.0,
+        open: false,
+    };
+    let mut out: Vec<Placed<'_>> = Vec::new();
     for (i, b) in s.fluid_blocks.iter().enumerate() {
         if let Some(o) = b.inside.as_ref() {
-            out.push((format!("fluid_blocks[{i}].inside"), i as u32, o, 0.0));
+            out.push(volume(format!("fluid_blocks[{i}].inside"), i as u32, o));
         }
     }
     for (i, o) in s.solids.iter().enumerate() {
         let g = n_fluid + i as u32;
         match o {
-            SolidObject::Mesh { mesh: o, .. } => out.push((format!("solids[{i}].mesh"), g, o, 0.0)),
+            SolidObject::Mesh { mesh: o, .. } => {
+                out.push(volume(format!("solids[{i}].mesh"), g, o))
+            }
             SolidObject::Polygon { polygon: o, .. } => {
-                out.push((format!("solids[{i}].polygon"), g, o, 0.0))
+                out.push(volume(format!("solids[{i}].polygon"), g, o))
             }
             _ => {}
         }
     }
     for (i, w) in s.walls.iter().enumerate() {
-        let g = n_fluid + n_solid + i as u32;
-        let outside = |solid, layers: u32| match solid {
-            crate::scene::format::Side::Outside => layers as f64 * dx,
-            crate::scene::format::Side::Inside => 0.0,
-        };
-        match w {
+        let (key, o, solid, layers) = match w {
             Wall::Mesh {
                 mesh: o,
                 solid,
                 layers,
                 ..
-            } => {
-                let t = outside(*solid, *layers);
-                out.push((format!("walls[{i}].mesh"), g, o, t))
-            }
+            } => ("mesh", o, *solid, *layers),
             Wall::Polygon {
                 polygon: o,
                 solid,
                 layers,
                 ..
-            } => {
-                let t = outside(*solid, *layers);
-                out.push((format!("walls[{i}].polygon"), g, o, t))
-            }
-            _ => {}
-        }
+            } => ("polygon", o, *solid, *layers),
+            _ => continue,
+        };
+        out.push(Placed {
+            field: format!("walls[{i}].{key}"),
+            group: n_fluid + n_solid + i as u32,
+            outline: o,
+            grow: if solid == Side::Outside {
+                layers as f64 * dx
+            } else {
+                0.0
+            },
+            open: solid.open(),
+        });
     }
     out
 }
@@ -97,10 +96,10 @@ pub(in crate::scene) fn load_all(
     }
     let c = Ctx::new(origin, s.dimension as usize);
     shapes_fit(&c, s)?;
-    for (field, _, o, _) in outlines(s) {
-        if o.loaded.get().is_none() {
-            let surface: Surface = load(&c, &field, o, base)?;
-            o.loaded.set(surface);
+    for p in surfaces(s) {
+        if p.outline.loaded.get().is_none() {
+            let surface: Surface = load(&c, &p.field, p.outline, p.open, base)?;
+            p.outline.loaded.set(surface);
         }
     }
     Ok(())
@@ -135,6 +134,22 @@ fn shapes_fit(c: &Ctx, s: &SceneFile) -> R {
         match w {
             Wall::Mesh { .. } if c.dim == 2 => return wrong(format!("walls[{i}]"), "mesh"),
             Wall::Polygon { .. } if c.dim == 3 => return wrong(format!("walls[{i}]"), "polygon"),
+            Wall::Mesh { solid, .. } | Wall::Polygon { solid, .. } => {
+                let (why, fits) = if c.dim == 3 {
+                    (
+                        "a 3D mesh's sides are \"inside\" and \"outside\" (closed), or \"back\" and \"front\" of its faces (open)",
+                        !matches!(solid, Side::Left | Side::Right),
+                    )
+                } else {
+                    (
+                        "a 2D polygon's sides are \"inside\" and \"outside\" (closed), or \"left\" and \"right\" of a line walked from its first point to its last (open)",
+                        !matches!(solid, Side::Back | Side::Front),
+                    )
+                };
+                if !fits {
+                    return Err(c.err(format!("walls[{i}].solid"), why));
+                }
+            }
             _ => {}
         }
     }
@@ -146,7 +161,13 @@ fn shapes_fit(c: &Ctx, s: &SceneFile) -> R {
 pub(in crate::scene) fn check(c: &Ctx, s: &SceneFile) -> R {
     let dx = s.discretisation.spacing;
     let domain = &s.domain;
-    for (field, _, o, grow) in outlines(s) {
+    for Placed {
+        field,
+        outline: o,
+        grow,
+        ..
+    } in surfaces(s)
+    {
         let Some(surface) = o.loaded.get() else {
             return Err(c.err(
                 &field,

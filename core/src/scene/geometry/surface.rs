@@ -36,10 +36,15 @@ pub struct Info {
     pub hi: P3,
     /// \[L^d\] the volume (3D) or area (2D) it encloses.
     pub volume: f64,
+    /// \[L^(d-1)\] its own area (3D) or length (2D).
+    pub area: f64,
     /// Its edges: open ones, holes, the largest hole.
     pub topology: Topology,
     /// Whether it was wound inward (its normals pointing in) and was turned outward.
     pub turned: bool,
+    /// An open surface (a wall's sheet or line: `format::Side::open`), taken as given: its
+    /// `volume` is 0.
+    pub open: bool,
     /// \[s\] reading, placing, checking it and building its trees.
     pub read_seconds: f64,
 }
@@ -54,13 +59,18 @@ pub(super) enum From {
 
 pub(super) enum Shape {
     Mesh {
+        /// With its pseudo-normals where `open`.
         tree: parry3d_f64::shape::TriMesh,
+        /// Empty where `open`.
         winding: winding::Winding,
+        open: bool,
     },
     Polygon {
+        /// With its pseudo-normals where `open`.
         line: parry2d_f64::shape::Polyline,
         /// (from, to), the inside on the left.
         segments: Vec<[DVec2; 2]>,
+        open: bool,
     },
 }
 
@@ -103,10 +113,26 @@ impl std::fmt::Debug for Loaded {
 pub const MAX_HOLE: f64 = 0.1;
 
 impl Surface {
-    /// Whether `p` is inside: winding number above 1/2.
+    /// Whether `p` is inside: a closed surface's winding number above 1/2; for an open one,
+    /// behind its faces (3D) or left of its line (2D) as seen from its closest point, against
+    /// the pseudo-normal there (the face's, or the angle-weighted mean of the faces at an
+    /// edge or a corner: Baerentzen & Aanaes 2005), so that a point near a fold is on the
+    /// right side of it.
     pub fn inside(&self, p: &P3) -> bool {
         match &self.shape {
+            Shape::Mesh {
+                tree, open: true, ..
+            } => {
+                let q = parry3d_f64::math::Vector::new(p[0], p[1], p[2]);
+                tree.project_local_point(q, false).is_inside
+            }
             Shape::Mesh { winding, .. } => winding.at(DVec3::from_array(*p)) > 0.5,
+            Shape::Polygon {
+                line, open: true, ..
+            } => {
+                let q = parry2d_f64::math::Vector::new(p[0], p[1]);
+                line.project_local_point(q, false).is_inside
+            }
             Shape::Polygon { segments, .. } => {
                 polygon_winding(segments, DVec2::new(p[0], p[1])) > 0.5
             }

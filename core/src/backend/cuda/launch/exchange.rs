@@ -86,14 +86,22 @@ pub fn select(
             .launch(cfg(n + 1))
             .map(|_| ())
     });
-    // The grid build's scan over the n + 1 marks (the last, 0, gives the count).
-    let n_scan = n32 + 1;
-    // mark and local hold cap + 1 >= n_scan (16-byte aligned allocations), bsum
+    counted(k, s, b)
+}
+
+/// The count of the n + 1 marks in `b`'s scratch that a mark kernel just wrote (the last,
+/// 0, the sentinel): the grid build's scan over them (their compacted slots in
+/// `Scratch::local` and `bsum`, which `pack` and `compact` read) and their total, read back
+/// (one word). `select`'s, and the open boundaries' (`launch/open.rs`).
+pub fn counted(k: &Kernels, s: &Arc<CudaStream>, b: &mut Buffers) -> Result<usize, DriverError> {
+    let n32 = b.n as u32;
+    let x = b.scratch.as_mut().expect("marked first");
+    // mark and local hold cap + 1 >= n + 1 (16-byte aligned allocations), bsum
     // ceil((cap + 1) / MF_SCAN_CELLS) >= its blocks.
     scan(
         k,
         s,
-        n_scan,
+        n32 + 1,
         &x.mark,
         &mut x.local.slice_mut(..),
         &mut x.bsum,

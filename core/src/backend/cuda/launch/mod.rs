@@ -56,6 +56,7 @@ mod bodies;
 mod exchange;
 mod grid;
 mod integrate;
+pub mod open;
 mod passes;
 mod reduce;
 mod tlsph;
