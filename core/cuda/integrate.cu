@@ -61,12 +61,13 @@ template <int DIM>
 __device__ __forceinline__ bool kick_one(const SphParams& p, unsigned char k, unsigned g, const Vec<DIM>& x, float dt,
                                          float r_now, float r_step, double t0, double te,
                                          const float* __restrict__ acc, unsigned i, Vec<DIM>& v) {
-    // An open boundary's buffer: an inlet's prescribed velocity, an outlet's as it is
-    // (`buffer_velocity` in src/physics/open.rs).
+    // An open boundary's buffer: an inlet's prescribed velocity r(t) f(x) velocity, an
+    // outlet's as it is (`buffer_velocity` in src/physics/open.rs).
     if (const int ob = open_index(p, g); ob >= 0) {
         const MfOpen& o = p.open[ob];
         if (o.kind != MF_OPEN_INLET) return false;
-        const float r = (float)smooth_ramp((double)o.ramp, te);
+        // open_profile reads only the axes of profile_axes: below DIM.
+        const float r = (float)smooth_ramp((double)o.ramp, te) * open_profile(o, x.c);
 #pragma unroll
         for (int d = 0; d < DIM; ++d) v.c[d] = o.velocity[d] * r;
         return true;

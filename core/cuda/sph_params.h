@@ -157,7 +157,8 @@ typedef struct MfBody {
  * particles are fluid of scene group `group`; the open-boundary stage, first in each step:
  *  - inlet: a buffer particle at s >= 0 joins the fluid (group `through`) and a copy of it
  *    takes its place depth behind (new id); a fluid particle in the box (s < 0) is removed;
- *    the kick sets the buffer's velocity to r(t) velocity (r the smooth start over `ramp`);
+ *    the kick sets the buffer's velocity to r(t) f(x) velocity (r the smooth start over
+ *    `ramp`, f the profile across the inlet: 1, or parabolic across `profile_axes`);
  *  - outlet: a fluid particle in the box joins the buffer; a buffer particle beyond the box
  *    (s < -depth, or outside it sideways) is removed, and one back at s >= 0 rejoins the
  *    fluid (group `through`); the kick leaves the buffer's velocity as it entered.
@@ -175,6 +176,9 @@ typedef struct MfOpen {
     float hi[3];        /* [L] its upper corner */
     float velocity[3];  /* [L/T] inlet: the prescribed velocity (pointing into the fluid) */
     float ramp;         /* [T] inlet: the smooth start of the velocity; 0: none */
+    int32_t profile_axes; /* inlet: bit a set: the velocity is parabolic across axis a,
+                             6 eta (1 - eta) with eta = (x_a - lo_a) / (hi_a - lo_a) (mean 1:
+                             `velocity` is the mean); 0: uniform */
 } MfOpen;
 
 typedef struct SphParams {

@@ -108,6 +108,101 @@ fn a_channel_flows_through() {
 }
 
 #[test]
+fn a_parabolic_inlet_brings_the_flux_of_its_mean_in_its_profile() {
+    // `profile = "parabolic"`: the buffer moves at 6 U eta (1 - eta), eta = y / H, U = 0.5.
+    let mut s = cpu(&channel(&[(
+        "velocity = [0.5, 0.0]\n[[open",
+        "velocity = [0.5, 0.0]\nprofile = \"parabolic\"\n[[open",
+    )]));
+    let first_new = s.particles().iter().map(|q| q.id).max().unwrap() + 1;
+    run_to(&mut *s, 0.5);
+    let v = s.particles();
+    // Group 3: the inlet's buffer (one fluid block, two walls before it); group 4 the fluid
+    // that came in through it.
+    let buffer: Vec<&Particle> = v.iter().filter(|q| q.group == 3).collect();
+    assert!(buffer.len() >= 20, "{} buffer particles", buffer.len());
+    for q in &buffer {
+        let eta = q.position[1] as f64 / 0.1;
+        let u = 0.5 * 6.0 * eta * (1.0 - eta);
+        assert!(
+            (q.velocity[0] as f64 - u).abs() < 1e-5 && q.velocity[1] == 0.0,
+            "a buffer particle at y = {} moves at {:?}, the profile's {u}",
+            q.position[1],
+            q.velocity
+        );
+    }
+    // The flux is the mean's: the rows at y_j = (j + 1/2) dx cross at u_j, so that
+    // sum_j u_j t / dx = 502.5 t particles came in (uniform: 500 t), each row's count
+    // rounded down.
+    let inlet = s.open_tally()[0];
+    let expected = 502.5 * s.time();
+    assert!(
+        (inlet.count_in as f64 - expected).abs() <= 10.0,
+        "{} particles came in, {expected:.1} expected",
+        inlet.count_in
+    );
+    // And in its profile: the four middle rows (u_j 1.37-1.49 U) brought in more than twice
+    // as many a row as the two rows at the floor (0.29 U and 0.77 U); uniform: as many.
+    let came: Vec<&Particle> = v.iter().filter(|q| q.id >= first_new).collect();
+    let rows = |lo: f32, hi: f32| {
+        came.iter()
+            .filter(|q| (lo..hi).contains(&q.position[1]))
+            .count()
+    };
+    let (middle, floor) = (rows(0.03, 0.07) as f64 / 4.0, rows(0.0, 0.02) as f64 / 2.0);
+    eprintln!(
+        "parabolic inlet to t = {:.3}: {} in ({expected:.1} expected), {middle} a middle row, \
+         {floor} a floor row",
+        s.time(),
+        inlet.count_in
+    );
+    assert!(
+        middle > 2.0 * floor,
+        "{middle} new particles a middle row, {floor} a floor row"
+    );
+}
+
+#[test]
+fn a_parabolic_profile_spans_the_closed_sides_only() {
+    let axes = |text: &str| {
+        Scene::from_toml(text, "channel-open")
+            .unwrap()
+            .setup()
+            .unwrap()
+            .params
+            .open[0]
+            .profile_axes
+    };
+    let parabolic = |dim| {
+        common::open_channel(dim).replacen(
+            "kind = \"inlet\"",
+            "kind = \"inlet\"\nprofile = \"parabolic\"",
+            1,
+        )
+    };
+    // 2D: across y. The 3D duct (periodic across z): across y alone. Uniform: none.
+    assert_eq!(axes(&parabolic(2)), 1 << 1);
+    assert_eq!(axes(&parabolic(3)), 1 << 1);
+    assert_eq!(axes(&common::open_channel(3)), 0);
+    // The duct closed across z too (walls or not: the box's sides bound the profile): both.
+    let closed = parabolic(3).replace(
+        "periodic = [false, false, true]",
+        "periodic = [false, false, false]",
+    );
+    assert_eq!(axes(&closed), (1 << 1) | (1 << 2));
+    // Every side periodic: nothing for a parabola to span.
+    let open = parabolic(3).replace(
+        "periodic = [false, false, true]",
+        "periodic = [false, true, true]",
+    );
+    let e = Scene::from_toml(&open, "channel-open")
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("open_boundaries[0].profile"), "{e}");
+}
+
+#[test]
 fn a_restart_steps_on_bit_for_bit() {
     let text = channel(&[]);
     let mut a = cpu(&text);
@@ -185,6 +280,20 @@ fn bad_input_is_refused_with_its_field() {
             "kind = \"outlet\"\nmin = [-0.02, 0.0]",
         )],
         "overlaps",
+    );
+    refused(
+        &[(
+            "normal = [-1.0, 0.0]",
+            "normal = [-1.0, 0.0]\nprofile = \"parabolic\"",
+        )],
+        "open_boundaries[1].profile",
+    );
+    refused(
+        &[(
+            "velocity = [0.5, 0.0]\n[[open",
+            "velocity = [0.5, 0.0]\nprofile = \"round\"\n[[open",
+        )],
+        "profile",
     );
     refused(
         &[("wall_density_floor = true", "wall_density_floor = false")],

@@ -4,7 +4,7 @@
 //! perturbation goes in through the scene (`Ctx::edit`), never through the physics code.
 //!
 //! Covered: every check row of every quick-tier case (hydrostatic-tank, dam-break,
-//! poiseuille, taylor-green, cylinder, cantilever, plate, gate); the gate's one kind of
+//! poiseuille, open-channel, taylor-green, cylinder, cantilever, plate, gate); the gate's one kind of
 //! check, the gate bonded to its clamp, moves with no scheme parameter: a clamp that lets go
 //! (a scene perturbation) fails it. Other perturbations are measured with `explore`
 //! (ignored), e.g.
@@ -12,7 +12,7 @@
 //! --ignored --nocapture explore`.
 
 use meshfree_core::backend::BackendChoice;
-use meshfree_core::scene::format::SolidObject;
+use meshfree_core::scene::format::{OpenProfile, SolidObject};
 use meshfree_core::scene::scheme::WallCoupling;
 use meshfree_core::scene::Scene;
 use meshfree_lab::validate::{Check, Ctx, Tier, CASES};
@@ -87,6 +87,16 @@ fn covers_every_check(case: &str, rows: &[Check], covered: &[&str]) {
             "{case}: the check `{}` has no perturbation here",
             r.quantity
         );
+    }
+}
+
+/// A uniform inlet into a channel 10 times less viscous (Re 50): the flow's entrance
+/// length (about 0.05 Re H = 0.25) reaches the profile's window, x in [0.3, 0.45], so the
+/// plug it came in as has not become the parabola there.
+fn plug_flow(s: &mut Scene) {
+    s.file.fluid.viscosity *= 0.1;
+    for o in &mut s.file.open_boundaries {
+        o.profile = OpenProfile::Uniform;
     }
 }
 
@@ -174,6 +184,22 @@ fn dam_break_checks_fail_when_perturbed() {
         &rows(case, Some(&walls_dynamic)),
         &[cushion],
     );
+}
+
+#[test]
+fn open_channel_checks_fail_when_perturbed() {
+    let case = "open-channel";
+    let r = rows(case, None);
+    all_pass(case, &r);
+    let (slope, profile) = ("pressure gradient", "velocity profile");
+    covers_every_check(case, &r, &[slope, profile]);
+    fail(
+        case,
+        "viscosity doubled",
+        &rows(case, Some(&viscosity_doubled)),
+        &[slope],
+    );
+    fail(case, "plug flow", &rows(case, Some(&plug_flow)), &[profile]);
 }
 
 #[test]

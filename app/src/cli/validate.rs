@@ -19,9 +19,9 @@ pub struct ValidateArgs {
     /// Output directory for report.md, report.json and the plots.
     #[arg(long, value_name = "DIR", default_value = "out/validate")]
     pub out: PathBuf,
-    /// Run only this case (repeatable): hydrostatic-tank, dam-break, poiseuille, taylor-green,
-    /// cylinder, cylinder-onset, plate, cantilever, flume, gate (cylinder-onset and flume are
-    /// full tier only: the quick tier skips them).
+    /// Run only this case (repeatable): hydrostatic-tank, dam-break, poiseuille, open-channel,
+    /// taylor-green, cylinder, cylinder-onset, plate, cantilever, standing-wave, flume, gate
+    /// (cylinder-onset and flume are full tier only: the quick tier skips them).
     #[arg(long, value_name = "NAME")]
     pub case: Vec<String>,
     /// Run every case at this Courant number (eq. (19)) instead of its own (its integrator's

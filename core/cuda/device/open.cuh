@@ -23,6 +23,19 @@ __device__ __forceinline__ bool open_beside(const MfOpen& o, const float* x, int
     return true;
 }
 
+// An inlet's velocity profile at x [-]: the product over the axes of `profile_axes` of
+// 6 eta (1 - eta), eta = (x_a - lo_a) / (hi_a - lo_a) clamped to [0, 1] (mean 1); 1 where no
+// axis is set. Twin: `MfOpen::profile`.
+__device__ __forceinline__ float open_profile(const MfOpen& o, const float* x) {
+    float f = 1.0f;
+    for (int a = 0; a < 3; ++a) {
+        if (!(o.profile_axes & (1 << a))) continue;
+        const float eta = fminf(fmaxf((x[a] - o.lo[a]) / (o.hi[a] - o.lo[a]), 0.0f), 1.0f);
+        f *= 6.0f * eta * (1.0f - eta);
+    }
+    return f;
+}
+
 // The smooth start r(t) over tr [T]: (1 - cos(pi t / tr)) / 2 up to tr, then 1 (1 without a
 // ramp). Twin: `smooth_ramp` in src/backend/cpu/integrate.rs.
 __device__ __forceinline__ double smooth_ramp(double tr, double t) {

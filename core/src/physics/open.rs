@@ -32,6 +32,22 @@ impl MfOpen {
         s < 0.0 && s >= -self.depth && self.beside(x, dim)
     }
 
+    /// An inlet's velocity profile at `x` \[-\]: the product over the axes of
+    /// `profile_axes` of 6 eta (1 - eta), eta = (x\[a\] - lo\[a\]) / (hi\[a\] - lo\[a\])
+    /// clamped to \[0, 1\] (plane Poiseuille flow's parabola, mean 1 over the box's face, so
+    /// that `velocity` is the mean and the flux `velocity` times the face's area); 1 where
+    /// no axis is set (uniform). Twin: `open_profile` in cuda/device/open.cuh.
+    #[inline]
+    pub fn profile(&self, x: [f32; 3]) -> f32 {
+        (0..3)
+            .filter(|&a| self.profile_axes & (1 << a) != 0)
+            .map(|a| {
+                let eta = ((x[a] - self.lo[a]) / (self.hi[a] - self.lo[a])).clamp(0.0, 1.0);
+                6.0 * eta * (1.0 - eta)
+            })
+            .product()
+    }
+
     /// Where an inlet's new buffer particle goes when one at `x` joins the fluid: `depth`
     /// behind it \[L\].
     #[inline]
@@ -68,15 +84,21 @@ pub fn open_index(p: &SphParams, group: u32) -> Option<usize> {
     p.open[..n].iter().position(|o| o.group as u32 == group)
 }
 
-/// The velocity the kick gives a buffer particle of group `group` whose velocity is `v`,
-/// at the kick's end time `t` \[T\]: an inlet's r(t) velocity (r the smooth start over its
-/// `ramp`, `smooth_ramp`), an outlet's `v` as it is; None outside a buffer. [L/T] Twin:
-/// `buffer_velocity` in cuda/device/open.cuh.
+/// The velocity the kick gives a buffer particle of group `group` at `x` whose velocity is
+/// `v`, at the kick's end time `t` \[T\]: an inlet's r(t) f(x) velocity (r the smooth start
+/// over its `ramp`, `smooth_ramp`; f its profile, `MfOpen::profile`), an outlet's `v` as it
+/// is; None outside a buffer. [L/T] Twin: `kick_one` in cuda/integrate.cu.
 #[inline]
-pub fn buffer_velocity<D: Dim>(p: &SphParams, group: u32, v: D::V, t: f64) -> Option<D::V> {
+pub fn buffer_velocity<D: Dim>(
+    p: &SphParams,
+    group: u32,
+    x: D::V,
+    v: D::V,
+    t: f64,
+) -> Option<D::V> {
     let o = &p.open[open_index(p, group)?];
     Some(if o.is_inlet() {
-        D::from3(o.velocity) * smooth_ramp(o.ramp as f64, t) as f32
+        D::from3(o.velocity) * (smooth_ramp(o.ramp as f64, t) as f32 * o.profile(D::to3(x)))
     } else {
         v
     })
@@ -201,6 +223,7 @@ mod tests {
             hi: [0.0, 0.5, 0.0],
             velocity: [2.0, 0.0, 0.0],
             ramp: 0.0,
+            profile_axes: 0,
         };
         p.open[1] = MfOpen {
             kind: MF_OPEN_OUTLET as i32,
@@ -249,16 +272,50 @@ mod tests {
         use crate::physics::dim::D2;
         let mut p = params();
         let v = glam::Vec2::new(0.3, -0.1);
+        let x = glam::Vec2::new(-0.05, 0.1);
         assert_eq!(
-            buffer_velocity::<D2>(&p, 5, v, 1.0),
+            buffer_velocity::<D2>(&p, 5, x, v, 1.0),
             Some(glam::Vec2::new(2.0, 0.0))
         );
-        assert_eq!(buffer_velocity::<D2>(&p, 7, v, 1.0), Some(v));
-        assert_eq!(buffer_velocity::<D2>(&p, 0, v, 1.0), None);
+        assert_eq!(buffer_velocity::<D2>(&p, 7, x, v, 1.0), Some(v));
+        assert_eq!(buffer_velocity::<D2>(&p, 0, x, v, 1.0), None);
         // Half way through the ramp: half the velocity.
         p.open[0].ramp = 0.2;
-        let u = buffer_velocity::<D2>(&p, 5, v, 0.1).unwrap();
+        let u = buffer_velocity::<D2>(&p, 5, x, v, 0.1).unwrap();
         assert!((u.x - 1.0).abs() < 1e-6, "{u}");
+        // And a parabolic profile across y: 1.5 times that at the face's middle.
+        p.open[0].profile_axes = 1 << 1;
+        let mid = glam::Vec2::new(-0.05, 0.25);
+        let u = buffer_velocity::<D2>(&p, 5, mid, v, 0.1).unwrap();
+        assert!((u.x - 1.5).abs() < 1e-6 && u.y == 0.0, "{u}");
         assert_eq!(p.open[0].behind([0.01, 0.2, 0.0]), [0.01 - 0.1, 0.2, 0.0]);
+    }
+
+    #[test]
+    fn a_parabolic_profile_is_zero_at_the_sides_and_its_mean_is_one() {
+        let mut o = params().open[0];
+        // Uniform: 1 everywhere.
+        assert_eq!(o.profile([-0.05, 0.01, 0.0]), 1.0);
+        // Across y (the box spans 0..0.5): 1.5 at the middle, 0 at and beyond the sides.
+        o.profile_axes = 1 << 1;
+        assert!((o.profile([-0.05, 0.25, 0.0]) - 1.5).abs() < 1e-6);
+        for y in [0.0, 0.5, -0.1, 0.7] {
+            assert_eq!(o.profile([-0.05, y, 0.0]), 0.0, "y = {y}");
+        }
+        // Its mean over the face (the midpoint rule on 1000 points): 1, so that the
+        // flux is the velocity times the area.
+        let mean = |o: &MfOpen| {
+            (0..1000)
+                .map(|i| o.profile([-0.05, 0.5 * (i as f32 + 0.5) / 1000.0, 0.3]) as f64)
+                .sum::<f64>()
+                / 1000.0
+        };
+        assert!((mean(&o) - 1.0).abs() < 1e-5, "{}", mean(&o));
+        // Across y and z: the product (1.5^2 at the middle of the face).
+        o.profile_axes = (1 << 1) | (1 << 2);
+        o.lo[2] = 0.0;
+        o.hi[2] = 1.0;
+        assert!((o.profile([-0.05, 0.25, 0.5]) - 2.25).abs() < 1e-6);
+        assert!((o.profile([-0.05, 0.25, 0.3]) - 1.5 * 6.0 * 0.3 * 0.7).abs() < 1e-5);
     }
 }

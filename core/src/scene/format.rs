@@ -56,7 +56,7 @@ pub struct Inflow {
     pub ramp: f64,
 }
 
-pub use super::open::{OpenBoundary, OpenKind};
+pub use super::open::{OpenBoundary, OpenKind, OpenProfile};
 
 /// A sponge layer (`[damping_zone]`): the kick relaxes the velocity of fluid particles in
 /// it, v *= exp(-strength r^2 dt), r rising from 0 at `start` to 1 at `end` along `axis`

@@ -21,6 +21,21 @@ pub enum OpenKind {
     Outlet,
 }
 
+/// An inlet's velocity across its face (`profile` of `[[open_boundaries]]`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum OpenProfile {
+    /// The same velocity everywhere on the face.
+    #[default]
+    Uniform,
+    /// Plane Poiseuille flow's parabola, 6 eta (1 - eta) across each side of the face that is
+    /// not periodic (eta from 0 to 1 across the buffer box), zero at the box's sides and 1.5
+    /// times `velocity` at its middle: `velocity` is the mean, the flux `velocity` times the
+    /// face's area. Across two sides (a 3D duct) the product of the two parabolas, not the
+    /// duct's series solution (its mean is still `velocity`).
+    Parabolic,
+}
+
 /// An inlet or outlet (`[[open_boundaries]]`, `physics::open`): a buffer box whose face on
 /// the fluid's side is the boundary, normal to an axis. The box is `min`..`max`; `normal`
 /// (a unit vector along an axis) points from the buffer into the fluid, and the box's
@@ -44,6 +59,28 @@ pub struct OpenBoundary {
     /// ramp)) / 2 up to `ramp`, then 1; 0 (the default): at full velocity from the start.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub ramp: f64,
+    /// An inlet's velocity across its face: `"uniform"` (the default) or `"parabolic"`
+    /// (`OpenProfile`); not for an outlet.
+    #[serde(default, skip_serializing_if = "is_uniform")]
+    pub profile: OpenProfile,
+}
+
+fn is_uniform(p: &OpenProfile) -> bool {
+    *p == OpenProfile::Uniform
+}
+
+/// The axes across open boundary `o`'s face that its profile spans, as `MfOpen::profile_axes`'
+/// bits: every axis of the scene's `dim` but the normal's and the periodic ones, under a
+/// parabolic profile; none under a uniform one.
+fn profile_axes(s: &SceneFile, o: &OpenBoundary) -> i32 {
+    if o.profile == OpenProfile::Uniform {
+        return 0;
+    }
+    let (axis, _) = o.axis_sign().expect("validated");
+    let periodic = |a: usize| s.domain.periodic.as_ref().is_some_and(|p| p[a]);
+    (0..s.dimension as usize)
+        .filter(|&a| a != axis && !periodic(a))
+        .fold(0, |m, a| m | 1 << a)
 }
 
 impl OpenBoundary {
@@ -165,7 +202,9 @@ pub(super) fn check(c: &Ctx, s: &SceneFile) -> R {
             return Err(c.err(
                 f(if sign > 0.0 { "min" } else { "max" }),
                 format!(
-                    "the outlet's far face at {} is {} from the domain's edge: the domain must                      reach at least 2h = {} beyond it, where the particles that leave are                      removed",
+                    "the outlet's far face at {} is {} from the domain's edge: the domain must \
+                     reach at least 2h = {} beyond it, where the particles that leave are \
+                     removed",
                     fmt(far),
                     fmt(room),
                     fmt(support)
@@ -188,6 +227,13 @@ pub(super) fn check(c: &Ctx, s: &SceneFile) -> R {
                     ));
                 }
                 c.non_negative(&f("ramp"), o.ramp)?;
+                if o.profile == OpenProfile::Parabolic && profile_axes(s, o) == 0 {
+                    return Err(c.err(
+                        f("profile"),
+                        "a parabolic profile spans the face's sides that are not periodic, \
+                         and every side of this one is periodic: give \"uniform\"",
+                    ));
+                }
             }
             (OpenKind::Outlet, Some(_)) => {
                 return Err(c.err(
@@ -197,6 +243,12 @@ pub(super) fn check(c: &Ctx, s: &SceneFile) -> R {
             }
             (OpenKind::Outlet, None) if o.ramp != 0.0 => {
                 return Err(c.err(f("ramp"), "only an inlet has a ramp"));
+            }
+            (OpenKind::Outlet, None) if o.profile != OpenProfile::Uniform => {
+                return Err(c.err(
+                    f("profile"),
+                    "only an inlet has a velocity profile: an outlet takes the fluid's",
+                ));
             }
             (OpenKind::Outlet, None) => {}
         }
@@ -236,6 +288,7 @@ pub(super) fn write_params(s: &SceneFile, p: &mut SphParams) {
             plane: plane as f32,
             depth: depth as f32,
             ramp: o.ramp as f32,
+            profile_axes: profile_axes(s, o),
             ..Default::default()
         };
         for k in 0..s.dimension as usize {

@@ -2,18 +2,25 @@
 //! (`backend/cpu/open.rs`) over whole steps: a channel between an inlet and an outlet, in 2D
 //! and in 3D (a duct periodic across), makes the same particles with the same ids, removes
 //! the same ones, tallies them alike and moves them alike; a GPU run resumed from a
-//! checkpoint steps on bit for bit across creations and removals.
+//! checkpoint steps on bit for bit across creations and removals. The 3D duct's inlet is
+//! parabolic across y (`profile`; uniform across z, its periodic axis), the 2D channel's
+//! uniform.
 
 use super::*;
 use meshfree_core::scene::Scene;
 use meshfree_core::solver::{Persist, Readback};
 
 /// `common::open_channel` (a 2D channel or a 3D duct periodic across), its inlet started
-/// over 0.02 s.
+/// over 0.02 s; the duct's parabolic.
 fn channel(dim: usize) -> Setup {
+    let profile = if dim == 3 {
+        "\nprofile = \"parabolic\""
+    } else {
+        ""
+    };
     let text = super::common::open_channel(dim).replacen(
         "kind = \"inlet\"",
-        "kind = \"inlet\"\nramp = 0.02",
+        &format!("kind = \"inlet\"\nramp = 0.02{profile}"),
         1,
     );
     Scene::from_toml(&text, "channel-open")
@@ -106,5 +113,5 @@ fn a_2d_channel_makes_and_removes_the_same_particles_on_both_backends() {
     ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
 )]
 fn a_3d_duct_makes_and_removes_the_same_particles_on_both_backends() {
-    same_channel::<D3>("3D open duct");
+    same_channel::<D3>("3D open duct, parabolic inlet");
 }

@@ -36,6 +36,7 @@ pub mod dam_break;
 pub mod flume;
 pub mod gate;
 pub mod hydrostatic;
+pub mod open_channel;
 pub mod plate;
 pub mod poiseuille;
 pub mod standing_wave;

@@ -5,8 +5,8 @@
 use super::check::Check;
 use super::ctx::Ctx;
 use super::{
-    cantilever, cylinder, cylinder_onset, dam_break, flume, gate, hydrostatic, plate, poiseuille,
-    standing_wave, taylor_green,
+    cantilever, cylinder, cylinder_onset, dam_break, flume, gate, hydrostatic, open_channel, plate,
+    poiseuille, standing_wave, taylor_green,
 };
 
 /// One validation case.
@@ -36,6 +36,12 @@ pub const CASES: &[Case] = &[
         name: poiseuille::NAME,
         description: poiseuille::DESCRIPTION,
         run: poiseuille::run,
+        quick: true,
+    },
+    Case {
+        name: open_channel::NAME,
+        description: open_channel::DESCRIPTION,
+        run: open_channel::run,
         quick: true,
     },
     Case {

@@ -165,7 +165,7 @@ pub fn kick<D: Dim>(p: &SphParams, dt: f32, (t0, t_end): (f64, f64), s: &mut Sta
     let ramp_dv = u * (r1 - r0) as f32;
     s.vel.par_iter_mut().enumerate().for_each(|(i, v)| {
         // An open boundary's buffer: an inlet's prescribed velocity, an outlet's as it is.
-        if let Some(u) = buffer_velocity::<D>(p, group[i], *v, t_end) {
+        if let Some(u) = buffer_velocity::<D>(p, group[i], pos[i], *v, t_end) {
             *v = u;
             return;
         }

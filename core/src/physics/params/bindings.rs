@@ -97,7 +97,7 @@ pub struct MfBody {
     #[doc = " the last drift's rotation (scene frame, row-major): a particle\nat x goes to centre + turn (x - centre + shift)"]
     pub turn: [f64; 9usize],
 }
-#[doc = " An open boundary (`[[open_boundaries]]`; device/open.cuh, twin src/physics/open.rs): a buffer\n box behind a plane normal to one axis, of `depth` along it. s = sign (x[axis] - plane) [L] is\n a point's distance on the fluid's side of the plane (negative in the buffer). The buffer's\n particles are fluid of scene group `group`; the open-boundary stage, first in each step:\n  - inlet: a buffer particle at s >= 0 joins the fluid (group `through`) and a copy of it\n    takes its place depth behind (new id); a fluid particle in the box (s < 0) is removed;\n    the kick sets the buffer's velocity to r(t) velocity (r the smooth start over `ramp`);\n  - outlet: a fluid particle in the box joins the buffer; a buffer particle beyond the box\n    (s < -depth, or outside it sideways) is removed, and one back at s >= 0 rejoins the\n    fluid (group `through`); the kick leaves the buffer's velocity as it entered.\n The drift moves buffer particles at their velocity, without XSPH or shifting; their\n density follows the continuity equation (or the summation) as the fluid's."]
+#[doc = " An open boundary (`[[open_boundaries]]`; device/open.cuh, twin src/physics/open.rs): a buffer\n box behind a plane normal to one axis, of `depth` along it. s = sign (x[axis] - plane) [L] is\n a point's distance on the fluid's side of the plane (negative in the buffer). The buffer's\n particles are fluid of scene group `group`; the open-boundary stage, first in each step:\n  - inlet: a buffer particle at s >= 0 joins the fluid (group `through`) and a copy of it\n    takes its place depth behind (new id); a fluid particle in the box (s < 0) is removed;\n    the kick sets the buffer's velocity to r(t) f(x) velocity (r the smooth start over\n    `ramp`, f the profile across the inlet: 1, or parabolic across `profile_axes`);\n  - outlet: a fluid particle in the box joins the buffer; a buffer particle beyond the box\n    (s < -depth, or outside it sideways) is removed, and one back at s >= 0 rejoins the\n    fluid (group `through`); the kick leaves the buffer's velocity as it entered.\n The drift moves buffer particles at their velocity, without XSPH or shifting; their\n density follows the continuity equation (or the summation) as the fluid's."]
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct MfOpen {
@@ -123,6 +123,8 @@ pub struct MfOpen {
     pub velocity: [f32; 3usize],
     #[doc = " [T] inlet: the smooth start of the velocity; 0: none"]
     pub ramp: f32,
+    #[doc = " inlet: bit a set: the velocity is parabolic across axis a,\n6 eta (1 - eta) with eta = (x_a - lo_a) / (hi_a - lo_a) (mean 1:\n`velocity` is the mean); 0: uniform"]
+    pub profile_axes: i32,
 }
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
