@@ -319,7 +319,8 @@ fn mutated_scenes_never_panic_hang_or_fail_silently() {
         let took = one.elapsed().as_secs_f64();
         if took > 10.0 {
             failures.push(format!(
-                "case {case} ({origin}): took {took:.1} s (a hang?)"
+                "case {case} ({origin}): took {took:.1} s (a hang?)\n--- input ---\n{}",
+                String::from_utf8_lossy(&bytes)
             ));
         }
         if failures.len() >= 5 {

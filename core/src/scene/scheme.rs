@@ -272,7 +272,7 @@ table! {
         h_factor: f64 {
             default: [1.3, "a support 2h = 2.6 dx: about 21 neighbours in 2D, 74 in 3D"],
             paper: [scene "the paper does not give h"],
-            check: [Positive],
+            check: [Positive; support_within_reason, "at most 8"],
             param: [p.h = |s: &SceneFile, _: &f64| s.discretisation.h() as f32],
         },
         /// The smoothing kernel, eqs. (1)-(4).
