@@ -199,20 +199,22 @@ pub fn peers_table(b: &PeersBench) -> String {
     let _ = writeln!(
         s,
         "`meshfree bench peers`, run {} with build {} on {} ({}): each scene run whole as \
-         `meshfree run` runs it (a fresh solver, 21 binary VTU frames); GPUSPH's whole \
-         process on one H100 beside it ([its figures](../../scenes/peers/README.md)).\n",
+         `meshfree run` runs it (a fresh solver, 21 frames in the format of the row: position, \
+         velocity, pressure and kind); GPUSPH's whole process on one H100 beside it ([its \
+         figures](../../scenes/peers/README.md)).\n",
         b.date, b.commit, first.device, first.backend
     );
     let _ = writeln!(
         s,
-        "| scene | particles | steps | set-up s | stepping s | output waits s | whole run s | GPUSPH whole s | ours / GPUSPH | output GB |"
+        "| scene | frames | particles | steps | set-up s | stepping s | output waits s | whole run s | GPUSPH whole s | ours / GPUSPH | output GB | writer MB/s |"
     );
-    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|");
     for r in &b.rows {
         let _ = writeln!(
             s,
-            "| `{}` | {} | {} | {:.2} | {:.2} | {:.2} | **{:.2}** | {:.1} | {:.2} | {:.2} |",
+            "| `{}` | {} | {} | {} | {:.2} | {:.2} | {:.2} | **{:.2}** | {:.1} | {:.2} | {:.2} | {} |",
             r.scene,
+            if r.format.is_empty() { "vtu" } else { &r.format },
             r.particles,
             r.steps,
             r.setup_s,
@@ -221,7 +223,8 @@ pub fn peers_table(b: &PeersBench) -> String {
             r.whole_s,
             r.gpusph_whole_s,
             r.ratio,
-            r.output_bytes as f64 / 1e9
+            r.output_bytes as f64 / 1e9,
+            r.writer_mb_per_s.map_or("-".to_string(), |v| format!("{v:.0}"))
         );
     }
     s

@@ -14,6 +14,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::run::{self, Progress, RunOptions};
 use meshfree_core::backend::BackendChoice;
+use meshfree_core::named::Named as _;
+use meshfree_core::scene::format::OutputFormat;
 use meshfree_core::scene::Scene;
 
 /// GPUSPH's figures for one scene on one H100 (seconds).
@@ -60,6 +62,12 @@ pub struct PeersRow {
     pub steps: u64,
     pub outputs: usize,
     pub output_bytes: u64,
+    /// The frames' format (`[output] format` or `bench peers --format`).
+    #[serde(default)]
+    pub format: String,
+    /// \[MB/s\] the writer's rate on the frames (`RunSummary::writer_mb_per_second`).
+    #[serde(default)]
+    pub writer_mb_per_s: Option<f64>,
     pub setup_s: f64,
     pub stepping_s: f64,
     pub output_wait_s: f64,
@@ -85,6 +93,7 @@ pub fn run_peers(
     dir: &Path,
     only: &[String],
     backend: BackendChoice,
+    format: Option<OutputFormat>,
     out: &Path,
     progress: Progress,
 ) -> anyhow::Result<PeersBench> {
@@ -112,6 +121,7 @@ pub fn run_peers(
             backend,
             out_dir: Some(out.join(peer.scene)),
             progress,
+            format,
             // A bench's directory is its own: a rerun replaces it.
             overwrite: true,
             ..Default::default()
@@ -123,6 +133,8 @@ pub fn run_peers(
             steps: s.steps,
             outputs: s.outputs,
             output_bytes: s.output_bytes,
+            format: s.output_format.name().to_string(),
+            writer_mb_per_s: s.writer_mb_per_second,
             setup_s: s.timing.setup_seconds,
             stepping_s: s.timing.stepping_seconds,
             output_wait_s: s.timing.output_wait_seconds,

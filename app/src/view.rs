@@ -7,7 +7,7 @@ use std::path::Path;
 use anyhow::Context;
 use meshfree::cli::{RenderArgs, ViewArgs};
 use meshfree::output::files::SUMMARY;
-use meshfree::output::{write_vtu, RunStatus, RunSummary, Timing};
+use meshfree::output::{write_vtu, Compression, RunStatus, RunSummary, Timing};
 use meshfree_core::backend::{create, Layout};
 use meshfree_core::interop::{GlBuffers, GlSplat};
 use meshfree_core::physics::params::SphParams;
@@ -324,10 +324,10 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
     // The window closed: write where the run got to.
     let particles = live.solver.particles();
     let vtu = out.join("final.vtu");
-    let fields = scene.file.output.fields(live.solver.has_solids());
+    let fields = scene.file.output.fields(&particles);
     let d: Diagnostics = live.solver.diagnostics();
     let frame = frame::FrameData::from_particles(&particles, fields, d.step, d.time);
-    let bytes = write_vtu(&vtu, &frame, fields, false)
+    let bytes = write_vtu(&vtu, &frame, fields, Compression::Raw)
         .with_context(|| format!("writing {}", vtu.display()))?;
     let info = live.solver.info();
     let wall = started.elapsed().as_secs_f64();
@@ -346,6 +346,8 @@ pub fn view(a: ViewArgs) -> anyhow::Result<()> {
         output_dir: out.display().to_string(),
         output_format: OutputFormat::Vtu,
         output_bytes: bytes,
+        writer_mb_per_second: None,
+        output_advice: None,
         timing: Timing {
             total_seconds: wall,
             ..Default::default()

@@ -3,7 +3,7 @@
 use meshfree::compare::{compare, compare_files, MatchBy};
 use meshfree::output::{read_particles_csv, write_particles_csv};
 use meshfree_core::scene::Scene;
-use meshfree_core::solver::frame::FrameData;
+use meshfree_core::solver::frame::{Field, FrameData};
 
 #[test]
 fn csv_round_trips_and_compares() {
@@ -15,7 +15,8 @@ fn csv_round_trips_and_compares() {
     let dir = tempfile::tempdir().unwrap();
     let a = dir.path().join("a.csv");
     let scene = Scene::builtin("tank-2d").unwrap();
-    let fields = scene.file.output.fields(false);
+    // Matching by id needs the `id` field, which the default fields leave out.
+    let fields = scene.file.output.fields(&ps).with(Field::Id);
     write_particles_csv(&a, &FrameData::from_particles(&ps, fields, 0, 0.0), fields).unwrap();
     let back = read_particles_csv(&a).unwrap();
     assert_eq!(back.len(), ps.len());

@@ -1,7 +1,7 @@
 //! Output files are well-formed: VTK (.vtu, .pvd), diagnostics CSV, summary JSON; and a
 //! short run through `run::run` writes all of them consistently.
 
-use meshfree::output::{self, diagnostics, PvdSeries};
+use meshfree::output::{self, diagnostics, Compression, PvdSeries};
 use meshfree::run::{self, Progress, RunOptions};
 use meshfree_core::physics::particle::{Kind, Particle};
 use meshfree_core::scene::Scene;
@@ -67,22 +67,32 @@ fn u64_at(b: &[u8], at: usize) -> usize {
 }
 
 /// The decoded bytes of the array at `offset` of the appended data.
-fn array_bytes(data: &[u8], offset: usize, zlib: bool) -> Vec<u8> {
-    if !zlib {
+fn array_bytes(data: &[u8], offset: usize, compression: Compression) -> Vec<u8> {
+    if compression == Compression::Raw {
         let n = u64_at(data, offset);
         return data[offset + 8..offset + 8 + n].to_vec();
     }
     use std::io::Read;
     let blocks = u64_at(data, offset);
+    let (block, last) = (u64_at(data, offset + 8), u64_at(data, offset + 16));
     let mut at = offset + 8 * (3 + blocks);
     let mut out = Vec::new();
     for k in 0..blocks {
         let size = u64_at(data, offset + 8 * (3 + k));
-        let mut d = flate2::read::ZlibDecoder::new(&data[at..at + size]);
-        d.read_to_end(&mut out).unwrap();
+        let chunk = &data[at..at + size];
+        if compression == Compression::Zlib {
+            let mut d = flate2::read::ZlibDecoder::new(chunk);
+            d.read_to_end(&mut out).unwrap();
+        } else {
+            let len = if k + 1 == blocks && last != 0 {
+                last
+            } else {
+                block
+            };
+            out.extend(lz4_flex::block::decompress(chunk, len).unwrap());
+        }
         at += size;
     }
-    let (block, last) = (u64_at(data, offset + 8), u64_at(data, offset + 16));
     let full = if last == 0 {
         blocks * block
     } else {
@@ -103,7 +113,7 @@ fn floats(b: &[u8]) -> Vec<f32> {
         .collect()
 }
 
-/// Binary VTU, raw and zlib, with and without stress, and a chosen field list: the head
+/// Binary VTU, raw, zlib and LZ4, with and without stress, and a chosen field list: the head
 /// names the arrays, the offsets lead to arrays of the right size, and the values are the
 /// frame's; one vertex cell per particle.
 #[test]
@@ -111,20 +121,29 @@ fn vtu_arrays_decode_to_the_frame() {
     let dir = tempfile::tempdir().unwrap();
     let all = Fields::all();
     let few = Fields::of(&[Field::Position, Field::Pressure]);
-    // 300 000 particles: more than one zlib block per array.
-    for (n, fields, zlib) in [
-        (7, all, false),
-        (40, all, true),
-        (300_000, few, true),
-        (5, few, false),
+    // 300 000 particles: more than one compressed block per array.
+    for (n, fields, compression) in [
+        (7, all, Compression::Raw),
+        (40, all, Compression::Zlib),
+        (40, all, Compression::Lz4),
+        (300_000, few, Compression::Zlib),
+        (300_000, all, Compression::Lz4),
+        (5, few, Compression::Raw),
     ] {
         let frame = FrameData::from_particles(&particles(n), all, 3, 0.25);
-        let path = dir.path().join(format!("p{n}{zlib}.vtu"));
-        let bytes = output::write_vtu(&path, &frame, fields, zlib).unwrap();
+        let path = dir.path().join(format!("p{n}{compression:?}.vtu"));
+        let bytes = output::write_vtu(&path, &frame, fields, compression).unwrap();
         let file = std::fs::read(&path).unwrap();
         assert_eq!(bytes, file.len() as u64);
         let (head, data) = split_vtu(&file);
-        assert_eq!(head.contains("vtkZLibDataCompressor"), zlib);
+        assert_eq!(
+            head.contains("vtkZLibDataCompressor"),
+            compression == Compression::Zlib
+        );
+        assert_eq!(
+            head.contains("vtkLZ4DataCompressor"),
+            compression == Compression::Lz4
+        );
         assert_eq!(number_of_points(&head), n);
         assert!(head.contains(&format!("NumberOfCells=\"{n}\"")));
         let a = arrays(&head);
@@ -139,7 +158,7 @@ fn vtu_arrays_decode_to_the_frame() {
         expect.extend(["Points", "connectivity", "offsets", "types"]);
         assert_eq!(names, expect);
         for (name, ty, comps, offset) in &a {
-            let b = array_bytes(&data, *offset, zlib);
+            let b = array_bytes(&data, *offset, compression);
             let size = match ty.as_str() {
                 "UInt8" => 1,
                 "Int64" => 8,

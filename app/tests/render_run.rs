@@ -12,7 +12,9 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 use meshfree::output::frames::{read_frame_csv, values};
-use meshfree::output::{read_vtu, write_particles_csv, write_vtu, RecordedRun};
+use meshfree::output::{read_vtu, write_particles_csv, write_vtu, Compression, RecordedRun};
+
+const COMPRESSIONS: [Compression; 3] = [Compression::Raw, Compression::Zlib, Compression::Lz4];
 use meshfree_core::solver::frame::{Field, Fields, FrameData};
 
 fn meshfree() -> Command {
@@ -44,7 +46,8 @@ fn frame(n: usize, dim: usize) -> FrameData {
         pressure: (0..n).map(|i| f(i, 3.0) * 100.0).collect(),
         kind: (0..n).map(|i| (i % 3) as u8).collect(),
         id: (0..n).map(|i| (n - i) as u32).collect(),
-        group: (0..n).map(|i| (i % 5) as u32).collect(),
+        // Up to 4 n: groups written as UInt8 (n = 1), UInt16 (n < 16,384) and UInt32.
+        group: (0..n).map(|i| (i % 5 * n) as u32).collect(),
         stress: (0..n)
             .map(|i| std::array::from_fn(|c| f(i, 4.0 + c as f32)))
             .collect(),
@@ -54,14 +57,14 @@ fn frame(n: usize, dim: usize) -> FrameData {
 #[test]
 fn the_vtu_reader_gives_back_what_write_vtu_wrote() {
     let dir = tempfile::tempdir().unwrap();
-    // 100 000 particles: the positions (1.2 MB) take two zlib blocks of 1 MiB.
+    // 100 000 particles: the positions (1.2 MB) take two compressed blocks of 1 MiB.
     for (n, dim) in [(1, 2), (257, 2), (1000, 3), (100_000, 3)] {
         let f = frame(n, dim);
-        for zlib in [false, true] {
-            let path = dir.path().join(format!("f{n}-{dim}d-{zlib}.vtu"));
-            write_vtu(&path, &f, Fields::all(), zlib).unwrap();
+        for c in COMPRESSIONS {
+            let path = dir.path().join(format!("f{n}-{dim}d-{c:?}.vtu"));
+            write_vtu(&path, &f, Fields::all(), c).unwrap();
             let back = read_vtu(&path).unwrap();
-            assert_eq!(back, f, "{n} particles, {dim}D, zlib {zlib}");
+            assert_eq!(back, f, "{n} particles, {dim}D, {c:?}");
         }
     }
 }
@@ -71,9 +74,9 @@ fn the_vtu_reader_leaves_out_the_fields_the_run_did_not_write() {
     let dir = tempfile::tempdir().unwrap();
     let f = frame(50, 2);
     let fields = Fields::of(&[Field::Position, Field::Velocity]);
-    for zlib in [false, true] {
-        let path = dir.path().join(format!("f-{zlib}.vtu"));
-        write_vtu(&path, &f, fields, zlib).unwrap();
+    for c in COMPRESSIONS {
+        let path = dir.path().join(format!("f-{c:?}.vtu"));
+        write_vtu(&path, &f, fields, c).unwrap();
         let back = read_vtu(&path).unwrap();
         assert_eq!(back.fields(), fields);
         assert_eq!(
@@ -99,7 +102,7 @@ fn the_vtu_reader_leaves_out_the_fields_the_run_did_not_write() {
 fn the_vtu_reader_refuses_a_truncated_file_and_another_format() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("f.vtu");
-    write_vtu(&path, &frame(100, 3), Fields::all(), false).unwrap();
+    write_vtu(&path, &frame(100, 3), Fields::all(), Compression::Raw).unwrap();
     let bytes = std::fs::read(&path).unwrap();
     std::fs::write(&path, &bytes[..bytes.len() - 2000]).unwrap();
     let e = read_vtu(&path).unwrap_err();
@@ -158,7 +161,7 @@ fn tank_run(dir: &Path, extra: &[&str]) {
 #[test]
 fn a_run_directory_lists_its_frames_in_time_order() {
     let tmp = tempfile::tempdir().unwrap();
-    for format in ["vtu", "vtu-zlib", "csv"] {
+    for format in ["vtu", "vtu-zlib", "vtu-lz4", "csv"] {
         let dir = tmp.path().join(format);
         tank_run(&dir, &["--format", format]);
         let run = RecordedRun::open(&dir).unwrap();

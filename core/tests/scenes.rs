@@ -313,3 +313,53 @@ fn peer_scenes_validate() {
     }
     assert_eq!(n, 3, "db3d-ppH70, db3d-ppH180, db2d-ppH670");
 }
+
+/// The default output fields follow what the scene holds: kind only with more than one kind,
+/// group only where a kind holds more than one object, stress only with solids, id never; a
+/// listed set is kept as listed (position always added).
+#[test]
+fn default_output_fields_weigh_what_the_scene_needs() {
+    use meshfree_core::scene::format::Output;
+    use meshfree_core::solver::frame::{Field, Fields};
+    let p = |kind, group| Particle {
+        kind,
+        group,
+        ..Default::default()
+    };
+    let base = Fields::of(&[
+        Field::Position,
+        Field::Velocity,
+        Field::Density,
+        Field::Pressure,
+    ]);
+    let out = Output::default();
+    let fluid = [p(Kind::Fluid, 0), p(Kind::Fluid, 0)];
+    assert_eq!(out.fields(&fluid), base);
+    let tank = [p(Kind::Fluid, 1), p(Kind::Boundary, 0), p(Kind::Fluid, 1)];
+    assert_eq!(out.fields(&tank), base.with(Field::Kind));
+    // Two wall objects (a tank and an obstacle), stored apart.
+    let obstacle = [
+        p(Kind::Boundary, 0),
+        p(Kind::Fluid, 1),
+        p(Kind::Boundary, 2),
+        p(Kind::Boundary, 0),
+    ];
+    assert_eq!(
+        out.fields(&obstacle),
+        base.with(Field::Kind).with(Field::Group)
+    );
+    let body = [p(Kind::Solid, 3), p(Kind::Solid, 3)];
+    assert_eq!(out.fields(&body), base.with(Field::Stress));
+    let listed = Output {
+        fields: Some(vec![Field::Id, Field::Pressure]),
+        ..Default::default()
+    };
+    assert_eq!(
+        listed.fields(&obstacle),
+        Fields::of(&[Field::Position, Field::Id, Field::Pressure])
+    );
+    // The built-in tank: fluid and walls, one object each.
+    let tank = Scene::builtin("tank-2d").unwrap();
+    let ps = tank.setup().unwrap().particles;
+    assert_eq!(tank.file.output.fields(&ps), base.with(Field::Kind));
+}

@@ -9,6 +9,7 @@ use clap::Subcommand;
 use super::named;
 use crate::run::Progress;
 use meshfree_core::backend::BackendChoice;
+use meshfree_core::scene::format::OutputFormat;
 use meshfree_core::scene::scheme::IntegratorChoice;
 use meshfree_core::scene::Scene;
 
@@ -89,6 +90,9 @@ pub struct PeersBenchArgs {
     /// Output directory: peers-bench.json and each scene's run.
     #[arg(long, value_name = "DIR", default_value = "out/peers-bench")]
     pub out: PathBuf,
+    /// The frames' format for every scene, e.g. `vtu-lz4` [default: each scene's own].
+    #[arg(long, value_parser = named::<OutputFormat>())]
+    pub format: Option<OutputFormat>,
 }
 
 #[derive(Debug, clap::Args)]
@@ -129,7 +133,14 @@ pub(super) fn bench(a: BenchArgs) -> anyhow::Result<()> {
     match a.mode {
         Some(BenchMode::Paper(p)) => return paper_bench(p),
         Some(BenchMode::Peers(p)) => {
-            crate::peers_bench::run_peers(&p.scenes, &p.only, p.backend, &p.out, Progress::Lines)?;
+            crate::peers_bench::run_peers(
+                &p.scenes,
+                &p.only,
+                p.backend,
+                p.format,
+                &p.out,
+                Progress::Lines,
+            )?;
             return Ok(());
         }
         None => {}

@@ -25,7 +25,7 @@ pub use frames::{RecordedFrame, RecordedRun};
 pub use open_csv::OpenCsv;
 pub use particles_csv::{read_particles_csv, write_particles_csv};
 pub use summary::{RunStatus, RunSummary, Timing};
-pub use vtk::{write_vtu, PvdSeries};
+pub use vtk::{write_vtu, Compression, PvdSeries, VtuWriter};
 pub use vtu_read::read_vtu;
 
 pub(crate) use files::write_atomic;

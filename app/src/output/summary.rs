@@ -46,6 +46,14 @@ pub struct RunSummary {
     pub output_format: OutputFormat,
     /// Bytes of particle files written.
     pub output_bytes: u64,
+    /// \[MB/s\] the writer's rate on the particle files: their bytes over its time encoding
+    /// and writing them (`Timing::writer_mb_per_second`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub writer_mb_per_second: Option<f64>,
+    /// What to change where the stepping waited for the output more than a tenth of its time
+    /// (`RunSummary::absorb`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub output_advice: Option<String>,
     /// How the wall time split.
     pub timing: Timing,
     pub final_diagnostics: Option<Diagnostics>,
@@ -118,7 +126,53 @@ pub struct Timing {
     /// The part of `writer_seconds` spent waiting for the frames' copies (the downloads).
     #[serde(default)]
     pub writer_download_seconds: f64,
+    /// The part of `writer_seconds` spent building and compressing the particle files' arrays.
+    #[serde(default)]
+    pub writer_encode_seconds: f64,
+    /// The part of `writer_seconds` spent handing the particle files' bytes to the system
+    /// (the disk may write them later: the page cache takes them first).
+    #[serde(default)]
+    pub writer_write_seconds: f64,
     pub total_seconds: f64,
+}
+
+impl Timing {
+    /// \[MB/s\] `bytes` over the writer's time on them: encoding and writing (not the
+    /// downloads). None before any was spent.
+    pub fn writer_mb_per_second(&self, bytes: u64) -> Option<f64> {
+        let t = self.writer_encode_seconds + self.writer_write_seconds;
+        (t > 0.0).then(|| bytes as f64 / 1e6 / t)
+    }
+
+    /// The share of the stepping that the stepping spent waiting for the output.
+    pub fn output_wait_share(&self) -> f64 {
+        self.output_wait_seconds / self.stepping_seconds.max(1e-9)
+    }
+
+    /// Where the stepping waited for the output more than 10 % of its time: by how much, and
+    /// what would cut the wait (`outputs` frames of `bytes` in all, in `format`).
+    pub fn advice(&self, format: OutputFormat, outputs: usize, bytes: u64) -> Option<String> {
+        let share = self.output_wait_share();
+        if share <= 0.1 || outputs == 0 {
+            return None;
+        }
+        let lz4 = match format {
+            OutputFormat::Vtu | OutputFormat::VtuZlib | OutputFormat::Csv => {
+                "`[output] format = \"vtu-lz4\"` (compressed, and fast to write), "
+            }
+            OutputFormat::VtuLz4 | OutputFormat::None => "",
+        };
+        Some(format!(
+            "the stepping waited {:.0} % of its time for the output ({:.2} s: {outputs} frames, \
+             {:.1} MB a frame{}); {lz4}fewer `[output] fields` or a longer \
+             `time.output_interval` would cut the wait",
+            share * 100.0,
+            self.output_wait_seconds,
+            bytes as f64 / 1e6 / outputs as f64,
+            self.writer_mb_per_second(bytes)
+                .map_or(String::new(), |r| format!(", written at {r:.0} MB/s")),
+        ))
+    }
 }
 
 impl RunSummary {
@@ -132,6 +186,12 @@ impl RunSummary {
         self.output_bytes = w.bytes;
         self.timing.writer_seconds = w.busy_seconds;
         self.timing.writer_download_seconds = w.download_seconds;
+        self.timing.writer_encode_seconds = w.encode_seconds;
+        self.timing.writer_write_seconds = w.write_seconds;
+        self.writer_mb_per_second = self.timing.writer_mb_per_second(w.bytes);
+        self.output_advice =
+            self.timing
+                .advice(self.output_format, self.outputs, self.output_bytes);
         self.fluid_clusters = w.last_clusters;
         self.voids = w.voids.clone();
         self.bodies = w.bodies.clone();
@@ -141,5 +201,42 @@ impl RunSummary {
         let mut text = serde_json::to_string_pretty(self).map_err(std::io::Error::other)?;
         text.push('\n');
         super::write_atomic(path, text.as_bytes())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn advice_only_past_a_tenth_of_the_stepping_and_lz4_only_where_not_used() {
+        let t = Timing {
+            stepping_seconds: 10.0,
+            output_wait_seconds: 2.5,
+            writer_encode_seconds: 0.5,
+            writer_write_seconds: 1.5,
+            ..Timing::default()
+        };
+        // 21 frames of 100 MB, 2,100 MB in 2 s of encoding and writing.
+        assert_eq!(t.writer_mb_per_second(2_100_000_000), Some(1050.0));
+        let raw = t.advice(OutputFormat::Vtu, 21, 2_100_000_000).unwrap();
+        assert!(
+            raw.starts_with("the stepping waited 25 % of its time"),
+            "{raw}"
+        );
+        assert!(
+            raw.contains("100.0 MB a frame, written at 1050 MB/s"),
+            "{raw}"
+        );
+        assert!(raw.contains("vtu-lz4"), "{raw}");
+        let lz4 = t.advice(OutputFormat::VtuLz4, 21, 2_100_000_000).unwrap();
+        assert!(!lz4.contains("vtu-lz4") && lz4.contains("fewer"), "{lz4}");
+        let short = Timing {
+            output_wait_seconds: 0.9,
+            ..t
+        };
+        assert_eq!(short.advice(OutputFormat::Vtu, 21, 2_100_000_000), None);
+        assert_eq!(t.advice(OutputFormat::Vtu, 0, 0), None);
+        assert_eq!(Timing::default().writer_mb_per_second(5), None);
     }
 }

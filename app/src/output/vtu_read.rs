@@ -2,14 +2,16 @@
 //! `meshfree render DIR` and `meshfree view DIR` (issue #51): the XML head's `DataArray`
 //! tags (type, name, components, offset into the appended section), then each array from
 //! the appended raw data, as its UInt64 byte count and bytes, or, with
-//! `compressor="vtkZLibDataCompressor"`, as VTK's zlib blocks. Not a general VTK reader:
+//! `compressor="vtkZLibDataCompressor"` or `"vtkLZ4DataCompressor"`, as VTK's compressed
+//! blocks. Not a general VTK reader:
 //! a file of another layout (ASCII or base64 data, big endian, UInt32 headers, other array
 //! types) is refused with what differs.
 
-use std::io::Read as _;
 use std::path::Path;
 
 use meshfree_core::solver::frame::FrameData;
+
+use super::vtk::Compression;
 
 /// One `<DataArray .../>` of the head.
 struct Tag {
@@ -27,7 +29,7 @@ fn attr<'a>(tag: &'a str, attr: &str) -> Option<&'a str> {
     Some(&tag[start..start + len])
 }
 
-/// Read a `.vtu` written by `write_vtu` (raw or zlib) into a frame: positions from the
+/// Read a `.vtu` written by `write_vtu` (raw, zlib or LZ4) into a frame: positions from the
 /// Points, and each point-data array it holds (`id`, `kind`, `group`, `velocity`,
 /// `density`, `pressure`, `stress`); a field the run did not write stays empty
 /// (`FrameData::fields` says which it has). Time and step are not in the file (the series
@@ -64,11 +66,7 @@ fn parse_vtu(bytes: &[u8]) -> Result<FrameData, String> {
     if attr(vtk, "header_type") != Some("UInt64") {
         return Err("the header type is not UInt64 (meshfree writes UInt64)".into());
     }
-    let zlib = match attr(vtk, "compressor") {
-        None => false,
-        Some("vtkZLibDataCompressor") => true,
-        Some(c) => return Err(format!("compressor `{c}`: only zlib is read")),
-    };
+    let compression = Compression::from_vtk_name(attr(vtk, "compressor"))?;
     let piece = head
         .find("<Piece")
         .map(|s| &head[s..s + head[s..].find('>').unwrap_or(0)])
@@ -118,7 +116,10 @@ fn parse_vtu(bytes: &[u8]) -> Result<FrameData, String> {
             "Points" | "velocity" => ("Float32", 3),
             "density" | "pressure" => ("Float32", 1),
             "stress" => ("Float32", 6),
-            "id" | "group" => ("UInt32", 1),
+            "id" => ("UInt32", 1),
+            // The narrowest type that holds the scene's groups (`vtk::group_array`).
+            "group" if ["UInt8", "UInt16"].contains(&tag.ty.as_str()) => (tag.ty.as_str(), 1),
+            "group" => ("UInt32", 1),
             "kind" => ("UInt8", 1),
             _ => continue, // the cells, or an array this program does not draw
         };
@@ -128,8 +129,12 @@ fn parse_vtu(bytes: &[u8]) -> Result<FrameData, String> {
                 tag.name, tag.ty, tag.comps
             ));
         }
-        let size = if ty == "UInt8" { 1 } else { 4 };
-        let raw = array_bytes(data, tag.offset, zlib)
+        let size = match ty {
+            "UInt8" => 1,
+            "UInt16" => 2,
+            _ => 4,
+        };
+        let raw = array_bytes(data, tag.offset, compression)
             .map_err(|e| format!("array `{}`: {e}", tag.name))?;
         if raw.len() != n * comps * size {
             return Err(format!(
@@ -164,7 +169,16 @@ fn parse_vtu(bytes: &[u8]) -> Result<FrameData, String> {
                     .collect()
             }
             "id" => frame.id = u32s(),
-            "group" => frame.group = u32s(),
+            "group" => {
+                frame.group = match size {
+                    1 => raw.iter().map(|&g| u32::from(g)).collect(),
+                    2 => raw
+                        .chunks_exact(2)
+                        .map(|c| u32::from(u16::from_le_bytes([c[0], c[1]])))
+                        .collect(),
+                    _ => u32s(),
+                }
+            }
             "kind" => frame.kind = raw,
             _ => unreachable!(),
         }
@@ -184,10 +198,10 @@ fn u64_at(data: &[u8], at: usize) -> Result<usize, String> {
 }
 
 /// One array's bytes at `offset` of the appended section: raw (a UInt64 count, then the
-/// bytes) or VTK's zlib blocks (`vtk::zlib_blocks`).
-fn array_bytes(data: &[u8], offset: usize, zlib: bool) -> Result<Vec<u8>, String> {
+/// bytes) or VTK's compressed blocks (`vtk::Compression::head`).
+fn array_bytes(data: &[u8], offset: usize, compression: Compression) -> Result<Vec<u8>, String> {
     let short = || "the appended data end early (a truncated file?)".to_string();
-    if !zlib {
+    if compression == Compression::Raw {
         let len = u64_at(data, offset)?;
         let start = offset + 8;
         return data
@@ -199,7 +213,9 @@ fn array_bytes(data: &[u8], offset: usize, zlib: bool) -> Result<Vec<u8>, String
     let block = u64_at(data, offset + 8)?;
     let last = u64_at(data, offset + 16)?;
     if blocks > data.len() / 8 {
-        return Err(format!("{blocks} zlib blocks: more than the file holds"));
+        return Err(format!(
+            "{blocks} compressed blocks: more than the file holds"
+        ));
     }
     let total = match (blocks, last) {
         (0, _) => 0,
@@ -213,16 +229,15 @@ fn array_bytes(data: &[u8], offset: usize, zlib: bool) -> Result<Vec<u8>, String
         let chunk = data
             .get(at..at.checked_add(size).ok_or_else(short)?)
             .ok_or_else(short)?;
-        flate2::read::ZlibDecoder::new(chunk)
-            .read_to_end(&mut out)
-            .map_err(|e| format!("zlib block {k}: {e}"))?;
+        let len = if k + 1 == blocks && last != 0 {
+            last
+        } else {
+            block
+        };
+        compression
+            .unblock(chunk, len, &mut out)
+            .map_err(|e| format!("compressed block {k}: {e}"))?;
         at += size;
-    }
-    if out.len() != total {
-        return Err(format!(
-            "the zlib blocks hold {} bytes, their header says {total}",
-            out.len()
-        ));
     }
     Ok(out)
 }

@@ -23,6 +23,7 @@ use meshfree_core::solver::frame::{Fields, FrameData, PendingFrame};
 use meshfree_core::solver::Diagnostics;
 use serde::{Deserialize, Serialize};
 
+use super::vtk::{Compression, VtuWriter};
 use super::{BodiesCsv, DiagnosticsCsv, PvdSeries};
 use crate::analysis::bodies::{BodySummary, BodyTracker};
 use crate::analysis::clusters;
@@ -65,6 +66,10 @@ pub struct WriterState {
     pub bytes: u64,
     pub busy_seconds: f64,
     pub download_seconds: f64,
+    #[serde(default)]
+    pub encode_seconds: f64,
+    #[serde(default)]
+    pub write_seconds: f64,
     pub last_clusters: Option<usize>,
     /// `particles.pvd`'s entries: (time \[T\], file).
     pub series: Vec<(f64, String)>,
@@ -105,6 +110,12 @@ pub struct Report {
     /// \[s\] the part of `busy_seconds` spent waiting for the frames' copies (on a GPU, the
     /// downloads).
     pub download_seconds: f64,
+    /// \[s\] the part of `busy_seconds` spent building and compressing the particle files'
+    /// arrays (VTU).
+    pub encode_seconds: f64,
+    /// \[s\] the part of `busy_seconds` spent writing the particle files (handing their bytes
+    /// to the system: the disk's own writing may go on after).
+    pub write_seconds: f64,
     /// The cluster count of the last output, where counted.
     pub last_clusters: Option<usize>,
     pub bodies: Vec<BodySummary>,
@@ -129,7 +140,9 @@ pub struct Writer<'o> {
     clusters: Option<std::io::BufWriter<std::fs::File>>,
     voids: Option<std::io::BufWriter<std::fs::File>>,
     bodies_csv: Option<BodiesCsv>,
-    observer: Observer<'o>,
+    /// The VTU encoder (its cells kept between frames), for the VTU formats.
+    vtu: Option<VtuWriter>,
+    observer: Option<Observer<'o>>,
     report: Report,
 }
 
@@ -146,7 +159,7 @@ impl<'o> Writer<'o> {
     /// writer's state there), open them at their ends and carry on its counts.
     pub fn create(
         mut cfg: Config,
-        observer: Observer<'o>,
+        observer: Option<Observer<'o>>,
         resume: Option<&WriterState>,
     ) -> Result<Writer<'o>, Failure> {
         let append = resume.is_some();
@@ -189,6 +202,8 @@ impl<'o> Writer<'o> {
                 report.bytes = w.bytes;
                 report.busy_seconds = w.busy_seconds;
                 report.download_seconds = w.download_seconds;
+                report.encode_seconds = w.encode_seconds;
+                report.write_seconds = w.write_seconds;
                 report.last_clusters = w.last_clusters;
                 report.voids = w.voids.clone();
                 PvdSeries::with_entries(pvd, w.series.clone())
@@ -196,6 +211,7 @@ impl<'o> Writer<'o> {
         };
         Ok(Writer {
             pvd,
+            vtu: Compression::of(cfg.format).map(VtuWriter::new),
             cfg,
             diagnostics,
             clusters,
@@ -234,6 +250,8 @@ impl<'o> Writer<'o> {
             bytes: self.report.bytes,
             busy_seconds: self.report.busy_seconds,
             download_seconds: self.report.download_seconds,
+            encode_seconds: self.report.encode_seconds,
+            write_seconds: self.report.write_seconds,
             last_clusters: self.report.last_clusters,
             series: self.pvd.entries().to_vec(),
             bodies: self.cfg.bodies.summaries(),
@@ -271,18 +289,22 @@ impl<'o> Writer<'o> {
         let d = &job.diagnostics;
         let fields = self.cfg.fields;
         let file = match self.cfg.format {
-            OutputFormat::Vtu | OutputFormat::VtuZlib => {
+            OutputFormat::Vtu | OutputFormat::VtuZlib | OutputFormat::VtuLz4 => {
                 let name = files::frame_file(index as u64, "vtu");
                 let path = dir.join(&name);
-                let zlib = self.cfg.format == OutputFormat::VtuZlib;
-                self.report.bytes +=
-                    super::write_vtu(&path, &data, fields, zlib).map_err(fail(&path))?;
+                let vtu = self.vtu.as_mut().expect("a VTU format has its writer");
+                let (bytes, times) = vtu.write(&path, &data, fields).map_err(fail(&path))?;
+                self.report.bytes += bytes;
+                self.report.encode_seconds += times.encode_seconds;
+                self.report.write_seconds += times.write_seconds;
                 Some(name)
             }
             OutputFormat::Csv => {
                 let path = dir.join(files::frame_file(index as u64, "csv"));
+                let written = Instant::now();
                 self.report.bytes +=
                     super::write_particles_csv(&path, &data, fields).map_err(fail(&path))?;
+                self.report.write_seconds += written.elapsed().as_secs_f64();
                 None
             }
             OutputFormat::None => None,
@@ -330,11 +352,13 @@ impl<'o> Writer<'o> {
                 csv.write(d.step, d.time, &rows).map_err(fail(&path))?;
             }
         }
-        (self.observer)(&Frame {
-            index,
-            diagnostics: d,
-            data: &data,
-        });
+        if let Some(observer) = self.observer.as_mut() {
+            observer(&Frame {
+                index,
+                diagnostics: d,
+                data: &data,
+            });
+        }
         self.report.frames += 1;
         Ok(())
     }

@@ -238,7 +238,7 @@ pub fn rollback(dir: &Path, r: &Resume) -> Result<(), RunError> {
 /// otherwise be carried into the finished run without a word).
 fn check_frames(dir: &Path, r: &Resume) -> Result<(), RunError> {
     let ext = match r.run.format {
-        OutputFormat::Vtu | OutputFormat::VtuZlib => "vtu",
+        OutputFormat::Vtu | OutputFormat::VtuZlib | OutputFormat::VtuLz4 => "vtu",
         OutputFormat::Csv => "csv",
         OutputFormat::None => return Ok(()),
     };

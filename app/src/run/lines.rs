@@ -38,7 +38,7 @@ impl Lines {
         let t = &s.timing;
         self.line(&format!(
             "{status}: {} steps to t = {:.4} in {:.2} s ({:.3e} particle-steps/s); set-up {:.2} s, \
-             stepping {:.2} s, waiting for output {:.2} s (writer busy {:.2} s alongside); {} outputs, \
+             stepping {:.2} s, waiting for output {:.2} s (writer busy {:.2} s alongside{}); {} outputs, \
              {:.1} MB in {}",
             s.steps,
             s.simulated_time,
@@ -48,10 +48,15 @@ impl Lines {
             t.stepping_seconds,
             t.output_wait_seconds,
             t.writer_seconds,
+            s.writer_mb_per_second
+                .map_or(String::new(), |r| format!(", {r:.0} MB/s")),
             s.outputs,
             s.output_bytes as f64 / 1e6,
             s.output_dir
         ));
+        if let Some(advice) = &s.output_advice {
+            self.line(&format!("note: {advice}"));
+        }
         for m in &s.monitors {
             self.line(&m.to_string());
         }

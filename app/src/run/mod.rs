@@ -120,7 +120,7 @@ fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
 
 /// Run `scene` to its end time (or `max_steps`), writing output. See the module docs.
 pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunError> {
-    run_observed(scene, options, &mut |_| {})
+    drive(scene, options, None, None)
 }
 
 /// `run`, calling `observer` on the writer thread at each output, once its files landed.
@@ -129,7 +129,7 @@ pub fn run_observed(
     options: &RunOptions,
     observer: writer::Observer,
 ) -> Result<RunSummary, RunError> {
-    drive(scene, options, observer, None)
+    drive(scene, options, Some(observer), None)
 }
 
 /// Continue the run in `dir` from its checkpoint (`crate::resume`) to its end time, or to
@@ -158,15 +158,16 @@ pub fn resume(dir: &Path, options: &RunOptions) -> Result<RunSummary, RunError> 
         ..options.clone()
     };
     let scene = r.scene.clone();
-    drive(&scene, &options, &mut |_| {}, Some(r))
+    drive(&scene, &options, None, Some(r))
 }
 
 /// A run from the start (`resume` None) or from a checkpoint: the set-up, the writer
-/// thread, the batches to the events (`step_through`), and the summary.
+/// thread, the batches to the events (`step_through`), and the summary. An `observer` sees
+/// frames that carry every field an analysis may want (`Setup::new`).
 fn drive(
     scene: &Scene,
     options: &RunOptions,
-    observer: writer::Observer,
+    observer: Option<writer::Observer>,
     resume: Option<Resume>,
 ) -> Result<RunSummary, RunError> {
     let set = Setup::new(scene, options, observer, resume.as_ref())?;

@@ -56,8 +56,8 @@ impl Outputs {
             self.warned = true;
             ctx.lines.line(&format!(
                 "meshfree: output {} waited {waited:.2} s for the writer (the disk is slower than the \
-                 outputs): fewer [output] fields, a longer output interval or format = \"vtu\" \
-                 (uncompressed) help; summary.json's timing says how much in all",
+                 outputs): format = \"vtu-lz4\" (compressed, fast), fewer [output] fields or a \
+                 longer output interval help; the run's end line and summary.json say how much in all",
                 self.taken - 1
             ));
         }

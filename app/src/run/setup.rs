@@ -58,7 +58,7 @@ impl<'o> Setup<'o> {
     pub fn new(
         scene: &Scene,
         options: &RunOptions,
-        observer: writer::Observer<'o>,
+        observer: Option<writer::Observer<'o>>,
         resume: Option<&Resume>,
     ) -> Result<Setup<'o>, RunError> {
         let started = Instant::now();
@@ -80,7 +80,13 @@ impl<'o> Setup<'o> {
             .collect();
         let setup = scene.setup()?;
         let counts = Counts::of(&setup.particles);
-        let with_solids = setup.has_solids();
+        let mut fields = scene.file.output.fields(&setup.particles);
+        let format = options.format.unwrap_or(scene.file.output.format);
+        // A CSV frame is ordered by id, and other codes' files are compared with it by id:
+        // its default fields keep it.
+        if format == OutputFormat::Csv && scene.file.output.fields.is_none() {
+            fields = fields.with(Field::Id);
+        }
         let bodies = BodyTracker::new(&setup.particles, scene.file.dimension);
         let voids = scene
             .file
@@ -123,8 +129,6 @@ impl<'o> Setup<'o> {
         };
 
         let spec = &scene.file.output;
-        let format = options.format.unwrap_or(spec.format);
-        let fields = spec.fields(with_solids);
         let cluster_radius = spec
             .clusters
             .then_some(clusters::DEFAULT_FACTOR * scene.file.discretisation.spacing as f32);
@@ -134,7 +138,9 @@ impl<'o> Setup<'o> {
         } else {
             fields
         };
-        if cluster_radius.is_some() || voids.is_some() || !bodies.is_empty() {
+        // An observer (`run::run_observed`: validation, tests) follows particles by id and
+        // tells them apart by kind and group, whatever the files carry.
+        if cluster_radius.is_some() || voids.is_some() || !bodies.is_empty() || observer.is_some() {
             capture = capture.union(Fields::of(&[
                 Field::Position,
                 Field::Velocity,
@@ -259,6 +265,8 @@ impl<'o> Setup<'o> {
             output_dir: self.out_dir.display().to_string(),
             output_format: self.format,
             output_bytes: 0,
+            writer_mb_per_second: None,
+            output_advice: None,
             timing: Timing::default(),
             final_diagnostics: None,
             fluid_clusters: None,
