@@ -129,7 +129,10 @@ __device__ void sph_kick_body(const SphParams p, unsigned n, float* __restrict__
         r_now = (float)r1;
         r_step = (float)(r1 - r0);
     }
-    const Vec<DIM> x = p.inflow || p.driven || p.damping ? vload<DIM>(pos, i) : vzero<DIM>();
+    // The position where the kick reads it: the inflow band, a driven object's velocity field,
+    // the damping zone, an inlet's profile across its face (`open_profile`).
+    const bool at_x = p.inflow || p.driven || p.damping || p.open_count > 0;
+    const Vec<DIM> x = at_x ? vload<DIM>(pos, i) : vzero<DIM>();
     Vec<DIM> v = vel_load<DIM>(vel, i);
     if (kick_one<DIM>(p, kind[i], driven_test_group(p, group, i), x, dt, r_now, r_step, t0, te, acc, i, v))
         vel_store<DIM>(vel, i, v);  // keeps rho, m
