@@ -199,8 +199,8 @@ pub fn peers_table(b: &PeersBench) -> String {
     let _ = writeln!(
         s,
         "`meshfree bench peers`, run {} with build {} on {} ({}): each scene run whole as \
-         `meshfree run` runs it (a fresh solver, 21 frames in the format of the row: position, \
-         velocity, pressure and kind); GPUSPH's whole process on one H100 beside it ([its \
+         `meshfree run` runs it (a fresh solver, 21 frames of the scene's `[output]` fields in \
+         the format of the row); GPUSPH's whole process on one H100 beside it ([its \
          figures](../../scenes/peers/README.md)).\n",
         b.date, b.commit, first.device, first.backend
     );

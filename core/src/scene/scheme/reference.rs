@@ -59,7 +59,7 @@ pub const CANNOT_YET: &str = "\
   mooring lines (issue #54).
 - **Open boundaries.** Inlets and outlets (`[[open_boundaries]]`): buffer boxes normal to an
   axis that make and remove particles. An inlet gives a uniform or parabolic velocity (with a
-  smooth start; the parabolic profile's GPU path not yet run on a device), its buffer's density extrapolated from the fluid; an outlet holds the reference
+  smooth start; on an H100 the parabolic profile's GPU path made no inflow, a bug fixed since but not yet run again on a device), its buffer's density extrapolated from the fluid; an outlet holds the reference
   pressure, its particles coasting at the velocity they came with. On the CPU and the GPU
   (the same particles, ids and tallies on an H100) in one domain only (not with
   `--decompose`, `--gpus` or `--mpi`; on the GPU without CUDA graphs, 0.125 ms a step for
