@@ -260,6 +260,7 @@ pub fn dam_break(dim: u32, n_fluid: usize) -> Setup {
         particles: out,
         wall_surface: Vec::new(),
         bodies: Vec::new(),
+        motion_series: Vec::new(),
     }
 }
 

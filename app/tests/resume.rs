@@ -423,6 +423,53 @@ fn a_flume_stopped_and_resumed_equals_the_run_in_one_go() {
     same_output(&a, &b);
 }
 
+/// A run copies its motion series' files into its directory (`motion-N.csv`) and its copy
+/// of the scene names them there, so it resumes, bit for bit, after the original file is
+/// gone (issue #54).
+#[test]
+fn a_run_with_a_motion_series_resumes_without_the_original() {
+    static STOP: AtomicBool = AtomicBool::new(false);
+    let dir = tempfile::tempdir().unwrap();
+    // dam-break-2d's gate lifted by a recorded series at twice the spacing.
+    std::fs::write(dir.path().join("gate.csv"), "t y\n0 0\n0.1 0.02\n1 1\n").unwrap();
+    let text = Scene::builtin("dam-break-2d")
+        .unwrap()
+        .text
+        .replace(
+            "remove_at = 0.0 ",
+            "motion = { series = { file = \"gate.csv\" } } # lifted ",
+        )
+        .replace("spacing = 0.02 ", "spacing = 0.04 ")
+        .replace("min = [-0.1, -0.1] ", "min = [-0.2, -0.2] ")
+        .replace("max = [4.1, 2.1] ", "max = [4.2, 2.2] ")
+        .replace("end = 2.0 ", "end = 0.3 ");
+    assert!(text.contains("gate.csv") && text.contains("end = 0.3 "));
+    let path = dir.path().join("gate.toml");
+    std::fs::write(&path, text).unwrap();
+    let scene = Scene::from_file(&path).unwrap();
+    let quiet = quiet();
+    let (a, b, err) = one_go_and_stopped(&scene, dir.path(), 4, &STOP, &quiet);
+    assert!(matches!(err, RunError::Interrupted { .. }), "{err}");
+    let copy = std::fs::read_to_string(b.join("scene.toml")).unwrap();
+    assert!(
+        copy.contains("motion = { series = { file = \"motion-0.csv\" } } # lifted"),
+        "{copy}"
+    );
+    assert_eq!(
+        std::fs::read(b.join("motion-0.csv")).unwrap(),
+        std::fs::read(dir.path().join("gate.csv")).unwrap()
+    );
+    std::fs::remove_file(dir.path().join("gate.csv")).unwrap();
+    let done = run::resume(&b, &quiet).unwrap();
+    assert_eq!(done.status, RunStatus::Completed);
+    same_output(&a, &b);
+    assert!(
+        done.files.iter().any(|f| f == "motion-0.csv"),
+        "{:?}",
+        done.files
+    );
+}
+
 /// A scene's surface files (issue #53) travel with its run: the run copies them beside its
 /// scene (`surface-N.<ext>`), so the run resumes, bit for bit, after the original file is
 /// gone; `--overwrite` removes the copies with the rest of the run's files.

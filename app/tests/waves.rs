@@ -122,3 +122,71 @@ fn a_measured_wavelength_replaces_the_theory() {
     assert!((measured - 0.24).abs() < 1e-8, "{measured}");
     assert!((theory - 0.24).abs() > 0.01, "{theory}");
 }
+
+/// An irregular sea's run directory: flume-2d's wave maker making a JONSWAP sea (H_m0 0.04,
+/// T_p 1.2) and gauges at x = 1 and 2 reading that sea's first-order surface for 200 peak
+/// periods, every 0.02.
+fn sea_dir(dir: &Path) {
+    let (_, text) = (meshfree_core::scene::BUILTIN.iter())
+        .find(|(n, _)| *n == "flume-2d")
+        .unwrap();
+    let text = text.replace(
+        "wave = { paddle = \"piston\", height = 0.05, period = 1.2, depth = 0.3 }",
+        "wave = { paddle = \"piston\", height = 0.04, period = 1.2, depth = 0.3, \
+         spectrum = { shape = \"jonswap\", seed = 5, components = 512 } }",
+    );
+    std::fs::write(dir.join("scene.toml"), &text).unwrap();
+    let scene = meshfree_core::scene::Scene::from_toml(&text, "sea").unwrap();
+    let meshfree_core::scene::format::Motion::Law(l) = scene.file.walls[1].motion().unwrap() else {
+        panic!()
+    };
+    let parts = l.wave.as_ref().unwrap().components(9.81, 0.1);
+    let mut csv = String::from("time,step,gauge,x,y,distance\n");
+    for i in 0..12_000 {
+        let t = 0.02 * i as f64;
+        for (name, x) in [("x1", 1.0), ("x2", 2.0)] {
+            // The gauge further down sees the sea later (a plain delay: enough here).
+            let eta = meshfree_core::scene::wave_spectrum::elevation_at(&parts, t - x);
+            writeln!(csv, "{t},{i},{name},{x},{},{}", 0.3 + eta, 0.2 + eta).unwrap();
+        }
+    }
+    std::fs::write(dir.join("gauges.csv"), csv).unwrap();
+}
+
+#[test]
+fn an_irregular_sea_gives_back_its_height_and_peak_period() {
+    let dir = tempfile::tempdir().unwrap();
+    sea_dir(dir.path());
+    let d = dir.path().to_str().unwrap();
+    let o = meshfree(&["waves", d, "--json", "--from", "0"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let f = |v: &serde_json::Value| v.as_f64().unwrap();
+    assert_eq!((f(&j["target_hm0"]), f(&j["target_tp"])), (0.04, 1.2));
+    let gauges = j["gauges"].as_array().unwrap();
+    assert_eq!(gauges.len(), 2);
+    for g in gauges {
+        assert!((f(&g["hm0"]) / 0.04 - 1.0).abs() < 0.05, "{g}");
+        assert!((f(&g["tp"]) / 1.2 - 1.0).abs() < 0.05, "{g}");
+        assert!((f(&g["mean"]) - 0.3).abs() < 1e-3, "{g}");
+    }
+    // The table names the columns; a dry gap in the window is refused.
+    let o = meshfree(&["waves", d]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("H_m0") && out.contains("T_p"), "{out}");
+    let csv = std::fs::read_to_string(dir.path().join("gauges.csv")).unwrap();
+    let gap = csv.replace("\n100,5000,x1,1,", "\n100,5000,x1,,,\nskip,");
+    let gap: String = gap
+        .lines()
+        .filter(|l| !l.starts_with("skip,"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(dir.path().join("gauges.csv"), gap).unwrap();
+    let o = meshfree(&["waves", d, "--from", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("gauge \"x1\"") && err.contains("dry gap"),
+        "{err}"
+    );
+}

@@ -173,13 +173,14 @@ __device__ void sph_wall_density_body(const SphParams p, unsigned n, const unsig
                                       const unsigned char* __restrict__ kind, const unsigned* __restrict__ id,
                                       const unsigned* __restrict__ group, const float* __restrict__ surface,
                                       const double* __restrict__ clock, const MfBody* __restrict__ bodies,
-                                      unsigned n_bodies, float* __restrict__ rho, float* __restrict__ pr) {
+                                      unsigned n_bodies, const double* __restrict__ series, float* __restrict__ rho,
+                                      float* __restrict__ pr) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n || kind[i] != MF_KIND_BOUNDARY) return;
     const float4 s = reinterpret_cast<const float4*>(surface)[id[i] - p.wall_first_id];
     if (s.x == 0.0f && s.y == 0.0f && s.z == 0.0f) return;
     double nn[3] = {(double)s.x, (double)s.y, (double)s.z};
-    wall_normal_now<DIM>(p, bodies, n_bodies, clock[0], group[i], nn);
+    wall_normal_now<DIM>(p, bodies, n_bodies, series, clock[0], group[i], nn);
     const float two_dn[3] = {2.0f * s.w * (float)nn[0], 2.0f * s.w * (float)nn[1], 2.0f * s.w * (float)nn[2]};
     Vec<DIM> xg = vload<DIM>(pos, i);
 #pragma unroll
@@ -206,8 +207,8 @@ __device__ void sph_wall_density_body(const SphParams p, unsigned n, const unsig
 MF_ENTRY2(sph_wall_density,
           (const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, float* vel,
            const unsigned char* kind, const unsigned* id, const unsigned* group, const float* surface,
-           const double* clock, const MfBody* bodies, unsigned n_bodies, float* rho, float* pr),
-          (p, n, cell_start, pos, vel, kind, id, group, surface, clock, bodies, n_bodies, rho, pr))
+           const double* clock, const MfBody* bodies, unsigned n_bodies, const double* series, float* rho, float* pr),
+          (p, n, cell_start, pos, vel, kind, id, group, surface, clock, bodies, n_bodies, series, rho, pr))
 
 // The fluid's pressure extrapolated to each body's particle b and its Tait density, as
 // float2 (P'_b, rho'_b) in iface (solid_fluid_pressure = EXTRAPOLATED; Adami, Hu & Adams

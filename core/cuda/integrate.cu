@@ -60,14 +60,19 @@ __device__ __forceinline__ float damping_factor(const SphParams& p, float c, flo
 template <int DIM>
 __device__ __forceinline__ bool kick_one(const SphParams& p, unsigned char k, unsigned g, const Vec<DIM>& x, float dt,
                                          float r_now, float r_step, double t0, double te,
-                                         const float* __restrict__ acc, unsigned i, Vec<DIM>& v) {
+                                         const float* __restrict__ acc, const double* __restrict__ series, unsigned i,
+                                         Vec<DIM>& v) {
     // An open boundary's buffer: an inlet's prescribed velocity r(t) f(x) velocity, an
     // outlet's as it is (`buffer_velocity` in src/physics/open.rs).
     if (const int ob = open_index(p, g); ob >= 0) {
         const MfOpen& o = p.open[ob];
         if (o.kind != MF_OPEN_INLET) return false;
         // open_profile reads only the axes of profile_axes: below DIM.
-        const float r = (float)smooth_ramp((double)o.ramp, te) * open_profile(o, x.c);
+        // The series' scale a(t) (its knots' s_x), 1 without one (`MfOpen::scale`).
+        const double scale =
+            o.series_count > 0 ? series_knots_at(series, o.series_first, o.series_count, o.series_cubic != 0, te).s[0]
+                               : 1.0;
+        const float r = (float)(smooth_ramp((double)o.ramp, te) * scale) * open_profile(o, x.c);
 #pragma unroll
         for (int d = 0; d < DIM; ++d) v.c[d] = o.velocity[d] * r;
         return true;
@@ -85,7 +90,7 @@ __device__ __forceinline__ bool kick_one(const SphParams& p, unsigned char k, un
     // Driven object: prescribed velocity, whatever the forces; a floating body's particles
     // are left to its kick (sph_body_velocity in bodies.cu).
     if (const int dk = driven_index(p, g); dk >= 0 && !p.driven_motion[dk].floating) {
-        v = driven_velocity<DIM>(p, dk, x, t0, te);
+        v = driven_velocity<DIM>(p, series, dk, x, t0, te);
         return true;
     }
     if (k == MF_KIND_BOUNDARY) return false;
@@ -114,7 +119,8 @@ template <int DIM>
 __device__ void sph_kick_body(const SphParams p, unsigned n, float* __restrict__ dt_dev, const unsigned* __restrict__ red,
                               double* __restrict__ time, const unsigned char* __restrict__ kind,
                               const unsigned* __restrict__ group, const float* __restrict__ pos,
-                              float* __restrict__ vel, const float* __restrict__ acc) {
+                              float* __restrict__ vel, const float* __restrict__ acc,
+                              const double* __restrict__ series) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
     const float step = step_dt(p, red, dt_dev);
     const float dt = kick_span(p, dt_dev, step);
@@ -134,13 +140,14 @@ __device__ void sph_kick_body(const SphParams p, unsigned n, float* __restrict__
     const bool at_x = p.inflow || p.driven || p.damping || p.open_count > 0;
     const Vec<DIM> x = at_x ? vload<DIM>(pos, i) : vzero<DIM>();
     Vec<DIM> v = vel_load<DIM>(vel, i);
-    if (kick_one<DIM>(p, kind[i], driven_test_group(p, group, i), x, dt, r_now, r_step, t0, te, acc, i, v))
+    if (kick_one<DIM>(p, kind[i], driven_test_group(p, group, i), x, dt, r_now, r_step, t0, te, acc, series, i, v))
         vel_store<DIM>(vel, i, v);  // keeps rho, m
 }
 MF_ENTRY2(sph_kick,
           (const SphParams p, unsigned n, float* dt_dev, const unsigned* red, double* time,
-           const unsigned char* kind, const unsigned* group, const float* pos, float* vel, const float* acc),
-          (p, n, dt_dev, red, time, kind, group, pos, vel, acc))
+           const unsigned char* kind, const unsigned* group, const float* pos, float* vel, const float* acc,
+           const double* series),
+          (p, n, dt_dev, red, time, kind, group, pos, vel, acc, series))
 
 // The drift of one particle (kind k, group g, velocity v) by dt from time t0; returns its new
 // position.
@@ -151,7 +158,8 @@ __device__ __forceinline__ Vec<DIM> drift_one(const SphParams& p, unsigned n, un
                                               const Vec<DIM>& v, float dt, double t0, float* __restrict__ pos,
                                               const float* __restrict__ xsph, float* __restrict__ rho,
                                               const float* __restrict__ drho, float* __restrict__ rho_dev,
-                                              float* __restrict__ stress, const float* __restrict__ rate) {
+                                              float* __restrict__ stress, const float* __restrict__ rate,
+                                              const double* __restrict__ series) {
     // Dynamic wall particles take part; their d rho/dt is zero otherwise. Under
     // wall_density_floor a wall's density is held at >= rho0 (`wall_density_floor` in
     // src/backend/cpu/integrate.rs; DualSPHysics' DBC).
@@ -176,7 +184,7 @@ __device__ __forceinline__ Vec<DIM> drift_one(const SphParams& p, unsigned n, un
     const int dk = driven_index(p, g);
     if (k == MF_KIND_BOUNDARY && (dk < 0 || p.driven_motion[dk].floating)) return x;
     if (dk >= 0) {
-        x = driven_moved<DIM>(p, dk, x, dt, t0);
+        x = driven_moved<DIM>(p, series, dk, x, dt, t0);
     } else if (open_index(p, g) >= 0) {
         x = x + v * dt;  // an open boundary's buffer: no XSPH, no shifting
     } else {
@@ -205,7 +213,7 @@ __device__ void sph_drift_body(const SphParams p, unsigned n, float* __restrict_
                                const float* __restrict__ xsph, float* __restrict__ rho,
                                const float* __restrict__ drho, float* __restrict__ rho_dev,
                                float* __restrict__ stress, const float* __restrict__ rate, unsigned* __restrict__ cell,
-                               unsigned* __restrict__ count) {
+                               unsigned* __restrict__ count, const double* __restrict__ series) {
     const unsigned i = blockIdx.x * blockDim.x + threadIdx.x;
     const float dt = dt_dev[0];
     const double t0 = time[2];  // the step's start, from the kick
@@ -215,20 +223,20 @@ __device__ void sph_drift_body(const SphParams p, unsigned n, float* __restrict_
     }
     if (i >= n) return;
     const Vec<DIM> x = drift_one<DIM>(p, n, i, kind[i], driven_test_group(p, group, i), vel_load<DIM>(vel, i), dt,
-                                      t0, pos, xsph, rho, drho, rho_dev, stress, rate);
+                                      t0, pos, xsph, rho, drho, rho_dev, stress, rate, series);
     hist_one<DIM>(p, i, x, cell, count);
 }
 MF_ENTRY2(sph_drift,
           (const SphParams p, unsigned n, float* dt_dev, double* time, const unsigned char* kind,
            const unsigned* group, float* pos, const float* vel, const float* xsph, float* rho, const float* drho,
-           float* rho_dev, float* stress, const float* rate, unsigned* cell, unsigned* count),
-          (p, n, dt_dev, time, kind, group, pos, vel, xsph, rho, drho, rho_dev, stress, rate, cell, count))
+           float* rho_dev, float* stress, const float* rate, unsigned* cell, unsigned* count, const double* series),
+          (p, n, dt_dev, time, kind, group, pos, vel, xsph, rho, drho, rho_dev, stress, rate, cell, count, series))
 
 // The forward Euler's drift then kick in one pass (`Solver::drift_kick`): the drift takes
 // the old velocity, the kick's inflow test the new position, as the two kernels in turn.
 // Driven objects move steadily only (the scene check refuses an oscillation, a rotation or a
-// ramp under the forward Euler: no kick before this pass copies the step's start, and here
-// thread 0 advances the clock the others would read); t0 goes unused.
+// ramp or a series under the forward Euler: no kick before this pass copies the step's start,
+// and here thread 0 advances the clock the others would read); t0 and the series go unused.
 template <int DIM>
 __device__ void sph_drift_kick_body(const SphParams p, unsigned n, float* __restrict__ dt_dev,
                                     const unsigned* __restrict__ red, double* __restrict__ time, const unsigned char* __restrict__ kind,
@@ -245,9 +253,9 @@ __device__ void sph_drift_kick_body(const SphParams p, unsigned n, float* __rest
     const unsigned char k = kind[i];
     const unsigned g = driven_test_group(p, group, i);
     Vec<DIM> v = vel_load<DIM>(vel, i);
-    const Vec<DIM> x = drift_one<DIM>(p, n, i, k, g, v, dt, 0.0, pos, xsph, rho, drho, rho_dev, stress, rate);
+    const Vec<DIM> x = drift_one<DIM>(p, n, i, k, g, v, dt, 0.0, pos, xsph, rho, drho, rho_dev, stress, rate, nullptr);
     // No ramp under the forward Euler (`ramp_share`): the band at inflow_velocity.
-    if (kick_one<DIM>(p, k, g, x, dt, 1.0f, 0.0f, 0.0, 0.0, acc, i, v)) vel_store<DIM>(vel, i, v);  // keeps rho, m
+    if (kick_one<DIM>(p, k, g, x, dt, 1.0f, 0.0f, 0.0, 0.0, acc, nullptr, i, v)) vel_store<DIM>(vel, i, v);  // keeps rho, m
     hist_one<DIM>(p, i, x, cell, count);
 }
 MF_ENTRY2(sph_drift_kick,

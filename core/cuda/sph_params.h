@@ -96,8 +96,12 @@
  *   theta(t) = rate I(t) + r(t) angle (sin(2 pi t / angle_period + angle_phase)
  *              - sin angle_phase)                                                       [rad],
  * r(t) the smooth start over `ramp`, (1 - cos(pi t / ramp)) / 2 up to `ramp`, then 1 (1 without
- * a ramp), and I(t) its integral over [0, t] (t without). A motion with only `velocity` and no
- * ramp is steady: x += velocity dt, as before time-dependent motion existed. */
+ * a ramp), and I(t) its integral over [0, t] (t without). A time series from a file adds its
+ * displacement and turn to s(t) and theta(t) (`series_*`: knots interpolated linearly or by cubic
+ * Hermite, Catmull-Rom tangents). A motion with only `velocity`, no ramp and no series is
+ * steady: x += velocity dt, as before time-dependent motion existed. */
+#define MF_SERIES_STRIDE 5 /* doubles a knot of a motion's series: t, s_x, s_y, s_z, theta */
+
 typedef struct MfMotion {
     int32_t group;        /* the scene group it moves */
     float velocity[3];    /* [L/T] */
@@ -110,7 +114,12 @@ typedef struct MfMotion {
     float angle;          /* [rad] amplitude of the angle's oscillation */
     float angle_period;   /* [T] (> 0 where angle != 0) */
     float angle_phase;    /* [rad] */
-    float ramp;           /* [T] smooth start; 0: none */
+    float ramp;           /* [T] smooth start; 0: none (a series is not ramped) */
+    int32_t series_first; /* the first knot of its series in the knots' table (Setup::motion_series:
+                             MF_SERIES_STRIDE doubles a knot: t [T], s_x, s_y, s_z [L], theta [rad],
+                             each 0 at t = 0) */
+    int32_t series_count; /* its knots; 0: no series */
+    int32_t series_cubic; /* 1: cubic Hermite between knots (a continuous velocity); 0: linear */
     int32_t floating;     /* 1: a floating body's group (`MfBody`): the other fields are unused,
                              the kick and the drift leave its particles to the bodies' stages
                              (cuda/bodies.cu), which move them with the body */
@@ -179,6 +188,11 @@ typedef struct MfOpen {
     int32_t profile_axes; /* inlet: bit a set: the velocity is parabolic across axis a,
                              6 eta (1 - eta) with eta = (x_a - lo_a) / (hi_a - lo_a) (mean 1:
                              `velocity` is the mean); 0: uniform */
+    int32_t series_first; /* inlet: the first knot of its scale's time series in the knots' table
+                             (Setup::motion_series; the scale in a knot's s_x slot): the velocity
+                             is `velocity` times the scale at the time */
+    int32_t series_count; /* its knots; 0: no series (scale 1) */
+    int32_t series_cubic; /* 1: cubic Hermite between knots; 0: linear */
 } MfOpen;
 
 typedef struct SphParams {

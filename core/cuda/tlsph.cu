@@ -385,7 +385,7 @@ __device__ void sph_tl_drift_body(const SphParams p, unsigned n_solid, const flo
                                   const double* __restrict__ time, const unsigned* __restrict__ slot,
                                   const unsigned* __restrict__ group, const float* __restrict__ pos,
                                   const float* __restrict__ vel, const float* __restrict__ xsph,
-                                  float* __restrict__ disp) {
+                                  float* __restrict__ disp, const double* __restrict__ series) {
     const unsigned a = blockIdx.x * blockDim.x + threadIdx.x;
     if (a >= n_solid) return;
     const unsigned i = slot[a];
@@ -394,7 +394,7 @@ __device__ void sph_tl_drift_body(const SphParams p, unsigned n_solid, const flo
     Vec<DIM> du;
     if (const int dk = driven_index(p, group[i]); dk >= 0) {
         const Vec<DIM> x = vload<DIM>(pos, i);
-        du = driven_moved<DIM>(p, dk, x, dt, time[2]) - x;
+        du = driven_moved<DIM>(p, series, dk, x, dt, time[2]) - x;
     } else {
         du = (vel_load<DIM>(vel, i) + vload<DIM>(xsph, i)) * dt;
     }
@@ -402,5 +402,6 @@ __device__ void sph_tl_drift_body(const SphParams p, unsigned n_solid, const flo
 }
 MF_ENTRY2(sph_tl_drift,
           (const SphParams p, unsigned n_solid, const float* dt_dev, const double* time, const unsigned* slot,
-           const unsigned* group, const float* pos, const float* vel, const float* xsph, float* disp),
-          (p, n_solid, dt_dev, time, slot, group, pos, vel, xsph, disp))
+           const unsigned* group, const float* pos, const float* vel, const float* xsph, float* disp,
+           const double* series),
+          (p, n_solid, dt_dev, time, slot, group, pos, vel, xsph, disp, series))

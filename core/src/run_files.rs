@@ -57,10 +57,40 @@ pub fn surface_file(index: usize, ext: &str) -> String {
     format!("{SURFACE_PREFIX}{index}.{ext}")
 }
 
+/// The copies of the scene's motion series files are `motion-<N>.csv` (`scene::motion_series`).
+pub const MOTION_PREFIX: &str = "motion-";
+
+/// The copy of the scene's motion series file number `index`.
+pub fn motion_file(index: usize) -> String {
+    format!("{MOTION_PREFIX}{index}.csv")
+}
+
+/// The copies of the scene's inlets' series files are `inflow-<N>.csv`.
+pub const INFLOW_PREFIX: &str = "inflow-";
+
+/// The copy of the scene's inlet series file number `index`.
+pub fn inflow_file(index: usize) -> String {
+    format!("{INFLOW_PREFIX}{index}.csv")
+}
+
 /// The index of a surface copy's name (`surface_file`'s inverse): digits after the prefix,
 /// then an extension of letters.
 pub fn surface_index(name: &str) -> Option<usize> {
-    let (digits, ext) = name.strip_prefix(SURFACE_PREFIX)?.split_once('.')?;
+    copy_index(name, SURFACE_PREFIX)
+}
+
+/// The index of a motion series copy's name (`motion_file`'s inverse).
+pub fn motion_index(name: &str) -> Option<usize> {
+    copy_index(name, MOTION_PREFIX)
+}
+
+/// The index of an inlet series copy's name (`inflow_file`'s inverse).
+pub fn inflow_index(name: &str) -> Option<usize> {
+    copy_index(name, INFLOW_PREFIX)
+}
+
+fn copy_index(name: &str, prefix: &str) -> Option<usize> {
+    let (digits, ext) = name.strip_prefix(prefix)?.split_once('.')?;
     let plain = !digits.is_empty()
         && digits.bytes().all(|b| b.is_ascii_digit())
         && !ext.is_empty()
@@ -94,6 +124,8 @@ pub fn is_reserved(stem: &str) -> bool {
         || s.starts_with(FRAME_PREFIX)
         || s.starts_with(CHECKPOINT_PIECE_PREFIX)
         || s.starts_with(SURFACE_PREFIX)
+        || s.starts_with(MOTION_PREFIX)
+        || s.starts_with(INFLOW_PREFIX)
 }
 
 /// Why `name` may not be the stem of a file the run writes for an object (a force

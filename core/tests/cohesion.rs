@@ -83,6 +83,7 @@ fn drop(cohesion: f32, rim_speed: f32) -> meshfree_core::solver::Setup {
         particles,
         wall_surface: Vec::new(),
         bodies: Vec::new(),
+        motion_series: Vec::new(),
     }
 }
 

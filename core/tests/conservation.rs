@@ -48,6 +48,7 @@ fn momentum_is_conserved_without_walls_or_gravity() {
             particles: ps.clone(),
             wall_surface: Vec::new(),
             bodies: Vec::new(),
+            motion_series: Vec::new(),
         });
         assert!(s.has_solids());
         let before = momentum(s.as_mut());
@@ -126,6 +127,7 @@ fn spinning_elastic_disc_in_free_fall_keeps_its_shape() {
         particles: ps,
         wall_surface: Vec::new(),
         bodies: Vec::new(),
+        motion_series: Vec::new(),
     });
     while s.time() < 0.3 {
         s.step();

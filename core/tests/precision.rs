@@ -34,6 +34,7 @@ fn compressed_block() -> Setup {
         particles,
         wall_surface: Vec::new(),
         bodies: Vec::new(),
+        motion_series: Vec::new(),
     }
 }
 

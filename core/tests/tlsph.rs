@@ -274,6 +274,7 @@ fn displaced_and_forced(p: SphParams, ps: Vec<Particle>) -> CpuSolver<D2> {
         particles: ps,
         wall_surface: Vec::new(),
         bodies: Vec::new(),
+        motion_series: Vec::new(),
     });
     solver.build_grid();
     solver.time_step();
@@ -564,6 +565,7 @@ fn steps_run_and_conserve_momentum() {
             particles: ps,
             wall_surface: Vec::new(),
             bodies: Vec::new(),
+            motion_series: Vec::new(),
         });
         s.advance(200);
         s.check().unwrap_or_else(|f| panic!("euler {euler}: {f}"));

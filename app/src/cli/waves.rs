@@ -1,12 +1,15 @@
 //! `meshfree waves DIR`: the regular waves at a run's gauges (`gauges.csv`): each gauge's mean
 //! level and height over whole periods, and the incident and reflected heights from two or
-//! more gauges (`meshfree_core::measure::reflection`, Mansard & Funke 1980).
+//! more gauges (`meshfree_core::measure::reflection`, Mansard & Funke 1980); or, where the
+//! scene's wave maker makes an irregular sea (`wave.spectrum`), each gauge's significant
+//! height and periods (`meshfree_core::measure::sea_state`) beside the target's.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use meshfree_core::measure::reflection::{harmonic, separate, Harmonic, Separation};
-use meshfree_core::scene::format::Motion;
+use meshfree_core::measure::sea_state::{sea_state, SeaState};
+use meshfree_core::scene::format::{Motion, WaveMaker};
 use meshfree_core::scene::Scene;
 
 use crate::bad_input::BadInput;
@@ -18,7 +21,11 @@ use crate::bad_input::BadInput;
 wave maker's direction), away from multiples of half a wavelength apart (the report's \
 conditioning, 1 at best, says how far: Mansard & Funke advise x12 = L/10 and x13 between L/6 \
 and L/3, not L/5 or 3L/10); the window should start after the ramp and the \
-first waves' arrival and end before reflections of the reflections return."
+first waves' arrival and end before reflections of the reflections return. Where the \
+scene's wave maker makes an irregular sea (wave.spectrum), each gauge's significant height \
+H_m0 = 4 sqrt(m0), peak period T_p (Read's, from the band-averaged spectrum) and mean period \
+T_m01 come instead, beside the target's; a record of 200 peak periods or more gives H_m0 and \
+T_p within a few per cent."
 )]
 pub struct WavesArgs {
     /// A run's output directory (its `gauges.csv` and `scene.toml`).
@@ -79,7 +86,66 @@ fn bad(s: String) -> anyhow::Error {
     BadInput(s).into()
 }
 
+/// What `waves` reports on an irregular sea.
+#[derive(Debug, serde::Serialize)]
+pub struct SeaReport {
+    /// \[L\] the wave maker's significant height H_m0.
+    pub target_hm0: f64,
+    /// \[T\] its peak period.
+    pub target_tp: f64,
+    /// \[T\] the window.
+    pub from: f64,
+    pub to: f64,
+    pub gauges: Vec<GaugeSea>,
+}
+
+#[derive(Debug, serde::Serialize)]
+pub struct GaugeSea {
+    pub name: String,
+    /// \[L\] along the waves.
+    pub x: f64,
+    pub samples: usize,
+    #[serde(flatten)]
+    pub sea: SeaState,
+}
+
 pub(super) fn waves(a: WavesArgs) -> anyhow::Result<()> {
+    if let Some(r) = sea_report(&a)? {
+        if a.json {
+            crate::outln!("{}", serde_json::to_string_pretty(&r)?)?;
+            return Ok(());
+        }
+        crate::outln!(
+            "irregular sea: target H_m0 {} T_p {}; window t = {:.4} to {:.4}",
+            r.target_hm0,
+            r.target_tp,
+            r.from,
+            r.to
+        )?;
+        crate::outln!(
+            "{:<12} {:>10} {:>8} {:>10} {:>10} {:>10} {:>10}",
+            "gauge",
+            "x",
+            "samples",
+            "mean",
+            "H_m0",
+            "T_p",
+            "T_m01"
+        )?;
+        for g in &r.gauges {
+            crate::outln!(
+                "{:<12} {:>10.4} {:>8} {:>10.5} {:>10.5} {:>10.4} {:>10.4}",
+                g.name,
+                g.x,
+                g.samples,
+                g.sea.mean,
+                g.sea.hm0,
+                g.sea.tp,
+                g.sea.tm01
+            )?;
+        }
+        return Ok(());
+    }
     let r = report(&a)?;
     if a.json {
         crate::outln!("{}", serde_json::to_string_pretty(&r)?)?;
@@ -134,25 +200,122 @@ pub(super) fn waves(a: WavesArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The report of `a` (the errors are `BadInput`: exit status 2).
-pub fn report(a: &WavesArgs) -> anyhow::Result<WavesReport> {
-    let dir = &a.dir;
-    let scene_path = dir.join(meshfree_core::run_files::SCENE);
+/// The run's scene (`scene.toml` in `a.dir`) and its path.
+fn run_scene(a: &WavesArgs) -> anyhow::Result<(Scene, PathBuf)> {
+    let scene_path = a.dir.join(meshfree_core::run_files::SCENE);
     let scene = Scene::from_file(&scene_path).map_err(|e| {
         bad(format!(
             "{}: {e} (waves takes the output directory of `meshfree run`)",
-            dir.display()
+            a.dir.display()
         ))
     })?;
-    let wave = scene
+    Ok((scene, scene_path))
+}
+
+/// The scene's first wave maker.
+fn wave_maker(scene: &Scene) -> Option<&WaveMaker> {
+    scene
         .file
         .walls
         .iter()
         .filter_map(|w| match w.motion() {
-            Some(Motion::Law(l)) => l.wave.as_ref(),
+            Some(Motion::Law(l)) => l.wave.as_deref(),
             _ => None,
         })
-        .next();
+        .next()
+}
+
+/// The elevation along `up`: gravity's opposite in `scene` (Err where it has none).
+fn up_of(scene: &Scene, scene_path: &Path) -> anyhow::Result<(f64, Vec<f64>)> {
+    let gravity = scene.file.gravity.clone().unwrap_or_default();
+    let g = gravity.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if g <= 0.0 {
+        return Err(bad(format!(
+            "{}: the scene has no gravity: no gravity waves",
+            scene_path.display()
+        )));
+    }
+    Ok((g, gravity.iter().map(|x| -x / g).collect()))
+}
+
+/// The gauges `a` names (all by default), each checked against the record.
+fn chosen(a: &WavesArgs, series: &BTreeMap<String, Samples>) -> anyhow::Result<Vec<String>> {
+    match &a.gauges {
+        Some(list) => {
+            for n in list {
+                if !series.contains_key(n) {
+                    return Err(bad(format!(
+                        "--gauges: no gauge {n:?} in gauges.csv (it has {})",
+                        series.keys().cloned().collect::<Vec<_>>().join(", ")
+                    )));
+                }
+            }
+            Ok(list.clone())
+        }
+        None => Ok(series.keys().cloned().collect()),
+    }
+}
+
+/// The record's first and last times over the gauges `names`.
+fn span(names: &[String], series: &BTreeMap<String, Samples>) -> (f64, f64) {
+    let last = (names.iter())
+        .filter_map(|n| series[n].last().map(|s| s.0))
+        .fold(f64::MIN, f64::max);
+    let first = (names.iter())
+        .filter_map(|n| series[n].first().map(|s| s.0))
+        .fold(f64::MAX, f64::min);
+    (first, last)
+}
+
+/// The sea-state report of `a` where the scene's wave maker makes an irregular sea, None
+/// where it makes regular waves (or there is none): each gauge's H_m0, T_p and T_m01 over
+/// the window (`--from`, default the record's middle, to `--to`, default its end).
+pub fn sea_report(a: &WavesArgs) -> anyhow::Result<Option<SeaReport>> {
+    let (scene, scene_path) = run_scene(a)?;
+    let Some(w) = wave_maker(&scene).filter(|w| w.spectrum.is_some()) else {
+        return Ok(None);
+    };
+    let (_, up) = up_of(&scene, &scene_path)?;
+    let series = read_gauges(&a.dir.join("gauges.csv"), &up)?;
+    let names = chosen(a, &series)?;
+    let (first, last) = span(&names, &series);
+    let to = a.to.unwrap_or(last).min(last);
+    let from = a.from.unwrap_or(0.5 * (first + last)).max(first);
+    let mut gauges = Vec::new();
+    for n in &names {
+        let rows: Vec<&(f64, f64, f64)> = (series[n].iter())
+            .filter(|s| s.0 >= from - 1e-9 && s.0 <= to + 1e-9)
+            .collect();
+        let times: Vec<f64> = rows.iter().map(|s| s.0).collect();
+        let eta: Vec<f64> = rows.iter().map(|s| s.2).collect();
+        let sea = sea_state(&times, &eta, 4.0 / w.period).ok_or_else(|| {
+            bad(format!(
+                "gauge {n:?}: {} wet samples in the window t = {from} to {to}: too few, or a \
+                 dry gap, for a spectrum (give a window where the gauge stays wet)",
+                times.len()
+            ))
+        })?;
+        let x = rows.iter().map(|s| s.1).sum::<f64>() / rows.len() as f64;
+        gauges.push(GaugeSea {
+            name: n.clone(),
+            x,
+            samples: times.len(),
+            sea,
+        });
+    }
+    Ok(Some(SeaReport {
+        target_hm0: w.height,
+        target_tp: w.period,
+        from,
+        to,
+        gauges,
+    }))
+}
+
+/// The report of `a` (the errors are `BadInput`: exit status 2).
+pub fn report(a: &WavesArgs) -> anyhow::Result<WavesReport> {
+    let (scene, scene_path) = run_scene(a)?;
+    let wave = wave_maker(&scene);
     let period = a.period.or(wave.map(|w| w.period)).ok_or_else(|| {
         bad(format!(
             "{}: the scene has no wave maker: give --period",
@@ -175,36 +338,10 @@ pub fn report(a: &WavesArgs) -> anyhow::Result<WavesReport> {
             return Err(bad(format!("{name}: must be a positive number, found {v}")));
         }
     }
-    let gravity = scene.file.gravity.clone().unwrap_or_default();
-    let g = gravity.iter().map(|x| x * x).sum::<f64>().sqrt();
-    if g <= 0.0 {
-        return Err(bad(format!(
-            "{}: the scene has no gravity: no gravity waves",
-            scene_path.display()
-        )));
-    }
-    let up: Vec<f64> = gravity.iter().map(|x| -x / g).collect();
-    let series = read_gauges(&dir.join("gauges.csv"), &up)?;
-    let names: Vec<String> = match &a.gauges {
-        Some(list) => {
-            for n in list {
-                if !series.contains_key(n) {
-                    return Err(bad(format!(
-                        "--gauges: no gauge {n:?} in gauges.csv (it has {})",
-                        series.keys().cloned().collect::<Vec<_>>().join(", ")
-                    )));
-                }
-            }
-            list.clone()
-        }
-        None => series.keys().cloned().collect(),
-    };
-    let last = (names.iter())
-        .filter_map(|n| series[n].last().map(|s| s.0))
-        .fold(f64::MIN, f64::max);
-    let first = (names.iter())
-        .filter_map(|n| series[n].first().map(|s| s.0))
-        .fold(f64::MAX, f64::min);
+    let (g, up) = up_of(&scene, &scene_path)?;
+    let series = read_gauges(&a.dir.join("gauges.csv"), &up)?;
+    let names = chosen(a, &series)?;
+    let (first, last) = span(&names, &series);
     let to = a.to.unwrap_or(last).min(last);
     let start = a.from.unwrap_or(0.5 * (first + last));
     let whole = ((to - start) / period + 1e-9).floor();

@@ -43,7 +43,8 @@ pub fn is_plain(name: &str) -> bool {
 }
 
 /// Whether `name` is one of a run's files by its pattern alone: the frames, the series, the
-/// summary, the scene copy and its surfaces' copies, the checkpoint and its pieces.
+/// summary, the scene copy and its surfaces' and motion series' copies, the checkpoint and
+/// its pieces.
 pub fn by_pattern(name: &str) -> bool {
     name == SERIES
         || name == SUMMARY
@@ -52,6 +53,8 @@ pub fn by_pattern(name: &str) -> bool {
         || is_piece_name(name)
         || frame_index(name).is_some()
         || meshfree_core::run_files::surface_index(name).is_some()
+        || meshfree_core::run_files::motion_index(name).is_some()
+        || meshfree_core::run_files::inflow_index(name).is_some()
 }
 
 /// The file name of rank `rank`'s piece of `ranks` at step `steps` (a decomposed run's

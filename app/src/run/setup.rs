@@ -31,7 +31,8 @@ pub(super) struct Setup<'o> {
     /// The scene with the run's overrides (`--t-end`, `--output-interval`), naming its
     /// surfaces' copies in the run's directory.
     pub scene: Scene,
-    /// The names of those copies (`surface-N.<ext>`).
+    /// The names of those copies and of its motion series' (`surface-N.<ext>`,
+    /// `motion-N.csv`).
     pub surfaces: Vec<String>,
     pub out_dir: std::path::PathBuf,
     pub solver: Box<dyn Solver>,
@@ -67,8 +68,8 @@ impl<'o> Setup<'o> {
             output_interval: options.output_interval,
         })?;
         scene.check_size(options.max_particles)?;
-        // A fresh run copies its surfaces' files into its directory and its copy of the scene
-        // names them there; a resumed run's scene already does.
+        // A fresh run copies its surfaces' and series' files into its directory and its
+        // copy of the scene names them there; a resumed run's scene already does.
         let (scene, surface_copies) = match resume {
             None => scene.with_surface_copies()?,
             Some(_) => (scene, Vec::new()),
@@ -77,6 +78,18 @@ impl<'o> Setup<'o> {
             .into_iter()
             .filter_map(|p| p.outline.file.clone())
             .filter(|f| meshfree_core::run_files::surface_index(f).is_some())
+            .chain(
+                meshfree_core::scene::motion_series::series_of(&scene.file)
+                    .into_iter()
+                    .chain(meshfree_core::scene::motion_series::inlet_series_of(
+                        &scene.file,
+                    ))
+                    .map(|(_, r)| r.file.clone())
+                    .filter(|f| {
+                        meshfree_core::run_files::motion_index(f).is_some()
+                            || meshfree_core::run_files::inflow_index(f).is_some()
+                    }),
+            )
             .collect();
         let setup = scene.setup()?;
         let counts = Counts::of(&setup.particles);

@@ -13,7 +13,8 @@
 // turn theta(t); any other group's as it was. Twin: `normal_now` in src/physics/mdbc.rs.
 template <int DIM>
 __device__ __forceinline__ void wall_normal_now(const SphParams& p, const MfBody* __restrict__ bodies,
-                                                unsigned n_bodies, double t, unsigned g, double* n) {
+                                                unsigned n_bodies, const double* __restrict__ series, double t,
+                                                unsigned g, double* n) {
     for (int k = 0; k < p.driven; ++k) {
         const MfMotion& m = p.driven_motion[k];
         if ((unsigned)m.group != g) continue;
@@ -26,9 +27,8 @@ __device__ __forceinline__ void wall_normal_now(const SphParams& p, const MfBody
                 for (int a = 0; a < 3; ++a) n[a] = r[3 * a] * u[0] + r[3 * a + 1] * u[1] + r[3 * a + 2] * u[2];
                 break;
             }
-        } else if (m.rate != 0.0f || m.angle != 0.0f) {
-            const double q = motion_turn(m, motion_ramp(m, t), motion_wave(m.angle_period, m.angle_phase, t));
-            motion_rotate<DIM>(m, q, n);
+        } else if (m.rate != 0.0f || m.angle != 0.0f || m.series_count > 0) {
+            motion_rotate<DIM>(m, motion_at(m, series, t).q, n);
         }
         return;
     }

@@ -82,6 +82,7 @@ pub fn part(setup: &Setup, slab: &Slab) -> Setup {
             .collect(),
         wall_surface: setup.wall_surface.clone(),
         bodies: setup.bodies.clone(),
+        motion_series: setup.motion_series.clone(),
     }
 }
 

@@ -5,4 +5,5 @@
 pub mod monitor;
 pub mod probe;
 pub mod reflection;
+pub mod sea_state;
 pub mod voids;

@@ -17,8 +17,15 @@ use crate::physics::params::{MfBody, SphParams};
 /// (`Setup::wall_surface`), turned as its `group` has turned since: a floating body's by its
 /// orientation (`MfBody::orientation`, the identity at t = 0), a driven wall's by its
 /// motion's turn theta(t) (`MfMotion::turn_vector`); any other group's as it was. Twin:
-/// `wall_normal_now` in `cuda/device/mdbc.cuh`.
-pub fn normal_now<D: Dim>(p: &SphParams, bodies: &[MfBody], t: f64, group: u32, n: &mut [f64; 3]) {
+/// `wall_normal_now` in `cuda/device/mdbc.cuh`. `series`: `Setup::motion_series`.
+pub fn normal_now<D: Dim>(
+    p: &SphParams,
+    bodies: &[MfBody],
+    series: &[f64],
+    t: f64,
+    group: u32,
+    n: &mut [f64; 3],
+) {
     let Some(m) = p.driven_motion[..p.driven as usize]
         .iter()
         .find(|m| m.group as u32 == group)
@@ -33,8 +40,8 @@ pub fn normal_now<D: Dim>(p: &SphParams, bodies: &[MfBody], t: f64, group: u32, 
                 *c = r[3 * a] * u[0] + r[3 * a + 1] * u[1] + r[3 * a + 2] * u[2];
             }
         }
-    } else if m.rate != 0.0 || m.angle != 0.0 {
-        m.turn_vector::<D>(t, n);
+    } else if m.rate != 0.0 || m.angle != 0.0 || m.series_count > 0 {
+        m.turn_vector::<D>(series, t, n);
     }
 }
 

@@ -11,6 +11,24 @@ use crate::physics::dim::Dim;
 use crate::physics::params::{MfOpen, SphParams, MF_KIND_FLUID, MF_OPEN_INLET};
 
 impl MfOpen {
+    /// An inlet's scale a(t) of its velocity at time `t` \[T\]: its series' (`knots_at`,
+    /// the knots' s_x slot) from the table `series`, 1 without one. Twin: the inlet's branch
+    /// of `kick_one` in cuda/integrate.cu.
+    #[inline]
+    pub fn scale(&self, series: &[f64], t: f64) -> f64 {
+        if self.series_count <= 0 {
+            return 1.0;
+        }
+        let at = super::motion::knots_at(
+            series,
+            self.series_first,
+            self.series_count,
+            self.series_cubic != 0,
+            t,
+        );
+        at.s[0]
+    }
+
     /// s = sign (x\[axis\] - plane) \[L\]: the distance of `x` on the fluid's side of the
     /// plane (negative in the buffer).
     #[inline]
@@ -85,12 +103,14 @@ pub fn open_index(p: &SphParams, group: u32) -> Option<usize> {
 }
 
 /// The velocity the kick gives a buffer particle of group `group` at `x` whose velocity is
-/// `v`, at the kick's end time `t` \[T\]: an inlet's r(t) f(x) velocity (r the smooth start
-/// over its `ramp`, `smooth_ramp`; f its profile, `MfOpen::profile`), an outlet's `v` as it
-/// is; None outside a buffer. [L/T] Twin: `kick_one` in cuda/integrate.cu.
+/// `v`, at the kick's end time `t` \[T\]: an inlet's r(t) a(t) f(x) velocity (r the smooth
+/// start over its `ramp`, `smooth_ramp`; a its series' scale, `MfOpen::scale`; f its
+/// profile, `MfOpen::profile`), an outlet's `v` as it is; None outside a buffer. `series`:
+/// `Setup::motion_series`. [L/T] Twin: `kick_one` in cuda/integrate.cu.
 #[inline]
 pub fn buffer_velocity<D: Dim>(
     p: &SphParams,
+    series: &[f64],
     group: u32,
     x: D::V,
     v: D::V,
@@ -98,7 +118,8 @@ pub fn buffer_velocity<D: Dim>(
 ) -> Option<D::V> {
     let o = &p.open[open_index(p, group)?];
     Some(if o.is_inlet() {
-        D::from3(o.velocity) * (smooth_ramp(o.ramp as f64, t) as f32 * o.profile(D::to3(x)))
+        let r = (smooth_ramp(o.ramp as f64, t) * o.scale(series, t)) as f32;
+        D::from3(o.velocity) * (r * o.profile(D::to3(x)))
     } else {
         v
     })
@@ -224,6 +245,7 @@ mod tests {
             velocity: [2.0, 0.0, 0.0],
             ramp: 0.0,
             profile_axes: 0,
+            ..Default::default()
         };
         p.open[1] = MfOpen {
             kind: MF_OPEN_OUTLET as i32,
@@ -274,19 +296,19 @@ mod tests {
         let v = glam::Vec2::new(0.3, -0.1);
         let x = glam::Vec2::new(-0.05, 0.1);
         assert_eq!(
-            buffer_velocity::<D2>(&p, 5, x, v, 1.0),
+            buffer_velocity::<D2>(&p, &[], 5, x, v, 1.0),
             Some(glam::Vec2::new(2.0, 0.0))
         );
-        assert_eq!(buffer_velocity::<D2>(&p, 7, x, v, 1.0), Some(v));
-        assert_eq!(buffer_velocity::<D2>(&p, 0, x, v, 1.0), None);
+        assert_eq!(buffer_velocity::<D2>(&p, &[], 7, x, v, 1.0), Some(v));
+        assert_eq!(buffer_velocity::<D2>(&p, &[], 0, x, v, 1.0), None);
         // Half way through the ramp: half the velocity.
         p.open[0].ramp = 0.2;
-        let u = buffer_velocity::<D2>(&p, 5, x, v, 0.1).unwrap();
+        let u = buffer_velocity::<D2>(&p, &[], 5, x, v, 0.1).unwrap();
         assert!((u.x - 1.0).abs() < 1e-6, "{u}");
         // And a parabolic profile across y: 1.5 times that at the face's middle.
         p.open[0].profile_axes = 1 << 1;
         let mid = glam::Vec2::new(-0.05, 0.25);
-        let u = buffer_velocity::<D2>(&p, 5, mid, v, 0.1).unwrap();
+        let u = buffer_velocity::<D2>(&p, &[], 5, mid, v, 0.1).unwrap();
         assert!((u.x - 1.5).abs() < 1e-6 && u.y == 0.0, "{u}");
         assert_eq!(p.open[0].behind([0.01, 0.2, 0.0]), [0.01 - 0.1, 0.2, 0.0]);
     }
@@ -317,5 +339,24 @@ mod tests {
         o.hi[2] = 1.0;
         assert!((o.profile([-0.05, 0.25, 0.5]) - 2.25).abs() < 1e-6);
         assert!((o.profile([-0.05, 0.25, 0.3]) - 1.5 * 6.0 * 0.3 * 0.7).abs() < 1e-5);
+    }
+
+    #[test]
+    fn an_inlets_series_scales_its_velocity_over_time() {
+        // scale 0.5 at t = 0 rising linearly to 1 at t = 1, after a motion's two knots.
+        use crate::physics::dim::D2;
+        let mut p = params();
+        (p.open[0].series_first, p.open[0].series_count) = (2, 2);
+        let series = [
+            0.0, 9.0, 9.0, 9.0, 9.0, 1.0, 9.0, 9.0, 9.0, 9.0, // another object's
+            0.0, 0.5, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0,
+        ];
+        let (x, v) = (glam::Vec2::new(-0.05, 0.25), glam::Vec2::ZERO);
+        let u = |t| buffer_velocity::<D2>(&p, &series, 5, x, v, t).unwrap();
+        assert_eq!(u(0.0), glam::Vec2::new(1.0, 0.0));
+        assert!((u(0.5).x - 1.5).abs() < 1e-6, "{}", u(0.5));
+        assert_eq!(u(3.0), glam::Vec2::new(2.0, 0.0));
+        // An outlet's buffer ignores it.
+        assert_eq!(buffer_velocity::<D2>(&p, &series, 7, x, v, 0.5), Some(v));
     }
 }

@@ -14,7 +14,10 @@ use crate::physics::particle::{Kind, Particle};
 use crate::solver::frame::{Field, Fields};
 
 mod motion;
-pub use motion::{Motion, MotionLaw, Oscillation, Paddle, Rotation, WaveMaker};
+pub use motion::{
+    Interpolation, Motion, MotionLaw, Oscillation, Paddle, Rotation, Series, Spectrum,
+    SpectrumShape, WaveMaker,
+};
 
 /// Coordinate axis names.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -384,6 +387,16 @@ impl SolidObject {
             | SolidObject::Polygon { motion, .. } => motion.as_ref(),
         }
     }
+    /// `motion`, to change (a run's copy renames its series file).
+    pub fn motion_mut(&mut self) -> Option<&mut Motion> {
+        match self {
+            SolidObject::Box { motion, .. }
+            | SolidObject::Disc { motion, .. }
+            | SolidObject::Sphere { motion, .. }
+            | SolidObject::Mesh { motion, .. }
+            | SolidObject::Polygon { motion, .. } => motion.as_mut(),
+        }
+    }
     /// The surface of a mesh or polygon body.
     pub fn outline_mut(&mut self) -> Option<&mut Outline> {
         match self {
@@ -528,6 +541,17 @@ impl Wall {
             | Wall::Segment { motion, .. }
             | Wall::Mesh { motion, .. }
             | Wall::Polygon { motion, .. } => motion.as_ref(),
+        }
+    }
+    /// `motion`, to change (a run's copy renames its series file).
+    pub fn motion_mut(&mut self) -> Option<&mut Motion> {
+        match self {
+            Wall::BoxContainer { motion, .. }
+            | Wall::Box { motion, .. }
+            | Wall::Cylinder { motion, .. }
+            | Wall::Segment { motion, .. }
+            | Wall::Mesh { motion, .. }
+            | Wall::Polygon { motion, .. } => motion.as_mut(),
         }
     }
     /// The rigid body a floating wall is, if it floats.

@@ -637,7 +637,23 @@ pub(crate) fn generate(s: &SceneFile) -> Vec<Particle> {
             // An inlet's buffer: at its velocity at t = 0 (none under a ramp).
             Kind::Fluid if i >= n_objects => {
                 let o = &s.open_boundaries[inlets[i - n_objects]];
-                let r = if o.ramp > 0.0 { 0.0 } else { 1.0 };
+                // Its series' scale at t = 0 (`MfOpen::scale`; knots from t <= 0).
+                let scale = o
+                    .series
+                    .as_deref()
+                    .and_then(|r| r.loaded.get())
+                    .map_or(1.0, |k| {
+                        crate::physics::motion::knots_at(
+                            &k.knots,
+                            0,
+                            k.count() as i32,
+                            o.series.as_deref().unwrap().interpolation
+                                == super::format::Interpolation::Cubic,
+                            0.0,
+                        )
+                        .s[0]
+                    });
+                let r = if o.ramp > 0.0 { 0.0 } else { scale };
                 (f.density, vec3(o.velocity.as_ref()).map(|u| r * u), None)
             }
             Kind::Fluid => {

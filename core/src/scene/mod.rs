@@ -20,6 +20,7 @@ mod generate;
 pub mod geometry;
 pub mod input_limits;
 mod motion;
+pub mod motion_series;
 mod open;
 pub mod paper_exact;
 pub mod scheme;
@@ -28,6 +29,7 @@ mod tagged_field;
 mod validate;
 mod wall_surface;
 pub mod wave;
+pub mod wave_spectrum;
 mod zones;
 
 use std::path::{Path, PathBuf};
@@ -222,7 +224,10 @@ impl Scene {
         let file: SceneFile = serde_path_to_error::deserialize(de)
             .map_err(|e| SceneError::from_toml(origin, text, e))?;
         geometry::load_all(&file, origin, base)?;
+        motion_series::load_all(&file, origin, base)?;
         validate::validate(&file, origin)?;
+        let mut file = file;
+        motion_series::make_all(&mut file, origin)?;
         Ok(Scene {
             file,
             source: SceneSource::Text(origin.to_string()),
@@ -282,6 +287,9 @@ impl Scene {
             s.file.time.output_interval = t;
         }
         s.revalidate().map_err(|e| o.blame(e, &self.origin()))?;
+        // An irregular sea's paddle record reaches the new end.
+        motion_series::make_all(&mut s.file, &self.origin())
+            .map_err(|e| o.blame(e, &self.origin()))?;
         // The text says what runs: the copy a run writes holds the overrides (issue #51).
         let changed = s.file.time != self.file.time;
         if let Some(text) = changed.then(|| overridden_text(&s.text, o)).flatten() {
@@ -314,6 +322,8 @@ impl Scene {
             }
         }
         s.revalidate()?;
+        // The sea's components shorter than 10 spacings are left out: made again.
+        motion_series::make_all(&mut s.file, &self.origin())?;
         Ok(s)
     }
 
@@ -358,6 +368,7 @@ impl Scene {
             particles,
             wall_surface,
             bodies: bodies::bodies(&self.file, |i| self.wall_group(i)),
+            motion_series: motion_series::table(&self.file),
         })
     }
 
@@ -440,9 +451,15 @@ fn scene_params(s: &SceneFile) -> SphParams {
         }
     }
     open::write_params(s, &mut p);
+    // Each series' knots follow the last one's in `Setup::motion_series`
+    // (`motion_series::table`, in the same order).
+    let mut first = 0;
     for (k, (group, motion)) in driven_objects(s).enumerate().take(p.driven_motion.len()) {
         p.driven = k as i32 + 1;
-        p.driven_motion[k] = motion.params(group, s.dimension as usize, wave::gravity(s));
+        let m = &mut p.driven_motion[k];
+        *m = motion.params(group, s.dimension as usize, wave::gravity(s));
+        m.series_first = first;
+        first += m.series_count;
     }
     // A floating body's group is driven too, by its body (`MfMotion::floating`).
     let base = (s.fluid_blocks.len() + s.solids.len()) as i32;

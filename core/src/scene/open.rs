@@ -63,6 +63,11 @@ pub struct OpenBoundary {
     /// (`OpenProfile`); not for an outlet.
     #[serde(default, skip_serializing_if = "is_uniform")]
     pub profile: OpenProfile,
+    /// An inlet's velocity over time: `velocity` times the `scale` column of a CSV file
+    /// (`t,scale` rows, `motion_series`; a pulsing or a tidal inflow), as well as the ramp.
+    /// Default none: scale 1. Its `pivot` and `axis` are a motion's: not for an inlet.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub series: Option<Box<super::format::Series>>,
 }
 
 fn is_uniform(p: &OpenProfile) -> bool {
@@ -227,6 +232,9 @@ pub(super) fn check(c: &Ctx, s: &SceneFile) -> R {
                     ));
                 }
                 c.non_negative(&f("ramp"), o.ramp)?;
+                if let Some(r) = o.series.as_deref() {
+                    check_series(c, &f("series"), r, s.time.end)?;
+                }
                 if o.profile == OpenProfile::Parabolic && profile_axes(s, o) == 0 {
                     return Err(c.err(
                         f("profile"),
@@ -243,6 +251,12 @@ pub(super) fn check(c: &Ctx, s: &SceneFile) -> R {
             }
             (OpenKind::Outlet, None) if o.ramp != 0.0 => {
                 return Err(c.err(f("ramp"), "only an inlet has a ramp"));
+            }
+            (OpenKind::Outlet, None) if o.series.is_some() => {
+                return Err(c.err(
+                    f("series"),
+                    "only an inlet has a series (of its velocity's scale)",
+                ));
             }
             (OpenKind::Outlet, None) if o.profile != OpenProfile::Uniform => {
                 return Err(c.err(
@@ -265,9 +279,37 @@ pub(super) fn check(c: &Ctx, s: &SceneFile) -> R {
     Ok(())
 }
 
-/// `open_count` and `open` from the scene.
+/// An inlet's `series` at `f`: read, reaching the run's `end` \[T\], without a motion's
+/// `pivot` and `axis`.
+fn check_series(c: &Ctx, f: &str, r: &super::format::Series, end: f64) -> R {
+    if r.pivot.is_some() || r.axis.is_some() {
+        return Err(c.err(
+            f,
+            "pivot and axis turn a driven object: an inlet's series scales its velocity",
+        ));
+    }
+    let Some(k) = r.loaded.get() else {
+        return Err(c.err(format!("{f}.file"), "the series was not read"));
+    };
+    if k.end() < end {
+        return Err(c.err(
+            format!("{f}.file"),
+            format!(
+                "{:?} ends at t = {}, before the run does (time.end = {end}): the series must \
+                 cover the run",
+                r.file,
+                k.end()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// `open_count` and `open` from the scene; an inlet's series' knots after the motions'
+/// in `Setup::motion_series` (`motion_series::table`).
 pub(super) fn write_params(s: &SceneFile, p: &mut SphParams) {
     p.open_count = s.open_boundaries.len().min(MF_MAX_OPEN as usize) as i32;
+    let mut first = super::motion_series::motion_knots(s) as i32;
     for (b, o) in s
         .open_boundaries
         .iter()
@@ -291,6 +333,12 @@ pub(super) fn write_params(s: &SceneFile, p: &mut SphParams) {
             profile_axes: profile_axes(s, o),
             ..Default::default()
         };
+        if let Some(r) = o.series.as_deref() {
+            m.series_count = r.loaded.get().map_or(0, |k| k.count() as i32);
+            m.series_cubic = (r.interpolation == super::format::Interpolation::Cubic) as i32;
+            m.series_first = first;
+            first += m.series_count;
+        }
         for k in 0..s.dimension as usize {
             m.lo[k] = o.min[k] as f32;
             m.hi[k] = o.max[k] as f32;

@@ -118,7 +118,7 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
         let field = format!("solids[{i}]");
         c.opt_vec(&format!("{field}.velocity"), &o.velocity().cloned())?;
         if let Some(m) = o.motion() {
-            motion::check(&c, &format!("{field}.motion"), m, euler)?;
+            motion::check(&c, &format!("{field}.motion"), m, euler, s.time.end)?;
             if let Motion::Law(MotionLaw { wave: Some(_), .. }) = m {
                 return Err(c.err(
                     format!("{field}.motion.wave"),
@@ -174,7 +174,7 @@ pub(crate) fn validate(s: &SceneFile, origin: &str) -> R {
     for (i, w) in s.walls.iter().enumerate() {
         let field = format!("walls[{i}]");
         if let Some(m) = w.motion() {
-            motion::check(&c, &format!("{field}.motion"), m, euler)?;
+            motion::check(&c, &format!("{field}.motion"), m, euler, s.time.end)?;
             if let Motion::Law(MotionLaw {
                 wave: Some(wave), ..
             }) = m

@@ -118,9 +118,19 @@ pub(super) fn check(
         (_, Some(h)) => c.vec(&format!("{field}.hinge"), h)?,
         _ => {}
     }
+    if let Some(sp) = &w.spectrum {
+        let f = format!("{field}.spectrum");
+        if !(1.0..=10.0).contains(&sp.gamma) {
+            return err(format!("{f}.gamma"), "must be a number from 1 to 10".into());
+        }
+        if !(16..=4096).contains(&sp.components) {
+            return err(format!("{f}.components"), "must be from 16 to 4096".into());
+        }
+    }
     let p = w.paddling(gravity(s));
     let (l, kd) = (p.wavelength, p.k * w.depth);
     let miche = 0.142 * l * kd.tanh();
+    // An irregular sea: its significant height at its peak period.
     if w.height > miche {
         return err(
             format!("{field}.height"),
@@ -150,7 +160,11 @@ pub(super) fn check(
         );
     }
     // The paddle's travel either way: S / 2 at the still-water level, for a flap (S / 2)
-    // (y - hinge) / depth at the paddle's top.
+    // (y - hinge) / depth at the paddle's top. An irregular sea's, from its record once it is
+    // made (`motion_series::make_all`).
+    if w.spectrum.is_some() {
+        return Ok(());
+    }
     let reach = match (&w.paddle, &w.hinge) {
         (Paddle::Flap, Some(h)) => 0.5 * p.stroke * ((hi[1] - h[1]) / w.depth).max(1.0),
         _ => 0.5 * p.stroke,

@@ -42,6 +42,11 @@ pub struct Setup {
     /// The floating rigid bodies (`floating` walls, `physics::body`) at t = 0, in the order
     /// of their walls; each one's group is a driven group with `MfMotion::floating`.
     pub bodies: Vec<MfBody>,
+    /// The driven objects' time series (`series` of a `motion`): their knots, each
+    /// `MF_SERIES_STRIDE` numbers (t \[T\], s_x, s_y, s_z \[L\], theta \[rad\], 0 at t = 0),
+    /// one object's after another's (`MfMotion::series_first`, `series_count`). Empty
+    /// where no motion has a series.
+    pub motion_series: Vec<f64>,
 }
 
 impl Setup {

@@ -34,10 +34,23 @@ fn by_id(mut v: Vec<Particle>) -> Vec<Particle> {
     v
 }
 
-fn same_channel<D: Dim>(label: &str) {
-    let setup = channel(D::D);
+/// `channel(dim)` with its inlet's velocity scaled by a series (issue #55): cubic through
+/// 1, 1.4 and 0.6 over the first 0.04 s, then held.
+fn pulsing_channel(dim: usize) -> Setup {
+    let mut setup = channel(dim);
+    let o = &mut setup.params.open[0];
+    (o.series_first, o.series_count, o.series_cubic) = (0, 4, 1);
+    setup.motion_series = vec![
+        0.0, 1.0, 0.0, 0.0, 0.0, 0.015, 1.4, 0.0, 0.0, 0.0, 0.03, 0.6, 0.0, 0.0, 0.0, 10.0, 0.6,
+        0.0, 0.0, 0.0,
+    ];
+    setup
+}
+
+fn same_channel<D: Dim>(label: &str, setup: Setup) {
     let n0 = setup.particles.len();
     let mut g = gpu::<D>(&setup);
+    let again = setup.clone();
     let mut c = CpuSolver::<D>::new(setup);
     for _ in 0..30 {
         c.advance(10);
@@ -80,7 +93,7 @@ fn same_channel<D: Dim>(label: &str) {
     );
     // A GPU run resumed from its checkpoint steps on as the run itself, bit for bit.
     let saved = g.save();
-    let mut r = gpu::<D>(&channel(D::D));
+    let mut r = gpu::<D>(&again);
     r.restore(&saved).unwrap();
     g.advance(100);
     r.advance(100);
@@ -104,7 +117,16 @@ fn same_channel<D: Dim>(label: &str) {
     ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
 )]
 fn a_2d_channel_makes_and_removes_the_same_particles_on_both_backends() {
-    same_channel::<D2>("2D open channel");
+    same_channel::<D2>("2D open channel", channel(2));
+}
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn a_2d_channel_with_a_pulsing_inlet_makes_the_same_particles_on_both_backends() {
+    same_channel::<D2>("2D open channel, inlet on a series", pulsing_channel(2));
 }
 
 #[test]
@@ -113,5 +135,5 @@ fn a_2d_channel_makes_and_removes_the_same_particles_on_both_backends() {
     ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
 )]
 fn a_3d_duct_makes_and_removes_the_same_particles_on_both_backends() {
-    same_channel::<D3>("3D open duct, parabolic inlet");
+    same_channel::<D3>("3D open duct, parabolic inlet", channel(3));
 }

@@ -271,6 +271,7 @@ pub(crate) fn scene_with(dim: usize, v: Variant, vel_amp: f32) -> Setup {
         particles: out,
         wall_surface: Vec::new(),
         bodies: Vec::new(),
+        motion_series: Vec::new(),
     }
 }
 
@@ -419,6 +420,35 @@ pub(crate) fn driven_law(dim: usize, v: Variant, group: i32) -> Setup {
     m.axis = [0.3 / n, 0.4 / n, 0.866 / n];
     (m.rate, m.angle, m.angle_period, m.angle_phase) = (0.7, 0.2, 0.5, 0.3);
     m.ramp = 0.004;
+    setup
+}
+
+/// `driven_cohesive` with the driven group on a time series (issue #54) beside a steady
+/// velocity: a recorded translation (x, y, z) and a turn about a tilted axis through the
+/// box's middle, knots 2 ms apart from before t = 0, interpolated linearly or (`cubic`) by
+/// cubic Hermite, so that the kick's velocity and the drift's move take every term of
+/// `motion_series_at` (cuda/device/motion.cuh against physics/motion.rs).
+pub(crate) fn driven_series(dim: usize, v: Variant, group: i32, cubic: bool) -> Setup {
+    let mut setup = driven_cohesive(dim, v, group, [0.1, 0.0, 0.0]);
+    let mut knots = Vec::new();
+    for j in 0..200 {
+        let t = -0.004 + 0.002 * j as f64;
+        knots.extend([
+            t,
+            0.03 * (25.0 * t).sin(),
+            0.5 * t * t,
+            -0.01 * (40.0 * t).sin(),
+            0.3 * (18.0 * t).sin() + 0.2 * t,
+        ]);
+    }
+    let p = &mut setup.params;
+    let m = &mut p.driven_motion[0];
+    (m.series_first, m.series_count, m.series_cubic) = (0, 200, cubic as i32);
+    let mid = |a: usize| 0.5 * (p.domain_min[a] + p.domain_max[a]);
+    m.pivot = [mid(0), mid(1), if dim == 3 { mid(2) } else { 0.0 }];
+    let n = (0.3f32 * 0.3 + 0.4 * 0.4 + 0.866 * 0.866).sqrt();
+    m.axis = [0.3 / n, 0.4 / n, 0.866 / n];
+    setup.motion_series = knots;
     setup
 }
 

@@ -63,6 +63,26 @@ fn stages_3d_body_on_a_motion_law_leapfrog() {
     not(meshfree_require_cuda),
     ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
 )]
+fn stages_2d_wall_on_a_cubic_series_symplectic() {
+    let setup = driven_series(2, V_2D_B, 0, true);
+    stages_on::<D2>("V_2D_B + wall on a cubic time series", setup);
+}
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn stages_3d_body_on_a_linear_series_leapfrog() {
+    let setup = leapfrog(driven_series(3, V_3D_B, 2, false));
+    stages_on::<D3>("V_3D_B leapfrog + sphere on a linear time series", setup);
+}
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
 fn stages_2d_bodies_in_contact_dynamic_walls() {
     stages_on::<D2>(
         "V_2D_A + bodies in contact",
@@ -366,9 +386,21 @@ fn stages_3d_fluid_only_no_periodic_axis_symplectic() {
     ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
 )]
 fn a_wall_on_a_motion_law_follows_the_same_path_over_whole_steps() {
-    // The device's clock (time[0], the kick's t0 in time[2]) against the CPU's over 150
-    // steps of `Solver::step`: each driven particle where the CPU puts it.
-    let setup = driven_law(2, V_2D_B, 0);
+    same_path_over_whole_steps(driven_law(2, V_2D_B, 0));
+}
+
+#[test]
+#[cfg_attr(
+    not(meshfree_require_cuda),
+    ignore = "needs a CUDA GPU: build with MESHFREE_REQUIRE_CUDA=1, or run with --include-ignored"
+)]
+fn a_wall_on_a_time_series_follows_the_same_path_over_whole_steps() {
+    same_path_over_whole_steps(driven_series(2, V_2D_B, 0, true));
+}
+
+/// The device's clock (time[0], the kick's t0 in time[2]) against the CPU's over 150
+/// steps of `Solver::step`: each particle of the driven group 0 where the CPU puts it.
+fn same_path_over_whole_steps(setup: Setup) {
     let start: Vec<Particle> = setup.particles.clone();
     let mut g = gpu::<D2>(&setup);
     let mut c = CpuSolver::<D2>::new(setup);

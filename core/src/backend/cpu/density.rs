@@ -96,6 +96,7 @@ pub fn wall_density<D: Dim>(
     s: &mut State<D>,
     surface: &[[f32; 4]],
     bodies: &[MfBody],
+    series: &[f64],
     t: f64,
 ) {
     if p.wall_coupling as u32 != MF_WALL_COUPLING_MDBC {
@@ -113,7 +114,7 @@ pub fn wall_density<D: Dim>(
                 return None;
             }
             let mut n = [nx as f64, ny as f64, nz as f64];
-            normal_now::<D>(p, bodies, t, group[i], &mut n);
+            normal_now::<D>(p, bodies, series, t, group[i], &mut n);
             let two_dn = n.map(|c| 2.0 * d_b * c as f32);
             let mut xg = pos[i];
             for (a, t) in two_dn.iter().enumerate().take(D::D) {

@@ -35,6 +35,7 @@ pub fn wrap<D: Dim>(p: &SphParams, x: &mut D::V) {
 #[inline]
 pub fn driven_velocity<D: Dim>(
     p: &SphParams,
+    series: &[f64],
     group: u32,
     x: D::V,
     t0: f64,
@@ -48,7 +49,7 @@ pub fn driven_velocity<D: Dim>(
     Some(if m.steady() {
         D::from3(m.velocity)
     } else {
-        m.velocity_at::<D>(x, t0, t)
+        m.velocity_at::<D>(series, x, t0, t)
     })
 }
 
@@ -56,7 +57,14 @@ pub fn driven_velocity<D: Dim>(
 /// that group is driven (`MfMotion::moved`; a steady motion's x + velocity dt in float).
 /// [L] Twin: `driven_moved` in cuda/device/motion.cuh.
 #[inline]
-pub fn driven_moved<D: Dim>(p: &SphParams, group: u32, x: D::V, dt: f32, t0: f64) -> Option<D::V> {
+pub fn driven_moved<D: Dim>(
+    p: &SphParams,
+    series: &[f64],
+    group: u32,
+    x: D::V,
+    dt: f32,
+    t0: f64,
+) -> Option<D::V> {
     let m = &p.driven_motion[p.driven_index(group)?];
     // A floating body's particles: its drift moved them (`bodies::drift`).
     if m.floating != 0 {
@@ -65,7 +73,7 @@ pub fn driven_moved<D: Dim>(p: &SphParams, group: u32, x: D::V, dt: f32, t0: f64
     Some(if m.steady() {
         x + D::from3(m.velocity) * dt
     } else {
-        m.moved::<D>(x, t0, t0 + dt as f64)
+        m.moved::<D>(series, x, t0, t0 + dt as f64)
     })
 }
 
@@ -156,8 +164,15 @@ pub fn damping_factor(p: &SphParams, c: f32, dt: f32) -> f32 {
 /// fluid outside the band keeps pace with it without a pressure gradient along the
 /// channel); a driven object's velocity is set to its prescribed value at t_end
 /// (`driven_velocity`), whatever the forces; a fluid particle in the damping zone is then
-/// slowed (`damping_factor`). [L/T]
-pub fn kick<D: Dim>(p: &SphParams, dt: f32, (t0, t_end): (f64, f64), s: &mut State<D>) {
+/// slowed (`damping_factor`). `series`: the driven objects' knots (`Setup::motion_series`).
+/// [L/T]
+pub fn kick<D: Dim>(
+    p: &SphParams,
+    series: &[f64],
+    dt: f32,
+    (t0, t_end): (f64, f64),
+    s: &mut State<D>,
+) {
     let (kind, group, acc, pos) = (&s.kind, &s.group, &s.acc, &s.pos);
     let (r1, r0) = (ramp_share(p, t_end), ramp_share(p, t_end - dt as f64));
     let u = D::from3(p.inflow_velocity);
@@ -165,7 +180,7 @@ pub fn kick<D: Dim>(p: &SphParams, dt: f32, (t0, t_end): (f64, f64), s: &mut Sta
     let ramp_dv = u * (r1 - r0) as f32;
     s.vel.par_iter_mut().enumerate().for_each(|(i, v)| {
         // An open boundary's buffer: an inlet's prescribed velocity, an outlet's as it is.
-        if let Some(u) = buffer_velocity::<D>(p, group[i], pos[i], *v, t_end) {
+        if let Some(u) = buffer_velocity::<D>(p, series, group[i], pos[i], *v, t_end) {
             *v = u;
             return;
         }
@@ -183,7 +198,7 @@ pub fn kick<D: Dim>(p: &SphParams, dt: f32, (t0, t_end): (f64, f64), s: &mut Sta
             }
         }
         // Driven object (piston, clamp, flap): prescribed velocity.
-        if let Some(u) = driven_velocity::<D>(p, group[i], pos[i], t0, t_end) {
+        if let Some(u) = driven_velocity::<D>(p, series, group[i], pos[i], t0, t_end) {
             *v = u;
         }
     });
@@ -195,10 +210,10 @@ pub fn kick<D: Dim>(p: &SphParams, dt: f32, (t0, t_end): (f64, f64), s: &mut Sta
 /// symplectic Euler after it (x^{n+1} takes v^{n+1}). Boundary particles stay put (their
 /// density changes with dynamic walls), except a driven object, which follows its
 /// prescribed motion over the step from `t0` (`driven_moved`; no XSPH), whatever its kind.
-pub fn drift<D: Dim>(p: &SphParams, dt: f32, t0: f64, s: &mut State<D>) {
+pub fn drift<D: Dim>(p: &SphParams, series: &[f64], dt: f32, t0: f64, s: &mut State<D>) {
     let (kind, group, vel, xsph) = (&s.kind, &s.group, &s.vel, &s.xsph);
     s.pos.par_iter_mut().enumerate().for_each(|(i, x)| {
-        if let Some(y) = driven_moved::<D>(p, group[i], *x, dt, t0) {
+        if let Some(y) = driven_moved::<D>(p, series, group[i], *x, dt, t0) {
             *x = y;
             wrap::<D>(p, x);
         } else if open_index(p, group[i]).is_some() {

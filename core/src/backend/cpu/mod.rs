@@ -62,6 +62,8 @@ pub struct CpuSolver<D: Dim> {
     tl: Option<TlBodies<D>>,
     /// The floating rigid bodies (`physics::body`), advanced in the kick and the drift.
     bodies: Vec<MfBody>,
+    /// `Setup::motion_series`: the driven objects' time series.
+    motion_series: Vec<f64>,
     /// The open boundaries' next id and tally (`open::open_boundaries`).
     open: OpenState,
     time: f64,
@@ -101,6 +103,7 @@ impl<D: Dim> CpuSolver<D> {
             iface: None,
             wall_surface: setup.wall_surface,
             bodies: setup.bodies,
+            motion_series: setup.motion_series,
             open: OpenState::start(&p, &setup.particles),
             time: 0.0,
             steps: 0,
@@ -172,6 +175,7 @@ impl<D: Dim> Solver for CpuSolver<D> {
             &mut self.state,
             &self.wall_surface,
             &self.bodies,
+            &self.motion_series,
             self.time,
         );
         density::density(&self.params, &self.grid, &mut self.state);
@@ -241,15 +245,33 @@ impl<D: Dim> Solver for CpuSolver<D> {
             &self.bodies,
             &self.state,
         );
-        integrate::kick(&self.params, dt, (self.time, t_end), &mut self.state);
+        integrate::kick(
+            &self.params,
+            &self.motion_series,
+            dt,
+            (self.time, t_end),
+            &mut self.state,
+        );
         bodies::kick(&self.params, dt, &loads, &mut self.bodies, &mut self.state);
     }
     fn drift(&mut self) {
         if let Some(tl) = self.tl.as_mut() {
-            tl.drift(&self.params, self.dt, self.time, &self.state);
+            tl.drift(
+                &self.params,
+                &self.motion_series,
+                self.dt,
+                self.time,
+                &self.state,
+            );
         }
         bodies::drift(self.dt, &mut self.bodies, &mut self.state);
-        integrate::drift(&self.params, self.dt, self.time, &mut self.state);
+        integrate::drift(
+            &self.params,
+            &self.motion_series,
+            self.dt,
+            self.time,
+            &mut self.state,
+        );
         self.grid_stale = true;
         self.time += self.dt as f64;
         self.steps += 1;

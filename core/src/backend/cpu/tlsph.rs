@@ -198,7 +198,7 @@ impl<D: Dim> TlBodies<D> {
     /// (`integrate::driven_moved`): what the drift adds to the position
     /// (`integrate::drift`), with the velocity the drift takes (the new one in the
     /// symplectic Euler, the old one in the forward Euler). \[L\]
-    pub fn drift(&mut self, p: &SphParams, dt: f32, t0: f64, s: &State<D>) {
+    pub fn drift(&mut self, p: &SphParams, series: &[f64], dt: f32, t0: f64, s: &State<D>) {
         let slot = &self.slot;
         self.disp.par_iter_mut().enumerate().for_each(|(a, u)| {
             let i = slot[a];
@@ -207,7 +207,7 @@ impl<D: Dim> TlBodies<D> {
             }
             let i = i as usize;
             let x = s.pos[i];
-            *u += match driven_moved::<D>(p, s.group[i], x, dt, t0) {
+            *u += match driven_moved::<D>(p, series, s.group[i], x, dt, t0) {
                 Some(y) => y - x,
                 None => (s.vel[i] + s.xsph[i]) * dt,
             };

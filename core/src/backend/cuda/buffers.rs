@@ -88,6 +88,9 @@ pub struct Buffers {
     /// reordered by the grid); only where `params::needs_wall_surface` (Morris's no-slip
     /// walls, mDBC).
     pub wall_surface: Option<CudaSlice<f32>>,
+    /// `Setup::motion_series`: the driven objects' knots (one unused double where none),
+    /// which the kick, the drifts and the mDBC walls read.
+    pub motion_series: CudaSlice<f64>,
     // grid
     pub cell: CudaSlice<u32>,
     /// Per cell, n_cells + 1 (the last stays 0: the scan's sentinel).
@@ -273,14 +276,16 @@ impl Alloc<'_> {
 }
 
 impl Buffers {
-    /// Allocate for `state`, a grid of `n_cells` and the wall surface `surface`
-    /// (`Setup::wall_surface`; none where empty), and the density gradients where
-    /// `density_gradient`, then upload `state` and `surface`.
+    /// Allocate for `state`, a grid of `n_cells`, the wall surface `surface`
+    /// (`Setup::wall_surface`; none where empty) and the motions' knots `series`
+    /// (`Setup::motion_series`), and the density gradients where `density_gradient`, then
+    /// upload `state`, `surface` and `series`.
     pub fn new<D: Dim>(
         s: &Arc<CudaStream>,
         state: &State<D>,
         n_cells: usize,
         surface: &[[f32; 4]],
+        series: &[f64],
         density_gradient: bool,
     ) -> Result<Buffers, DriverError> {
         let n = state.len();
@@ -317,6 +322,7 @@ impl Buffers {
             } else {
                 Some(a.z(surface.len() * 4)?)
             },
+            motion_series: a.z(series.len())?,
             cell: w.cell,
             count: a.z(n_cells + 1)?,
             local: if local_fits::<D>(n, n_cells) {
@@ -354,6 +360,9 @@ impl Buffers {
         b.write_state(s, state)?;
         if let Some(d) = &mut b.wall_surface {
             s.memcpy_htod(surface.as_flattened(), d)?;
+        }
+        if !series.is_empty() {
+            s.memcpy_htod(series, &mut b.motion_series)?;
         }
         Ok(b)
     }

@@ -289,7 +289,7 @@ impl Family {
                 "const SphParams p, unsigned n, const unsigned* cell_start, const float* pos, \
                  float* vel, const unsigned char* kind, const unsigned* id, const unsigned* group, \
                  const float* surface, const double* clock, const MfBody* bodies, \
-                 unsigned n_bodies, float* rho, float* pr",
+                 unsigned n_bodies, const double* series, float* rho, float* pr",
             ),
             Family::SolidInterface => (
                 "density",
@@ -341,7 +341,7 @@ impl Family {
                 Dims,
                 "const SphParams p, unsigned n, float* dt_dev, const unsigned* red, \
                  double* time, const unsigned char* kind, const unsigned* group, \
-                 const float* pos, float* vel, const float* acc",
+                 const float* pos, float* vel, const float* acc, const double* series",
             ),
             Family::Drift => (
                 "integrate",
@@ -351,7 +351,7 @@ impl Family {
                  const unsigned char* kind, const unsigned* group, float* pos, \
                  const float* vel, const float* xsph, float* rho, const float* drho, \
                  float* rho_dev, float* stress, const float* rate, unsigned* cell, \
-                 unsigned* count",
+                 unsigned* count, const double* series",
             ),
             Family::DriftKick => (
                 "integrate",
@@ -477,7 +477,7 @@ impl Family {
                 Dims,
                 "const SphParams p, unsigned n_solid, const float* dt_dev, const double* time, \
                  const unsigned* slot, const unsigned* group, const float* pos, \
-                 const float* vel, const float* xsph, float* disp",
+                 const float* vel, const float* xsph, float* disp, const double* series",
             ),
             Family::OpenMark => (
                 "open",

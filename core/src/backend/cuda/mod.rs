@@ -98,6 +98,8 @@ pub struct CudaSolver<D: Dim> {
     /// `Setup::wall_surface` (empty unless `params::needs_wall_surface`); on the device in
     /// `buf`.
     wall_surface: Vec<[f32; 4]>,
+    /// `Setup::motion_series`; on the device in `buf`.
+    motion_series: Vec<f64>,
     steps: u64,
     /// Whether the grid's cell ranges list the particles at their current positions: set
     /// by `build_grid`, cleared by whatever moves, removes or replaces particles (a drift,
@@ -191,6 +193,7 @@ impl<D: Dim> CudaSolver<D> {
             &state,
             p.n_cells.max(1) as usize,
             &setup.wall_surface,
+            &setup.motion_series,
             needs_density_gradient(&p),
         )
         .map_err(|e| oom(n, e))?;
@@ -229,6 +232,7 @@ impl<D: Dim> CudaSolver<D> {
             params: p,
             buf,
             wall_surface: setup.wall_surface,
+            motion_series: setup.motion_series,
             steps: 0,
             grid_current: false,
             probe_points: None,
@@ -705,6 +709,7 @@ impl<D: Dim> Solver for CudaSolver<D> {
                 &st,
                 self.buf.n_cells,
                 &self.wall_surface,
+                &self.motion_series,
                 needs_density_gradient(&self.params),
             )
             .unwrap_or_else(|e| panic!("{}", oom(n, e)));

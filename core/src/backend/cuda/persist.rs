@@ -41,6 +41,7 @@ impl<D: Dim> Persist for CudaSolver<D> {
                 &state,
                 self.buf.n_cells,
                 &self.wall_surface,
+                &self.motion_series,
                 needs_density_gradient(&self.params),
             )
             .map_err(|e| super::oom(state.len(), e).to_string())?;

@@ -240,6 +240,7 @@ impl<D: Dim> Subdomain for CudaSolver<D> {
             &state,
             self.buf.n_cells,
             &self.wall_surface,
+            &self.motion_series,
             needs_density_gradient(&self.params),
         )
         .map_err(|e| oom(n, e).to_string())?;

@@ -31,7 +31,7 @@ pub const MF_SOLID_TOTAL_LAGRANGIAN: u32 = 1;
 pub const MF_WALL_COUPLING_LENNARD_JONES_ONLY: u32 = 0;
 pub const MF_WALL_COUPLING_DYNAMIC: u32 = 1;
 pub const MF_WALL_COUPLING_MDBC: u32 = 2;
-#[doc = " A driven object's prescribed rigid motion (`motion` of a wall or a solid; evaluated by\n `motion_*` in device/motion.cuh, twin src/physics/motion.rs). Its particles move with a pivot\n c(t) = pivot + s(t) and turn about it by theta(t) about `axis`:\n   x(t) = c(t) + R(axis, theta(t)) (x(0) - pivot),\n   s(t)     = velocity I(t) + r(t) amplitude (sin(2 pi t / period + phase) - sin phase)  [L],\n   theta(t) = rate I(t) + r(t) angle (sin(2 pi t / angle_period + angle_phase)\n              - sin angle_phase)                                                       [rad],\n r(t) the smooth start over `ramp`, (1 - cos(pi t / ramp)) / 2 up to `ramp`, then 1 (1 without\n a ramp), and I(t) its integral over [0, t] (t without). A motion with only `velocity` and no\n ramp is steady: x += velocity dt, as before time-dependent motion existed."]
+pub const MF_SERIES_STRIDE: u32 = 5;
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct MfMotion {
@@ -57,8 +57,14 @@ pub struct MfMotion {
     pub angle_period: f32,
     #[doc = " [rad]"]
     pub angle_phase: f32,
-    #[doc = " [T] smooth start; 0: none"]
+    #[doc = " [T] smooth start; 0: none (a series is not ramped)"]
     pub ramp: f32,
+    #[doc = " the first knot of its series in the knots' table (Setup::motion_series:\nMF_SERIES_STRIDE doubles a knot: t [T], s_x, s_y, s_z [L], theta [rad],\neach 0 at t = 0)"]
+    pub series_first: i32,
+    #[doc = " its knots; 0: no series"]
+    pub series_count: i32,
+    #[doc = " 1: cubic Hermite between knots (a continuous velocity); 0: linear"]
+    pub series_cubic: i32,
     #[doc = " 1: a floating body's group (`MfBody`): the other fields are unused,\nthe kick and the drift leave its particles to the bodies' stages\n(cuda/bodies.cu), which move them with the body"]
     pub floating: i32,
 }
@@ -125,6 +131,12 @@ pub struct MfOpen {
     pub ramp: f32,
     #[doc = " inlet: bit a set: the velocity is parabolic across axis a,\n6 eta (1 - eta) with eta = (x_a - lo_a) / (hi_a - lo_a) (mean 1:\n`velocity` is the mean); 0: uniform"]
     pub profile_axes: i32,
+    #[doc = " inlet: the first knot of its scale's time series in the knots' table\n(Setup::motion_series; the scale in a knot's s_x slot): the velocity\nis `velocity` times the scale at the time"]
+    pub series_first: i32,
+    #[doc = " its knots; 0: no series (scale 1)"]
+    pub series_count: i32,
+    #[doc = " 1: cubic Hermite between knots; 0: linear"]
+    pub series_cubic: i32,
 }
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]

@@ -1,6 +1,7 @@
 //! The prescribed motion of a driven wall or solid in a scene file (`motion`): a steady
 //! velocity or a table of laws (translation, oscillation, rotation, a wave maker's paddle,
-//! a ramp). Checked and made into `MfMotion` by `scene::motion`.
+//! a ramp, a time series from a file). Checked and made into `MfMotion` by `scene::motion`;
+//! a series' file read by `scene::motion_series`.
 
 use serde::{Deserialize, Serialize};
 
@@ -14,8 +15,9 @@ pub enum Motion {
     Law(MotionLaw),
 }
 
-/// `motion = { velocity, oscillation, rotation, ramp }`: a translation at `velocity` plus an
-/// oscillation, and a turn about a pivot, each started smoothly over `ramp` where given.
+/// `motion = { velocity, oscillation, rotation, wave, series, ramp }`: a translation at
+/// `velocity` plus an oscillation, and a turn about a pivot, each started smoothly over
+/// `ramp` where given; plus a recorded displacement and turn (`series`).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MotionLaw {
@@ -33,7 +35,11 @@ pub struct MotionLaw {
     /// A wave maker's paddle: the stroke of a regular wave of given height and period by
     /// linear wave-maker theory (a piston's oscillation or a flap's turn). Default none.
     #[serde(default)]
-    pub wave: Option<WaveMaker>,
+    pub wave: Option<Box<WaveMaker>>,
+    /// A time series of the displacement and turn, from a CSV file (a recorded paddle, a
+    /// measured ship motion), added to the laws'. Default none.
+    #[serde(default)]
+    pub series: Option<Box<Series>>,
     /// \[T\] a smooth start, (1 - cos(pi t / ramp)) / 2 of every velocity up to `ramp`
     /// (an oscillation's amplitude grows with it). Default 0: none.
     #[serde(default)]
@@ -62,6 +68,87 @@ pub struct WaveMaker {
     /// face at the floor). Flaps only.
     #[serde(default)]
     pub hinge: Option<Vec<f64>>,
+    /// An irregular sea instead of a regular wave (`scene::wave_spectrum`): `height` is then
+    /// the significant wave height H_m0 = 4 sqrt(m0), `period` the peak period T_p, `phase`
+    /// unused. Default none: a regular wave.
+    #[serde(default)]
+    pub spectrum: Option<Spectrum>,
+    /// An irregular sea's paddle motion, made with the scene (`motion_series::make_all`).
+    #[serde(skip)]
+    pub made: crate::scene::motion_series::Loaded,
+}
+
+/// `spectrum = { shape, gamma, seed, components }`: the sea an irregular wave maker makes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Spectrum {
+    /// "jonswap" or "pierson-moskowitz".
+    pub shape: SpectrumShape,
+    /// JONSWAP's peak enhancement factor, 1 to 10. Default 3.3 (the North Sea's).
+    #[serde(default = "default_gamma")]
+    pub gamma: f64,
+    /// The random phases' and frequencies' seed: one seed, one sea, on every machine.
+    /// Default 0.
+    #[serde(default)]
+    pub seed: u64,
+    /// The sea's linear components, 16 to 4096. Default 256.
+    #[serde(default = "default_components")]
+    pub components: u32,
+}
+
+fn default_gamma() -> f64 {
+    3.3
+}
+
+fn default_components() -> u32 {
+    256
+}
+
+/// A wave spectrum's form.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SpectrumShape {
+    /// Hasselmann et al. 1973: a fetch-limited sea, its peak sharpened by `gamma`.
+    Jonswap,
+    /// Pierson & Moskowitz 1964: a fully developed sea (JONSWAP with gamma = 1).
+    PiersonMoskowitz,
+}
+
+/// `series = { file, pivot, axis, interpolation }`: a driven object's displacement and turn
+/// over time, from a CSV file whose header names its columns: `t` \[T\] (increasing, the
+/// first at or before 0, the last at or after the run's end) and any of `x`, `y`, `z` (3D)
+/// \[L\], the pivot's position, and `angle` \[rad\], the turn about `pivot` (positive
+/// anticlockwise about `axis`; z in 2D). The object is where the scene puts it at t = 0:
+/// each column's value at t = 0 is taken off, so a record of absolute positions serves.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Series {
+    /// The CSV file, relative to the scene file's directory.
+    pub file: String,
+    /// \[L\] the centre of the `angle` column's turn at t = 0 (it moves with the
+    /// displacement). Only with an `angle` column.
+    #[serde(default)]
+    pub pivot: Option<Vec<f64>>,
+    /// 3D: the `angle` column's axis, any length. 2D scenes turn about z: leave it out.
+    #[serde(default)]
+    pub axis: Option<Vec<f64>>,
+    /// Between two rows: "linear" (the default: straight segments, as DualSPHysics' motion
+    /// files; the velocity jumps at each row) or "cubic" (cubic Hermite with Catmull-Rom
+    /// slopes: the velocity is continuous, for a sampled smooth record).
+    #[serde(default)]
+    pub interpolation: Interpolation,
+    /// The knots read from the file (`motion_series::load_all`, when the scene is read).
+    #[serde(skip)]
+    pub loaded: crate::scene::motion_series::Loaded,
+}
+
+/// How a `Series` goes from one row to the next.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Interpolation {
+    #[default]
+    Linear,
+    Cubic,
 }
 
 /// A wave maker's paddle.
@@ -121,8 +208,8 @@ impl<'de> Deserialize<'de> for Motion {
             type Value = Motion;
             fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
                 f.write_str(
-                    "a velocity [vx, vy(, vz)] or a table of velocity, oscillation, rotation, wave \
-                     and ramp",
+                    "a velocity [vx, vy(, vz)] or a table of velocity, oscillation, rotation, wave, \
+                     series and ramp",
                 )
             }
             fn visit_seq<A: serde::de::SeqAccess<'de>>(self, a: A) -> Result<Motion, A::Error> {

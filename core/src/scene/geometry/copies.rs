@@ -1,7 +1,8 @@
-//! A run's copies of its surfaces' files: each file a scene's surfaces were read from is
-//! copied into the run's directory as `surface-N.<ext>` (`run_files::surface_file`), and the
-//! run's copy of the scene names those, so that `run --resume`, `render` and `view` read the
-//! run's directory alone, wherever the original files have gone.
+//! A run's copies of its input files: each file a scene's surfaces were read from is copied
+//! into the run's directory as `surface-N.<ext>` (`run_files::surface_file`), each motion
+//! series' file as `motion-N.csv` (`run_files::motion_file`), and the run's copy of the scene
+//! names those, so that `run --resume`, `render` and `view` read the run's directory alone,
+//! wherever the original files have gone.
 
 use super::objects::surfaces;
 use super::surface::From;
@@ -9,16 +10,16 @@ use crate::scene::{Scene, SceneError};
 
 /// A file to write into the run's directory.
 pub struct SurfaceCopy {
-    /// Its name there (`surface-N.<ext>`).
+    /// Its name there (`surface-N.<ext>`, `motion-N.csv`).
     pub name: String,
     pub bytes: Vec<u8>,
 }
 
 impl Scene {
-    /// The scene as a run's directory holds it: its surfaces' files renamed to their copies
-    /// (in the text, every comment kept, and in `file`, the surfaces read kept), and the
-    /// copies to write beside it. Unchanged, with no copy, where no surface is read from a
-    /// file. Err where a file cannot be read again.
+    /// The scene as a run's directory holds it: its surfaces' and motion series' files
+    /// renamed to their copies (in the text, every comment kept, and in `file`, the surfaces
+    /// and series read kept), and the copies to write beside it. Unchanged, with no copy,
+    /// where nothing is read from a file. Err where a surface file cannot be read again.
     pub fn with_surface_copies(&self) -> Result<(Scene, Vec<SurfaceCopy>), SceneError> {
         let mut scene = self.clone();
         let mut copies = Vec::new();
@@ -58,12 +59,49 @@ impl Scene {
                 .ok_or_else(|| err("the key is not where the scene's text holds it".into()))?;
             copies.push(SurfaceCopy { name, bytes });
         }
+        // The series' bytes were kept when they were read.
+        let n_surfaces = copies.len();
+        let motions = crate::scene::motion_series::series_of(&self.file)
+            .into_iter()
+            .enumerate()
+            .map(|(k, (f, r))| (crate::run_files::motion_file(k), f, r));
+        let inlets = crate::scene::motion_series::inlet_series_of(&self.file)
+            .into_iter()
+            .enumerate()
+            .map(|(k, (f, r))| (crate::run_files::inflow_file(k), f, r));
+        for (name, field, series) in motions.chain(inlets) {
+            let Some(knots) = series.loaded.get() else {
+                continue;
+            };
+            let err = |reason: String| SceneError::Invalid {
+                origin: self.origin(),
+                field: format!("{field}.file"),
+                reason,
+            };
+            let doc = match doc.as_mut() {
+                Some(d) => d,
+                None => doc.insert(
+                    self.text
+                        .parse()
+                        .map_err(|e| err(format!("the scene's text: {e}")))?,
+                ),
+            };
+            set_file(doc, &field, &name)
+                .ok_or_else(|| err("the key is not where the scene's text holds it".into()))?;
+            copies.push(SurfaceCopy {
+                name,
+                bytes: knots.bytes.clone(),
+            });
+        }
         let Some(doc) = doc else {
             return Ok((scene, copies));
         };
         scene.text = doc.to_string();
         // The same renaming in the parsed file; the surfaces read stay.
-        let names: Vec<String> = copies.iter().map(|c| c.name.clone()).collect();
+        let names: Vec<String> = copies[..n_surfaces]
+            .iter()
+            .map(|c| c.name.clone())
+            .collect();
         let mut k = 0;
         let mut rename = |o: &mut crate::scene::format::Outline| {
             if o.file.is_some() && o.loaded.get().is_some() {
@@ -87,16 +125,44 @@ impl Scene {
                 rename(o);
             }
         }
+        let mut k = 0;
+        for o in f.solids.iter_mut().filter_map(|o| o.motion_mut()) {
+            rename_series(o, &mut k);
+        }
+        for o in f.walls.iter_mut().filter_map(|w| w.motion_mut()) {
+            rename_series(o, &mut k);
+        }
+        let mut k = 0;
+        for o in f.open_boundaries.iter_mut() {
+            if let Some(r) = o.series.as_mut().filter(|r| r.loaded.get().is_some()) {
+                r.file = crate::run_files::inflow_file(k);
+                k += 1;
+            }
+        }
         Ok((scene, copies))
     }
 }
 
-/// Sets the `file` of the surface at `field` (`walls[2].mesh`) in `doc`.
+/// A motion's series file renamed to the `k`th copy's name, `k` counting the series read.
+fn rename_series(m: &mut crate::scene::format::Motion, k: &mut usize) {
+    if let crate::scene::format::Motion::Law(l) = m {
+        if let Some(r) = l.series.as_mut().filter(|r| r.loaded.get().is_some()) {
+            r.file = crate::run_files::motion_file(*k);
+            *k += 1;
+        }
+    }
+}
+
+/// Sets the `file` of the table at `field` (`walls[2].mesh`, `walls[0].motion.series`) in
+/// `doc`.
 fn set_file(doc: &mut toml_edit::DocumentMut, field: &str, name: &str) -> Option<()> {
     let (array, rest) = field.split_once('[')?;
-    let (index, key) = rest.split_once("].")?;
+    let (index, keys) = rest.split_once("].")?;
     let index: usize = index.parse().ok()?;
-    let table = doc.get_mut(array)?.get_mut(index)?.get_mut(key)?;
+    let mut table = doc.get_mut(array)?.get_mut(index)?;
+    for key in keys.split('.') {
+        table = table.get_mut(key)?;
+    }
     let value = table.get_mut("file")?.as_value_mut()?;
     let decor = value.decor().clone();
     *value = toml_edit::Value::from(name);

@@ -54,20 +54,26 @@ pub fn parse(bytes: &[u8], format: Format) -> Result<Raw, String> {
 
 /// The bytes of `path`, at most `MAX_BYTES`.
 pub fn bytes_of(path: &std::path::Path) -> Result<Vec<u8>, String> {
+    bytes_at_most(path, MAX_BYTES, "a surface")
+}
+
+/// The bytes of `path`, refused where it is not a regular file or holds more than `max`
+/// bytes (`what` names the kind of file in the reason: "a surface").
+pub fn bytes_at_most(path: &std::path::Path, max: u64, what: &str) -> Result<Vec<u8>, String> {
     let meta = std::fs::metadata(path).map_err(|e| format!("cannot read the file: {e}"))?;
     if !meta.is_file() {
         return Err("is not a regular file".into());
     }
-    if meta.len() > MAX_BYTES {
+    if meta.len() > max {
         return Err(format!(
-            "the file is {} MiB, larger than the {} MiB a surface may be",
+            "the file is {} MiB, larger than the {} MiB {what} may be",
             meta.len() >> 20,
-            MAX_BYTES >> 20
+            max >> 20
         ));
     }
     let mut out = Vec::new();
     std::fs::File::open(path)
-        .and_then(|f| f.take(MAX_BYTES + 1).read_to_end(&mut out))
+        .and_then(|f| f.take(max + 1).read_to_end(&mut out))
         .map_err(|e| format!("cannot read the file: {e}"))?;
     Ok(out)
 }

@@ -68,9 +68,11 @@ pub fn kick(k: &Kernels, s: &Arc<CudaStream>, p: &SphParams, b: &mut Buffers) {
         .arg(&c.group)
         .arg(&c.pos)
         .arg(&mut c.vel)
-        .arg(&b.acc);
+        .arg(&b.acc)
+        .arg(&b.motion_series);
     // SAFETY: the arguments of `Family::Kick`; dt_dev holds 2 floats; red null or the 3
-    // maxima of the forces pass; time the device clock (`Buffers::time`, 3 doubles).
+    // maxima of the forces pass; time the device clock (`Buffers::time`, 3 doubles); series
+    // the knots every driven motion's series_first and series_count index.
     kk.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
 }
 
@@ -117,9 +119,12 @@ fn drift_with(f: &Kernel, kick: bool, s: &Arc<CudaStream>, p: &SphParams, b: &mu
         l.arg(&b.acc);
     }
     l.arg(&mut b.cell).arg(&mut b.count);
-    // SAFETY: the arguments of `Family::Drift` or, with `kick`, `Family::DriftKick` (the
-    // same, with red after dt_dev, vel written and acc before cell); drho, rho_dev, stress
-    // and rate may be null; red null or the 3 maxima (as for the kick); cell and count as in
+    if !kick {
+        l.arg(&b.motion_series);
+    }
+    // SAFETY: the arguments of `Family::Drift` (series last: the knots every driven motion
+    // indexes) or, with `kick`, `Family::DriftKick` (the same, with red after dt_dev, vel
+    // written and acc before cell, and no series); drho, rho_dev, stress and rate may be null; red null or the 3 maxima (as for the kick); cell and count as in
     // sph_grid_hist. Launched even for n = 0: it advances the clock.
     f.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
     b.handover.leave(Mark::CellsFiled, true, by);

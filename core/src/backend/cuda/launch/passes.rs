@@ -82,11 +82,15 @@ fn wall_density(
         Some(bb) => l.arg(&bb.bodies),
         None => l.arg(&NULL),
     };
-    l.arg(&n_bodies).arg(&mut c.rho).arg(&mut c.p);
+    l.arg(&n_bodies)
+        .arg(&b.motion_series)
+        .arg(&mut c.rho)
+        .arg(&mut c.p);
     // SAFETY: the arguments of `Family::WallDensity`; surface holds 4 floats per boundary
     // particle, indexed by id - wall_first_id (every boundary id is in range:
     // `Setup::wall_surface_error`); the clock's first double is the time; bodies null where
-    // n_bodies is 0, else n_bodies records; vel is written only in the walls' w slots.
+    // n_bodies is 0, else n_bodies records; series the driven motions' knots; vel is written
+    // only in the walls' w slots.
     kw.check(unsafe { l.launch(cfg(b.n)).map(|_| ()) });
 }
 

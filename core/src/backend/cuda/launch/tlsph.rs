@@ -136,7 +136,7 @@ pub fn tl_drift(
     let kt = k.get(Family::TlDrift);
     // SAFETY: the arguments of `Family::TlDrift`; dt_dev holds 2 floats; time the clock
     // (`Buffers::time`, 3 doubles); slot and disp as in `tl_stress`; group, pos, vel (float4)
-    // and xsph hold n entries.
+    // and xsph hold n entries; series the driven motions' knots.
     kt.check(unsafe {
         s.launch_builder(&kt.f)
             .arg(p)
@@ -149,6 +149,7 @@ pub fn tl_drift(
             .arg(&b.cur.vel)
             .arg(&b.xsph)
             .arg(&mut t.disp)
+            .arg(&b.motion_series)
             .launch(cfg(t.n_solid))
             .map(|_| ())
     });
