@@ -426,3 +426,33 @@ fn an_inlets_series_that_does_not_fit_is_refused() {
         );
     }
 }
+
+#[test]
+fn a_focused_group_is_made_and_its_focus_checked() {
+    let scene = irregular_flume(
+        "{ shape = \"jonswap\", focus = { distance = 2.0, time = 8.0 } }",
+        0.1,
+    )
+    .unwrap();
+    assert!(scene.params().driven_motion[0].series_count > 10);
+    for (focus, field, why) in [
+        (
+            "{ distance = -1.0, time = 8.0 }",
+            "focus.distance",
+            "positive",
+        ),
+        ("{ distance = 2.0, time = 0.0 }", "focus.time", "positive"),
+        (
+            "{ distance = 9.0, time = 8.0 }",
+            "focus.distance",
+            "beyond the domain's end",
+        ),
+    ] {
+        let e = irregular_flume(&format!("{{ shape = \"jonswap\", focus = {focus} }}"), 0.1)
+            .unwrap_err();
+        assert!(
+            e.contains(&format!("walls[1].motion.wave.spectrum.{field}")) && e.contains(why),
+            "{focus}: {e}"
+        );
+    }
+}

@@ -123,6 +123,7 @@ mod tests {
                     gamma: 3.3,
                     seed,
                     components: 512,
+                    focus: None,
                 }),
                 made: Default::default(),
             };

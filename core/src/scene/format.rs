@@ -15,7 +15,7 @@ use crate::solver::frame::{Field, Fields};
 
 mod motion;
 pub use motion::{
-    Interpolation, Motion, MotionLaw, Oscillation, Paddle, Rotation, Series, Spectrum,
+    Focus, Interpolation, Motion, MotionLaw, Oscillation, Paddle, Rotation, Series, Spectrum,
     SpectrumShape, WaveMaker,
 };
 

@@ -126,6 +126,20 @@ pub(super) fn check(
         if !(16..=4096).contains(&sp.components) {
             return err(format!("{f}.components"), "must be from 16 to 4096".into());
         }
+        if let Some(fo) = &sp.focus {
+            c.positive(&format!("{f}.focus.distance"), fo.distance)?;
+            c.positive(&format!("{f}.focus.time"), fo.time)?;
+            let room = s.domain.max[0] - hi[0];
+            if fo.distance > room {
+                return err(
+                    format!("{f}.focus.distance"),
+                    format!(
+                        "the focus is {} from the paddle, beyond the domain's end {room} past it",
+                        fo.distance
+                    ),
+                );
+            }
+        }
     }
     let p = w.paddling(gravity(s));
     let (l, kd) = (p.wavelength, p.k * w.depth);

@@ -8,7 +8,10 @@
 //! below f_p, 0.09 above, scaled so that the components' 4 sqrt(m0) is H_m0.
 //! Components: N bins over [f_p / 2, 3 f_p], one frequency drawn at random within each (no
 //! repeat period), amplitude a_i = sqrt(2 S(f_i) df), phase drawn at random (the seed's
-//! SplitMix64 stream: the same seed makes the same sea on every machine and version);
+//! SplitMix64 stream: the same seed makes the same sea on every machine and version); or, for
+//! a focused group (NewWave, Tromans, Anaturk & Hagemeijer 1991), a_i = A S(f_i) / sum S,
+//! A the crest's elevation, and phases pi/2 - omega_i t_f + k_i x_f, so that every
+//! component crests at the distance x_f from the paddle at t_f;
 //! components shorter than 10 particle spacings are left out (the flume cannot carry them).
 //! Paddle: each component's stroke from Biesel's transfer function (`wave::height_per_stroke`):
 //! the piston's displacement x(t) = r(t) sum (a_i / (H/S)_i) sin(omega_i t + phi_i), a flap's
@@ -70,15 +73,23 @@ impl WaveMaker {
         let df = (hi - lo) / n as f64;
         let mut state = sp.seed;
         let mut out = Vec::with_capacity(n);
+        let tau = 2.0 * std::f64::consts::PI;
         for i in 0..n {
             let f = lo + (i as f64 + uniform(&mut state)) * df;
-            let phase = 2.0 * std::f64::consts::PI * uniform(&mut state);
+            let random = tau * uniform(&mut state);
             let k = wave_number(g, 1.0 / f, self.depth);
-            if 2.0 * std::f64::consts::PI / k < min_wavelength {
+            if tau / k < min_wavelength {
                 continue;
             }
             let s = shape(sp.shape, sp.gamma, f, fp);
-            let a = (2.0 * s * df).sqrt();
+            let (a, phase) = match &sp.focus {
+                // In phase at the focus: sin(omega t_f - k x_f + phase) = 1.
+                Some(fo) => (
+                    s,
+                    (0.25 * tau - tau * f * fo.time + k * fo.distance).rem_euclid(tau),
+                ),
+                None => ((2.0 * s * df).sqrt(), random),
+            };
             out.push(Component {
                 f,
                 a,
@@ -86,10 +97,14 @@ impl WaveMaker {
                 stroke: a / height_per_stroke(self.paddle, k * self.depth),
             });
         }
-        // Scaled so that 4 sqrt(m0) = H_m0, m0 = sum a^2 / 2.
-        let m0: f64 = out.iter().map(|c| 0.5 * c.a * c.a).sum();
-        if m0 > 0.0 {
-            let scale = self.height / (4.0 * m0.sqrt());
+        // Scaled so that 4 sqrt(m0) = H_m0, m0 = sum a^2 / 2; a focused group's crest,
+        // sum a, to `height`.
+        let total = match sp.focus {
+            Some(_) => out.iter().map(|c| c.a).sum::<f64>(),
+            None => 4.0 * out.iter().map(|c| 0.5 * c.a * c.a).sum::<f64>().sqrt(),
+        };
+        if total > 0.0 {
+            let scale = self.height / total;
             for c in &mut out {
                 c.a *= scale;
                 c.stroke *= scale;
@@ -158,7 +173,7 @@ fn ramp_at(ramp: f64, t: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::format::Spectrum;
+    use crate::scene::format::{Focus, Spectrum};
 
     fn sea(shape: SpectrumShape, seed: u64) -> WaveMaker {
         WaveMaker {
@@ -173,6 +188,7 @@ mod tests {
                 gamma: 3.3,
                 seed,
                 components: 256,
+                focus: None,
             }),
             made: Default::default(),
         }
@@ -258,5 +274,44 @@ mod tests {
         assert!(kf.chunks_exact(stride).any(|r| r[4].abs() > 1e-3));
         // A flap needs a larger stroke than a piston for the same sea.
         assert!(cf[0].stroke > c[0].stroke);
+    }
+
+    #[test]
+    fn a_focused_group_crests_where_and_when_it_is_asked() {
+        // Every component crests 3 m down the flume at t = 12: the surface there, carried by
+        // linear dispersion, reaches `height` then and nowhere near it a few periods before.
+        let mut w = sea(SpectrumShape::Jonswap, 3);
+        w.height = 0.06;
+        w.spectrum.as_mut().unwrap().focus = Some(Focus {
+            distance: 3.0,
+            time: 12.0,
+        });
+        let c = w.components(9.81, 0.0);
+        assert!((c.iter().map(|c| c.a).sum::<f64>() - 0.06).abs() < 1e-12);
+        let tau = 2.0 * std::f64::consts::PI;
+        let eta = |x: f64, t: f64| -> f64 {
+            c.iter()
+                .map(|c| {
+                    let k = wave_number(9.81, 1.0 / c.f, w.depth);
+                    c.a * (tau * c.f * t - k * x + c.phase).sin()
+                })
+                .sum()
+        };
+        assert!((eta(3.0, 12.0) - 0.06).abs() < 1e-12, "{}", eta(3.0, 12.0));
+        let before = (0..200)
+            .map(|j| eta(3.0, 4.0 + 0.02 * j as f64).abs())
+            .fold(0.0, f64::max);
+        assert!(before < 0.3 * 0.06, "{before}");
+        // At the paddle the group is still spread out (it focuses on its way): its highest
+        // crest there is lower, and earlier by about the group's travel time.
+        let (mut peak, mut when) = (0.0, 0.0);
+        for j in 0..600 {
+            let e = elevation_at(&c, 0.02 * j as f64);
+            if e > peak {
+                (peak, when) = (e, 0.02 * j as f64);
+            }
+        }
+        eprintln!("paddle crest {peak} at {when}");
+        assert!(peak < 0.9 * 0.06 && when < 11.0, "{peak} at {when}");
     }
 }

@@ -94,6 +94,21 @@ pub struct Spectrum {
     /// The sea's linear components, 16 to 4096. Default 256.
     #[serde(default = "default_components")]
     pub components: u32,
+    /// A focused wave group instead of a random sea: every component in phase at `focus`
+    /// (NewWave, Tromans et al. 1991: amplitudes S(f) df / sum S df of the crest, the wave
+    /// maker's `height` being then the crest's linear elevation at the focus). Default none.
+    #[serde(default)]
+    pub focus: Option<Focus>,
+}
+
+/// Where and when a focused wave group crests (`Spectrum::focus`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Focus {
+    /// \[L\] along +x from the paddle's face at rest.
+    pub distance: f64,
+    /// \[T\] the time of the crest there.
+    pub time: f64,
 }
 
 fn default_gamma() -> f64 {
