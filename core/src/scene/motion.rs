@@ -241,20 +241,7 @@ fn check_series(
     rotated: bool,
     end: f64,
 ) -> Result<(), SceneError> {
-    let Some(k) = r.loaded.get() else {
-        return Err(c.err(format!("{f}.file"), "the series was not read"));
-    };
-    if k.end() < end {
-        return Err(c.err(
-            format!("{f}.file"),
-            format!(
-                "{:?} ends at t = {}, before the run does (time.end = {end}): the series must \
-                 cover the run",
-                r.file,
-                k.end()
-            ),
-        ));
-    }
+    let k = super::motion_series::covering(c, f, r, end)?;
     if !k.turns {
         if r.pivot.is_some() || r.axis.is_some() {
             return Err(c.err(

@@ -215,6 +215,31 @@ pub(in crate::scene) fn make_all(s: &mut SceneFile, origin: &str) -> Result<(), 
     Ok(())
 }
 
+/// The knots of the series `r` at `f`, read (`load_all`) and reaching the run's `end` \[T\];
+/// Err naming `f.file` otherwise.
+pub(in crate::scene) fn covering<'a>(
+    c: &Ctx,
+    f: &str,
+    r: &'a Series,
+    end: f64,
+) -> Result<&'a Knots, SceneError> {
+    let Some(k) = r.loaded.get() else {
+        return Err(c.err(format!("{f}.file"), "the series was not read"));
+    };
+    if k.end() < end {
+        return Err(c.err(
+            format!("{f}.file"),
+            format!(
+                "{:?} ends at t = {}, before the run does (time.end = {end}): the series must \
+                 cover the run",
+                r.file,
+                k.end()
+            ),
+        ));
+    }
+    Ok(k)
+}
+
 /// Reads every series of `s` from `base`: the first that cannot be read or is not a series
 /// is the error. A scene whose dimension is neither 2 nor 3 is left to the checks.
 pub(in crate::scene) fn load_all(

@@ -288,21 +288,7 @@ fn check_series(c: &Ctx, f: &str, r: &super::format::Series, end: f64) -> R {
             "pivot and axis turn a driven object: an inlet's series scales its velocity",
         ));
     }
-    let Some(k) = r.loaded.get() else {
-        return Err(c.err(format!("{f}.file"), "the series was not read"));
-    };
-    if k.end() < end {
-        return Err(c.err(
-            format!("{f}.file"),
-            format!(
-                "{:?} ends at t = {}, before the run does (time.end = {end}): the series must \
-                 cover the run",
-                r.file,
-                k.end()
-            ),
-        ));
-    }
-    Ok(())
+    super::motion_series::covering(c, f, r, end).map(|_| ())
 }
 
 /// `open_count` and `open` from the scene; an inlet's series' knots after the motions'
