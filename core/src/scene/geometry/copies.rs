@@ -23,7 +23,8 @@ impl Scene {
     pub fn with_surface_copies(&self) -> Result<(Scene, Vec<SurfaceCopy>), SceneError> {
         let mut scene = self.clone();
         let mut copies = Vec::new();
-        let mut doc: Option<toml_edit::DocumentMut> = None;
+        // The field of each copy's table in the scene (`walls[2].mesh`), in the copies' order.
+        let mut fields: Vec<String> = Vec::new();
         for placed in surfaces(&self.file) {
             let Some(surface) = placed.outline.loaded.get() else {
                 continue;
@@ -47,16 +48,7 @@ impl Scene {
                 .map_or("", |(_, e)| e)
                 .to_ascii_lowercase();
             let name = crate::run_files::surface_file(copies.len(), &ext);
-            let doc = match doc.as_mut() {
-                Some(d) => d,
-                None => doc.insert(
-                    self.text
-                        .parse()
-                        .map_err(|e| err(format!("the scene's text: {e}")))?,
-                ),
-            };
-            set_file(doc, &placed.field, &name)
-                .ok_or_else(|| err("the key is not where the scene's text holds it".into()))?;
+            fields.push(placed.field.clone());
             copies.push(SurfaceCopy { name, bytes });
         }
         // The series' bytes were kept when they were read.
@@ -73,29 +65,30 @@ impl Scene {
             let Some(knots) = series.loaded.get() else {
                 continue;
             };
-            let err = |reason: String| SceneError::Invalid {
-                origin: self.origin(),
-                field: format!("{field}.file"),
-                reason,
-            };
-            let doc = match doc.as_mut() {
-                Some(d) => d,
-                None => doc.insert(
-                    self.text
-                        .parse()
-                        .map_err(|e| err(format!("the scene's text: {e}")))?,
-                ),
-            };
-            set_file(doc, &field, &name)
-                .ok_or_else(|| err("the key is not where the scene's text holds it".into()))?;
+            fields.push(field);
             copies.push(SurfaceCopy {
                 name,
                 bytes: knots.bytes.clone(),
             });
         }
-        let Some(doc) = doc else {
+        if copies.is_empty() {
             return Ok((scene, copies));
-        };
+        }
+        // Each copied file's key in the text (`fields[k]`, the table holding `file`) names
+        // its copy, every comment kept.
+        let mut doc: toml_edit::DocumentMut =
+            self.text.parse().map_err(|e| SceneError::Invalid {
+                origin: self.origin(),
+                field: format!("{}.file", fields[0]),
+                reason: format!("the scene's text: {e}"),
+            })?;
+        for (field, copy) in fields.iter().zip(&copies) {
+            set_file(&mut doc, field, &copy.name).ok_or_else(|| SceneError::Invalid {
+                origin: self.origin(),
+                field: format!("{field}.file"),
+                reason: "the key is not where the scene's text holds it".into(),
+            })?;
+        }
         scene.text = doc.to_string();
         // The same renaming in the parsed file; the surfaces read stay.
         let names: Vec<String> = copies[..n_surfaces]
